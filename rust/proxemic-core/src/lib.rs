@@ -1,0 +1,26 @@
+//! # proxemic-core
+//!
+//! The pure-Rust core of proxemic. Every per-step computation of the gym lives here; the Python
+//! package only moves arrays in and out and steps MuJoCo.
+//!
+//! One control step of [`world::World`] does, in order:
+//! 1. ingest the robots' poses, velocities and contact flags read from the physics;
+//! 2. accumulate the step's metrics ([`metrics`]) and reward terms, and build the observations;
+//! 3. advance the scripted pedestrians ([`pedestrians`]) to the next control instant;
+//! 4. run each robot's built-in planner ([`plan`], [`control`]) to get its next command.
+//!
+//! Modules:
+//! - [`scenario`]: parse and validate scenario TOML once; errors name the file and field.
+//! - [`map`]: static geometry, occupancy grid, distance field, 2D ray casting.
+//! - [`plan`]: 8-connected A* (plain and cost-aware), Dijkstra oracle, path smoothing.
+//! - [`control`]: command limits and the path follower.
+//! - [`pedestrians`]: scripted people.
+//! - [`metrics`]: per-step accumulation and episode summaries.
+//! - [`world`]: ties these together behind one `step`.
+
+pub mod error;
+pub mod map;
+pub mod math;
+pub mod plan;
+
+pub use error::{CoreError, Result};

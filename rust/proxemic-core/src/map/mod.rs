@@ -1,0 +1,1 @@
+//! Static geometry, occupancy grid, distance field and ray casting.
