@@ -22,5 +22,6 @@ pub mod error;
 pub mod map;
 pub mod math;
 pub mod plan;
+pub mod scenario;
 
 pub use error::{CoreError, Result};

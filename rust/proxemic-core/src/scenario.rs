@@ -1,0 +1,1400 @@
+//! Scenario files: parse and validate once.
+//!
+//! A scenario is a TOML file (`envs/*.toml`) describing the static scene (walls, objects with
+//! interaction spaces), the people, the robots and the episode settings. [`Scenario::from_file`]
+//! and [`Scenario::from_toml_str`] parse it with serde (unknown fields are rejected), fill in the
+//! defaults, check every value, and compute world-frame polygons for walls, object footprints and
+//! interaction spaces. The result serialises to JSON ([`Scenario::to_json`]) for the Python side,
+//! which never parses the TOML itself.
+//!
+//! Every error is a [`CoreError::Scenario`] naming the file, the dotted field path
+//! (`person[3].route[1]`), what was expected and what arrived.
+//!
+//! Conventions: SI units, angles in radians counter-clockwise from +x, poses `[x, y, theta]` in the
+//! world frame, times of day as `"HH:MM"` or `"HH:MM:SS"` strings.
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+use crate::error::{CoreError, Result};
+
+/// Number of vertices used to approximate a circle as a polygon.
+pub const CIRCLE_VERTICES: usize = 24;
+
+// ---------------------------------------------------------------------------------------------
+// Raw (file) representation
+// ---------------------------------------------------------------------------------------------
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    scene: RawScene,
+    #[serde(default)]
+    wall: Vec<RawWall>,
+    #[serde(default)]
+    object: Vec<RawObject>,
+    #[serde(default)]
+    person: Vec<RawPerson>,
+    #[serde(default)]
+    robot: Vec<RawRobot>,
+    #[serde(default)]
+    episode: RawEpisode,
+    #[serde(default)]
+    sensors: Sensors,
+    #[serde(default)]
+    reward: RewardWeights,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    name: String,
+    bounds: [f64; 4],
+    #[serde(default = "d_resolution")]
+    resolution: f64,
+    #[serde(default = "d_start_time")]
+    start_time: String,
+    #[serde(default = "d_control_hz")]
+    control_hz: f64,
+    #[serde(default = "d_physics_hz")]
+    physics_hz: f64,
+    #[serde(default = "d_wall_height")]
+    wall_height: f64,
+    #[serde(default)]
+    description: String,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWall {
+    from: [f64; 2],
+    to: [f64; 2],
+    #[serde(default = "d_wall_thickness")]
+    thickness: f64,
+    height: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawObject {
+    name: String,
+    kind: ObjectKind,
+    pose: [f64; 3],
+    size: Option<[f64; 2]>,
+    radius: Option<f64>,
+    height: Option<f64>,
+    #[serde(default = "d_true")]
+    solid: bool,
+    interaction: Option<RawInteraction>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, tag = "shape", rename_all = "snake_case")]
+enum RawInteraction {
+    Trapezoid { length: f64, near_width: f64, far_width: f64 },
+    Rectangle { margin: f64 },
+    Circle { radius: f64 },
+    Polygon { points: Vec<[f64; 2]> },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPerson {
+    name: Option<String>,
+    #[serde(default = "d_behaviour")]
+    behaviour: Behaviour,
+    pose: Option<[f64; 3]>,
+    #[serde(default)]
+    route: Vec<[f64; 2]>,
+    #[serde(default = "d_person_speed")]
+    speed: f64,
+    #[serde(default)]
+    dwell: f64,
+    #[serde(default = "d_person_radius")]
+    radius: f64,
+    #[serde(default = "d_person_height")]
+    height: f64,
+    group: Option<u32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRobot {
+    name: Option<String>,
+    start: [f64; 3],
+    goal: [f64; 2],
+    #[serde(default = "d_planner")]
+    planner: PlannerKind,
+    #[serde(default = "d_robot_radius")]
+    radius: f64,
+    #[serde(default = "d_max_speed")]
+    max_speed: f64,
+    #[serde(default = "d_max_angular_speed")]
+    max_angular_speed: f64,
+    #[serde(default = "d_max_accel")]
+    max_accel: f64,
+    #[serde(default = "d_inflation_margin")]
+    inflation_margin: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEpisode {
+    #[serde(default = "d_max_time")]
+    max_time: f64,
+    #[serde(default = "d_success_radius")]
+    success_radius: f64,
+    #[serde(default)]
+    randomize: Randomize,
+}
+
+impl Default for RawEpisode {
+    fn default() -> Self {
+        RawEpisode {
+            max_time: d_max_time(),
+            success_radius: d_success_radius(),
+            randomize: Randomize::default(),
+        }
+    }
+}
+
+fn d_resolution() -> f64 {
+    0.1
+}
+fn d_start_time() -> String {
+    "09:00".to_string()
+}
+fn d_control_hz() -> f64 {
+    10.0
+}
+fn d_physics_hz() -> f64 {
+    100.0
+}
+fn d_wall_height() -> f64 {
+    2.5
+}
+fn d_wall_thickness() -> f64 {
+    0.2
+}
+fn d_true() -> bool {
+    true
+}
+fn d_behaviour() -> Behaviour {
+    Behaviour::Walker
+}
+fn d_person_speed() -> f64 {
+    1.0
+}
+fn d_person_radius() -> f64 {
+    0.2
+}
+fn d_person_height() -> f64 {
+    1.7
+}
+fn d_planner() -> PlannerKind {
+    PlannerKind::Astar
+}
+fn d_robot_radius() -> f64 {
+    0.24
+}
+fn d_max_speed() -> f64 {
+    0.55
+}
+fn d_max_angular_speed() -> f64 {
+    2.0
+}
+fn d_max_accel() -> f64 {
+    0.55
+}
+fn d_inflation_margin() -> f64 {
+    0.06
+}
+fn d_max_time() -> f64 {
+    180.0
+}
+fn d_success_radius() -> f64 {
+    0.3
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validated representation
+// ---------------------------------------------------------------------------------------------
+
+/// Kinds of static objects. The kind decides the default height and how the object is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ObjectKind {
+    /// A free-standing exhibit on a plinth.
+    Exhibit,
+    /// A painting hung on a wall (a thin box).
+    Painting,
+    /// A poster on a wall.
+    Poster,
+    /// A television set.
+    Tv,
+    /// A rectangular table.
+    Table,
+    /// A round table (give `radius`).
+    RoundTable,
+    /// A bed.
+    Bed,
+    /// A physiotherapy stretcher.
+    Stretcher,
+    /// A sofa.
+    Sofa,
+    /// A bench.
+    Bench,
+    /// A plinth or display case.
+    Plinth,
+    /// A pillar (give `radius` for a round one).
+    Pillar,
+    /// A cabinet or shelf.
+    Cabinet,
+    /// A chair.
+    Chair,
+}
+
+impl ObjectKind {
+    /// Default height of the kind (metres).
+    pub fn default_height(self) -> f64 {
+        match self {
+            ObjectKind::Exhibit => 1.4,
+            ObjectKind::Painting | ObjectKind::Poster => 1.8,
+            ObjectKind::Tv => 1.5,
+            ObjectKind::Table | ObjectKind::RoundTable => 0.75,
+            ObjectKind::Bed | ObjectKind::Stretcher => 0.6,
+            ObjectKind::Sofa => 0.8,
+            ObjectKind::Bench => 0.45,
+            ObjectKind::Plinth => 1.0,
+            ObjectKind::Pillar => 2.5,
+            ObjectKind::Cabinet => 1.8,
+            ObjectKind::Chair => 0.9,
+        }
+    }
+
+    fn is_round_capable(self) -> bool {
+        matches!(self, ObjectKind::RoundTable | ObjectKind::Pillar | ObjectKind::Plinth | ObjectKind::Exhibit)
+    }
+}
+
+/// Scripted pedestrian behaviours.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Behaviour {
+    /// Walks a closed route of waypoints at `speed`, pausing `dwell` seconds at each.
+    Walker,
+    /// Stands still at `pose`.
+    Standing,
+}
+
+/// Built-in planners a robot can run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlannerKind {
+    /// Plain 8-connected A* on the inflated static map, followed by a pure-pursuit path follower.
+    /// It avoids walls and furniture, not people: the baseline of every comparison.
+    Astar,
+}
+
+impl PlannerKind {
+    /// Parses a planner name as used in scenario files and on the command line.
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "astar" => Some(PlannerKind::Astar),
+            _ => None,
+        }
+    }
+
+    /// The names accepted by [`PlannerKind::parse`].
+    pub const NAMES: &'static [&'static str] = &["astar"];
+}
+
+/// Scene-wide settings.
+#[derive(Clone, Debug, Serialize)]
+pub struct Scene {
+    /// Scene name.
+    pub name: String,
+    /// One-paragraph description (may be empty).
+    pub description: String,
+    /// `[xmin, ymin, xmax, ymax]` of the map (metres).
+    pub bounds: [f64; 4],
+    /// Grid resolution (metres per cell), in (0, 1]; default 0.1.
+    pub resolution: f64,
+    /// Time of day at t = 0 (seconds after midnight); default 09:00.
+    pub start_time: f64,
+    /// Control rate (Hz); default 10.
+    pub control_hz: f64,
+    /// Physics rate (Hz), an integer multiple of `control_hz`; default 100.
+    pub physics_hz: f64,
+    /// Default wall height (metres); default 2.5.
+    pub wall_height: f64,
+}
+
+/// A straight wall segment with thickness.
+#[derive(Clone, Debug, Serialize)]
+pub struct Wall {
+    /// Start point of the centre line (metres).
+    pub from: [f64; 2],
+    /// End point of the centre line (metres).
+    pub to: [f64; 2],
+    /// Thickness (metres); default 0.2.
+    pub thickness: f64,
+    /// Height (metres).
+    pub height: f64,
+    /// World-frame footprint polygon (CCW).
+    pub polygon: Vec<[f64; 2]>,
+}
+
+/// Interaction-space shapes (Calderita §4.2).
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "shape", rename_all = "snake_case")]
+pub enum InteractionShape {
+    /// Isosceles trapezoid in front of the object (TV, poster, painting): `near_width` at the
+    /// object's front face, `far_width` at `length` metres in front of it.
+    Trapezoid {
+        /// Depth in front of the object (metres).
+        length: f64,
+        /// Width at the object (metres).
+        near_width: f64,
+        /// Width at the far side (metres).
+        far_width: f64,
+    },
+    /// The object's footprint grown by `margin` (table, bed, stretcher).
+    Rectangle {
+        /// Margin around the footprint (metres).
+        margin: f64,
+    },
+    /// A circle around the object's centre (round table).
+    Circle {
+        /// Radius (metres).
+        radius: f64,
+    },
+    /// An explicit world-frame polygon.
+    Polygon,
+}
+
+/// An object's interaction space.
+#[derive(Clone, Debug, Serialize)]
+pub struct Interaction {
+    /// The shape as written in the file.
+    #[serde(flatten)]
+    pub shape: InteractionShape,
+    /// World-frame polygon (CCW).
+    pub polygon: Vec<[f64; 2]>,
+}
+
+/// A static object (furniture, exhibit).
+#[derive(Clone, Debug, Serialize)]
+pub struct Object {
+    /// Unique name.
+    pub name: String,
+    /// Kind.
+    pub kind: ObjectKind,
+    /// Pose `[x, y, theta]`; theta is the direction the object faces (its viewing side).
+    pub pose: [f64; 3],
+    /// `[depth, width]` along the object's local x (facing) and y axes (metres); for round
+    /// objects `[2r, 2r]`.
+    pub size: [f64; 2],
+    /// Radius for round objects (metres), else `None`.
+    pub radius: Option<f64>,
+    /// Height (metres).
+    pub height: f64,
+    /// Whether the object blocks motion (default true).
+    pub solid: bool,
+    /// World-frame footprint polygon (CCW).
+    pub footprint: Vec<[f64; 2]>,
+    /// Interaction space, if any.
+    pub interaction: Option<Interaction>,
+}
+
+/// A scripted person.
+#[derive(Clone, Debug, Serialize)]
+pub struct Person {
+    /// Unique name.
+    pub name: String,
+    /// Behaviour.
+    pub behaviour: Behaviour,
+    /// Initial pose `[x, y, theta]` (a walker starts at its first waypoint facing the second
+    /// unless the episode randomises the phase).
+    pub pose: [f64; 3],
+    /// Closed route of waypoints (walkers; empty for standing people).
+    pub route: Vec<[f64; 2]>,
+    /// Preferred walking speed (m/s), in (0, 2.5]; default 1.0.
+    pub speed: f64,
+    /// Pause at each waypoint (s), >= 0; default 0.
+    pub dwell: f64,
+    /// Body radius (metres), in (0, 0.5]; default 0.2.
+    pub radius: f64,
+    /// Height (metres); default 1.7.
+    pub height: f64,
+    /// Ground-truth group id, if the person belongs to a group.
+    pub group: Option<u32>,
+}
+
+/// A robot.
+#[derive(Clone, Debug, Serialize)]
+pub struct Robot {
+    /// Unique name.
+    pub name: String,
+    /// Start pose `[x, y, theta]`.
+    pub start: [f64; 3],
+    /// Goal position `[x, y]`.
+    pub goal: [f64; 2],
+    /// Built-in planner.
+    pub planner: PlannerKind,
+    /// Footprint radius (metres); default 0.24 (Pepper).
+    pub radius: f64,
+    /// Maximum linear speed (m/s), the norm of (vx, vy); default 0.55 (Pepper).
+    pub max_speed: f64,
+    /// Maximum angular speed (rad/s); default 2.0 (Pepper).
+    pub max_angular_speed: f64,
+    /// Maximum linear acceleration (m/s^2); default 0.55 (Pepper).
+    pub max_accel: f64,
+    /// Extra clearance added to the radius when inflating the map (metres); default 0.06.
+    pub inflation_margin: f64,
+}
+
+/// Per-episode randomisation, drawn from the episode's seeded generator.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Randomize {
+    /// Start each walker at a uniformly random point of its route (default true).
+    #[serde(default = "d_true")]
+    pub person_phase: bool,
+    /// Relative jitter of walkers' speeds: speed * U(1 - j, 1 + j); in [0, 0.5]; default 0.1.
+    #[serde(default = "d_speed_jitter")]
+    pub speed_jitter: f64,
+    /// Uniform jitter of the robot start position (metres, per axis); default 0.
+    #[serde(default)]
+    pub robot_start_jitter: f64,
+}
+
+fn d_speed_jitter() -> f64 {
+    0.1
+}
+
+impl Default for Randomize {
+    fn default() -> Self {
+        Randomize { person_phase: true, speed_jitter: d_speed_jitter(), robot_start_jitter: 0.0 }
+    }
+}
+
+/// Episode settings.
+#[derive(Clone, Debug, Serialize)]
+pub struct Episode {
+    /// Time limit (s); the episode is truncated when it is reached. Default 180.
+    pub max_time: f64,
+    /// The robot succeeds when its centre is within this distance of the goal (metres). Default 0.3.
+    pub success_radius: f64,
+    /// Per-episode randomisation.
+    pub randomize: Randomize,
+}
+
+/// Observation settings.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sensors {
+    /// Number of lidar rays over 360 degrees, in [4, 1440]; default 72.
+    #[serde(default = "d_lidar_rays")]
+    pub lidar_rays: usize,
+    /// Lidar range (metres), in (0, 50]; default 8.
+    #[serde(default = "d_lidar_range")]
+    pub lidar_range: f64,
+    /// Number of nearest people in the observation, in [1, 64]; default 8.
+    #[serde(default = "d_k_nearest")]
+    pub k_nearest: usize,
+}
+
+fn d_lidar_rays() -> usize {
+    72
+}
+fn d_lidar_range() -> f64 {
+    8.0
+}
+fn d_k_nearest() -> usize {
+    8
+}
+
+impl Default for Sensors {
+    fn default() -> Self {
+        Sensors { lidar_rays: d_lidar_rays(), lidar_range: d_lidar_range(), k_nearest: d_k_nearest() }
+    }
+}
+
+/// Reward weights. The reward is the sum of the terms; each term is reported separately.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RewardWeights {
+    /// Per metre of progress toward the goal along the geodesic distance; default 1.0.
+    #[serde(default = "d_progress")]
+    pub progress: f64,
+    /// Once, on success; default 10.
+    #[serde(default = "d_success")]
+    pub success: f64,
+    /// Once, on a collision (negative); default -10.
+    #[serde(default = "d_collision")]
+    pub collision: f64,
+    /// Every step (negative); default -0.01.
+    #[serde(default = "d_time")]
+    pub time: f64,
+    /// Every step, times how deep the robot is inside the closest person's personal zone
+    /// (1.2 m, centre distance), as a fraction of the zone; default -0.1.
+    #[serde(default = "d_personal_space")]
+    pub personal_space: f64,
+}
+
+fn d_progress() -> f64 {
+    1.0
+}
+fn d_success() -> f64 {
+    10.0
+}
+fn d_collision() -> f64 {
+    -10.0
+}
+fn d_time() -> f64 {
+    -0.01
+}
+fn d_personal_space() -> f64 {
+    -0.1
+}
+
+impl Default for RewardWeights {
+    fn default() -> Self {
+        RewardWeights {
+            progress: d_progress(),
+            success: d_success(),
+            collision: d_collision(),
+            time: d_time(),
+            personal_space: d_personal_space(),
+        }
+    }
+}
+
+/// A validated scenario.
+#[derive(Clone, Debug, Serialize)]
+pub struct Scenario {
+    /// Where it was read from (`<string>` for inline text).
+    pub source: String,
+    /// Scene settings.
+    pub scene: Scene,
+    /// Walls.
+    pub walls: Vec<Wall>,
+    /// Objects.
+    pub objects: Vec<Object>,
+    /// People.
+    pub persons: Vec<Person>,
+    /// Robots (at least one).
+    pub robots: Vec<Robot>,
+    /// Episode settings.
+    pub episode: Episode,
+    /// Observation settings.
+    pub sensors: Sensors,
+    /// Reward weights.
+    pub reward: RewardWeights,
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parsing
+// ---------------------------------------------------------------------------------------------
+
+/// Builds a scenario error.
+fn err(
+    file: &str,
+    field: impl Into<String>,
+    expected: impl Into<String>,
+    found: impl Into<String>,
+) -> CoreError {
+    CoreError::Scenario {
+        file: file.to_string(),
+        field: field.into(),
+        expected: expected.into(),
+        found: found.into(),
+    }
+}
+
+/// Renders a serde path (`person.3.route`) the way the file is written (`person[3].route`).
+fn dotted_path(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    let mut out = String::new();
+    for seg in path.iter() {
+        match seg {
+            Segment::Seq { index } => out.push_str(&format!("[{index}]")),
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push_str(key);
+            }
+            Segment::Unknown => {}
+        }
+    }
+    if out.is_empty() { "<document>".to_string() } else { out }
+}
+
+/// Line and column (1-based) of a byte offset.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |s| s.chars().count()) + 1;
+    (line, col)
+}
+
+impl Scenario {
+    /// Reads and validates a scenario file.
+    pub fn from_file(path: impl AsRef<Path>) -> Result<Self> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| err(&file, "<file>", "a readable UTF-8 TOML file", e.to_string()))?;
+        Self::from_toml_str(&text, &file)
+    }
+
+    /// Parses and validates scenario text; `source` names it in error messages.
+    pub fn from_toml_str(text: &str, source: &str) -> Result<Self> {
+        let de = toml::de::Deserializer::parse(text).map_err(|e| {
+            let (line, col) = e.span().map_or((0, 0), |s| line_col(text, s.start));
+            err(
+                source,
+                format!("<toml line {line}, column {col}>"),
+                "valid TOML",
+                e.message().trim().to_string(),
+            )
+        })?;
+        let raw: RawScenario = serde_path_to_error::deserialize(de).map_err(|e| {
+            let field = dotted_path(e.path());
+            let inner = e.into_inner();
+            let where_ = inner.span().map(|s| line_col(text, s.start));
+            let msg = inner.message().trim().to_string();
+            let (expected, found) = split_serde_message(&msg);
+            let field = match where_ {
+                Some((l, c)) => format!("{field} (line {l}, column {c})"),
+                None => field,
+            };
+            err(source, field, expected, found)
+        })?;
+        build(raw, source)
+    }
+
+    /// JSON of the validated scenario (defaults filled in, world polygons computed).
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+
+    /// Seconds per control step.
+    pub fn control_dt(&self) -> f64 {
+        1.0 / self.scene.control_hz
+    }
+
+    /// Number of physics steps per control step.
+    pub fn frame_skip(&self) -> usize {
+        (self.scene.physics_hz / self.scene.control_hz).round() as usize
+    }
+
+    /// Maximum number of control steps of an episode.
+    pub fn max_steps(&self) -> usize {
+        (self.episode.max_time * self.scene.control_hz).ceil() as usize
+    }
+
+    /// Solid static polygons (walls, then solid object footprints) in world coordinates.
+    pub fn static_polygons(&self) -> Vec<Vec<[f64; 2]>> {
+        let walls = self.walls.iter().map(|w| w.polygon.clone());
+        let objects = self.objects.iter().filter(|o| o.solid).map(|o| o.footprint.clone());
+        walls.chain(objects).collect()
+    }
+}
+
+/// serde messages look like "invalid type: string \"x\", expected a number" or
+/// "unknown field `foo`, expected one of `a`, `b`"; split them into (expected, found).
+fn split_serde_message(msg: &str) -> (String, String) {
+    if let Some(idx) = msg.find(", expected ") {
+        let found = msg[..idx].trim_start_matches("invalid type: ").trim_start_matches("invalid value: ");
+        let expected = &msg[idx + ", expected ".len()..];
+        return (expected.to_string(), found.to_string());
+    }
+    if let Some(rest) = msg.strip_prefix("missing field ") {
+        return (format!("the required field {rest}"), "nothing".to_string());
+    }
+    ("a valid value".to_string(), msg.to_string())
+}
+
+struct Checker<'a> {
+    file: &'a str,
+}
+
+impl Checker<'_> {
+    fn finite(&self, field: &str, values: &[f64]) -> Result<()> {
+        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+            return Err(err(self.file, field, "finite numbers", format!("{v}")));
+        }
+        Ok(())
+    }
+
+    fn range(&self, field: &str, v: f64, lo: f64, hi: f64, lo_open: bool) -> Result<()> {
+        let ok_lo = if lo_open { v > lo } else { v >= lo };
+        if !v.is_finite() || !ok_lo || v > hi {
+            let l = if lo_open { "(" } else { "[" };
+            return Err(err(self.file, field, format!("a number in {l}{lo}, {hi}]"), format!("{v}")));
+        }
+        Ok(())
+    }
+
+    fn inside(&self, field: &str, p: [f64; 2], b: [f64; 4]) -> Result<()> {
+        self.finite(field, &p)?;
+        if p[0] < b[0] || p[0] > b[2] || p[1] < b[1] || p[1] > b[3] {
+            return Err(err(
+                self.file,
+                field,
+                format!("a point inside scene.bounds [{}, {}, {}, {}]", b[0], b[1], b[2], b[3]),
+                format!("[{}, {}]", p[0], p[1]),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Parses `HH:MM` or `HH:MM:SS` into seconds after midnight.
+pub fn parse_time_of_day(s: &str) -> Option<f64> {
+    let parts: Vec<&str> = s.trim().split(':').collect();
+    if parts.len() < 2 || parts.len() > 3 {
+        return None;
+    }
+    let h: u32 = parts[0].parse().ok()?;
+    let m: u32 = parts[1].parse().ok()?;
+    let sec: u32 = if parts.len() == 3 { parts[2].parse().ok()? } else { 0 };
+    if h > 23 || m > 59 || sec > 59 {
+        return None;
+    }
+    Some(f64::from(h * 3600 + m * 60 + sec))
+}
+
+/// Oriented rectangle centred at `c` with half extents along its local axes, CCW.
+fn oriented_rect(c: [f64; 2], theta: f64, half_x: f64, half_y: f64) -> Vec<[f64; 2]> {
+    let (s, co) = theta.sin_cos();
+    [(-half_x, -half_y), (half_x, -half_y), (half_x, half_y), (-half_x, half_y)]
+        .iter()
+        .map(|&(lx, ly)| [c[0] + co * lx - s * ly, c[1] + s * lx + co * ly])
+        .collect()
+}
+
+/// Circle approximated by [`CIRCLE_VERTICES`] vertices, CCW, circumscribing the circle (so the
+/// polygon contains the disc).
+fn circle_polygon(c: [f64; 2], r: f64) -> Vec<[f64; 2]> {
+    let n = CIRCLE_VERTICES;
+    let rr = r / (std::f64::consts::PI / n as f64).cos();
+    (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            [c[0] + rr * a.cos(), c[1] + rr * a.sin()]
+        })
+        .collect()
+}
+
+/// Signed area (positive when CCW).
+fn signed_area(poly: &[[f64; 2]]) -> f64 {
+    let n = poly.len();
+    (0..n)
+        .map(|i| {
+            let a = poly[i];
+            let b = poly[(i + 1) % n];
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum::<f64>()
+        * 0.5
+}
+
+fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
+    let ck = Checker { file };
+    // ---- scene
+    let s = &raw.scene;
+    ck.finite("scene.bounds", &s.bounds)?;
+    let b = s.bounds;
+    if !(b[2] > b[0] && b[3] > b[1]) {
+        return Err(err(
+            file,
+            "scene.bounds",
+            "[xmin, ymin, xmax, ymax] with xmax > xmin and ymax > ymin",
+            format!("{b:?}"),
+        ));
+    }
+    if (b[2] - b[0]) * (b[3] - b[1]) > 1.0e6 {
+        return Err(err(file, "scene.bounds", "an area of at most 1 km^2", format!("{b:?}")));
+    }
+    ck.range("scene.resolution", s.resolution, 0.0, 1.0, true)?;
+    let start_time = parse_time_of_day(&s.start_time).ok_or_else(|| {
+        err(
+            file,
+            "scene.start_time",
+            "a time of day \"HH:MM\" or \"HH:MM:SS\"",
+            format!("{:?}", s.start_time),
+        )
+    })?;
+    ck.range("scene.control_hz", s.control_hz, 0.0, 1000.0, true)?;
+    ck.range("scene.physics_hz", s.physics_hz, 0.0, 10000.0, true)?;
+    let ratio = s.physics_hz / s.control_hz;
+    if ratio < 1.0 || (ratio - ratio.round()).abs() > 1e-9 {
+        return Err(err(
+            file,
+            "scene.physics_hz",
+            format!("an integer multiple of scene.control_hz ({})", s.control_hz),
+            format!("{}", s.physics_hz),
+        ));
+    }
+    ck.range("scene.wall_height", s.wall_height, 0.0, 20.0, true)?;
+    if s.name.trim().is_empty() {
+        return Err(err(file, "scene.name", "a non-empty name", "\"\""));
+    }
+    let scene = Scene {
+        name: s.name.clone(),
+        description: s.description.clone(),
+        bounds: b,
+        resolution: s.resolution,
+        start_time,
+        control_hz: s.control_hz,
+        physics_hz: s.physics_hz,
+        wall_height: s.wall_height,
+    };
+
+    // ---- walls
+    let mut walls = Vec::with_capacity(raw.wall.len());
+    for (i, w) in raw.wall.iter().enumerate() {
+        let f = format!("wall[{i}]");
+        ck.finite(&format!("{f}.from"), &w.from)?;
+        ck.finite(&format!("{f}.to"), &w.to)?;
+        ck.range(&format!("{f}.thickness"), w.thickness, 0.0, 5.0, true)?;
+        let height = w.height.unwrap_or(s.wall_height);
+        ck.range(&format!("{f}.height"), height, 0.0, 20.0, true)?;
+        let (dx, dy) = (w.to[0] - w.from[0], w.to[1] - w.from[1]);
+        let len = dx.hypot(dy);
+        if len < 1e-6 {
+            return Err(err(
+                file,
+                format!("{f}.to"),
+                "a point different from wall.from",
+                format!("{:?}", w.to),
+            ));
+        }
+        let c = [(w.from[0] + w.to[0]) * 0.5, (w.from[1] + w.to[1]) * 0.5];
+        // Walls extend half a thickness past their end points so that corners close.
+        let polygon = oriented_rect(c, dy.atan2(dx), len * 0.5 + w.thickness * 0.5, w.thickness * 0.5);
+        walls.push(Wall { from: w.from, to: w.to, thickness: w.thickness, height, polygon });
+    }
+
+    // ---- objects
+    let mut objects = Vec::with_capacity(raw.object.len());
+    for (i, o) in raw.object.iter().enumerate() {
+        let f = format!("object[{i}]");
+        if o.name.trim().is_empty() {
+            return Err(err(file, format!("{f}.name"), "a non-empty name", "\"\""));
+        }
+        if let Some(j) = raw.object[..i].iter().position(|p| p.name == o.name) {
+            return Err(err(
+                file,
+                format!("{f}.name"),
+                format!("a unique name (object[{j}] is also called that)"),
+                format!("{:?}", o.name),
+            ));
+        }
+        ck.finite(&format!("{f}.pose"), &o.pose)?;
+        ck.inside(&format!("{f}.pose"), [o.pose[0], o.pose[1]], b)?;
+        let height = o.height.unwrap_or_else(|| o.kind.default_height());
+        ck.range(&format!("{f}.height"), height, 0.0, 20.0, true)?;
+        let c = [o.pose[0], o.pose[1]];
+        let (size, radius, footprint) = match (o.size, o.radius) {
+            (Some(sz), None) => {
+                ck.range(&format!("{f}.size[0]"), sz[0], 0.0, 50.0, true)?;
+                ck.range(&format!("{f}.size[1]"), sz[1], 0.0, 50.0, true)?;
+                (sz, None, oriented_rect(c, o.pose[2], sz[0] * 0.5, sz[1] * 0.5))
+            }
+            (None, Some(r)) => {
+                if !o.kind.is_round_capable() {
+                    return Err(err(
+                        file,
+                        format!("{f}.radius"),
+                        format!("size = [depth, width] for a {:?}", o.kind),
+                        "radius",
+                    ));
+                }
+                ck.range(&format!("{f}.radius"), r, 0.0, 25.0, true)?;
+                ([2.0 * r, 2.0 * r], Some(r), circle_polygon(c, r))
+            }
+            (Some(_), Some(_)) => {
+                return Err(err(file, format!("{f}.radius"), "either size or radius, not both", "both"));
+            }
+            (None, None) => {
+                return Err(err(
+                    file,
+                    format!("{f}.size"),
+                    "size = [depth, width] (or radius for round objects)",
+                    "nothing",
+                ));
+            }
+        };
+        let interaction = match &o.interaction {
+            None => None,
+            Some(ri) => Some(build_interaction(&ck, &format!("{f}.interaction"), ri, o, size, radius, b)?),
+        };
+        objects.push(Object {
+            name: o.name.clone(),
+            kind: o.kind,
+            pose: o.pose,
+            size,
+            radius,
+            height,
+            solid: o.solid,
+            footprint,
+            interaction,
+        });
+    }
+
+    // ---- persons
+    let mut persons = Vec::with_capacity(raw.person.len());
+    for (i, p) in raw.person.iter().enumerate() {
+        let f = format!("person[{i}]");
+        let name = p.name.clone().unwrap_or_else(|| format!("person_{i}"));
+        ck.range(&format!("{f}.radius"), p.radius, 0.0, 0.5, true)?;
+        ck.range(&format!("{f}.height"), p.height, 0.3, 2.5, false)?;
+        ck.range(&format!("{f}.speed"), p.speed, 0.0, 2.5, true)?;
+        ck.range(&format!("{f}.dwell"), p.dwell, 0.0, 3600.0, false)?;
+        for (k, w) in p.route.iter().enumerate() {
+            ck.inside(&format!("{f}.route[{k}]"), *w, b)?;
+        }
+        let pose = match p.behaviour {
+            Behaviour::Walker => {
+                if p.route.len() < 2 {
+                    return Err(err(
+                        file,
+                        format!("{f}.route"),
+                        "at least 2 waypoints for a walker",
+                        format!("{} waypoint(s)", p.route.len()),
+                    ));
+                }
+                for k in 0..p.route.len() {
+                    let a = p.route[k];
+                    let c = p.route[(k + 1) % p.route.len()];
+                    if (a[0] - c[0]).hypot(a[1] - c[1]) < 1e-6 {
+                        return Err(err(
+                            file,
+                            format!("{f}.route[{}]", (k + 1) % p.route.len()),
+                            "a waypoint different from the previous one",
+                            format!("{c:?}"),
+                        ));
+                    }
+                }
+                if let Some(pose) = p.pose {
+                    return Err(err(
+                        file,
+                        format!("{f}.pose"),
+                        "no pose for a walker (it starts on its route)",
+                        format!("{pose:?}"),
+                    ));
+                }
+                let (a, c) = (p.route[0], p.route[1]);
+                [a[0], a[1], (c[1] - a[1]).atan2(c[0] - a[0])]
+            }
+            Behaviour::Standing => {
+                let pose = p.pose.ok_or_else(|| {
+                    err(file, format!("{f}.pose"), "pose = [x, y, theta] for a standing person", "nothing")
+                })?;
+                ck.finite(&format!("{f}.pose"), &pose)?;
+                ck.inside(&format!("{f}.pose"), [pose[0], pose[1]], b)?;
+                if !p.route.is_empty() {
+                    return Err(err(
+                        file,
+                        format!("{f}.route"),
+                        "no route for a standing person",
+                        format!("{} waypoint(s)", p.route.len()),
+                    ));
+                }
+                pose
+            }
+        };
+        persons.push(Person {
+            name,
+            behaviour: p.behaviour,
+            pose,
+            route: p.route.clone(),
+            speed: p.speed,
+            dwell: p.dwell,
+            radius: p.radius,
+            height: p.height,
+            group: p.group,
+        });
+    }
+    check_unique(file, "person", persons.iter().map(|p| p.name.as_str()))?;
+
+    // ---- robots
+    if raw.robot.is_empty() {
+        return Err(err(file, "robot", "at least one [[robot]] table", "none"));
+    }
+    let mut robots = Vec::with_capacity(raw.robot.len());
+    for (i, r) in raw.robot.iter().enumerate() {
+        let f = format!("robot[{i}]");
+        ck.finite(&format!("{f}.start"), &r.start)?;
+        ck.inside(&format!("{f}.start"), [r.start[0], r.start[1]], b)?;
+        ck.inside(&format!("{f}.goal"), r.goal, b)?;
+        ck.range(&format!("{f}.radius"), r.radius, 0.0, 2.0, true)?;
+        ck.range(&format!("{f}.max_speed"), r.max_speed, 0.0, 5.0, true)?;
+        ck.range(&format!("{f}.max_angular_speed"), r.max_angular_speed, 0.0, 10.0, true)?;
+        ck.range(&format!("{f}.max_accel"), r.max_accel, 0.0, 20.0, true)?;
+        ck.range(&format!("{f}.inflation_margin"), r.inflation_margin, 0.0, 1.0, false)?;
+        robots.push(Robot {
+            name: r.name.clone().unwrap_or_else(|| format!("robot_{i}")),
+            start: r.start,
+            goal: r.goal,
+            planner: r.planner,
+            radius: r.radius,
+            max_speed: r.max_speed,
+            max_angular_speed: r.max_angular_speed,
+            max_accel: r.max_accel,
+            inflation_margin: r.inflation_margin,
+        });
+    }
+    check_unique(file, "robot", robots.iter().map(|r| r.name.as_str()))?;
+
+    // ---- episode, sensors, reward
+    let e = &raw.episode;
+    ck.range("episode.max_time", e.max_time, 0.0, 86400.0, true)?;
+    ck.range("episode.success_radius", e.success_radius, 0.0, 10.0, true)?;
+    ck.range("episode.randomize.speed_jitter", e.randomize.speed_jitter, 0.0, 0.5, false)?;
+    ck.range("episode.randomize.robot_start_jitter", e.randomize.robot_start_jitter, 0.0, 5.0, false)?;
+    let sn = &raw.sensors;
+    if !(4..=1440).contains(&sn.lidar_rays) {
+        return Err(err(file, "sensors.lidar_rays", "an integer in [4, 1440]", sn.lidar_rays.to_string()));
+    }
+    ck.range("sensors.lidar_range", sn.lidar_range, 0.0, 50.0, true)?;
+    if !(1..=64).contains(&sn.k_nearest) {
+        return Err(err(file, "sensors.k_nearest", "an integer in [1, 64]", sn.k_nearest.to_string()));
+    }
+    let rw = &raw.reward;
+    for (name, v) in [
+        ("progress", rw.progress),
+        ("success", rw.success),
+        ("collision", rw.collision),
+        ("time", rw.time),
+        ("personal_space", rw.personal_space),
+    ] {
+        ck.range(&format!("reward.{name}"), v, -1e6, 1e6, false)?;
+    }
+
+    Ok(Scenario {
+        source: file.to_string(),
+        scene,
+        walls,
+        objects,
+        persons,
+        robots,
+        episode: Episode {
+            max_time: e.max_time,
+            success_radius: e.success_radius,
+            randomize: e.randomize.clone(),
+        },
+        sensors: raw.sensors,
+        reward: raw.reward,
+    })
+}
+
+fn check_unique<'a>(file: &str, table: &str, names: impl Iterator<Item = &'a str>) -> Result<()> {
+    let names: Vec<&str> = names.collect();
+    for (i, n) in names.iter().enumerate() {
+        if let Some(j) = names[..i].iter().position(|m| m == n) {
+            return Err(err(
+                file,
+                format!("{table}[{i}].name"),
+                format!("a unique name ({table}[{j}] is also called that)"),
+                format!("{n:?}"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn build_interaction(
+    ck: &Checker<'_>,
+    f: &str,
+    ri: &RawInteraction,
+    o: &RawObject,
+    size: [f64; 2],
+    radius: Option<f64>,
+    bounds: [f64; 4],
+) -> Result<Interaction> {
+    let c = [o.pose[0], o.pose[1]];
+    let th = o.pose[2];
+    let (shape, polygon) = match ri {
+        RawInteraction::Trapezoid { length, near_width, far_width } => {
+            ck.range(&format!("{f}.length"), *length, 0.0, 50.0, true)?;
+            ck.range(&format!("{f}.near_width"), *near_width, 0.0, 50.0, true)?;
+            ck.range(&format!("{f}.far_width"), *far_width, 0.0, 50.0, true)?;
+            let x0 = size[0] * 0.5;
+            let x1 = x0 + length;
+            let (s, co) = th.sin_cos();
+            let local = [
+                (x0, -near_width * 0.5),
+                (x1, -far_width * 0.5),
+                (x1, far_width * 0.5),
+                (x0, near_width * 0.5),
+            ];
+            let poly =
+                local.iter().map(|&(lx, ly)| [c[0] + co * lx - s * ly, c[1] + s * lx + co * ly]).collect();
+            (
+                InteractionShape::Trapezoid {
+                    length: *length,
+                    near_width: *near_width,
+                    far_width: *far_width,
+                },
+                poly,
+            )
+        }
+        RawInteraction::Rectangle { margin } => {
+            ck.range(&format!("{f}.margin"), *margin, 0.0, 20.0, true)?;
+            let poly = match radius {
+                Some(r) => circle_polygon(c, r + margin),
+                None => oriented_rect(c, th, size[0] * 0.5 + margin, size[1] * 0.5 + margin),
+            };
+            (InteractionShape::Rectangle { margin: *margin }, poly)
+        }
+        RawInteraction::Circle { radius: r } => {
+            ck.range(&format!("{f}.radius"), *r, 0.0, 25.0, true)?;
+            (InteractionShape::Circle { radius: *r }, circle_polygon(c, *r))
+        }
+        RawInteraction::Polygon { points } => {
+            if points.len() < 3 {
+                return Err(err(
+                    ck.file,
+                    format!("{f}.points"),
+                    "at least 3 points",
+                    format!("{} point(s)", points.len()),
+                ));
+            }
+            for (k, p) in points.iter().enumerate() {
+                ck.inside(&format!("{f}.points[{k}]"), *p, bounds)?;
+            }
+            let mut poly = points.clone();
+            let area = signed_area(&poly);
+            if area.abs() < 1e-9 {
+                return Err(err(
+                    ck.file,
+                    format!("{f}.points"),
+                    "a polygon with non-zero area",
+                    "a degenerate polygon",
+                ));
+            }
+            if area < 0.0 {
+                poly.reverse();
+            }
+            (InteractionShape::Polygon, poly)
+        }
+    };
+    Ok(Interaction { shape, polygon })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MINIMAL: &str = r#"
+[scene]
+name = "room"
+bounds = [0, 0, 10, 8]
+
+[[wall]]
+from = [0, 0]
+to = [10, 0]
+
+[[object]]
+name = "painting"
+kind = "painting"
+pose = [5, 7.8, -1.5707963267948966]
+size = [0.1, 1.5]
+interaction = { shape = "trapezoid", length = 2.0, near_width = 1.5, far_width = 3.0 }
+
+[[person]]
+route = [[1, 1], [8, 1], [8, 6]]
+speed = 1.2
+
+[[person]]
+behaviour = "standing"
+pose = [3, 3, 0]
+
+[[robot]]
+start = [1, 4, 0]
+goal = [9, 4]
+"#;
+
+    fn parse(text: &str) -> Result<Scenario> {
+        Scenario::from_toml_str(text, "test.toml")
+    }
+
+    fn scenario_err(text: &str) -> (String, String, String, String) {
+        match parse(text) {
+            Err(CoreError::Scenario { file, field, expected, found }) => (file, field, expected, found),
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn minimal_scenario_fills_defaults() {
+        let s = parse(MINIMAL).expect("valid");
+        assert_eq!(s.scene.resolution, 0.1);
+        assert_eq!(s.scene.start_time, 9.0 * 3600.0);
+        assert_eq!(s.frame_skip(), 10);
+        assert_eq!(s.max_steps(), 1800);
+        assert_eq!(s.persons[0].name, "person_0");
+        assert_eq!(s.robots[0].max_speed, 0.55);
+        assert_eq!(s.robots[0].radius, 0.24);
+        // walker starts at its first waypoint, facing the second
+        assert_eq!(s.persons[0].pose, [1.0, 1.0, 0.0]);
+        assert_eq!(s.static_polygons().len(), 2);
+    }
+
+    #[test]
+    fn painting_trapezoid_faces_into_the_room() {
+        let s = parse(MINIMAL).expect("valid");
+        let poly = &s.objects[0].interaction.as_ref().expect("has space").polygon;
+        // facing -y: the far side is 2 m below the painting's front face at y = 7.75
+        let ys: Vec<f64> = poly.iter().map(|p| p[1]).collect();
+        let min_y = ys.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!((min_y - (7.8 - 0.05 - 2.0)).abs() < 1e-9, "{ys:?}");
+        assert!(signed_area(poly) > 0.0);
+        // far width 3.0
+        let xs: Vec<f64> = poly.iter().map(|p| p[0]).collect();
+        let span = xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+        assert!((span - 3.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn wall_polygon_covers_the_end_caps() {
+        let s = parse(MINIMAL).expect("valid");
+        let xs: Vec<f64> = s.walls[0].polygon.iter().map(|p| p[0]).collect();
+        assert!((xs.iter().cloned().fold(f64::MAX, f64::min) + 0.1).abs() < 1e-9);
+        assert!((xs.iter().cloned().fold(f64::MIN, f64::max) - 10.1).abs() < 1e-9);
+    }
+
+    #[test]
+    fn unknown_field_is_named() {
+        let text = MINIMAL.replace("speed = 1.2", "speed = 1.2\nsped = 3");
+        let (file, field, expected, found) = scenario_err(&text);
+        assert_eq!(file, "test.toml");
+        assert!(field.starts_with("person[0]"), "{field}");
+        assert!(found.contains("sped"), "{found}");
+        assert!(expected.contains("speed"), "{expected}");
+    }
+
+    #[test]
+    fn missing_field_is_named() {
+        let text = MINIMAL.replace("goal = [9, 4]\n", "");
+        let (_, field, expected, _) = scenario_err(&text);
+        assert!(field.starts_with("robot[0]"), "{field}");
+        assert!(expected.contains("goal"), "{expected}");
+    }
+
+    #[test]
+    fn wrong_type_is_named() {
+        let text = MINIMAL.replace("speed = 1.2", "speed = \"fast\"");
+        let (_, field, expected, found) = scenario_err(&text);
+        assert!(field.starts_with("person[0].speed"), "{field}");
+        assert!(
+            expected.contains("f64") || expected.contains("float") || expected.contains("number"),
+            "{expected}"
+        );
+        assert!(found.contains("fast"), "{found}");
+    }
+
+    #[test]
+    fn malformed_toml_gives_line() {
+        let (_, field, expected, _) = scenario_err("[scene\nname = 1");
+        assert!(field.contains("line 1"), "{field}");
+        assert_eq!(expected, "valid TOML");
+    }
+
+    #[test]
+    fn nan_is_rejected_with_field() {
+        let text = MINIMAL.replace("speed = 1.2", "speed = nan");
+        let (_, field, expected, found) = scenario_err(&text);
+        assert_eq!(field, "person[0].speed");
+        assert!(expected.contains("(0, 2.5]"));
+        assert_eq!(found, "NaN");
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, nan]");
+        let (_, field, _, _) = scenario_err(&text);
+        assert_eq!(field, "robot[0].goal");
+    }
+
+    #[test]
+    fn out_of_bounds_goal_is_rejected() {
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [19, 4]");
+        let (_, field, expected, found) = scenario_err(&text);
+        assert_eq!(field, "robot[0].goal");
+        assert!(expected.contains("inside scene.bounds"));
+        assert_eq!(found, "[19, 4]");
+    }
+
+    #[test]
+    fn bad_time_of_day() {
+        let text =
+            MINIMAL.replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 10, 8]\nstart_time = \"25:00\"");
+        let (_, field, _, found) = scenario_err(&text);
+        assert_eq!(field, "scene.start_time");
+        assert_eq!(found, "\"25:00\"");
+        assert_eq!(parse_time_of_day("10:30:15"), Some(37815.0));
+    }
+
+    #[test]
+    fn physics_rate_must_be_a_multiple() {
+        let text = MINIMAL.replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 10, 8]\nphysics_hz = 105");
+        let (_, field, _, _) = scenario_err(&text);
+        assert_eq!(field, "scene.physics_hz");
+    }
+
+    #[test]
+    fn walker_needs_two_waypoints_and_standing_needs_a_pose() {
+        let text = MINIMAL.replace("route = [[1, 1], [8, 1], [8, 6]]", "route = [[1, 1]]");
+        assert_eq!(scenario_err(&text).1, "person[0].route");
+        let text = MINIMAL.replace("pose = [3, 3, 0]", "");
+        assert_eq!(scenario_err(&text).1, "person[1].pose");
+    }
+
+    #[test]
+    fn duplicate_names_rejected() {
+        let text = format!("{MINIMAL}\n[[robot]]\nname = \"robot_0\"\nstart = [2, 4, 0]\ngoal = [8, 4]\n");
+        let (_, field, expected, _) = scenario_err(&text);
+        assert_eq!(field, "robot[1].name");
+        assert!(expected.contains("robot[0]"));
+    }
+
+    #[test]
+    fn unknown_planner_lists_the_known_ones() {
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\nplanner = \"teleport\"");
+        let (_, field, expected, found) = scenario_err(&text);
+        assert!(field.starts_with("robot[0].planner"), "{field}");
+        assert!(expected.contains("astar"), "{expected}");
+        assert!(found.contains("teleport"), "{found}");
+    }
+
+    #[test]
+    fn no_robot_is_an_error() {
+        let text = MINIMAL.split("[[robot]]").next().expect("has a robot table").to_string();
+        assert_eq!(scenario_err(&text).1, "robot");
+    }
+
+    #[test]
+    fn json_round_trip_has_polygons() {
+        let s = parse(MINIMAL).expect("valid");
+        let v: serde_json::Value = serde_json::from_str(&s.to_json()).expect("json");
+        assert_eq!(v["walls"][0]["polygon"].as_array().map(|a| a.len()), Some(4));
+        assert_eq!(v["objects"][0]["interaction"]["shape"], "trapezoid");
+        assert_eq!(v["robots"][0]["planner"], "astar");
+    }
+
+    #[test]
+    fn circle_polygon_contains_the_disc() {
+        let poly = circle_polygon([0.0, 0.0], 1.0);
+        // the inscribed radius of the polygon equals the circle's radius
+        for i in 0..poly.len() {
+            let a = poly[i];
+            let b = poly[(i + 1) % poly.len()];
+            let mid = [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
+            assert!((mid[0].hypot(mid[1]) - 1.0).abs() < 1e-9);
+        }
+        assert!(signed_area(&poly) > 0.0);
+    }
+}
