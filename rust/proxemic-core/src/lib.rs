@@ -18,9 +18,12 @@
 //! - [`metrics`]: per-step accumulation and episode summaries.
 //! - [`world`]: ties these together behind one `step`.
 
+pub mod control;
 pub mod error;
 pub mod map;
 pub mod math;
+pub mod metrics;
+pub mod pedestrians;
 pub mod plan;
 pub mod scenario;
 

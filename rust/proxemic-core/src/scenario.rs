@@ -115,6 +115,8 @@ struct RawPerson {
     #[serde(default = "d_person_height")]
     height: f64,
     group: Option<u32>,
+    #[serde(default = "d_true")]
+    aware: bool,
 }
 
 #[derive(Deserialize)]
@@ -429,6 +431,8 @@ pub struct Person {
     pub height: f64,
     /// Ground-truth group id, if the person belongs to a group.
     pub group: Option<u32>,
+    /// Whether the person sees the robots and yields to them (default true).
+    pub aware: bool,
 }
 
 /// A robot.
@@ -1019,6 +1023,7 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
             radius: p.radius,
             height: p.height,
             group: p.group,
+            aware: p.aware,
         });
     }
     check_unique(file, "person", persons.iter().map(|p| p.name.as_str()))?;

@@ -1,0 +1,280 @@
+//! Local control: command limits and the path follower of the plain A* planner.
+//!
+//! Commands to the holonomic base are `(vx, vy, wz)` in the robot frame (metres per second and
+//! radians per second). Every command, from a built-in planner or from a user's action, passes
+//! through [`Limits::apply`], which enforces Pepper's limits (NAOqi `ALMotion` maxima): the norm of
+//! the linear velocity at most `max_speed` (0.55 m/s), the change of the world-frame linear
+//! velocity per control step at most `max_accel * dt` (0.55 m/s^2), `|wz|` at most
+//! `max_angular_speed` (2.0 rad/s), and the change of `wz` at most `max_angular_accel * dt`
+//! (3.0 rad/s^2). Acceleration is limited relative to the previous *command*, so the limit holds
+//! on what the base is asked to do whatever the physics did.
+//!
+//! Heading policy of the built-in follower: face the direction of motion (turn toward the
+//! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
+
+use crate::math::{Vec2, rotate, wrap_angle};
+
+/// Motion limits of a robot base.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Maximum linear speed, norm of (vx, vy) (m/s). Pepper: 0.55.
+    pub max_speed: f64,
+    /// Maximum angular speed (rad/s). Pepper: 2.0.
+    pub max_angular_speed: f64,
+    /// Maximum linear acceleration (m/s^2). Pepper: 0.55.
+    pub max_accel: f64,
+    /// Maximum angular acceleration (rad/s^2). Pepper (NAOqi `MaxAccTheta`): 3.0.
+    pub max_angular_accel: f64,
+}
+
+impl Limits {
+    /// Pepper's limits.
+    pub const PEPPER: Limits =
+        Limits { max_speed: 0.55, max_angular_speed: 2.0, max_accel: 0.55, max_angular_accel: 3.0 };
+
+    /// Limits a desired world-frame command `(v, wz)` given the previous world-frame command,
+    /// over a control period `dt`. Non-finite desired values are treated as a request to stop.
+    pub fn apply(
+        &self,
+        desired_v: Vec2,
+        desired_wz: f64,
+        prev_v: Vec2,
+        prev_wz: f64,
+        dt: f64,
+    ) -> (Vec2, f64) {
+        let desired_v =
+            if desired_v.x.is_finite() && desired_v.y.is_finite() { desired_v } else { Vec2::zeros() };
+        let desired_wz = if desired_wz.is_finite() { desired_wz } else { 0.0 };
+        let v = clamp_norm(desired_v, self.max_speed);
+        let dv = clamp_norm(v - prev_v, self.max_accel * dt);
+        let v = clamp_norm(prev_v + dv, self.max_speed);
+        let wz = desired_wz.clamp(-self.max_angular_speed, self.max_angular_speed);
+        let dw = (wz - prev_wz).clamp(-self.max_angular_accel * dt, self.max_angular_accel * dt);
+        let wz = (prev_wz + dw).clamp(-self.max_angular_speed, self.max_angular_speed);
+        (v, wz)
+    }
+}
+
+/// Scales `v` down to norm `max` if it is longer.
+pub fn clamp_norm(v: Vec2, max: f64) -> Vec2 {
+    let n = v.norm();
+    if n > max && n > 0.0 { v * (max / n) } else { v }
+}
+
+/// World-frame velocity to robot-frame velocity for a robot with heading `theta`.
+pub fn world_to_body(v: Vec2, theta: f64) -> Vec2 {
+    rotate(v, -theta)
+}
+
+/// Robot-frame velocity to world-frame velocity.
+pub fn body_to_world(v: Vec2, theta: f64) -> Vec2 {
+    rotate(v, theta)
+}
+
+/// Parameters of the pure-pursuit path follower.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FollowerParams {
+    /// Look-ahead distance along the path (metres); default 0.8.
+    pub lookahead: f64,
+    /// Proportional gain from heading error to angular velocity (1/s); default 2.5.
+    pub heading_gain: f64,
+    /// Distance from the path beyond which the path is re-planned (metres); default 1.0.
+    pub replan_distance: f64,
+    /// Below this speed (m/s) the heading is held rather than turned toward the motion; default 0.05.
+    pub min_turn_speed: f64,
+}
+
+impl Default for FollowerParams {
+    fn default() -> Self {
+        FollowerParams { lookahead: 0.8, heading_gain: 2.5, replan_distance: 1.0, min_turn_speed: 0.05 }
+    }
+}
+
+/// Tracks a polyline path: finds the closest point ahead of the last one (progress never goes
+/// backwards), aims at a look-ahead point, and slows down to stop at the end.
+#[derive(Clone, Debug, Default)]
+pub struct PathFollower {
+    path: Vec<Vec2>,
+    /// Cumulative arc length at each waypoint.
+    arc: Vec<f64>,
+    /// Arc-length position of the robot's projection on the path.
+    progress: f64,
+    params: FollowerParams,
+}
+
+/// What the follower asks for this step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FollowerOutput {
+    /// Desired world-frame velocity (m/s), before limits.
+    pub velocity: Vec2,
+    /// Desired angular velocity (rad/s), before limits.
+    pub wz: f64,
+    /// Distance from the robot to its projection on the path (metres).
+    pub cross_track: f64,
+}
+
+impl PathFollower {
+    /// A follower for `path` (world-frame waypoints, at least one).
+    pub fn new(path: Vec<Vec2>, params: FollowerParams) -> Self {
+        let mut arc = Vec::with_capacity(path.len());
+        let mut s = 0.0;
+        for (k, p) in path.iter().enumerate() {
+            if k > 0 {
+                s += (p - path[k - 1]).norm();
+            }
+            arc.push(s);
+        }
+        PathFollower { path, arc, progress: 0.0, params }
+    }
+
+    /// The path being followed.
+    pub fn path(&self) -> &[Vec2] {
+        &self.path
+    }
+
+    /// Total path length (metres).
+    pub fn length(&self) -> f64 {
+        self.arc.last().copied().unwrap_or(0.0)
+    }
+
+    /// The follower's parameters.
+    pub fn params(&self) -> &FollowerParams {
+        &self.params
+    }
+
+    /// Point at arc length `s` (clamped to the path).
+    fn point_at(&self, s: f64) -> Vec2 {
+        if self.path.len() < 2 {
+            return self.path.first().copied().unwrap_or_else(Vec2::zeros);
+        }
+        let s = s.clamp(0.0, self.length());
+        let k = match self.arc.binary_search_by(|a| a.total_cmp(&s)) {
+            Ok(k) => return self.path[k],
+            Err(k) => k.clamp(1, self.path.len() - 1),
+        };
+        let (a, b) = (self.path[k - 1], self.path[k]);
+        let seg = self.arc[k] - self.arc[k - 1];
+        if seg <= 0.0 { b } else { a + (b - a) * ((s - self.arc[k - 1]) / seg) }
+    }
+
+    /// Projects `p` on the path, searching segments from the current progress up to
+    /// `window` metres ahead; returns (arc length, distance).
+    fn project(&self, p: Vec2, window: f64) -> (f64, f64) {
+        let mut best = (self.progress, (p - self.point_at(self.progress)).norm());
+        for k in 1..self.path.len() {
+            if self.arc[k] < self.progress {
+                continue;
+            }
+            if self.arc[k - 1] > self.progress + window {
+                break;
+            }
+            let (a, b) = (self.path[k - 1], self.path[k]);
+            let ab = b - a;
+            let len2 = ab.norm_squared();
+            let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+            let s = (self.arc[k - 1] + t * len2.sqrt()).max(self.progress);
+            let d = (p - self.point_at(s)).norm();
+            if d < best.1 - 1e-12 {
+                best = (s, d);
+            }
+        }
+        best
+    }
+
+    /// One control step of `dt` seconds: robot at `p` with heading `theta`, with a maximum speed
+    /// and acceleration used to plan the stop at the end of the path.
+    pub fn step(&mut self, p: Vec2, theta: f64, max_speed: f64, max_accel: f64, dt: f64) -> FollowerOutput {
+        let (s, cross) = self.project(p, 2.0 * self.params.lookahead + 1.0);
+        self.progress = s;
+        let target = self.point_at(s + self.params.lookahead);
+        let remaining = (self.length() - s) + cross;
+        let to_target = target - p;
+        let dist = to_target.norm();
+        // Brake so as to stop at the end: v^2 = 2 a d, with 10% margin on the deceleration.
+        // and never ask for more than the remaining distance in one step (no overshoot).
+        let speed = max_speed.min((2.0 * 0.9 * max_accel * remaining).sqrt()).min(remaining / dt.max(1e-6));
+        let velocity = if dist > 1e-6 { to_target * (speed / dist) } else { Vec2::zeros() };
+        let wz = if velocity.norm() > self.params.min_turn_speed {
+            self.params.heading_gain * wrap_angle(velocity.y.atan2(velocity.x) - theta)
+        } else {
+            0.0
+        };
+        FollowerOutput { velocity, wz, cross_track: cross }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_clamp_speed_norm_not_box() {
+        let l = Limits::PEPPER;
+        let (v, _) = l.apply(Vec2::new(1.0, 1.0), 0.0, Vec2::new(0.5, 0.2), 0.0, 10.0);
+        assert!((v.norm() - 0.55).abs() < 1e-12);
+        assert!((v.x - v.y).abs() < 1e-12);
+    }
+
+    #[test]
+    fn limits_bound_acceleration() {
+        let l = Limits::PEPPER;
+        let (v, wz) = l.apply(Vec2::new(0.55, 0.0), 2.0, Vec2::zeros(), 0.0, 0.1);
+        assert!((v.norm() - 0.055).abs() < 1e-12);
+        assert!((wz - 0.3).abs() < 1e-12);
+        // reversing direction: change bounded by a*dt
+        let (v2, _) = l.apply(Vec2::new(-0.55, 0.0), 0.0, v, wz, 0.1);
+        assert!(((v2 - v).norm() - 0.055).abs() < 1e-12);
+    }
+
+    #[test]
+    fn limits_treat_nan_as_stop() {
+        let l = Limits::PEPPER;
+        let (v, wz) = l.apply(Vec2::new(f64::NAN, 0.0), f64::INFINITY, Vec2::new(0.3, 0.0), 1.0, 0.1);
+        assert!(v.x.is_finite() && wz.is_finite());
+        assert!(v.norm() < 0.3);
+        assert!(wz < 1.0);
+    }
+
+    #[test]
+    fn frames_round_trip() {
+        let v = Vec2::new(0.3, -0.2);
+        let w = body_to_world(world_to_body(v, 1.1), 1.1);
+        assert!((v - w).norm() < 1e-12);
+        // facing +y, forward in the body is +y in the world
+        let f = body_to_world(Vec2::new(1.0, 0.0), std::f64::consts::FRAC_PI_2);
+        assert!((f - Vec2::new(0.0, 1.0)).norm() < 1e-12);
+    }
+
+    fn drive(path: Vec<Vec2>, start: Vec2, steps: usize) -> (Vec2, f64, f64) {
+        let mut f = PathFollower::new(path, FollowerParams::default());
+        let l = Limits::PEPPER;
+        let (mut p, mut th, mut v, mut w) = (start, 0.0, Vec2::zeros(), 0.0);
+        let mut max_cross: f64 = 0.0;
+        for _ in 0..steps {
+            let out = f.step(p, th, l.max_speed, l.max_accel, 0.1);
+            max_cross = max_cross.max(out.cross_track);
+            (v, w) = l.apply(out.velocity, out.wz, v, w, 0.1);
+            p += v * 0.1;
+            th = wrap_angle(th + w * 0.1);
+        }
+        (p, v.norm(), max_cross)
+    }
+
+    #[test]
+    fn follower_reaches_the_end_and_stops() {
+        let path = vec![Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0), Vec2::new(4.0, 3.0)];
+        let (p, speed, max_cross) = drive(path, Vec2::zeros(), 400);
+        assert!((p - Vec2::new(4.0, 3.0)).norm() < 0.05, "{p:?}");
+        assert!(speed < 0.02);
+        assert!(max_cross < 0.5, "cut the corner by {max_cross}");
+    }
+
+    #[test]
+    fn follower_progress_never_goes_backwards() {
+        // A path that doubles back: the follower must not jump to the later, closer segment.
+        let path = vec![Vec2::new(0.0, 0.0), Vec2::new(5.0, 0.0), Vec2::new(5.0, 0.6), Vec2::new(0.0, 0.6)];
+        let mut f = PathFollower::new(path, FollowerParams::default());
+        let out = f.step(Vec2::new(0.5, 0.25), 0.0, 0.55, 0.55, 0.1);
+        assert!(out.velocity.x > 0.0, "{out:?}");
+    }
+}
