@@ -24,6 +24,7 @@ pub mod map;
 pub mod math;
 pub mod metrics;
 pub mod pedestrians;
+pub mod world;
 pub mod plan;
 pub mod scenario;
 

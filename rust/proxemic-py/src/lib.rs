@@ -1,1 +1,357 @@
-//! py
+//! Python bindings of `proxemic-core`, exposed as `proxemic._core`.
+//!
+//! This crate is deliberately thin: it checks array shapes and dtypes, releases the GIL around
+//! the core's work, and maps every [`CoreError`] to one exception class of the hierarchy defined
+//! in `proxemic/errors.py` (all under `proxemic.ProxemicError`). A Rust panic would be a bug; as
+//! a last line of defence it is caught and re-raised as `proxemic.ProxemicError` rather than
+//! reaching Python as a `PanicException`.
+//!
+//! # Threading model
+//! `World.reset`, `World.command` and `World.step` copy nothing: they borrow the numpy buffers
+//! (read-only for inputs, read-write for outputs), release the GIL while the core runs, and
+//! reacquire it before returning. A `World` is not shared between threads (`unsendable`).
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadwriteArray1, PyUntypedArrayMethods};
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+
+use proxemic_core::CoreError;
+use proxemic_core::math::Vec2;
+use proxemic_core::scenario::Scenario as CoreScenario;
+use proxemic_core::world::{self, World as CoreWorld};
+
+/// Raises the Python exception matching a core error (class looked up in `proxemic.errors`).
+fn to_py_err(py: Python<'_>, e: CoreError) -> PyErr {
+    let (class, file, field, expected, found) = match &e {
+        CoreError::Scenario { file, field, expected, found } => {
+            ("ScenarioError", Some(file.clone()), field.clone(), Some(expected.clone()), Some(found.clone()))
+        }
+        CoreError::Input { field, expected, found } => {
+            ("InputError", None, field.clone(), Some(expected.clone()), Some(found.clone()))
+        }
+        CoreError::Planning { file, field, message } => {
+            ("PlanningError", Some(file.clone()), field.clone(), None, Some(message.clone()))
+        }
+    };
+    let message = e.to_string();
+    let build = || -> PyResult<PyErr> {
+        let cls = py.import("proxemic.errors")?.getattr(class)?;
+        let kwargs = PyDict::new(py);
+        kwargs.set_item("file", file)?;
+        kwargs.set_item("field", field)?;
+        kwargs.set_item("expected", expected)?;
+        kwargs.set_item("found", found)?;
+        let inst = cls.call((message.clone(),), Some(&kwargs))?;
+        Ok(PyErr::from_value(inst))
+    };
+    build().unwrap_or_else(|err| err)
+}
+
+/// Runs core work with the GIL released; maps errors and panics to Python exceptions.
+fn enter_core<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, CoreError> + Send) -> PyResult<T> {
+    let result = py.detach(|| catch_unwind(AssertUnwindSafe(f)));
+    match result {
+        Ok(Ok(v)) => Ok(v),
+        Ok(Err(e)) => Err(to_py_err(py, e)),
+        Err(_) => Err(internal_error(py)),
+    }
+}
+
+fn internal_error(py: Python<'_>) -> PyErr {
+    let make = || -> PyResult<PyErr> {
+        let cls = py.import("proxemic.errors")?.getattr("ProxemicError")?;
+        Ok(PyErr::from_value(cls.call1(("internal error in the Rust core (a bug: please report it)",))?))
+    };
+    make().unwrap_or_else(|_| PyRuntimeError::new_err("internal error in the Rust core"))
+}
+
+fn input_err(py: Python<'_>, field: &str, expected: String, found: String) -> PyErr {
+    to_py_err(py, CoreError::input(field, expected, found))
+}
+
+/// A validated scenario (parsed once, from a TOML file or string).
+#[pyclass(module = "proxemic._core", name = "Scenario", frozen)]
+struct PyScenario {
+    inner: CoreScenario,
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Reads and validates a scenario file. Raises `ScenarioError` naming the file and field.
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
+        let inner = enter_core(py, || CoreScenario::from_file(&path))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// Parses and validates scenario TOML text; `source` names it in error messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, source = "<string>"))]
+    fn from_toml(py: Python<'_>, text: &str, source: &str) -> PyResult<Self> {
+        let text = text.to_string();
+        let source = source.to_string();
+        let inner = enter_core(py, move || CoreScenario::from_toml_str(&text, &source))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// The validated scenario as JSON (defaults filled in, world polygons computed).
+    fn to_json(&self) -> String {
+        self.inner.to_json()
+    }
+
+    /// Scene name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.scene.name.clone()
+    }
+
+    /// Where the scenario was read from.
+    #[getter]
+    fn source(&self) -> String {
+        self.inner.source.clone()
+    }
+
+    /// Control period (s).
+    #[getter]
+    fn control_dt(&self) -> f64 {
+        self.inner.control_dt()
+    }
+
+    /// Physics steps per control step.
+    #[getter]
+    fn frame_skip(&self) -> usize {
+        self.inner.frame_skip()
+    }
+
+    /// Maximum control steps per episode.
+    #[getter]
+    fn max_steps(&self) -> usize {
+        self.inner.max_steps()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scenario(name={:?}, source={:?}, robots={}, people={})",
+            self.inner.scene.name,
+            self.inner.source,
+            self.inner.robots.len(),
+            self.inner.persons.len()
+        )
+    }
+}
+
+/// The simulated world of a scenario: people, planners, metrics, observations and rewards.
+///
+/// Buffers: `out` is a C-contiguous float64 array of `num_robots * stride` values (use
+/// `layout` to slice it), `people_out` a C-contiguous float64 array of `num_people * 3` values
+/// (x, y, heading). Both may have any shape with that many values.
+#[pyclass(module = "proxemic._core", name = "World", unsendable)]
+struct PyWorld {
+    inner: CoreWorld,
+}
+
+fn flat_mut<'a>(py: Python<'_>, name: &str, arr: &'a mut PyReadwriteArray1<'_, f64>) -> PyResult<&'a mut [f64]> {
+    arr.as_slice_mut()
+        .map_err(|_| input_err(py, name, "a C-contiguous float64 array".into(), "a non-contiguous array".into()))
+}
+
+#[pymethods]
+impl PyWorld {
+    /// Builds the world (static map, inflated grids, goal fields, plain A* paths). Raises
+    /// `ScenarioError` for a robot or goal inside or too close to walls, a person in a wall or a
+    /// route through one, and `PlanningError` for an unreachable goal.
+    #[new]
+    fn new(py: Python<'_>, scenario: &PyScenario) -> PyResult<Self> {
+        let s = scenario.inner.clone();
+        let inner = enter_core(py, move || CoreWorld::new(s))?;
+        Ok(PyWorld { inner })
+    }
+
+    /// Values per robot row of `out`.
+    #[getter]
+    fn stride(&self) -> usize {
+        self.inner.layout().stride
+    }
+
+    /// `{section: (offset, length)}` of a robot row of `out`.
+    #[getter]
+    fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (name, s) in &self.inner.layout().sections {
+            d.set_item(*name, (s.offset, s.len))?;
+        }
+        Ok(d)
+    }
+
+    /// Number of robots.
+    #[getter]
+    fn num_robots(&self) -> usize {
+        self.inner.num_robots()
+    }
+
+    /// Number of people.
+    #[getter]
+    fn num_people(&self) -> usize {
+        self.inner.num_people()
+    }
+
+    /// Control steps since the last reset.
+    #[getter]
+    fn steps(&self) -> usize {
+        self.inner.steps()
+    }
+
+    /// Simulation time since the last reset (s).
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+
+    /// Time of day at the current step (seconds after midnight).
+    #[getter]
+    fn time_of_day(&self) -> f64 {
+        self.inner.time_of_day()
+    }
+
+    /// Bound on the goal offset in observations (metres): the map diagonal, rounded up.
+    #[getter]
+    fn obs_position_bound(&self) -> f64 {
+        self.inner.obs_position_bound()
+    }
+
+    /// Starts an episode from `seed` (a non-negative integer below 2**64).
+    fn reset(
+        &mut self,
+        py: Python<'_>,
+        seed: u64,
+        mut out: PyReadwriteArray1<'_, f64>,
+        mut people_out: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let o = flat_mut(py, "out", &mut out)?;
+        let p = flat_mut(py, "people_out", &mut people_out)?;
+        let w = &mut self.inner;
+        enter_core(py, move || w.reset(seed, o, p))
+    }
+
+    /// Replaces the built-in planners' commands with normalised actions (3 per robot, in
+    /// [-1, 1], clipped; a robot whose 3 values are all NaN keeps its planner's command).
+    /// Raises `InputError` for partly non-finite actions.
+    fn command(&mut self, py: Python<'_>, actions: PyReadonlyArray1<'_, f64>, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
+        let a = actions.as_slice().map_err(|_| {
+            input_err(py, "actions", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
+        })?;
+        let o = flat_mut(py, "out", &mut out)?;
+        let w = &mut self.inner;
+        enter_core(py, move || w.command(a, o))
+    }
+
+    /// One control step after the physics. `state`: 6 float64 per robot (x, y, theta, vx, vy,
+    /// wz; world frame); `contacts`: one uint8 of CONTACT_* bits per robot.
+    fn step(
+        &mut self,
+        py: Python<'_>,
+        state: PyReadonlyArray1<'_, f64>,
+        contacts: PyReadonlyArray1<'_, u8>,
+        mut out: PyReadwriteArray1<'_, f64>,
+        mut people_out: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
+        let s = state.as_slice().map_err(|_| {
+            input_err(py, "state", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
+        })?;
+        let c = contacts.as_slice().map_err(|_| {
+            input_err(py, "contacts", "a C-contiguous uint8 array".into(), "a non-contiguous array".into())
+        })?;
+        let o = flat_mut(py, "out", &mut out)?;
+        let p = flat_mut(py, "people_out", &mut people_out)?;
+        let w = &mut self.inner;
+        enter_core(py, move || w.step(s, c, o, p))
+    }
+
+    /// Episode metrics of every robot so far, as JSON (a list of objects; infinities as null).
+    fn metrics_json(&self) -> String {
+        serde_json_string(&self.inner.metrics())
+    }
+
+    /// The global path robot `robot` is following, as a (K, 2) float64 array.
+    fn path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let path = self.inner.path(robot).ok_or_else(|| {
+            input_err(py, "robot", format!("an index below {} after reset()", self.inner.num_robots()), robot.to_string())
+        })?;
+        points_to_array(py, path)
+    }
+
+    /// Plans a plain A* path for robot `robot`'s footprint; None if there is none.
+    fn plan<'py>(
+        &mut self,
+        py: Python<'py>,
+        robot: usize,
+        start: (f64, f64),
+        goal: (f64, f64),
+    ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+        if robot >= self.inner.num_robots() {
+            return Err(input_err(py, "robot", format!("an index below {}", self.inner.num_robots()), robot.to_string()));
+        }
+        match self.inner.plan(robot, Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1)) {
+            Some(p) => Ok(Some(points_to_array(py, &p)?)),
+            None => Ok(None),
+        }
+    }
+
+    /// The people now: (P, 6) float64 of x, y, heading, vx, vy, radius.
+    fn people<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let c = self.inner.crowd();
+        let mut data = Vec::with_capacity(c.len() * 6);
+        for k in 0..c.len() {
+            data.extend_from_slice(&[c.pos[k].x, c.pos[k].y, c.heading[k], c.vel[k].x, c.vel[k].y, c.radius[k]]);
+        }
+        PyArray1::from_vec(py, data).reshape([c.len(), 6])
+    }
+
+    /// Robot `robot`'s inflated cost grid as ((H, W) uint8 array, (origin_x, origin_y,
+    /// resolution)); row 0 is the lowest y. 254 marks static obstacles, 253 the inflation.
+    fn cost_grid<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyTuple>> {
+        let g = self.inner.cost_grid(robot).ok_or_else(|| {
+            input_err(py, "robot", format!("an index below {}", self.inner.num_robots()), robot.to_string())
+        })?;
+        let arr = PyArray1::from_slice(py, &g.cost).reshape([g.spec.height, g.spec.width])?;
+        let meta = (g.spec.origin.x, g.spec.origin.y, g.spec.resolution);
+        PyTuple::new(py, [arr.into_any(), meta.into_pyobject(py)?.into_any()])
+    }
+
+    /// Geodesic shortest collision-free distance from robot `robot`'s nominal start to its goal (m).
+    fn geodesic_start_distance(&self, py: Python<'_>, robot: usize) -> PyResult<f64> {
+        self.inner.geodesic_start_distance(robot).ok_or_else(|| {
+            input_err(py, "robot", format!("an index below {}", self.inner.num_robots()), robot.to_string())
+        })
+    }
+}
+
+fn serde_json_string<T: serde::Serialize>(v: &T) -> String {
+    serde_json::to_string(v).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+}
+
+fn points_to_array<'py>(py: Python<'py>, pts: &[Vec2]) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let flat: Vec<f64> = pts.iter().flat_map(|p| [p.x, p.y]).collect();
+    PyArray1::from_vec(py, flat).reshape([pts.len(), 2])
+}
+
+/// The compiled core of proxemic.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("CONTACT_PERSON", world::CONTACT_PERSON)?;
+    m.add("CONTACT_STATIC", world::CONTACT_STATIC)?;
+    m.add("CONTACT_ROBOT", world::CONTACT_ROBOT)?;
+    m.add("REWARD_TERMS", world::REWARD_TERMS.to_vec())?;
+    m.add("PERSON_FEATURES", world::PERSON_FEATURES)?;
+    m.add("ROBOT_FEATURES", world::ROBOT_FEATURES)?;
+    m.add("OBS_MAX_SPEED", world::OBS_MAX_SPEED)?;
+    m.add("OBS_MAX_ANGULAR", world::OBS_MAX_ANGULAR)?;
+    m.add("PLANNERS", proxemic_core::scenario::PlannerKind::NAMES.to_vec())?;
+    m.add_class::<PyScenario>()?;
+    m.add_class::<PyWorld>()?;
+    Ok(())
+}

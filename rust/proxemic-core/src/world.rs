@@ -1,0 +1,750 @@
+//! The world: ties scenario, map, planners, pedestrians and metrics together behind one `step`.
+//!
+//! The Python env owns the physics. Per control step it calls, in this order:
+//! 1. [`World::command`] (only when a user policy acts): turns normalised actions into limited
+//!    robot-frame commands; without it the built-in planner's command is executed;
+//! 2. writes the commands and the people's poses into MuJoCo and steps the physics;
+//! 3. [`World::step`] with the robots' new poses, velocities and contact flags: advances the
+//!    people, accumulates metrics and reward terms, builds the observations, and runs each
+//!    robot's built-in planner for the next command.
+//!
+//! All outputs are written into one caller-owned `f64` buffer laid out as described by
+//! [`Layout`] (one row of [`Layout::stride`] values per robot), plus a `(people, 3)` buffer of
+//! the people's poses, so a step allocates nothing and crosses the language boundary once.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
+use crate::error::{CoreError, Result};
+use crate::map::geometry::{Bounds, StaticGeometry};
+use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
+use crate::map::lidar;
+use crate::math::{Vec2, wrap_angle};
+use crate::metrics::{EpisodeMetrics, MetricsAccumulator, Outcome, StepSample};
+use crate::pedestrians::Crowd;
+use crate::plan::geodesic::GoalField;
+use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
+use crate::scenario::{PlannerKind, Scenario};
+
+/// Contact flag bit: the robot touched a person during the physics step.
+pub const CONTACT_PERSON: u8 = 1;
+/// Contact flag bit: the robot touched a wall or furniture.
+pub const CONTACT_STATIC: u8 = 2;
+/// Contact flag bit: the robot touched another robot.
+pub const CONTACT_ROBOT: u8 = 4;
+
+/// Number of values per person in the people observation.
+pub const PERSON_FEATURES: usize = 5;
+/// Number of values in the robot observation.
+pub const ROBOT_FEATURES: usize = 5;
+/// Names of the reward terms, in the order they are summed.
+pub const REWARD_TERMS: [&str; 5] = ["progress", "success", "collision", "time", "personal_space"];
+/// Radius of the personal zone used by the personal-space reward term (metres, centre distance;
+/// Hall's personal distance as used by HuNav/SEAN).
+pub const PERSONAL_ZONE: f64 = 1.2;
+/// Bound on velocities in observations (m/s); values beyond are clipped (documented in the env).
+pub const OBS_MAX_SPEED: f64 = 5.0;
+/// Bound on the angular velocity in observations (rad/s).
+pub const OBS_MAX_ANGULAR: f64 = 10.0;
+
+/// One named section of a robot's row in the output buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Section {
+    /// Offset within the row.
+    pub offset: usize,
+    /// Number of values.
+    pub len: usize,
+}
+
+/// Layout of a robot's row in the output buffer.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Layout {
+    /// Values per robot row.
+    pub stride: usize,
+    /// Named sections: `command` (3: vx, vy, wz, robot frame, to execute), `planner_action` (3:
+    /// the built-in planner's command as a normalised action), `obs_robot` (5), `obs_people`
+    /// (k * 5), `obs_people_mask` (k), `obs_lidar` (rays), `reward_terms` (5), `reward` (1),
+    /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta).
+    pub sections: Vec<(&'static str, Section)>,
+}
+
+impl Layout {
+    fn new(k: usize, rays: usize) -> Self {
+        let sizes: [(&'static str, usize); 10] = [
+            ("command", 3),
+            ("planner_action", 3),
+            ("obs_robot", ROBOT_FEATURES),
+            ("obs_people", k * PERSON_FEATURES),
+            ("obs_people_mask", k),
+            ("obs_lidar", rays),
+            ("reward_terms", REWARD_TERMS.len()),
+            ("reward", 1),
+            ("flags", 4),
+            ("pose", 3),
+        ];
+        let mut offset = 0;
+        let mut sections = Vec::with_capacity(sizes.len());
+        for (name, len) in sizes {
+            sections.push((name, Section { offset, len }));
+            offset += len;
+        }
+        Layout { stride: offset, sections }
+    }
+
+    /// The section called `name`.
+    pub fn section(&self, name: &str) -> Option<Section> {
+        self.sections.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+    }
+}
+
+/// Per-robot state that does not change between episodes.
+struct RobotStatic {
+    limits: Limits,
+    radius: f64,
+    goal: Vec2,
+    grid_index: usize,
+    goal_field: GoalField,
+    geodesic_from_start: f64,
+    /// The plain A* path from the nominal start (cached: the start only changes with jitter).
+    nominal_path: Vec<Vec2>,
+}
+
+/// Per-robot state of the running episode.
+struct RobotRuntime {
+    pose: [f64; 3],
+    velocity: Vec2,
+    wz: f64,
+    /// Last executed command, world frame.
+    exec_v: Vec2,
+    exec_wz: f64,
+    /// The built-in planner's proposed command, world frame.
+    proposed_v: Vec2,
+    proposed_wz: f64,
+    follower: PathFollower,
+    metrics: MetricsAccumulator,
+    outcome: Outcome,
+    geodesic: f64,
+    user_command: bool,
+}
+
+/// A cost grid shared by all robots with the same inflation radius.
+struct InflatedGrid {
+    radius: f64,
+    grid: CostGrid,
+}
+
+/// The simulated world of one scenario.
+pub struct World {
+    scenario: Scenario,
+    geometry: StaticGeometry,
+    grids: Vec<InflatedGrid>,
+    statics: Vec<RobotStatic>,
+    robots: Vec<RobotRuntime>,
+    crowd: Crowd,
+    planner: PathPlanner,
+    layout: Layout,
+    rng: ChaCha8Rng,
+    steps: usize,
+    started: bool,
+    scratch_people: Vec<(f64, usize)>,
+    scratch_discs: Vec<(Vec2, f64)>,
+}
+
+fn v2(p: [f64; 2]) -> Vec2 {
+    Vec2::new(p[0], p[1])
+}
+
+fn scenario_err(s: &Scenario, field: String, expected: String, found: String) -> CoreError {
+    CoreError::Scenario { file: s.source.clone(), field, expected, found }
+}
+
+impl World {
+    /// Builds the world: static geometry, inflated grids, goal fields and the plain A* paths
+    /// from the nominal starts. Fails if a robot's start or goal is inside or too close to the
+    /// static geometry, if a goal is unreachable, or if a person starts or walks through it.
+    pub fn new(scenario: Scenario) -> Result<Self> {
+        let b = scenario.scene.bounds;
+        let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
+        let polygons: Vec<Vec<Vec2>> =
+            scenario.static_polygons().into_iter().map(|p| p.into_iter().map(v2).collect()).collect();
+        let geometry = StaticGeometry::new(polygons, bounds)?;
+        let spec = GridSpec::covering(bounds, scenario.scene.resolution)?;
+        let occupancy = OccupancyGrid::rasterize(&geometry, spec);
+        let field = DistanceField::from_occupancy(&occupancy);
+
+        check_people(&scenario, &geometry)?;
+
+        let mut grids: Vec<InflatedGrid> = Vec::new();
+        let mut planner = PathPlanner::new();
+        let mut statics = Vec::with_capacity(scenario.robots.len());
+        for (i, r) in scenario.robots.iter().enumerate() {
+            let clearance_needed = r.radius;
+            for (name, p) in [("start", Vec2::new(r.start[0], r.start[1])), ("goal", v2(r.goal))] {
+                let clear = geometry.distance(p);
+                if geometry.contains(p) || clear < clearance_needed {
+                    let what = if geometry.contains(p) {
+                        "inside a wall or object".to_string()
+                    } else {
+                        format!("only {clear:.2} m from a wall or object")
+                    };
+                    return Err(scenario_err(
+                        &scenario,
+                        format!("robot[{i}].{name}"),
+                        format!("a position at least {clearance_needed:.2} m (the robot radius) from walls and furniture"),
+                        format!("{:?} ({what})", [p.x, p.y]),
+                    ));
+                }
+            }
+            let inflate = r.radius + r.inflation_margin;
+            let grid_index = match grids.iter().position(|g| (g.radius - inflate).abs() < 1e-12) {
+                Some(k) => k,
+                None => {
+                    grids.push(InflatedGrid { radius: inflate, grid: CostGrid::inflated(&field, inflate) });
+                    grids.len() - 1
+                }
+            };
+            let grid = &grids[grid_index].grid;
+            let goal = v2(r.goal);
+            let goal_cell = snap_to_passable(grid, goal).ok_or_else(|| {
+                scenario_err(
+                    &scenario,
+                    format!("robot[{i}].goal"),
+                    format!("a goal with {inflate:.2} m clearance (robot radius + inflation margin) nearby"),
+                    format!("{:?}", r.goal),
+                )
+            })?;
+            let goal_field = GoalField::compute(grid, goal_cell);
+            let start = Vec2::new(r.start[0], r.start[1]);
+            let geodesic_from_start = goal_field.distance(start);
+            let nominal_path = plan_path(&mut planner, grid, start, goal).ok_or_else(|| CoreError::Planning {
+                file: scenario.source.clone(),
+                field: format!("robot[{i}].goal"),
+                message: format!(
+                    "no collision-free path for a robot of radius {:.2} m from start {:?} to goal {:?}",
+                    r.radius,
+                    [r.start[0], r.start[1]],
+                    r.goal
+                ),
+            })?;
+            let limits = Limits {
+                max_speed: r.max_speed,
+                max_angular_speed: r.max_angular_speed,
+                max_accel: r.max_accel,
+                max_angular_accel: Limits::PEPPER.max_angular_accel,
+            };
+            match r.planner {
+                PlannerKind::Astar => {}
+            }
+            statics.push(RobotStatic {
+                limits,
+                radius: r.radius,
+                goal,
+                grid_index,
+                goal_field,
+                geodesic_from_start,
+                nominal_path,
+            });
+        }
+        let layout = Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays);
+        let mut world = World {
+            geometry,
+            grids,
+            statics,
+            robots: Vec::new(),
+            crowd: Crowd::default(),
+            planner,
+            layout,
+            rng: ChaCha8Rng::seed_from_u64(0),
+            steps: 0,
+            started: false,
+            scratch_people: Vec::new(),
+            scratch_discs: Vec::new(),
+            scenario,
+        };
+        world.crowd = Crowd::spawn(&world.scenario.persons, &world.scenario.episode.randomize, &mut world.rng);
+        Ok(world)
+    }
+
+    /// The validated scenario.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The static geometry.
+    pub fn geometry(&self) -> &StaticGeometry {
+        &self.geometry
+    }
+
+    /// Layout of the per-robot output rows.
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// Number of robots.
+    pub fn num_robots(&self) -> usize {
+        self.statics.len()
+    }
+
+    /// Number of people.
+    pub fn num_people(&self) -> usize {
+        self.scenario.persons.len()
+    }
+
+    /// Control steps since the last reset.
+    pub fn steps(&self) -> usize {
+        self.steps
+    }
+
+    /// Simulation time since the last reset (s).
+    pub fn time(&self) -> f64 {
+        self.steps as f64 * self.scenario.control_dt()
+    }
+
+    /// Time of day (seconds after midnight) at the current step.
+    pub fn time_of_day(&self) -> f64 {
+        (self.scenario.scene.start_time + self.time()).rem_euclid(86400.0)
+    }
+
+    /// The inflated cost grid robot `i` plans on.
+    pub fn cost_grid(&self, i: usize) -> Option<&CostGrid> {
+        self.statics.get(i).map(|s| &self.grids[s.grid_index].grid)
+    }
+
+    /// The global path robot `i` is following (world-frame waypoints).
+    pub fn path(&self, i: usize) -> Option<&[Vec2]> {
+        self.robots.get(i).map(|r| r.follower.path())
+    }
+
+    /// Geodesic (shortest collision-free) distance from robot `i`'s nominal start to its goal (m).
+    pub fn geodesic_start_distance(&self, i: usize) -> Option<f64> {
+        self.statics.get(i).map(|s| s.geodesic_from_start)
+    }
+
+    /// Plans a plain A* path for robot `i`'s footprint between two points.
+    pub fn plan(&mut self, i: usize, start: Vec2, goal: Vec2) -> Option<Vec<Vec2>> {
+        let grid = &self.grids[self.statics.get(i)?.grid_index].grid;
+        plan_path(&mut self.planner, grid, start, goal)
+    }
+
+    /// Episode metrics of every robot so far.
+    pub fn metrics(&self) -> Vec<EpisodeMetrics> {
+        self.robots.iter().map(|r| r.metrics.metrics().clone()).collect()
+    }
+
+    /// The people: positions, velocities, headings and radii.
+    pub fn crowd(&self) -> &Crowd {
+        &self.crowd
+    }
+
+    fn check_out(&self, out: &[f64], people_out: &[f64]) -> Result<()> {
+        let want = self.layout.stride * self.num_robots();
+        if out.len() != want {
+            return Err(CoreError::input("out", format!("{want} values ({} robots x {})", self.num_robots(), self.layout.stride), format!("{} values", out.len())));
+        }
+        let want_p = self.num_people() * 3;
+        if people_out.len() != want_p {
+            return Err(CoreError::input("people_out", format!("{want_p} values ({} people x 3)", self.num_people()), format!("{} values", people_out.len())));
+        }
+        Ok(())
+    }
+
+    /// Starts a new episode from `seed`: respawns the people, places the robots (with the
+    /// scenario's start jitter), plans their paths and fills `out` (observations at the start,
+    /// the first planner command, the start poses in `pose`) and `people_out` (x, y, theta).
+    pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
+        self.check_out(out, people_out)?;
+        self.rng = ChaCha8Rng::seed_from_u64(seed);
+        self.crowd = Crowd::spawn(&self.scenario.persons, &self.scenario.episode.randomize, &mut self.rng);
+        self.steps = 0;
+        self.robots.clear();
+        let jitter = self.scenario.episode.randomize.robot_start_jitter;
+        for i in 0..self.statics.len() {
+            let r = &self.scenario.robots[i];
+            let nominal = Vec2::new(r.start[0], r.start[1]);
+            let mut start = nominal;
+            if jitter > 0.0 {
+                // Draw until the jittered start is clear of the static geometry (bounded tries).
+                for _ in 0..16 {
+                    let c = nominal + Vec2::new(self.rng.random_range(-jitter..=jitter), self.rng.random_range(-jitter..=jitter));
+                    if !self.geometry.contains(c) && self.geometry.distance(c) >= self.statics[i].radius {
+                        start = c;
+                        break;
+                    }
+                }
+            }
+            let st = &self.statics[i];
+            let path = if start == nominal {
+                st.nominal_path.clone()
+            } else {
+                let grid = &self.grids[st.grid_index].grid;
+                plan_path(&mut self.planner, grid, start, st.goal).unwrap_or_else(|| st.nominal_path.clone())
+            };
+            let pose = [start.x, start.y, wrap_angle(r.start[2])];
+            let mut metrics = MetricsAccumulator::new(start);
+            let (d, gap) = self.closest_person(start, st.radius);
+            metrics.observe_start(d, gap);
+            self.robots.push(RobotRuntime {
+                pose,
+                velocity: Vec2::zeros(),
+                wz: 0.0,
+                exec_v: Vec2::zeros(),
+                exec_wz: 0.0,
+                proposed_v: Vec2::zeros(),
+                proposed_wz: 0.0,
+                follower: PathFollower::new(path, FollowerParams::default()),
+                metrics,
+                outcome: Outcome::Running,
+                geodesic: st.goal_field.distance(start),
+                user_command: false,
+            });
+        }
+        self.started = true;
+        let stride = self.layout.stride;
+        for i in 0..self.robots.len() {
+            let row = &mut out[i * stride..(i + 1) * stride];
+            row.fill(0.0);
+        }
+        self.observe_all(out);
+        self.plan_all(out);
+        self.write_people(people_out);
+        Ok(())
+    }
+
+    /// Executes normalised actions instead of the built-in planners' commands for this step.
+    /// `actions` holds 3 values per robot in [-1, 1] (vx, vy scaled by the robot's max speed,
+    /// wz by its max angular speed, robot frame); values outside are clipped to [-1, 1] as in
+    /// Gymnasium's MuJoCo environments. Pass NaN for all three values of a robot to let its
+    /// built-in planner drive it. The limited commands are written to `out`'s `command`.
+    pub fn command(&mut self, actions: &[f64], out: &mut [f64]) -> Result<()> {
+        let n = self.num_robots();
+        if !self.started {
+            return Err(CoreError::input("command", "a call after reset()", "a call before the first reset()"));
+        }
+        if actions.len() != 3 * n || out.len() != self.layout.stride * n {
+            return Err(CoreError::input("actions", format!("{} values ({n} robots x 3)", 3 * n), format!("{} values", actions.len())));
+        }
+        let dt = self.scenario.control_dt();
+        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
+        for i in 0..n {
+            let a = &actions[3 * i..3 * i + 3];
+            if a.iter().all(|v| v.is_nan()) {
+                continue;
+            }
+            if a.iter().any(|v| !v.is_finite()) {
+                return Err(CoreError::input(
+                    format!("action[{i}]"),
+                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised)",
+                    format!("[{}, {}, {}]", a[0], a[1], a[2]),
+                ));
+            }
+            let st = &self.statics[i];
+            let rb = &mut self.robots[i];
+            if rb.outcome != Outcome::Running {
+                continue;
+            }
+            let body = Vec2::new(a[0].clamp(-1.0, 1.0), a[1].clamp(-1.0, 1.0)) * st.limits.max_speed;
+            let wz = a[2].clamp(-1.0, 1.0) * st.limits.max_angular_speed;
+            let desired = body_to_world(body, rb.pose[2]);
+            let (v, w) = st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt);
+            rb.proposed_v = v;
+            rb.proposed_wz = w;
+            rb.user_command = true;
+            let b = world_to_body(v, rb.pose[2]);
+            let row = &mut out[i * self.layout.stride..];
+            row[cmd] = b.x;
+            row[cmd + 1] = b.y;
+            row[cmd + 2] = w;
+        }
+        Ok(())
+    }
+
+    /// One control step after the physics: `state` holds 6 values per robot (x, y, theta, and
+    /// the world-frame velocities vx, vy, wz), `contacts` one byte of `CONTACT_*` bits per
+    /// robot. Fills `out` and `people_out` (see [`Layout`]).
+    pub fn step(&mut self, state: &[f64], contacts: &[u8], out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
+        if !self.started {
+            return Err(CoreError::input("step", "a call after reset()", "a call before the first reset()"));
+        }
+        self.check_out(out, people_out)?;
+        let n = self.num_robots();
+        if state.len() != 6 * n {
+            return Err(CoreError::input("state", format!("{} values ({n} robots x 6)", 6 * n), format!("{} values", state.len())));
+        }
+        if contacts.len() != n {
+            return Err(CoreError::input("contacts", format!("{n} values"), format!("{} values", contacts.len())));
+        }
+        if let Some(k) = state.iter().position(|v| !v.is_finite()) {
+            return Err(CoreError::input(format!("state[{}][{}]", k / 6, k % 6), "finite robot poses and velocities", format!("{}", state[k])));
+        }
+        let dt = self.scenario.control_dt();
+        // The executed command becomes the reference for the acceleration limit.
+        for rb in &mut self.robots {
+            rb.exec_v = rb.proposed_v;
+            rb.exec_wz = rb.proposed_wz;
+            rb.user_command = false;
+        }
+        for (i, rb) in self.robots.iter_mut().enumerate() {
+            let s = &state[6 * i..6 * i + 6];
+            rb.pose = [s[0], s[1], wrap_angle(s[2])];
+            rb.velocity = Vec2::new(s[3], s[4]);
+            rb.wz = s[5];
+        }
+        // People move to the same instant as the robots.
+        self.scratch_discs.clear();
+        for (rb, st) in self.robots.iter().zip(&self.statics) {
+            self.scratch_discs.push((Vec2::new(rb.pose[0], rb.pose[1]), st.radius));
+        }
+        let discs = std::mem::take(&mut self.scratch_discs);
+        self.crowd.step(dt, &discs);
+        self.scratch_discs = discs;
+        self.steps += 1;
+        let out_of_time = self.time() >= self.scenario.episode.max_time - 1e-9;
+        let stride = self.layout.stride;
+        let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
+        let (terms_off, reward_off, flags_off) = (sec("reward_terms"), sec("reward"), sec("flags"));
+        let w = self.scenario.reward.clone();
+        let success_radius = self.scenario.episode.success_radius;
+        for i in 0..n {
+            let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+            let radius = self.statics[i].radius;
+            let (d, gap) = self.closest_person(p, radius);
+            let st = &self.statics[i];
+            let rb = &mut self.robots[i];
+            let row = &mut out[i * stride..(i + 1) * stride];
+            let terms = &mut row[terms_off..terms_off + REWARD_TERMS.len()];
+            if rb.outcome != Outcome::Running {
+                terms.fill(0.0);
+                row[reward_off] = 0.0;
+                continue;
+            }
+            let sample = StepSample {
+                position: p,
+                person_distance: d,
+                person_gap: gap,
+                hit_person: contacts[i] & CONTACT_PERSON != 0 || gap < 0.0,
+                hit_static: contacts[i] & CONTACT_STATIC != 0,
+                at_goal: (p - st.goal).norm() <= success_radius,
+                out_of_time,
+            };
+            let outcome = rb.metrics.record(&sample, dt);
+            rb.outcome = outcome;
+            let geo = st.goal_field.distance(p);
+            let progress = if geo.is_finite() && rb.geodesic.is_finite() { rb.geodesic - geo } else { 0.0 };
+            if geo.is_finite() {
+                rb.geodesic = geo;
+            }
+            terms[0] = w.progress * progress;
+            terms[1] = if outcome == Outcome::Success { w.success } else { 0.0 };
+            terms[2] = if outcome == Outcome::Collision { w.collision } else { 0.0 };
+            terms[3] = w.time;
+            terms[4] = w.personal_space * ((PERSONAL_ZONE - d) / PERSONAL_ZONE).max(0.0);
+            // Summed in the documented order, so Python's sum of the terms equals it exactly.
+            let mut total = 0.0;
+            for t in terms.iter() {
+                total += *t;
+            }
+            row[reward_off] = total;
+            let flags = &mut row[flags_off..flags_off + 4];
+            flags[0] = f64::from(u8::from(matches!(outcome, Outcome::Success | Outcome::Collision)));
+            flags[1] = f64::from(u8::from(outcome == Outcome::Timeout));
+            flags[2] = f64::from(u8::from(outcome == Outcome::Success));
+            flags[3] = f64::from(u8::from(outcome == Outcome::Collision));
+        }
+        self.observe_all(out);
+        self.plan_all(out);
+        self.write_people(people_out);
+        Ok(())
+    }
+
+    /// Closest person to `p`: (centre distance, surface gap for a robot of `radius`).
+    fn closest_person(&self, p: Vec2, radius: f64) -> (f64, f64) {
+        let mut best = (f64::INFINITY, f64::INFINITY);
+        for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
+            let d = (q - p).norm();
+            if d < best.0 {
+                best.0 = d;
+            }
+            let gap = d - radius - r;
+            if gap < best.1 {
+                best.1 = gap;
+            }
+        }
+        best
+    }
+
+    fn write_people(&self, people_out: &mut [f64]) {
+        for (k, chunk) in people_out.chunks_exact_mut(3).enumerate() {
+            chunk[0] = self.crowd.pos[k].x;
+            chunk[1] = self.crowd.pos[k].y;
+            chunk[2] = self.crowd.heading[k];
+        }
+    }
+
+    /// Fills the observation sections and `pose` of every robot's row.
+    fn observe_all(&mut self, out: &mut [f64]) {
+        let stride = self.layout.stride;
+        let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
+        let (o_robot, o_people, o_mask, o_lidar, o_pose) =
+            (sec("obs_robot"), sec("obs_people"), sec("obs_people_mask"), sec("obs_lidar"), sec("pose"));
+        let k = self.scenario.sensors.k_nearest;
+        let rays = self.scenario.sensors.lidar_rays;
+        let range = self.scenario.sensors.lidar_range;
+        let diag = self.obs_position_bound();
+        for i in 0..self.robots.len() {
+            let rb = &self.robots[i];
+            let st = &self.statics[i];
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            let th = rb.pose[2];
+            let row = &mut out[i * stride..(i + 1) * stride];
+            row[o_pose..o_pose + 3].copy_from_slice(&rb.pose);
+            let g = world_to_body(st.goal - p, th);
+            let v = world_to_body(rb.velocity, th);
+            let obs = &mut row[o_robot..o_robot + ROBOT_FEATURES];
+            obs[0] = g.x.clamp(-diag, diag);
+            obs[1] = g.y.clamp(-diag, diag);
+            obs[2] = v.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+            obs[3] = v.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+            obs[4] = rb.wz.clamp(-OBS_MAX_ANGULAR, OBS_MAX_ANGULAR);
+            // K nearest people within sensor range, ties broken by index.
+            self.scratch_people.clear();
+            for (j, q) in self.crowd.pos.iter().enumerate() {
+                let d = (q - p).norm();
+                if d <= range {
+                    self.scratch_people.push((d, j));
+                }
+            }
+            self.scratch_people.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let people = &mut row[o_people..o_people + k * PERSON_FEATURES];
+            people.fill(0.0);
+            let mut mask = [0.0; 64];
+            for (slot, &(_, j)) in self.scratch_people.iter().take(k).enumerate() {
+                let rel = world_to_body(self.crowd.pos[j] - p, th);
+                let vel = world_to_body(self.crowd.vel[j], th);
+                let f = &mut people[slot * PERSON_FEATURES..(slot + 1) * PERSON_FEATURES];
+                f[0] = rel.x.clamp(-range, range);
+                f[1] = rel.y.clamp(-range, range);
+                f[2] = vel.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+                f[3] = vel.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+                f[4] = self.crowd.radius[j];
+                mask[slot] = 1.0;
+            }
+            row[o_mask..o_mask + k].copy_from_slice(&mask[..k]);
+            // Lidar sees the static world, the people and the other robots.
+            self.scratch_discs.clear();
+            for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
+                self.scratch_discs.push((*q, *r));
+            }
+            for (j, (other, ost)) in self.robots.iter().zip(&self.statics).enumerate() {
+                if j != i {
+                    self.scratch_discs.push((Vec2::new(other.pose[0], other.pose[1]), ost.radius));
+                }
+            }
+            let scan = &mut row[o_lidar..o_lidar + rays];
+            // The only failure is a length mismatch, which the layout rules out.
+            let _ = lidar::scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
+        }
+    }
+
+    /// Bound on goal offsets in observations: the diagonal of the map, rounded up (metres).
+    pub fn obs_position_bound(&self) -> f64 {
+        let b = self.scenario.scene.bounds;
+        ((b[2] - b[0]).hypot(b[3] - b[1])).ceil()
+    }
+
+    /// Runs every robot's built-in planner: the next command (written to `command`) and the
+    /// same command as a normalised action (`planner_action`).
+    fn plan_all(&mut self, out: &mut [f64]) {
+        let stride = self.layout.stride;
+        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
+        let act = self.layout.section("planner_action").map_or(0, |s| s.offset);
+        let dt = self.scenario.control_dt();
+        for i in 0..self.robots.len() {
+            let st = &self.statics[i];
+            let rb = &mut self.robots[i];
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            let (v, w) = if rb.outcome == Outcome::Running {
+                let mut o = rb.follower.step(p, rb.pose[2], st.limits.max_speed, st.limits.max_accel, dt);
+                if o.cross_track > rb.follower.params().replan_distance {
+                    // Pushed off the path (by people or contacts): re-plan from here.
+                    let grid = &self.grids[st.grid_index].grid;
+                    if let Some(path) = plan_path(&mut self.planner, grid, p, st.goal) {
+                        rb.follower = PathFollower::new(path, FollowerParams::default());
+                        o = rb.follower.step(p, rb.pose[2], st.limits.max_speed, st.limits.max_accel, dt);
+                    }
+                }
+                st.limits.apply(o.velocity, o.wz, rb.exec_v, rb.exec_wz, dt)
+            } else {
+                // Finished robots are commanded to stop (within the deceleration limit).
+                st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
+            };
+            rb.proposed_v = v;
+            rb.proposed_wz = w;
+            let b = world_to_body(v, rb.pose[2]);
+            let row = &mut out[i * stride..(i + 1) * stride];
+            row[cmd] = b.x;
+            row[cmd + 1] = b.y;
+            row[cmd + 2] = w;
+            row[act] = (b.x / st.limits.max_speed).clamp(-1.0, 1.0);
+            row[act + 1] = (b.y / st.limits.max_speed).clamp(-1.0, 1.0);
+            row[act + 2] = (w / st.limits.max_angular_speed).clamp(-1.0, 1.0);
+        }
+    }
+}
+
+/// Nearest passable cell to `p` within 0.5 m.
+fn snap_to_passable(grid: &CostGrid, p: Vec2) -> Option<(usize, usize)> {
+    let cell = grid.spec.cell_of(p)?;
+    let radius = (0.5 / grid.spec.resolution).ceil() as usize;
+    nearest_passable(grid, cell, radius)
+}
+
+/// Plain A* (weight 0) from `start` to `goal` on `grid`, smoothed, as world-frame waypoints
+/// that start at `start` and end exactly at `goal`.
+fn plan_path(planner: &mut PathPlanner, grid: &CostGrid, start: Vec2, goal: Vec2) -> Option<Vec<Vec2>> {
+    let s = snap_to_passable(grid, start)?;
+    let g = snap_to_passable(grid, goal)?;
+    let path = planner.plan(grid, s, g, SearchMode { weight: 0.0, heuristic: true })?;
+    let mut pts = smooth_path(grid, &path, 0.0);
+    if let Some(first) = pts.first_mut() {
+        *first = start;
+    }
+    pts.push(goal);
+    Some(pts)
+}
+
+/// People must start clear of the static geometry and walk routes that do not cross it.
+fn check_people(s: &Scenario, geometry: &StaticGeometry) -> Result<()> {
+    for (i, p) in s.persons.iter().enumerate() {
+        let pos = Vec2::new(p.pose[0], p.pose[1]);
+        if p.route.is_empty() && (geometry.contains(pos) || geometry.distance(pos) < p.radius) {
+            return Err(scenario_err(
+                s,
+                format!("person[{i}].pose"),
+                format!("a position at least {:.2} m (the person's radius) from walls and furniture", p.radius),
+                format!("[{}, {}]", pos.x, pos.y),
+            ));
+        }
+        for (k, w) in p.route.iter().enumerate() {
+            let a = v2(*w);
+            if geometry.contains(a) || geometry.distance(a) < p.radius {
+                return Err(scenario_err(
+                    s,
+                    format!("person[{i}].route[{k}]"),
+                    format!("a waypoint at least {:.2} m (the person's radius) from walls and furniture", p.radius),
+                    format!("[{}, {}]", a.x, a.y),
+                ));
+            }
+            let b = v2(p.route[(k + 1) % p.route.len()]);
+            if geometry.segment_hits(a, b) {
+                return Err(scenario_err(
+                    s,
+                    format!("person[{i}].route[{k}]"),
+                    format!("a route leg to route[{}] that does not cross walls or furniture", (k + 1) % p.route.len()),
+                    format!("a leg from [{}, {}] to [{}, {}] through static geometry", a.x, a.y, b.x, b.y),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
