@@ -1,0 +1,33 @@
+"""proxemic: an evaluation gym for socially-aware robot navigation.
+
+A Pepper-like holonomic robot among scripted people in MuJoCo scenes (a museum, a care center),
+with the per-step planning, pedestrians and metrics computed in a Rust core.
+
+Usage::
+
+    import gymnasium as gym
+    import proxemic  # registers the environments
+
+    env = gym.make("proxemic/Museum-v0")
+    obs, info = env.reset(seed=0)
+"""
+
+from __future__ import annotations
+
+from proxemic import _core
+from proxemic.errors import InputError, PlanningError, ProxemicError, ScenarioError, UnknownNameError
+from proxemic.registration import ENV_IDS, register_envs
+
+__version__: str = _core.__version__
+
+register_envs()
+
+__all__ = [
+    "ENV_IDS",
+    "InputError",
+    "PlanningError",
+    "ProxemicError",
+    "ScenarioError",
+    "UnknownNameError",
+    "__version__",
+]
