@@ -1,1 +1,11 @@
-//! Grid path planning.
+//! Grid path planning: one 8-connected A* with two modes (plain and cost-aware), a Dijkstra oracle,
+//! and line-of-sight path smoothing (algorithms.md §6.3).
+//!
+//! - [`astar`]: the cost grid, inflation, the search and the goal-relocation helper.
+//! - [`smooth`]: greedy line-of-sight shortcutting and polyline cost evaluation.
+
+pub mod astar;
+pub mod smooth;
+
+pub use astar::{CostGrid, GridPath, INSCRIBED, LETHAL, PathPlanner, SearchMode, nearest_passable};
+pub use smooth::{path_cost, smooth_path};

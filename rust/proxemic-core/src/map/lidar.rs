@@ -1,0 +1,302 @@
+//! A 2D lidar: evenly spaced range readings against the static geometry and moving discs.
+
+use crate::error::{CoreError, Result};
+use crate::map::geometry::StaticGeometry;
+use crate::math::Vec2;
+
+/// Distance along the unit ray `origin + t * dir` to the circle of radius `r` centred at `c`:
+/// `Some(0)` if the origin is inside or on the disc, `None` on a miss or if the hit is beyond
+/// `max_t`.
+#[inline]
+fn ray_disc(origin: Vec2, dir: Vec2, c: Vec2, r: f64, max_t: f64) -> Option<f64> {
+    let m = origin - c;
+    let cc = m.norm_squared() - r * r;
+    if cc <= 0.0 {
+        return Some(0.0);
+    }
+    let b = m.dot(&dir);
+    if b >= 0.0 {
+        return None; // outside and pointing away
+    }
+    let disc = b * b - cc;
+    if disc < 0.0 {
+        return None;
+    }
+    let t = -b - disc.sqrt();
+    (t < max_t).then_some(t.max(0.0))
+}
+
+/// 2D lidar: `n_rays = out.len()` rays evenly spaced over 2*pi starting at `heading` (radians; ray k
+/// at `heading + k * 2*pi / n_rays`), cast from `origin` (metres) against the static geometry and
+/// the given discs `(centre, radius)` (metres). Writes the distance to the first hit (metres), or
+/// `max_range` if nothing is hit within it, into `out[k]`. An origin inside a polygon or a disc
+/// reads 0 on every ray that starts inside.
+///
+/// Discs whose surface is farther than `max_range` from the origin are culled once per scan, and
+/// the remaining discs are intersected analytically; the static geometry is only searched up to the
+/// nearest disc hit.
+///
+/// Errors with [`CoreError::Input`] if `out` is empty (`out.len()` is the number of rays), if
+/// `origin` or `heading` is not finite, if `max_range` is not finite and positive, or if a disc
+/// has a non-finite centre or a negative or non-finite radius. `out` is left untouched on error.
+pub fn scan(
+    geom: &StaticGeometry,
+    discs: &[(Vec2, f64)],
+    origin: Vec2,
+    heading: f64,
+    max_range: f64,
+    out: &mut [f64],
+) -> Result<()> {
+    if out.is_empty() {
+        return Err(CoreError::input(
+            "out",
+            "a buffer of n_rays >= 1 ranges",
+            "an empty buffer",
+        ));
+    }
+    if !(origin.x.is_finite() && origin.y.is_finite()) {
+        return Err(CoreError::input(
+            "origin",
+            "finite coordinates (metres)",
+            format!("{origin:?}"),
+        ));
+    }
+    if !heading.is_finite() {
+        return Err(CoreError::input(
+            "heading",
+            "a finite angle (radians)",
+            format!("{heading}"),
+        ));
+    }
+    if !(max_range.is_finite() && max_range > 0.0) {
+        return Err(CoreError::input(
+            "max_range",
+            "a finite range > 0 (metres)",
+            format!("{max_range}"),
+        ));
+    }
+    // Cull discs once; at most a small fixed number live on the stack, the rest fall back to a
+    // per-ray scan over all discs.
+    const STACK: usize = 64;
+    let mut near = [(Vec2::zeros(), 0.0f64); STACK];
+    let mut n_near = 0usize;
+    for (k, &(c, r)) in discs.iter().enumerate() {
+        if !(c.x.is_finite() && c.y.is_finite() && r.is_finite() && r >= 0.0) {
+            return Err(CoreError::input(
+                format!("discs[{k}]"),
+                "a finite centre and a finite radius >= 0 (metres)",
+                format!("centre {:?}, radius {r}", (c.x, c.y)),
+            ));
+        }
+        if (c - origin).norm() - r < max_range && n_near < STACK {
+            near[n_near] = (c, r);
+            n_near += 1;
+        }
+    }
+    let overflow = discs.len() > STACK && {
+        // Only matters if more than STACK discs survive the cull.
+        discs
+            .iter()
+            .filter(|(c, r)| (c - origin).norm() - r < max_range)
+            .count()
+            > STACK
+    };
+
+    let n = out.len();
+    let step = std::f64::consts::TAU / n as f64;
+    for (k, slot) in out.iter_mut().enumerate() {
+        let a = heading + k as f64 * step;
+        let dir = Vec2::new(a.cos(), a.sin());
+        let mut best = max_range;
+        let candidates: &[(Vec2, f64)] = if overflow { discs } else { &near[..n_near] };
+        for &(c, r) in candidates {
+            if let Some(t) = ray_disc(origin, dir, c, r, best) {
+                best = t;
+            }
+        }
+        if best > 0.0 {
+            best = best.min(geom.cast_ray(origin, dir, best));
+        }
+        *slot = best;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::geometry::{Bounds, cross};
+    use proptest::prelude::*;
+
+    fn v(x: f64, y: f64) -> Vec2 {
+        Vec2::new(x, y)
+    }
+
+    fn world() -> Bounds {
+        Bounds {
+            min: v(-10.0, -10.0),
+            max: v(10.0, 10.0),
+        }
+    }
+
+    /// A wall at x in [3, 3.2], y in [-5, 5].
+    fn wall() -> StaticGeometry {
+        let w = vec![v(3.0, -5.0), v(3.2, -5.0), v(3.2, 5.0), v(3.0, 5.0)];
+        StaticGeometry::new(vec![w], world()).expect("valid wall")
+    }
+
+    /// Brute force: every edge and every disc, no culling, no BVH.
+    fn reference(
+        geom: &StaticGeometry,
+        discs: &[(Vec2, f64)],
+        o: Vec2,
+        heading: f64,
+        max: f64,
+        n: usize,
+    ) -> Vec<f64> {
+        (0..n)
+            .map(|k| {
+                let a = heading + k as f64 * std::f64::consts::TAU / n as f64;
+                let d = v(a.cos(), a.sin());
+                if geom.contains(o) {
+                    return 0.0;
+                }
+                let mut best = max;
+                for (p, q) in geom.edges() {
+                    let e = q - p;
+                    let den = cross(d, e);
+                    if den.abs() < 1e-15 {
+                        continue;
+                    }
+                    let t = cross(p - o, e) / den;
+                    let u = cross(p - o, d) / den;
+                    if t >= 0.0 && (-1e-12..=1.0 + 1e-12).contains(&u) {
+                        best = best.min(t);
+                    }
+                }
+                for &(c, r) in discs {
+                    let m = o - c;
+                    if m.norm() <= r {
+                        best = 0.0;
+                        continue;
+                    }
+                    let b = m.dot(&d);
+                    let disc = b * b - (m.norm_squared() - r * r);
+                    if disc >= 0.0 {
+                        let t = -b - disc.sqrt();
+                        if t >= 0.0 {
+                            best = best.min(t);
+                        }
+                    }
+                }
+                best
+            })
+            .collect()
+    }
+
+    #[test]
+    fn hits_wall_at_known_distance() {
+        let g = wall();
+        let mut out = vec![0.0; 4];
+        scan(&g, &[], v(0.0, 0.0), 0.0, 10.0, &mut out).expect("valid scan");
+        assert!((out[0] - 3.0).abs() < 1e-12, "{out:?}");
+        assert_eq!(&out[1..], &[10.0, 10.0, 10.0]);
+        // Ray 0 at 45 degrees hits x = 3 at distance 3 * sqrt(2).
+        scan(
+            &g,
+            &[],
+            v(0.0, 0.0),
+            std::f64::consts::FRAC_PI_4,
+            10.0,
+            &mut out,
+        )
+        .expect("valid");
+        assert!((out[0] - 3.0 * 2f64.sqrt()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn disc_shadows_wall() {
+        let g = wall();
+        let mut out = vec![0.0; 8];
+        let discs = [(v(1.5, 0.0), 0.25), (v(-50.0, 0.0), 1.0)];
+        scan(&g, &discs, v(0.0, 0.0), 0.0, 10.0, &mut out).expect("valid");
+        assert!((out[0] - 1.25).abs() < 1e-12, "{out:?}");
+        // Disc behind the robot does not matter for the forward ray, and the far disc is culled.
+        assert_eq!(out[4], 10.0);
+        // Origin inside a disc reads 0.
+        scan(&g, &[(v(0.1, 0.0), 0.5)], v(0.0, 0.0), 0.0, 10.0, &mut out).expect("valid");
+        assert!(out.iter().all(|r| *r == 0.0));
+        // Origin inside the wall reads 0.
+        scan(&g, &[], v(3.1, 0.0), 0.0, 10.0, &mut out).expect("valid");
+        assert!(out.iter().all(|r| *r == 0.0));
+    }
+
+    #[test]
+    fn bad_inputs_are_errors() {
+        let g = wall();
+        let mut out = vec![7.0; 4];
+        let o = v(0.0, 0.0);
+        assert!(scan(&g, &[], o, 0.0, 10.0, &mut []).is_err());
+        assert!(scan(&g, &[], v(f64::NAN, 0.0), 0.0, 10.0, &mut out).is_err());
+        assert!(scan(&g, &[], o, f64::INFINITY, 10.0, &mut out).is_err());
+        assert!(scan(&g, &[], o, 0.0, f64::NAN, &mut out).is_err());
+        assert!(scan(&g, &[], o, 0.0, 0.0, &mut out).is_err());
+        assert!(scan(&g, &[(o, -1.0)], o, 0.0, 10.0, &mut out).is_err());
+        assert!(matches!(
+            scan(&g, &[(v(f64::NAN, 1.0), 1.0)], o, 0.0, 10.0, &mut out),
+            Err(CoreError::Input { .. })
+        ));
+        assert!(out.iter().all(|r| *r == 7.0), "untouched on error");
+    }
+
+    #[test]
+    fn many_discs_take_the_slow_path_correctly() {
+        let g = wall();
+        let discs: Vec<(Vec2, f64)> = (0..100)
+            .map(|i| (v(1.0 + 0.01 * i as f64, -2.0 + 0.04 * i as f64), 0.05))
+            .collect();
+        let mut out = vec![0.0; 90];
+        scan(&g, &discs, v(0.0, 0.0), 0.1, 8.0, &mut out).expect("valid");
+        let want = reference(&g, &discs, v(0.0, 0.0), 0.1, 8.0, 90);
+        for (a, b) in out.iter().zip(&want) {
+            assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn equals_brute_force_on_random_scenes(seed in any::<u64>(), n in 1usize..100) {
+            use rand::{Rng, SeedableRng};
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let mut polys = Vec::new();
+            for _ in 0..rng.random_range(0..8) {
+                let c = v(rng.random_range(-8.0..8.0), rng.random_range(-8.0..8.0));
+                let k = rng.random_range(3..9);
+                let r = rng.random_range(0.2..2.0);
+                let th0: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+                // Star-shaped, so simple.
+                let poly = (0..k)
+                    .map(|i| {
+                        let th = th0 + i as f64 * std::f64::consts::TAU / k as f64;
+                        let rr = r * rng.random_range(0.4..1.0);
+                        c + v(th.cos(), th.sin()) * rr
+                    })
+                    .collect();
+                polys.push(poly);
+            }
+            let g = StaticGeometry::new(polys, world()).expect("valid polygons");
+            let discs: Vec<(Vec2, f64)> = (0..rng.random_range(0..25))
+                .map(|_| (v(rng.random_range(-9.0..9.0), rng.random_range(-9.0..9.0)), rng.random_range(0.0..0.6)))
+                .collect();
+            let o = v(rng.random_range(-9.0..9.0), rng.random_range(-9.0..9.0));
+            let heading = rng.random_range(-4.0..4.0);
+            let max = rng.random_range(0.5..15.0);
+            let mut out = vec![0.0; n];
+            scan(&g, &discs, o, heading, max, &mut out).expect("valid scan");
+            let want = reference(&g, &discs, o, heading, max, n);
+            for k in 0..n {
+                prop_assert!((out[k] - want[k]).abs() < 1e-9, "ray {}: {} vs {}", k, out[k], want[k]);
+            }
+        }
+    }
+}

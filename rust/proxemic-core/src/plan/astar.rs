@@ -1,0 +1,762 @@
+//! The cost grid and the one 8-connected A* of algorithms.md §6.3 (plain, cost-aware, Dijkstra).
+//!
+//! Conventions:
+//! - cell costs are `u8`: 0 free, 1..=252 graded cost, [`INSCRIBED`] (253) and [`LETHAL`] (254)
+//!   impassable (anything `>= INSCRIBED`, including 255, is impassable);
+//! - moving from a cell to one of its 8 neighbours costs `len * res * (1 + w * c_to / 252)` metres,
+//!   with `len` 1 (orthogonal) or sqrt(2) (diagonal) and `c_to` the cost of the cell entered;
+//! - a diagonal move needs both orthogonal cells it passes between to be passable (no corner
+//!   cutting);
+//! - neighbours are generated in the fixed order E, W, N, S, NE, NW, SE, SW (`+x` is east, `+y`
+//!   north), and the open list breaks ties in `f` on the larger `g`, then on the smaller cell index,
+//!   so a search is a pure function of its inputs.
+
+use crate::map::grid::{DistanceField, GridSpec};
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Cost of a cell occupied by static geometry (impassable).
+pub const LETHAL: u8 = 254;
+/// Cost of a cell where the robot's centre would put its footprint into geometry (impassable).
+/// Every cost `>= INSCRIBED` is impassable.
+pub const INSCRIBED: u8 = 253;
+/// Largest passable cost; costs are scaled by `1 / MAX_PASSABLE` in edge weights.
+const MAX_PASSABLE: f64 = 252.0;
+
+/// A grid of traversal costs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CostGrid {
+    /// The grid frame.
+    pub spec: GridSpec,
+    /// One cost per cell, row-major (`spec.index`): 0 free, 1..=252 graded, >= 253 impassable.
+    pub cost: Vec<u8>,
+}
+
+impl CostGrid {
+    /// Inflates a distance field for a disc robot of `radius` metres.
+    ///
+    /// Rule (with `d` the field value, `res` the resolution, `h = res * sqrt(2) / 2` the cell's
+    /// half-diagonal):
+    /// - `d == 0` (occupied) gives [`LETHAL`];
+    /// - `d < radius + h` gives [`INSCRIBED`];
+    /// - otherwise 0.
+    ///
+    /// Why this is safe: the geometry lies inside occupied cells (the rasterisation is
+    /// conservative). If the nearest occupied cell centre is `d` away from a cell centre, every
+    /// point of every occupied square is at least `d - h` away, so a passable cell (`d >= radius +
+    /// h`) is one where a disc of `radius` centred on the cell centre cannot overlap the geometry.
+    /// The guarantee covers geometry inside the grid only: the grid must cover the geometry (or at
+    /// least everything within `radius` of the cells the robot may use). A NaN or negative `radius`
+    /// is treated as 0.
+    pub fn inflated(df: &DistanceField, radius: f64) -> Self {
+        let radius = radius.max(0.0); // f64::max ignores NaN
+        let half_diag = df.spec.resolution * std::f64::consts::SQRT_2 * 0.5;
+        let limit = radius + half_diag;
+        let cost = df
+            .metres
+            .iter()
+            .map(|&d| {
+                if d <= 0.0 {
+                    LETHAL
+                } else if d < limit {
+                    INSCRIBED
+                } else {
+                    0
+                }
+            })
+            .collect();
+        Self {
+            spec: df.spec,
+            cost,
+        }
+    }
+
+    /// True if `(ix, iy)` is inside the grid and its cost is below [`INSCRIBED`].
+    #[inline]
+    pub fn passable(&self, ix: usize, iy: usize) -> bool {
+        self.spec.contains_cell(ix, iy)
+            && self
+                .cost
+                .get(self.spec.index(ix, iy))
+                .is_some_and(|&c| c < INSCRIBED)
+    }
+
+    /// The cost of `(ix, iy)`, or `None` outside the grid.
+    #[inline]
+    pub fn cost_at(&self, ix: usize, iy: usize) -> Option<u8> {
+        if self.spec.contains_cell(ix, iy) {
+            self.cost.get(self.spec.index(ix, iy)).copied()
+        } else {
+            None
+        }
+    }
+}
+
+/// How [`PathPlanner::plan`] weighs cost and guides the search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchMode {
+    /// Cost multiplier `w` in `len * res * (1 + w * c / 252)`: 0 = plain (binary) A*, 2.0 is the
+    /// social default (like Nav2 Smac). Must be finite and `>= 0`; keep it `<= 5`.
+    pub weight: f64,
+    /// `true` for A* with the octile heuristic, `false` for Dijkstra (heuristic 0).
+    pub heuristic: bool,
+}
+
+impl SearchMode {
+    /// Plain A*: binary passability, weight 0.
+    pub const PLAIN: SearchMode = SearchMode {
+        weight: 0.0,
+        heuristic: true,
+    };
+
+    /// Cost-aware A* with the given weight.
+    pub fn weighted(weight: f64) -> Self {
+        Self {
+            weight,
+            heuristic: true,
+        }
+    }
+
+    /// Dijkstra with the given weight (the optimality oracle).
+    pub fn dijkstra(weight: f64) -> Self {
+        Self {
+            weight,
+            heuristic: false,
+        }
+    }
+}
+
+/// A path on the grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridPath {
+    /// Cells from start to goal inclusive; consecutive cells are 8-neighbours.
+    pub cells: Vec<(usize, usize)>,
+    /// Total cost (metres-equivalent): the sum over moves of `len * res * (1 + w * c_to / 252)`.
+    pub cost: f64,
+    /// Number of cells expanded (popped and closed) by the search.
+    pub expansions: usize,
+}
+
+/// An open-list entry; ordered so that `BinaryHeap` (a max-heap) pops the smallest `f`, then the
+/// largest `g`, then the smallest index.
+#[derive(Clone, Copy, Debug)]
+struct Open {
+    f: f64,
+    g: f64,
+    idx: u32,
+}
+
+impl PartialEq for Open {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Open {}
+impl PartialOrd for Open {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Open {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .f
+            .total_cmp(&self.f)
+            .then_with(|| self.g.total_cmp(&other.g))
+            .then_with(|| other.idx.cmp(&self.idx))
+    }
+}
+
+/// Neighbour offsets in the fixed generation order E, W, N, S, NE, NW, SE, SW, with move length in
+/// cells.
+const NEIGHBOURS: [(i32, i32, f64); 8] = [
+    (1, 0, 1.0),
+    (-1, 0, 1.0),
+    (0, 1, 1.0),
+    (0, -1, 1.0),
+    (1, 1, std::f64::consts::SQRT_2),
+    (-1, 1, std::f64::consts::SQRT_2),
+    (1, -1, std::f64::consts::SQRT_2),
+    (-1, -1, std::f64::consts::SQRT_2),
+];
+
+/// Octile distance in cells between `(ax, ay)` and `(bx, by)`.
+#[inline]
+fn octile(ax: usize, ay: usize, bx: usize, by: usize) -> f64 {
+    let dx = ax.abs_diff(bx) as f64;
+    let dy = ay.abs_diff(by) as f64;
+    let (lo, hi) = if dx < dy { (dx, dy) } else { (dy, dx) };
+    hi + (std::f64::consts::SQRT_2 - 1.0) * lo
+}
+
+/// Cost (metres-equivalent) of one move of `len` cells into a cell of cost `c_to`.
+#[inline]
+pub(crate) fn step_cost(len: f64, res: f64, weight: f64, c_to: u8) -> f64 {
+    len * res * (1.0 + weight * f64::from(c_to) / MAX_PASSABLE)
+}
+
+/// The grid search, with its per-cell buffers kept across calls.
+///
+/// `g`, `parent` and the visit/closed stamps are sized to the largest grid seen and never cleared:
+/// each call bumps a generation counter, and a cell's entries are valid only if its stamp equals
+/// the current generation (the buffers are reset only when the counter wraps).
+#[derive(Debug, Default)]
+pub struct PathPlanner {
+    g: Vec<f64>,
+    parent: Vec<u32>,
+    /// Generation in which the cell was first reached (its `g` and `parent` are valid).
+    seen: Vec<u32>,
+    /// Generation in which the cell was closed.
+    closed: Vec<u32>,
+    generation: u32,
+    heap: BinaryHeap<Open>,
+}
+
+impl PathPlanner {
+    /// An empty planner; buffers grow on first use.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Plans from `start` to `goal` (cell indices) on `grid`.
+    ///
+    /// Returns `None` if `start` or `goal` is outside the grid, if `goal` is impassable (relocate it
+    /// first with [`nearest_passable`]), if `mode.weight` is not finite and `>= 0`, if the grid's
+    /// cost buffer does not match its spec, or if the goal is unreachable. The start cell may be
+    /// impassable (the robot is allowed to leave it). `start == goal` gives a one-cell path of cost
+    /// 0.
+    ///
+    /// The result is optimal for the edge cost in the module docs (A* with the octile heuristic
+    /// times `res`, which is admissible and consistent because every move costs at least its
+    /// length). Deterministic: see the module docs for the tie-break rules.
+    pub fn plan(
+        &mut self,
+        grid: &CostGrid,
+        start: (usize, usize),
+        goal: (usize, usize),
+        mode: SearchMode,
+    ) -> Option<GridPath> {
+        let spec = grid.spec;
+        let n = spec.len();
+        if grid.cost.len() != n
+            || n > u32::MAX as usize
+            || !spec.contains_cell(start.0, start.1)
+            || !grid.passable(goal.0, goal.1)
+            || !(mode.weight.is_finite() && mode.weight >= 0.0)
+        {
+            return None;
+        }
+        self.begin(n);
+        let gen_ = self.generation;
+        let (w, h) = (spec.width, spec.height);
+        let res = spec.resolution;
+        let weight = mode.weight;
+        let s_idx = spec.index(start.0, start.1);
+        let goal_idx = spec.index(goal.0, goal.1);
+        let heur = |ix: usize, iy: usize| -> f64 {
+            if mode.heuristic {
+                octile(ix, iy, goal.0, goal.1) * res
+            } else {
+                0.0
+            }
+        };
+
+        self.g[s_idx] = 0.0;
+        self.parent[s_idx] = s_idx as u32;
+        self.seen[s_idx] = gen_;
+        self.heap.push(Open {
+            f: heur(start.0, start.1),
+            g: 0.0,
+            idx: s_idx as u32,
+        });
+        let mut expansions = 0usize;
+        let cost = &grid.cost;
+        let passable = |i: usize| cost[i] < INSCRIBED;
+
+        while let Some(Open { g, idx, .. }) = self.heap.pop() {
+            let cur = idx as usize;
+            if self.closed[cur] == gen_ || g > self.g[cur] {
+                continue; // stale entry (lazy deletion)
+            }
+            self.closed[cur] = gen_;
+            expansions += 1;
+            if cur == goal_idx {
+                return Some(self.reconstruct(&spec, s_idx, goal_idx, g, expansions));
+            }
+            let (cx, cy) = (cur % w, cur / w);
+            for &(dx, dy, len) in &NEIGHBOURS {
+                let nx = cx as i64 + i64::from(dx);
+                let ny = cy as i64 + i64::from(dy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let (nx, ny) = (nx as usize, ny as usize);
+                let ni = ny * w + nx;
+                if !passable(ni) || self.closed[ni] == gen_ {
+                    continue;
+                }
+                if dx != 0 && dy != 0 && !(passable(cy * w + nx) && passable(ny * w + cx)) {
+                    continue; // no corner cutting
+                }
+                let ng = g + step_cost(len, res, weight, cost[ni]);
+                if self.seen[ni] != gen_ || ng < self.g[ni] {
+                    self.seen[ni] = gen_;
+                    self.g[ni] = ng;
+                    self.parent[ni] = cur as u32;
+                    self.heap.push(Open {
+                        f: ng + heur(nx, ny),
+                        g: ng,
+                        idx: ni as u32,
+                    });
+                }
+            }
+        }
+        None
+    }
+
+    /// Prepares the buffers for a search over `n` cells and starts a new generation.
+    fn begin(&mut self, n: usize) {
+        if self.g.len() < n {
+            self.g.resize(n, 0.0);
+            self.parent.resize(n, 0);
+            self.seen.resize(n, 0);
+            self.closed.resize(n, 0);
+        }
+        self.heap.clear();
+        if self.generation == u32::MAX {
+            self.seen.fill(0);
+            self.closed.fill(0);
+            self.generation = 0;
+        }
+        self.generation += 1;
+    }
+
+    fn reconstruct(
+        &self,
+        spec: &GridSpec,
+        s_idx: usize,
+        goal_idx: usize,
+        cost: f64,
+        expansions: usize,
+    ) -> GridPath {
+        let mut cells = vec![spec.cell(goal_idx)];
+        let mut cur = goal_idx;
+        // Every cell on the chain was reached in this generation; the chain is at most n long.
+        while cur != s_idx && cells.len() <= spec.len() {
+            cur = self.parent[cur] as usize;
+            cells.push(spec.cell(cur));
+        }
+        cells.reverse();
+        GridPath {
+            cells,
+            cost,
+            expansions,
+        }
+    }
+}
+
+/// The passable cell nearest to `cell` (Euclidean distance in cells) among those within
+/// `max_radius_cells` of it, or `None` if there is none. `cell` itself is returned if passable.
+/// `cell` may lie outside the grid (only in-grid cells are candidates).
+///
+/// Deterministic: candidates are scanned in square rings of growing Chebyshev radius and the
+/// search stops once no farther ring can hold a closer cell; ties in distance go to the smaller
+/// `(iy, ix)` (row-major index).
+pub fn nearest_passable(
+    grid: &CostGrid,
+    cell: (usize, usize),
+    max_radius_cells: usize,
+) -> Option<(usize, usize)> {
+    let (cx, cy) = (cell.0 as i128, cell.1 as i128);
+    let rmax = max_radius_cells as i128;
+    let (w, h) = (grid.spec.width as i128, grid.spec.height as i128);
+    let mut best: Option<(i128, i128, i128)> = None; // (d2, iy, ix)
+    for r in 0..=rmax {
+        if let Some((d2, _, _)) = best
+            && d2 <= r * r
+        {
+            break; // every cell in ring r or beyond is at least r away
+        }
+        let y_lo = (cy - r).max(0);
+        let y_hi = (cy + r).min(h - 1);
+        let mut consider = |x: i128, y: i128| {
+            if x < 0 || y < 0 || x >= w || y >= h {
+                return;
+            }
+            let d2 = (x - cx) * (x - cx) + (y - cy) * (y - cy);
+            if d2 > rmax * rmax || !grid.passable(x as usize, y as usize) {
+                return;
+            }
+            let key = (d2, y, x);
+            if best.is_none_or(|b| key < b) {
+                best = Some(key);
+            }
+        };
+        if r == 0 {
+            consider(cx, cy);
+            continue;
+        }
+        for y in y_lo..=y_hi {
+            if y == cy - r || y == cy + r {
+                let x_lo = (cx - r).max(0);
+                let x_hi = (cx + r).min(w - 1);
+                for x in x_lo..=x_hi {
+                    consider(x, y);
+                }
+            } else {
+                consider(cx - r, y);
+                consider(cx + r, y);
+            }
+        }
+    }
+    best.map(|(_, y, x)| (x as usize, y as usize))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec2;
+    use proptest::prelude::*;
+
+    const S2: f64 = std::f64::consts::SQRT_2;
+
+    fn grid(w: usize, h: usize) -> CostGrid {
+        let spec = GridSpec {
+            origin: Vec2::zeros(),
+            resolution: 1.0,
+            width: w,
+            height: h,
+        };
+        CostGrid {
+            spec,
+            cost: vec![0; w * h],
+        }
+    }
+
+    fn set(g: &mut CostGrid, x: usize, y: usize, c: u8) {
+        let i = g.spec.index(x, y);
+        g.cost[i] = c;
+    }
+
+    fn random_grid(seed: u64, w: usize, h: usize, density: f64) -> CostGrid {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+        let mut g = grid(w, h);
+        for c in g.cost.iter_mut() {
+            *c = if rng.random::<f64>() < density {
+                LETHAL
+            } else {
+                rng.random_range(0..=252)
+            };
+        }
+        g
+    }
+
+    fn assert_valid_path(
+        g: &CostGrid,
+        p: &GridPath,
+        start: (usize, usize),
+        goal: (usize, usize),
+        w: f64,
+    ) {
+        assert_eq!(p.cells.first(), Some(&start));
+        assert_eq!(p.cells.last(), Some(&goal));
+        let mut total = 0.0;
+        for win in p.cells.windows(2) {
+            let ((ax, ay), (bx, by)) = (win[0], win[1]);
+            let (dx, dy) = (ax.abs_diff(bx), ay.abs_diff(by));
+            assert!(dx <= 1 && dy <= 1 && dx + dy > 0);
+            assert!(g.passable(bx, by));
+            if dx == 1 && dy == 1 {
+                assert!(g.passable(bx, ay) && g.passable(ax, by), "corner cut");
+            }
+            let len = if dx + dy == 2 { S2 } else { 1.0 };
+            total += step_cost(len, g.spec.resolution, w, g.cost[g.spec.index(bx, by)]);
+        }
+        assert!((total - p.cost).abs() < 1e-9);
+    }
+
+    #[test]
+    fn empty_grid_costs() {
+        let g = grid(10, 10);
+        let mut pl = PathPlanner::new();
+        for mode in [
+            SearchMode::PLAIN,
+            SearchMode::weighted(2.0),
+            SearchMode::dijkstra(0.0),
+        ] {
+            let p = pl.plan(&g, (0, 0), (9, 9), mode).expect("reachable");
+            assert!((p.cost - 9.0 * S2).abs() < 1e-12);
+            assert_valid_path(&g, &p, (0, 0), (9, 9), mode.weight);
+            let p = pl.plan(&g, (0, 0), (9, 3), mode).expect("reachable");
+            assert!((p.cost - (3.0 * S2 + 6.0)).abs() < 1e-12);
+        }
+        // Plain A* in open space with the larger-g tie-break goes straight to the goal.
+        let p = pl
+            .plan(&g, (0, 0), (9, 9), SearchMode::PLAIN)
+            .expect("reachable");
+        assert_eq!(p.expansions, 10);
+        let p = pl
+            .plan(&g, (4, 4), (4, 4), SearchMode::PLAIN)
+            .expect("trivial");
+        assert_eq!((p.cells.len(), p.cost), (1, 0.0));
+    }
+
+    #[test]
+    fn resolution_scales_cost() {
+        let mut g = grid(10, 10);
+        g.spec.resolution = 0.1;
+        let p = PathPlanner::new()
+            .plan(&g, (0, 0), (9, 3), SearchMode::PLAIN)
+            .expect("reachable");
+        assert!((p.cost - 0.1 * (3.0 * S2 + 6.0)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn wall_with_gap() {
+        let mut g = grid(10, 10);
+        for y in 0..10 {
+            if y != 7 {
+                set(&mut g, 5, y, LETHAL);
+            }
+        }
+        let mut pl = PathPlanner::new();
+        let p = pl
+            .plan(&g, (0, 0), (9, 0), SearchMode::PLAIN)
+            .expect("through the gap");
+        assert!(p.cells.contains(&(5, 7)));
+        assert_valid_path(&g, &p, (0, 0), (9, 0), 0.0);
+        // No gap: unreachable, and Dijkstra expands every reachable cell exactly once.
+        set(&mut g, 5, 7, LETHAL);
+        assert!(pl.plan(&g, (0, 0), (9, 0), SearchMode::PLAIN).is_none());
+        let none = pl.plan(&g, (0, 0), (9, 0), SearchMode::dijkstra(2.0));
+        assert!(none.is_none());
+        let count = expansions_when_unreachable(&g, (0, 0), (9, 0));
+        assert_eq!(count, 50, "the 5 x 10 reachable half, each once");
+    }
+
+    /// Runs Dijkstra to an unreachable goal and returns how many cells it closed.
+    fn expansions_when_unreachable(
+        g: &CostGrid,
+        start: (usize, usize),
+        goal: (usize, usize),
+    ) -> usize {
+        let mut pl = PathPlanner::new();
+        assert!(pl.plan(g, start, goal, SearchMode::dijkstra(1.0)).is_none());
+        let gen_ = pl.generation;
+        pl.closed
+            .iter()
+            .take(g.spec.len())
+            .filter(|&&c| c == gen_)
+            .count()
+    }
+
+    #[test]
+    fn no_corner_cutting() {
+        // Two blocked cells (1,0) and (0,1) touching at a corner.
+        let mut g = grid(3, 3);
+        set(&mut g, 1, 0, LETHAL);
+        set(&mut g, 0, 1, LETHAL);
+        // From (0,0) the only moves are orthogonal (blocked) or the diagonal to (1,1), which would
+        // squeeze between (1,0) and (0,1).
+        assert!(
+            PathPlanner::new()
+                .plan(&g, (0, 0), (2, 2), SearchMode::PLAIN)
+                .is_none()
+        );
+        // With one of them open, the path goes around.
+        set(&mut g, 0, 1, 0);
+        let p = PathPlanner::new()
+            .plan(&g, (0, 0), (2, 2), SearchMode::PLAIN)
+            .expect("open");
+        assert_valid_path(&g, &p, (0, 0), (2, 2), 0.0);
+        assert!((p.cost - (1.0 + S2 + 1.0)).abs() < 1e-12, "{}", p.cost);
+    }
+
+    #[test]
+    fn start_may_be_impassable_goal_may_not() {
+        let mut g = grid(5, 5);
+        set(&mut g, 0, 0, INSCRIBED);
+        let mut pl = PathPlanner::new();
+        let p = pl
+            .plan(&g, (0, 0), (4, 4), SearchMode::PLAIN)
+            .expect("leave the start");
+        assert!((p.cost - 4.0 * S2).abs() < 1e-12);
+        set(&mut g, 4, 4, LETHAL);
+        assert!(pl.plan(&g, (0, 0), (4, 4), SearchMode::PLAIN).is_none());
+        assert!(
+            pl.plan(&g, (0, 0), (5, 4), SearchMode::PLAIN).is_none(),
+            "goal outside"
+        );
+        assert!(
+            pl.plan(&g, (9, 0), (3, 3), SearchMode::PLAIN).is_none(),
+            "start outside"
+        );
+        for bad in [f64::NAN, -1.0, f64::INFINITY] {
+            assert!(
+                pl.plan(&g, (0, 0), (3, 3), SearchMode::weighted(bad))
+                    .is_none()
+            );
+        }
+        let wrong = CostGrid {
+            spec: g.spec,
+            cost: vec![0; 3],
+        };
+        assert!(pl.plan(&wrong, (0, 0), (1, 1), SearchMode::PLAIN).is_none());
+    }
+
+    #[test]
+    fn weight_avoids_costly_cells() {
+        let mut g = grid(9, 5);
+        for y in 0..4 {
+            set(&mut g, 4, y, 252);
+        }
+        let mut pl = PathPlanner::new();
+        let plain = pl
+            .plan(&g, (0, 0), (8, 0), SearchMode::PLAIN)
+            .expect("reachable");
+        assert!((plain.cost - 8.0).abs() < 1e-12);
+        // Crossing costs 7 + 6 at w = 5; going round the top costs 8 * sqrt(2) ~ 11.3.
+        let social = pl
+            .plan(&g, (0, 0), (8, 0), SearchMode::weighted(5.0))
+            .expect("reachable");
+        assert!(social.cells.iter().all(|&(x, y)| x != 4 || y == 4));
+    }
+
+    #[test]
+    fn buffers_reused_across_grid_sizes() {
+        let mut pl = PathPlanner::new();
+        let big = grid(30, 30);
+        let small = grid(4, 4);
+        let a = pl
+            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
+            .expect("ok");
+        let b = pl
+            .plan(&small, (0, 0), (3, 3), SearchMode::PLAIN)
+            .expect("ok");
+        let c = pl
+            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
+            .expect("ok");
+        assert_eq!(a, c);
+        assert!((b.cost - 3.0 * S2).abs() < 1e-12);
+        pl.generation = u32::MAX; // force the wrap-around reset
+        let d = pl
+            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
+            .expect("ok");
+        assert_eq!(a, d);
+    }
+
+    #[test]
+    fn inflation_rule() {
+        use crate::map::grid::{DistanceField, OccupancyGrid};
+        let spec = GridSpec {
+            origin: Vec2::zeros(),
+            resolution: 0.1,
+            width: 20,
+            height: 1,
+        };
+        let mut occ = OccupancyGrid {
+            spec,
+            cells: vec![0; 20],
+        };
+        occ.cells[0] = 1;
+        let df = DistanceField::from_occupancy(&occ);
+        let cg = CostGrid::inflated(&df, 0.3);
+        // limit = 0.3 + 0.0707: cells at 0.1..=0.3 are inscribed, 0.4 and beyond free.
+        assert_eq!(cg.cost[0], LETHAL);
+        assert_eq!(&cg.cost[1..4], &[INSCRIBED; 3]);
+        assert!(cg.cost[4..].iter().all(|&c| c == 0));
+        assert!(!cg.passable(0, 0) && cg.passable(4, 0) && !cg.passable(20, 0));
+        let nan = CostGrid::inflated(&df, f64::NAN);
+        assert_eq!(&nan.cost[..2], &[LETHAL, 0]);
+    }
+
+    #[test]
+    fn nearest_passable_cases() {
+        let mut g = grid(7, 7);
+        for y in 1..6 {
+            for x in 1..6 {
+                set(&mut g, x, y, LETHAL);
+            }
+        }
+        assert_eq!(nearest_passable(&g, (0, 0), 0), Some((0, 0)));
+        // From the centre (3,3): nearest free cells are at distance 3, (3,0) first by index.
+        assert_eq!(nearest_passable(&g, (3, 3), 2), None);
+        assert_eq!(nearest_passable(&g, (3, 3), 3), Some((3, 0)));
+        assert_eq!(nearest_passable(&g, (2, 4), 10), Some((0, 4)));
+        // Outside the grid.
+        assert_eq!(nearest_passable(&g, (9, 3), 3), Some((6, 3)));
+        assert_eq!(nearest_passable(&g, (usize::MAX, 3), 3), None);
+    }
+
+    proptest! {
+        #[test]
+        fn astar_matches_dijkstra(seed in any::<u64>(), w in 2usize..30, h in 2usize..30, density in 0.0f64..0.4, weight in 0.0f64..5.0) {
+            let g = random_grid(seed, w, h, density);
+            let start = (0, 0);
+            let goal = (w - 1, h - 1);
+            let mut pl = PathPlanner::new();
+            let a = pl.plan(&g, start, goal, SearchMode::weighted(weight));
+            let d = pl.plan(&g, start, goal, SearchMode::dijkstra(weight));
+            prop_assert_eq!(a.is_some(), d.is_some());
+            if let (Some(a), Some(d)) = (a, d) {
+                prop_assert!((a.cost - d.cost).abs() < 1e-9, "{} vs {}", a.cost, d.cost);
+                prop_assert!(a.expansions <= d.expansions);
+                assert_valid_path(&g, &a, start, goal, weight);
+                assert_valid_path(&g, &d, start, goal, weight);
+                // Determinism: the same query on a fresh planner gives an identical path.
+                let again = PathPlanner::new().plan(&g, start, goal, SearchMode::weighted(weight));
+                prop_assert_eq!(Some(a), again);
+            }
+        }
+
+        #[test]
+        fn inflated_passable_cells_are_collision_free(seed in any::<u64>(), radius in 0.0f64..0.6, res in 0.05f64..0.3) {
+            use crate::map::geometry::{Bounds, StaticGeometry};
+            use crate::map::grid::{DistanceField, OccupancyGrid};
+            use rand::{Rng, SeedableRng};
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            // The grid covers all the geometry (geometry outside the grid is not represented).
+            let bounds = Bounds { min: Vec2::new(-2.5, -2.5), max: Vec2::new(8.5, 6.5) };
+            let mut polys = Vec::new();
+            for _ in 0..rng.random_range(1..6) {
+                // Rotated rectangles, some thin.
+                let c = Vec2::new(rng.random_range(-0.5..6.5), rng.random_range(-0.5..4.5));
+                let (hx, hy) = (rng.random_range(0.01..1.5), rng.random_range(0.01..0.8));
+                let th: f64 = rng.random_range(0.0..3.2);
+                let corners = [(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)];
+                polys.push(corners.iter().map(|&(x, y)| c + crate::math::rotate(Vec2::new(x, y), th)).collect());
+            }
+            let geom = StaticGeometry::new(polys, bounds).expect("valid");
+            let spec = GridSpec::covering(bounds, res).expect("valid");
+            let df = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geom, spec));
+            let cg = CostGrid::inflated(&df, radius);
+            for iy in 0..spec.height {
+                for ix in 0..spec.width {
+                    if cg.passable(ix, iy) {
+                        let d = geom.distance(spec.center(ix, iy));
+                        prop_assert!(d >= radius, "cell ({}, {}) at {:?} clearance {} < {} spec {:?} polys {:?}", ix, iy, spec.center(ix, iy), d, radius, spec, geom.polygons());
+                    }
+                }
+            }
+        }
+
+        #[test]
+        fn raising_a_cost_never_lowers_the_optimum(seed in any::<u64>(), w in 2usize..20, h in 2usize..20, cell in any::<prop::sample::Index>(), raise in 1u8..=254, weight in 0.0f64..4.0) {
+            let g = random_grid(seed, w, h, 0.2);
+            let start = (0, 0);
+            let goal = (w - 1, h - 1);
+            let mut pl = PathPlanner::new();
+            let before = pl.plan(&g, start, goal, SearchMode::weighted(weight));
+            let mut g2 = g.clone();
+            let i = cell.index(w * h);
+            g2.cost[i] = g2.cost[i].saturating_add(raise).min(LETHAL);
+            let after = pl.plan(&g2, start, goal, SearchMode::weighted(weight));
+            match (before, after) {
+                (Some(b), Some(a)) => prop_assert!(a.cost >= b.cost - 1e-9),
+                (None, Some(_)) => prop_assert!(false, "raising a cost made the goal reachable"),
+                _ => {}
+            }
+        }
+    }
+}
