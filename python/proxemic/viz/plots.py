@@ -1,0 +1,449 @@
+"""Matplotlib figures for proxemic: episode trajectories on the map, metric bar charts, tables.
+
+Figures are built on :class:`matplotlib.figure.Figure` with an explicit Agg canvas, so nothing here
+touches pyplot's global state or needs a display.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from matplotlib import colormaps
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from matplotlib.patches import Polygon as PolygonPatch
+
+from .topdown import (
+    DEFAULT_OBJECT_COLOR,
+    FLOOR_COLOR,
+    INTERACTION_COLOR,
+    OBJECT_COLORS,
+    WALL_COLOR,
+    interaction_polygon,
+    object_polygon,
+    scene_bounds,
+    wall_polygon,
+)
+
+__all__ = ["format_table", "plot_episodes", "plot_metrics_bars"]
+
+#: End-of-trajectory marker per episode outcome.
+OUTCOME_MARKERS: Mapping[str, str] = {"success": "*", "collision": "X", "timeout": "s"}
+_UNKNOWN_OUTCOME_MARKER = "o"
+_PEOPLE_COLOR = "0.55"
+_DPI = 120
+
+
+def _rgb(color: Sequence[int]) -> tuple[float, float, float]:
+    """Convert a 0-255 RGB tuple to matplotlib's 0-1 floats."""
+    r, g, b = (c / 255.0 for c in color)
+    return (r, g, b)
+
+
+def _darker(color: Sequence[int], amount: float = 0.45) -> tuple[float, float, float]:
+    """Return ``color`` darkened towards black by ``amount`` (0-1), as 0-1 floats."""
+    r, g, b = ((1.0 - amount) * c / 255.0 for c in color)
+    return (r, g, b)
+
+
+def _episode_colors(n: int) -> list[tuple[float, float, float]]:
+    """Return ``n`` categorical colours (tab10, cycled)."""
+    base = np.asarray(colormaps["tab10"].colors, dtype=np.float64)[:, :3]
+    out: list[tuple[float, float, float]] = []
+    for i in range(n):
+        r, g, b = (float(v) for v in base[i % len(base)])
+        out.append((r, g, b))
+    return out
+
+
+def _draw_map(ax: Axes, scenario: Mapping[str, Any]) -> list[Any]:
+    """Draw floor, interaction spaces, objects and walls; return legend proxies for what was drawn."""
+    xmin, ymin, xmax, ymax = scene_bounds(scenario)
+    ax.add_patch(
+        PolygonPatch(
+            [(xmin, ymin), (xmax, ymin), (xmax, ymax), (xmin, ymax)],
+            closed=True,
+            facecolor=_rgb(FLOOR_COLOR),
+            edgecolor="none",
+            zorder=0,
+        )
+    )
+    handles: list[Any] = []
+    objects = list(scenario.get("objects", []))
+    space_color = _rgb(INTERACTION_COLOR)
+    any_space = False
+    for obj in objects:
+        space = interaction_polygon(obj)
+        if space is None:
+            continue
+        any_space = True
+        ax.add_patch(
+            PolygonPatch(space, closed=True, facecolor=(*space_color, 0.25), edgecolor="none", zorder=1)
+        )
+        ax.add_patch(
+            PolygonPatch(
+                space,
+                closed=True,
+                fill=False,
+                hatch="///",
+                edgecolor=_darker(INTERACTION_COLOR, 0.25),
+                linewidth=0.6,
+                zorder=1,
+            )
+        )
+    if any_space:
+        handles.append(
+            Patch(
+                facecolor=(*space_color, 0.25),
+                hatch="///",
+                edgecolor=_darker(INTERACTION_COLOR, 0.25),
+                label="interaction space",
+            )
+        )
+    kinds_seen: list[str] = []
+    for obj in objects:
+        kind = str(obj.get("kind", "object"))
+        color = OBJECT_COLORS.get(kind, DEFAULT_OBJECT_COLOR)
+        alpha = 1.0 if obj.get("solid", True) else 0.5
+        ax.add_patch(
+            PolygonPatch(
+                object_polygon(obj),
+                closed=True,
+                facecolor=(*_rgb(color), alpha),
+                edgecolor=_darker(color),
+                linewidth=0.8,
+                zorder=2,
+            )
+        )
+        if kind not in kinds_seen:
+            kinds_seen.append(kind)
+            handles.append(
+                Patch(facecolor=_rgb(color), edgecolor=_darker(color), label=kind.replace("_", " "))
+            )
+    walls = list(scenario.get("walls", []))
+    for wall in walls:
+        ax.add_patch(
+            PolygonPatch(
+                wall_polygon(wall), closed=True, facecolor=_rgb(WALL_COLOR), edgecolor="none", zorder=3
+            )
+        )
+    if walls:
+        handles.insert(0, Patch(facecolor=_rgb(WALL_COLOR), label="wall"))
+    return handles
+
+
+def _episode_goal(scenario: Mapping[str, Any], episode: Mapping[str, Any]) -> np.ndarray | None:
+    """The episode's goal: its own ``goal`` key, else the goal of scenario robot ``robot_index``."""
+    goal = episode.get("goal")
+    if goal is None:
+        robots = scenario.get("robots", [])
+        idx = int(episode.get("robot_index", 0))
+        if 0 <= idx < len(robots):
+            goal = robots[idx].get("goal")
+    if goal is None:
+        return None
+    return np.asarray(goal, dtype=np.float64)[:2]
+
+
+def plot_episodes(
+    scenario: Mapping[str, Any],
+    episodes: Sequence[Mapping[str, Any]],
+    out_png: str | os.PathLike[str],
+    *,
+    title: str | None = None,
+) -> pathlib.Path:
+    """Plot robot (and people) trajectories of several episodes over the scenario map.
+
+    The map shows the floor, walls, objects coloured by kind and hatched interaction spaces. Each
+    episode's robot trajectory is a solid line in the episode's colour with a circle at the start and
+    an outcome marker at the end (star: success, X: collision, square: timeout, circle: anything
+    else); its planned path is dashed in the same colour and its goal is a hollow diamond. People's
+    trajectories are thin grey lines with a dot at their last position.
+
+    Args:
+        scenario: The scenario dict.
+        episodes: Episode dicts with keys ``label`` (str), ``robot`` (``(T, 3)`` x, y, theta),
+            ``people`` (``(T, P, 2)``, P may be 0, or None), ``path`` (``(K, 2)`` or None),
+            ``outcome`` (``"success"``, ``"collision"`` or ``"timeout"``) and optionally ``color``
+            (any matplotlib colour; default tab10 by episode index), ``goal`` (``[x, y]``; default
+            the goal of scenario robot ``robot_index``, itself default 0).
+        out_png: Output PNG path; parent directories are created.
+        title: Figure title; defaults to the scene name.
+
+    Returns:
+        The path written.
+
+    Raises:
+        ValueError: If an episode's ``robot`` or ``people`` array has the wrong shape.
+    """
+    out = pathlib.Path(out_png)
+    xmin, ymin, xmax, ymax = scene_bounds(scenario)
+    span_x, span_y = max(xmax - xmin, 1e-6), max(ymax - ymin, 1e-6)
+    fig_w = 8.0
+    fig_h = float(np.clip(fig_w * span_y / span_x, 3.0, 14.0)) + 0.8
+    fig = Figure(figsize=(fig_w, fig_h), dpi=_DPI)
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    map_handles = _draw_map(ax, scenario)
+
+    defaults = _episode_colors(len(episodes))
+    episode_handles: list[Any] = []
+    any_path = False
+    any_people = False
+    for i, ep in enumerate(episodes):
+        color = ep.get("color") or defaults[i]
+        label = str(ep.get("label", f"episode {i}"))
+        robot = np.asarray(ep.get("robot", np.zeros((0, 3))), dtype=np.float64)
+        if robot.size == 0:
+            robot = np.zeros((0, 3))
+        if robot.ndim != 2 or robot.shape[1] < 2:
+            raise ValueError(f"episode {i} ({label!r}): robot must have shape (T, 3), got {robot.shape}")
+
+        people_raw = ep.get("people")
+        people = np.zeros((0, 0, 2)) if people_raw is None else np.asarray(people_raw, dtype=np.float64)
+        if people.size > 0:
+            if people.ndim != 3 or people.shape[2] < 2:
+                raise ValueError(
+                    f"episode {i} ({label!r}): people must have shape (T, P, 2), got {people.shape}"
+                )
+            any_people = True
+            for p in range(people.shape[1]):
+                traj = people[:, p, :2]
+                ax.plot(traj[:, 0], traj[:, 1], color=_PEOPLE_COLOR, linewidth=0.7, alpha=0.8, zorder=4)
+                finite = np.nonzero(np.all(np.isfinite(traj), axis=1))[0]
+                if len(finite):
+                    last = traj[finite[-1]]
+                    ax.plot([last[0]], [last[1]], "o", color=_PEOPLE_COLOR, markersize=4, zorder=4)
+
+        path = ep.get("path")
+        if path is not None:
+            path_a = np.asarray(path, dtype=np.float64)
+            if path_a.ndim == 2 and path_a.shape[0] >= 2 and path_a.shape[1] >= 2:
+                any_path = True
+                ax.plot(
+                    path_a[:, 0],
+                    path_a[:, 1],
+                    linestyle="--",
+                    color=color,
+                    linewidth=1.2,
+                    alpha=0.8,
+                    zorder=5,
+                )
+
+        (line,) = ax.plot(robot[:, 0], robot[:, 1], color=color, linewidth=2.0, label=label, zorder=6)
+        episode_handles.append(line)
+        if len(robot):
+            ax.plot(
+                [robot[0, 0]],
+                [robot[0, 1]],
+                "o",
+                color=color,
+                markeredgecolor="black",
+                markersize=7,
+                zorder=7,
+            )
+            marker = OUTCOME_MARKERS.get(str(ep.get("outcome")), _UNKNOWN_OUTCOME_MARKER)
+            ax.plot(
+                [robot[-1, 0]],
+                [robot[-1, 1]],
+                marker,
+                color=color,
+                markeredgecolor="black",
+                markersize=13 if marker == "*" else 10,
+                zorder=8,
+            )
+        goal = _episode_goal(scenario, ep)
+        if goal is not None:
+            ax.plot(
+                [goal[0]],
+                [goal[1]],
+                "D",
+                markerfacecolor="none",
+                markeredgecolor=color,
+                markeredgewidth=2.0,
+                markersize=9,
+                zorder=7,
+            )
+
+    marker_handles: list[Any] = [
+        Line2D([], [], linestyle="none", marker="o", color="0.6", markeredgecolor="black", label="start"),
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="D",
+            markerfacecolor="none",
+            markeredgecolor="black",
+            label="goal",
+        ),
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="*",
+            markersize=11,
+            color="0.6",
+            markeredgecolor="black",
+            label="success",
+        ),
+        Line2D([], [], linestyle="none", marker="X", color="0.6", markeredgecolor="black", label="collision"),
+        Line2D([], [], linestyle="none", marker="s", color="0.6", markeredgecolor="black", label="timeout"),
+    ]
+    if any_path:
+        marker_handles.append(Line2D([], [], linestyle="--", color="0.3", label="planned path"))
+    if any_people:
+        marker_handles.append(Line2D([], [], color=_PEOPLE_COLOR, marker="o", markersize=4, label="people"))
+    ax.legend(
+        handles=episode_handles + marker_handles + map_handles,
+        loc="upper left",
+        bbox_to_anchor=(1.01, 1.0),
+        fontsize=8,
+        frameon=False,
+    )
+
+    pad = 0.3
+    ax.set_xlim(xmin - pad, xmax + pad)
+    ax.set_ylim(ymin - pad, ymax + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(title if title is not None else str(scenario.get("scene", {}).get("name", "")))
+    ax.grid(True, linewidth=0.3, alpha=0.5)
+    ax.set_axisbelow(True)
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, format="png", bbox_inches="tight", metadata={"Software": None})
+    return out
+
+
+def _as_float(value: Any) -> float:
+    """Convert a table cell to float, mapping None and non-numbers to NaN."""
+    if value is None or isinstance(value, (bool, np.bool_)):
+        return math.nan
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def plot_metrics_bars(
+    table: Sequence[Mapping[str, Any]],
+    metrics: Sequence[str],
+    out_png: str | os.PathLike[str],
+    *,
+    group_key: str = "planner",
+) -> pathlib.Path:
+    """Bar charts of aggregated metrics, one subplot per metric and one bar per group.
+
+    Args:
+        table: One row per group (e.g. planner), e.g. ``{"planner": "astar", "success": 0.9,
+            "success_ci": 0.05}``. A metric's confidence half-width is read from ``<metric>_ci``;
+            error bars are drawn only where it is present and finite. Missing metrics leave a gap.
+        metrics: Metric names to plot, in subplot order.
+        out_png: Output PNG path; parent directories are created.
+        group_key: The row key naming the group on the x axis.
+
+    Returns:
+        The path written.
+
+    Raises:
+        ValueError: If ``metrics`` is empty.
+    """
+    if not metrics:
+        raise ValueError("metrics must name at least one metric")
+    out = pathlib.Path(out_png)
+    groups = [str(row.get(group_key, "?")) for row in table]
+    colors = _episode_colors(len(groups))
+    n = len(metrics)
+    fig = Figure(figsize=(max(3.0, 2.4 + 0.5 * len(groups)) * n, 3.6), dpi=_DPI, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, n, squeeze=False)[0]
+    x = np.arange(len(groups), dtype=np.float64)
+    for ax, metric in zip(axes, metrics, strict=True):
+        values = np.array([_as_float(row.get(metric)) for row in table], dtype=np.float64)
+        cis = np.array([_as_float(row.get(f"{metric}_ci")) for row in table], dtype=np.float64)
+        heights = np.where(np.isfinite(values), values, 0.0)
+        bars = ax.bar(x, heights, color=colors, edgecolor="black", linewidth=0.6, width=0.7)
+        for bar, v in zip(bars, values, strict=True):
+            if not np.isfinite(v):
+                bar.set_visible(False)
+        has_ci = np.isfinite(cis) & np.isfinite(values)
+        if np.any(has_ci):
+            ax.errorbar(
+                x[has_ci],
+                values[has_ci],
+                yerr=np.abs(cis[has_ci]),
+                fmt="none",
+                ecolor="black",
+                elinewidth=1.0,
+                capsize=4,
+            )
+        for xi, v, ci in zip(x, values, cis, strict=True):
+            # value label just beyond the end of the bar or its error bar
+            if np.isfinite(v):
+                reach = v + math.copysign(abs(ci) if np.isfinite(ci) else 0.0, v if v != 0 else 1.0)
+                label, below = f"{v:.3g}", v < 0
+            else:
+                reach, label, below = 0.0, "n/a", False
+            ax.annotate(
+                label,
+                (xi, reach),
+                xytext=(0, -3 if below else 3),
+                textcoords="offset points",
+                ha="center",
+                va="top" if below else "bottom",
+                fontsize=7,
+            )
+        ax.set_xticks(
+            x, groups, rotation=30 if len(groups) > 3 else 0, ha="right" if len(groups) > 3 else "center"
+        )
+        ax.set_title(metric.replace("_", " "))
+        ax.grid(True, axis="y", linewidth=0.3, alpha=0.6)
+        ax.set_axisbelow(True)
+        ax.margins(y=0.15)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, format="png", metadata={"Software": None})
+    return out
+
+
+def _format_cell(value: Any, floatfmt: str) -> str:
+    """Format one markdown table cell."""
+    if value is None:
+        return "\u2013"
+    if isinstance(value, (bool, np.bool_)):
+        return "yes" if value else "no"
+    if isinstance(value, (float, np.floating)):
+        return format(float(value), floatfmt)
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    return str(value).replace("|", "\\|").replace("\n", " ")
+
+
+def format_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], *, floatfmt: str = ".3f") -> str:
+    """Format rows as a markdown table.
+
+    Args:
+        rows: Row dicts; a column missing from a row is rendered like None.
+        columns: Column keys, in order; they are also the header.
+        floatfmt: Format spec for floats (``format(value, floatfmt)``).
+
+    Returns:
+        The table: a header row, a ``---`` separator row and one row per dict, each line written as
+        ``| a | b |`` and joined with newlines (no trailing newline). None is rendered as an en dash
+        (U+2013), bools as ``yes``/``no``, ints as is and ``|`` in text escaped.
+    """
+    lines = [
+        "| " + " | ".join(str(c) for c in columns) + " |",
+        "| " + " | ".join("---" for _ in columns) + " |",
+    ]
+    for row in rows:
+        lines.append("| " + " | ".join(_format_cell(row.get(c), floatfmt) for c in columns) + " |")
+    return "\n".join(lines)
