@@ -70,6 +70,7 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
     scene = scenario["scene"]
     spec = mujoco.MjSpec()
     spec.modelname = scene["name"]
+    spec.copy_during_attach = True  # the robot and person models are attached many times
     spec.compiler.degree = False
     spec.option.timestep = 1.0 / scene["physics_hz"]
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST

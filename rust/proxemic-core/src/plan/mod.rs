@@ -5,6 +5,7 @@
 //! - [`smooth`]: greedy line-of-sight shortcutting and polyline cost evaluation.
 
 pub mod astar;
+pub mod geodesic;
 pub mod smooth;
 
 pub use astar::{CostGrid, GridPath, INSCRIBED, LETHAL, PathPlanner, SearchMode, nearest_passable};

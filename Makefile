@@ -1,0 +1,66 @@
+# proxemic — every target sets itself up on a fresh machine (Debian packages, virtual env,
+# pip installs, the maturin release build). `make help` lists the targets.
+
+SHELL := /bin/bash
+VENV ?= .venv
+PY := $(VENV)/bin/python
+PIP := $(VENV)/bin/pip
+OUT ?= out
+export MUJOCO_GL ?= egl
+# The Rust targets share one target dir; release everywhere so tests reuse the build.
+CARGO_FLAGS := --workspace --release
+
+.DEFAULT_GOAL := help
+.PHONY: help setup system-deps build demo test test-rust test-python lint format bench clean
+
+help: ## list the targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  make %-12s %s\n", $$1, $$2}'
+
+system-deps: ## Debian packages for offscreen rendering (EGL and OSMesa), if missing
+	@pkgs="libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0 libosmesa6 libglfw3"; \
+	if dpkg -s $$pkgs >/dev/null 2>&1; then echo "system packages present"; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  echo "installing $$pkgs"; apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$pkgs >/dev/null; \
+	else echo "warning: cannot install $$pkgs (not root or no apt-get); rgb_array rendering may be unavailable"; fi
+
+$(VENV)/.deps: pyproject.toml
+	@test -x $(PY) || python3 -m venv $(VENV)
+	$(PIP) install -q --upgrade pip
+	$(PIP) install -q maturin "numpy>=1.26" "gymnasium>=1.0" "mujoco>=3.3" "matplotlib>=3.7" "tqdm>=4.60" \
+	    "pytest>=8" "ruff>=0.6" "mypy>=1.10" "imageio>=2.30" "imageio-ffmpeg>=0.5"
+	@touch $@
+
+build: $(VENV)/.deps ## compile the Rust core and install the package into the venv (maturin, release)
+	@. $(VENV)/bin/activate && maturin develop --release --quiet 2>&1 | grep -v "^📦\|^🔗\|^🐍" || true
+	@$(PY) -c "import proxemic; print('proxemic', proxemic.__version__, 'built')"
+
+setup: system-deps build ## everything needed to run the demo and the tests
+
+demo: setup ## plain A* in the museum: seeded episodes, metrics table, trajectory plot (in out/)
+	$(VENV)/bin/proxemic demo --out $(OUT)
+
+test: setup test-rust test-python ## all Rust and Python tests
+
+test-rust: ## Rust unit and integration tests
+	cargo test $(CARGO_FLAGS) --quiet
+
+test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
+	$(PY) -m pytest -q
+
+lint: $(VENV)/.deps ## rustfmt, clippy (warnings as errors), ruff
+	cargo fmt --all --check
+	cargo clippy --workspace --all-targets -- -D warnings
+	$(VENV)/bin/ruff check python tests benches
+	$(VENV)/bin/ruff format --check python tests benches
+
+format: $(VENV)/.deps ## apply rustfmt and ruff format
+	cargo fmt --all
+	$(VENV)/bin/ruff format python tests benches
+	$(VENV)/bin/ruff check --fix python tests benches
+
+bench: setup ## criterion benches of the core and the env throughput bench
+	cargo bench -p proxemic-core --bench planning -- --warm-up-time 1 --measurement-time 3
+	$(PY) benches/env_bench.py
+
+clean: ## remove build products and the venv
+	rm -rf target $(VENV) $(OUT) python/proxemic/_core*.so
