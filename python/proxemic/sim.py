@@ -207,6 +207,7 @@ class Simulation:
             d.qpos[self._qpos[i]] = robot_poses[i]
         self.write_people(people)
         mujoco.mj_forward(m, d)
+        self.contacts[:] = 0
         self.read()
 
     def write_people(self, people: np.ndarray) -> None:
@@ -224,13 +225,22 @@ class Simulation:
         d.mocap_quat[idx] = q
 
     def step(self, command: np.ndarray) -> None:
-        """Writes robot-frame commands (N, 3) to the servos and advances one control period."""
+        """Writes robot-frame commands (N, 3) to the servos and advances one control period.
+
+        Contacts are checked after every physics step (a person's push can separate the bodies
+        again within one control period), and accumulated into `contacts` as CONTACT_* bits.
+        """
+        m, d = self.model, self.data
         idx = self._ctrl_slice if self._ctrl_slice is not None else self._ctrl
-        self.data.ctrl[idx] = command.reshape(-1)
-        mujoco.mj_step(self.model, self.data, self.frame_skip)
+        d.ctrl[idx] = command.reshape(-1)
+        self.contacts[:] = 0
+        for _ in range(self.frame_skip):
+            mujoco.mj_step(m, d)
+            if d.ncon:
+                self._classify_contacts(d.contact.geom[: d.ncon])
 
     def read(self) -> None:
-        """Reads the robots' world-frame poses and velocities into `state` and contact bits into `contacts`."""
+        """Reads the robots' world-frame poses and velocities into `state`."""
         d = self.data
         st = self.state.reshape(-1, 6)
         if self._qpos_slice is not None and self.num_robots == 1:
@@ -239,9 +249,6 @@ class Simulation:
         else:
             st[:, :3] = d.qpos[self._qpos]
             st[:, 3:] = d.qvel[self._qvel]
-        self.contacts[:] = 0
-        if d.ncon:
-            self._classify_contacts(d.contact.geom[: d.ncon])
 
     def _classify_contacts(self, geoms: np.ndarray) -> None:
         owners = self._owner[geoms]

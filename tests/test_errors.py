@@ -1,0 +1,120 @@
+"""Bad input gets a typed exception that names the file, the field, expected and found."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import proxemic
+from proxemic import _core
+from proxemic.env import ProxemicEnv
+from proxemic.errors import InputError, PlanningError, ProxemicError, ScenarioError, UnknownNameError
+
+
+def _scenario_error(text, write_scenario) -> ScenarioError:
+    path = write_scenario(text)
+    with pytest.raises(ScenarioError) as info:
+        ProxemicEnv(str(path))
+    err = info.value
+    assert err.file == str(path)
+    assert str(path) in str(err)
+    return err
+
+
+def test_hierarchy():
+    assert issubclass(ScenarioError, ProxemicError) and issubclass(ScenarioError, ValueError)
+    assert issubclass(InputError, ProxemicError) and issubclass(InputError, ValueError)
+    assert issubclass(PlanningError, ProxemicError)
+    assert proxemic.ProxemicError is ProxemicError
+
+
+def test_malformed_toml(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("[scene]", "[scene"), write_scenario)
+    assert "line" in err.field and err.expected == "valid TOML"
+
+
+def test_unknown_field(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("speed = 1.0", "speed = 1.0\nspeeed = 2"), write_scenario)
+    assert err.field.startswith("person[0]")
+    assert "speeed" in err.found and "speed" in err.expected
+
+
+def test_missing_field(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("goal = [8.5, 4]", ""), write_scenario)
+    assert err.field.startswith("robot[0]") and "goal" in err.expected
+
+
+def test_nan_value(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("speed = 1.0", "speed = nan"), write_scenario)
+    assert err.field == "person[0].speed" and err.found == "NaN"
+
+
+def test_robot_inside_a_wall(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("start = [1.5, 4, 0]", "start = [0.05, 4, 0]"), write_scenario)
+    assert err.field == "robot[0].start" and "inside a wall" in err.found
+
+
+def test_goal_inside_furniture(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("goal = [8.5, 4]", "goal = [5, 6]"), write_scenario)
+    assert err.field == "robot[0].goal" and "inside" in err.found
+
+
+def test_goal_too_close_to_a_wall(write_scenario, small_room):
+    err = _scenario_error(small_room.replace("goal = [8.5, 4]", "goal = [9.8, 4]"), write_scenario)
+    assert err.field == "robot[0].goal" and "from a wall" in err.found
+
+
+def test_unreachable_goal(write_scenario, small_room):
+    # a wall across the room cuts the goal off
+    text = small_room.replace("[[2, 2], [8, 2]]", "[[2, 2], [4, 2]]") + "\n[[wall]]\nfrom = [6, 0]\nto = [6, 8]\n"
+    path = write_scenario(text)
+    with pytest.raises(PlanningError) as info:
+        ProxemicEnv(str(path))
+    assert info.value.field == "robot[0].goal" and "no collision-free path" in str(info.value)
+
+
+def test_person_route_through_a_wall(write_scenario, small_room):
+    text = small_room + "\n[[wall]]\nfrom = [5, 0]\nto = [5, 3]\n"
+    err = _scenario_error(text, write_scenario)
+    assert err.field == "person[0].route[0]" and "through static geometry" in err.found
+
+
+def test_unknown_scenario_name():
+    with pytest.raises(UnknownNameError) as info:
+        ProxemicEnv("no_such_museum")
+    assert "museum" in str(info.value)
+
+
+@pytest.mark.parametrize("bad", [[np.nan, 0.0, 0.0], [0.0, np.inf, 0.0], [np.nan, np.nan, np.nan]])
+def test_non_finite_action(bad):
+    env = ProxemicEnv("museum")
+    env.reset(seed=0)
+    with pytest.raises(InputError) as info:
+        env.step(np.array(bad, dtype=np.float32))
+    assert info.value.field == "action"
+    env.close()
+
+
+def test_core_checks_buffer_sizes_and_state():
+    scenario, _ = proxemic.scenarios.load("museum")
+    world = _core.World(scenario)
+    out = np.zeros(world.stride * world.num_robots)
+    people = np.zeros(world.num_people * 3)
+    with pytest.raises(InputError) as info:
+        world.reset(0, np.zeros(3), people)
+    assert info.value.field == "out"
+    with pytest.raises(InputError):
+        world.step(np.zeros(6), np.zeros(1, np.uint8), out, people)  # before reset
+    world.reset(0, out, people)
+    state = np.zeros(6)
+    state[2] = np.nan
+    with pytest.raises(InputError) as info:
+        world.step(state, np.zeros(1, np.uint8), out, people)
+    assert info.value.field == "state[0][2]"
+    with pytest.raises(InputError):
+        world.command(np.array([0.0, np.nan, 1.0]), out)
+
+
+def test_bad_render_mode():
+    with pytest.raises(InputError):
+        ProxemicEnv("museum", render_mode="holographic")
