@@ -137,7 +137,7 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
         for name in ("shell", "eyes"):
             spec.geom(f"robot_{i}/{name}").rgba = colour
         base = spec.body(f"robot_{i}/base")
-        base.add_camera(name=f"robot_{i}/follow", pos=[-3.0, 0.0, 3.0], xyaxes=[0.0, -1.0, 0.0, 0.7, 0.0, 0.7],
+        base.add_camera(name=f"robot_{i}/follow", pos=[-1.2, 0.0, 5.0], xyaxes=[0.0, -1.0, 0.0, 0.972, 0.0, 0.233],
                         mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACK, fovy=60.0)
     person_model = mujoco.MjSpec.from_file(str(assets / "pedestrian.xml"))
     for i, p in enumerate(scenario["persons"]):
