@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import statistics
 import time
+from collections.abc import Callable
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
@@ -24,7 +25,7 @@ TRIALS = 7
 STEPS = 400
 
 
-def cpu_us(fn, n: int) -> float:
+def cpu_us(fn: Callable[[], None], n: int) -> float:
     t0 = time.thread_time_ns()
     for _ in range(n):
         fn()
@@ -66,12 +67,18 @@ def main() -> None:
         env.reset(seed=seed)
     med = {k: statistics.median(v) for k, v in res.items()}
     base = med["bare mj_step x frame_skip"]
-    print(f"museum: {env.world.num_people} people, {skip} physics steps per control step, "
-          f"{TRIALS} trials x {STEPS} steps, thread CPU time, medians")
-    print(f"  {'env.step (autopilot: plain A*)':40s} {med['env.step']:8.1f} us  "
-          f"{1e6 / med['env.step']:8.0f} steps/s  ratio to bare MuJoCo {med['env.step'] / base:5.2f}x")
-    print(f"  {'Rust World.step (one call)':40s} {med['Rust World.step']:8.1f} us  "
-          f"{100 * med['Rust World.step'] / med['env.step']:5.1f}% of the env step")
+    print(
+        f"museum: {env.world.num_people} people, {skip} physics steps per control step, "
+        f"{TRIALS} trials x {STEPS} steps, thread CPU time, medians"
+    )
+    print(
+        f"  {'env.step (autopilot: plain A*)':40s} {med['env.step']:8.1f} us  "
+        f"{1e6 / med['env.step']:8.0f} steps/s  ratio to bare MuJoCo {med['env.step'] / base:5.2f}x"
+    )
+    print(
+        f"  {'Rust World.step (one call)':40s} {med['Rust World.step']:8.1f} us  "
+        f"{100 * med['Rust World.step'] / med['env.step']:5.1f}% of the env step"
+    )
     print(f"  {'bare mj_step x frame_skip':40s} {base:8.1f} us")
     print(f"  {'env.reset':40s} {statistics.median(resets) / 1e3:8.2f} ms")
     env.close()

@@ -20,7 +20,7 @@ def test_check_env_passes_for_every_registered_env():
 
 def test_spaces_and_observation_shapes():
     env = gym.make("proxemic/Museum-v0")
-    obs, info = env.reset(seed=0)
+    obs, _info = env.reset(seed=0)
     assert set(obs) == {"robot", "people", "people_mask", "lidar"}
     k = env.unwrapped.scenario["sensors"]["k_nearest"]
     assert obs["people"].shape == (k, 5)

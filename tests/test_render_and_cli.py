@@ -37,7 +37,7 @@ def test_topdown_render_shows_the_robot():
 def test_demo_writes_table_and_plot(tmp_path, capsys):
     assert main(["demo", "--episodes", "2", "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
-    assert "| seed |" in text and "success" in text or "collision" in text
+    assert ("| seed |" in text and "success" in text) or "collision" in text
     assert (tmp_path / "trajectories.png").stat().st_size > 10_000
     assert (tmp_path / "metrics.md").read_text().count("\n") >= 4
 
@@ -54,8 +54,9 @@ def test_gym_make_works_from_any_directory(tmp_path):
         "obs, _ = env.reset(seed=0); print(obs['lidar'].shape)"
     )
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
-                         check=False)
+    out = subprocess.run(
+        [sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True, check=False
+    )
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "(72,)"
     assert not Path(tmp_path / "envs").exists()

@@ -32,7 +32,7 @@ def test_body_frame_velocity_servo_tracks_commands(small_room):
     for _ in range(10):
         sim.step(np.array([0.4, 0.0, 0.0]))
     sim.read()
-    x, y, th, vx, vy, wz = sim.state
+    x, y, _th, vx, vy, _wz = sim.state
     assert abs(x - 3.0) < 0.02 and y > 4.3
     assert abs(vy - 0.4) < 0.02 and abs(vx) < 0.02
 

@@ -52,9 +52,7 @@ def _wall(p0: tuple[float, float], p1: tuple[float, float], thickness: float = 0
 
 
 def _circle(cx: float, cy: float, r: float, n: int = 32) -> list[list[float]]:
-    return [
-        [cx + r * math.cos(2 * math.pi * k / n), cy + r * math.sin(2 * math.pi * k / n)] for k in range(n)
-    ]
+    return [[cx + r * math.cos(2 * math.pi * k / n), cy + r * math.sin(2 * math.pi * k / n)] for k in range(n)]
 
 
 def make_scenario() -> dict[str, Any]:
@@ -329,10 +327,7 @@ def test_robustness_offscreen_nan_and_shapes(renderer: TopDownRenderer) -> None:
         np.array([[-50.0, 3.0, 1.0]]), people, paths=[np.array([[-1e6, 4.0], [1e6, 4.0]])], trails=[None]
     )
     assert pix(renderer, frame, 4.5, 2.0) == PERSON_COLOR
-    assert (
-        pix(renderer, frame, 2.0, 4.0) == ROBOT_PALETTE[0]
-        or pix(renderer, frame, 2.2, 4.0) == ROBOT_PALETTE[0]
-    )
+    assert pix(renderer, frame, 2.0, 4.0) == ROBOT_PALETTE[0] or pix(renderer, frame, 2.2, 4.0) == ROBOT_PALETTE[0]
     with pytest.raises(ValueError):
         renderer.render(np.zeros((2, 2)), no_people())
     with pytest.raises(ValueError):
@@ -341,9 +336,7 @@ def test_robustness_offscreen_nan_and_shapes(renderer: TopDownRenderer) -> None:
 
 def test_render_is_deterministic(scenario: dict[str, Any]) -> None:
     rng = np.random.default_rng(0)
-    people = np.column_stack(
-        [rng.uniform(0, 10, 20), rng.uniform(0, 8, 20), rng.uniform(-3, 3, 20), np.full(20, 0.2)]
-    )
+    people = np.column_stack([rng.uniform(0, 10, 20), rng.uniform(0, 8, 20), rng.uniform(-3, 3, 20), np.full(20, 0.2)])
     a = TopDownRenderer(scenario).render(np.array([[1.0, 2.0, 0.3]]), people)
     b = TopDownRenderer(scenario).render(np.array([[1.0, 2.0, 0.3]]), people)
     np.testing.assert_array_equal(a, b)

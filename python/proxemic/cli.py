@@ -74,8 +74,10 @@ def cmd_demo(args: argparse.Namespace) -> int:
     columns = list(rows[0].keys())
     table = format_table(rows, columns, floatfmt=".2f")
     print()
-    print(f"Scenario {env.scenario['scene']['name']!r}, planner astar (plain A*), {len(records)} episodes, "
-          f"{steps} control steps in {wall:.1f} s ({steps / wall:.0f} steps/s including recording)")
+    print(
+        f"Scenario {env.scenario['scene']['name']!r}, planner astar (plain A*), {len(records)} episodes, "
+        f"{steps} control steps in {wall:.1f} s ({steps / wall:.0f} steps/s including recording)"
+    )
     print()
     print(table)
     (out / "metrics.md").write_text(table + "\n")
@@ -89,8 +91,12 @@ def cmd_demo(args: argparse.Namespace) -> int:
         }
         for i, r in enumerate(records)
     ]
-    png = plot_episodes(env.scenario, episodes, out / "trajectories.png",
-                        title=f"{env.scenario['scene']['name']}: plain A*, {len(records)} seeded episodes")
+    png = plot_episodes(
+        env.scenario,
+        episodes,
+        out / "trajectories.png",
+        title=f"{env.scenario['scene']['name']}: plain A*, {len(records)} seeded episodes",
+    )
     env.close()
     print()
     print(f"wrote {out / 'metrics.md'} and {png}")
@@ -103,11 +109,13 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
     ids = {v: k for k, v in ENV_IDS.items()}
     for name in scenarios.available():
-        core, desc = scenarios.load(name)
+        _core, desc = scenarios.load(name)
         scene = desc["scene"]
-        print(f"{ids.get(name, '-'):28s} {name:16s} {len(desc['persons']):3d} people  "
-              f"{len(desc['robots'])} robot(s)  {scene['bounds'][2] - scene['bounds'][0]:.0f} x "
-              f"{scene['bounds'][3] - scene['bounds'][1]:.0f} m")
+        print(
+            f"{ids.get(name, '-'):28s} {name:16s} {len(desc['persons']):3d} people  "
+            f"{len(desc['robots'])} robot(s)  {scene['bounds'][2] - scene['bounds'][0]:.0f} x "
+            f"{scene['bounds'][3] - scene['bounds'][1]:.0f} m"
+        )
     return 0
 
 

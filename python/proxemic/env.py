@@ -18,7 +18,7 @@ OUTCOMES = ("running", "success", "collision", "timeout")
 
 
 class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
-    """## Description
+    """## Description.
 
     A Pepper-like holonomic robot crosses a building shared with scripted people (a museum, a care
     center). The physics runs in MuJoCo; every control step of the people, the built-in planner,
@@ -84,7 +84,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     * v0: first release: plain A* planner, route-walking people, first-cut metrics.
     """
 
-    metadata = {"render_modes": ["rgb_array", "topdown", "human"], "render_fps": 10}
+    metadata = {"render_modes": ["rgb_array", "topdown", "human"], "render_fps": 10}  # noqa: RUF012
 
     def __init__(
         self,
@@ -106,7 +106,9 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             )
         if camera not in ("top", "follow"):
             raise InputError(
-                f"camera: expected 'top' or 'follow', got {camera!r}", field="camera", expected="'top' or 'follow'",
+                f"camera: expected 'top' or 'follow', got {camera!r}",
+                field="camera",
+                expected="'top' or 'follow'",
                 found=repr(camera),
             )
         self.render_mode = render_mode
@@ -115,7 +117,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.core_scenario, self.scenario = scenarios.load(scenario)
         self.world = _core.World(self.core_scenario)
         self.sim = Simulation(self.scenario)
-        self.metadata = {**self.metadata, "render_fps": int(round(self.scenario["scene"]["control_hz"]))}
+        self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}
 
         sensors = self.scenario["sensors"]
         k, rays, rng = sensors["k_nearest"], sensors["lidar_rays"], float(sensors["lidar_range"])
@@ -176,7 +178,9 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             if not np.isfinite(a[:3]).all():
                 raise InputError(
                     f"action: expected 3 finite numbers in [-1, 1], got {a[:3].tolist()}",
-                    field="action", expected="3 finite numbers in [-1, 1]", found=str(a[:3].tolist()),
+                    field="action",
+                    expected="3 finite numbers in [-1, 1]",
+                    found=str(a[:3].tolist()),
                 )
             self.world.command(a, self._out)
         sim = self.sim

@@ -31,6 +31,7 @@ class ProxemicError(Exception):
             field: The field path or argument name involved, if any.
             expected: What a valid value looks like.
             found: What arrived.
+
         """
         super().__init__(message)
         self.file = file

@@ -30,6 +30,7 @@ def resolve(scenario: str | Path) -> Path:
 
     Raises:
         UnknownNameError: neither a bundled name nor an existing file.
+
     """
     text = str(scenario)
     candidate = envs_dir() / f"{text}.toml"

@@ -84,17 +84,33 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
     wb = spec.worldbody
 
     floor_tex = spec.add_texture(
-        name="floor", type=mujoco.mjtTexture.mjTEXTURE_2D, builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
-        width=256, height=256, rgb1=[0.82, 0.8, 0.76], rgb2=[0.78, 0.76, 0.72],
+        name="floor",
+        type=mujoco.mjtTexture.mjTEXTURE_2D,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+        width=256,
+        height=256,
+        rgb1=[0.82, 0.8, 0.76],
+        rgb2=[0.78, 0.76, 0.72],
     )
     floor_mat = spec.add_material(name="floor", texrepeat=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0])
     floor_mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = floor_tex.name
     wb.add_geom(
-        name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0, 0.1],
-        pos=[cx, cy, 0.0], material="floor", contype=0, conaffinity=0,
+        name="floor",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0, 0.1],
+        pos=[cx, cy, 0.0],
+        material="floor",
+        contype=0,
+        conaffinity=0,
     )
-    wb.add_light(name="sun", pos=[cx, cy, 20.0], dir=[0.0, 0.0, -1.0], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-                 diffuse=[0.6, 0.6, 0.6], castshadow=False)
+    wb.add_light(
+        name="sun",
+        pos=[cx, cy, 20.0],
+        dir=[0.0, 0.0, -1.0],
+        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+        diffuse=[0.6, 0.6, 0.6],
+        castshadow=False,
+    )
     # A top camera that sees the whole floor (fovy 45 degrees; aspect handled by the renderer).
     half = max((xmax - xmin) / 2.0 * 0.75, (ymax - ymin) / 2.0) + 1.0
     height = half / np.tan(np.radians(22.5))
@@ -105,9 +121,11 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
         length = float(np.hypot(x1 - x0, y1 - y0)) + w["thickness"]
         yaw = float(np.arctan2(y1 - y0, x1 - x0))
         wb.add_geom(
-            name=f"wall_{i}", type=mujoco.mjtGeom.mjGEOM_BOX,
+            name=f"wall_{i}",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
             size=[length / 2.0, w["thickness"] / 2.0, w["height"] / 2.0],
-            pos=[(x0 + x1) / 2.0, (y0 + y1) / 2.0, w["height"] / 2.0], quat=_yaw_quat(yaw),
+            pos=[(x0 + x1) / 2.0, (y0 + y1) / 2.0, w["height"] / 2.0],
+            quat=_yaw_quat(yaw),
             rgba=[0.72, 0.72, 0.7, 1.0],
         )
     for o in scenario["objects"]:
@@ -116,20 +134,29 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
         collide = 1 if o["solid"] else 0
         if o["radius"] is not None:
             wb.add_geom(
-                name=f"object/{o['name']}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-                size=[o["radius"], o["height"] / 2.0, 0.0], pos=[x, y, o["height"] / 2.0],
-                rgba=rgba, contype=collide, conaffinity=collide,
+                name=f"object/{o['name']}",
+                type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+                size=[o["radius"], o["height"] / 2.0, 0.0],
+                pos=[x, y, o["height"] / 2.0],
+                rgba=rgba,
+                contype=collide,
+                conaffinity=collide,
             )
         else:
             wb.add_geom(
-                name=f"object/{o['name']}", type=mujoco.mjtGeom.mjGEOM_BOX,
-                size=[o["size"][0] / 2.0, o["size"][1] / 2.0, o["height"] / 2.0], pos=[x, y, o["height"] / 2.0],
-                quat=_yaw_quat(th), rgba=rgba, contype=collide, conaffinity=collide,
+                name=f"object/{o['name']}",
+                type=mujoco.mjtGeom.mjGEOM_BOX,
+                size=[o["size"][0] / 2.0, o["size"][1] / 2.0, o["height"] / 2.0],
+                pos=[x, y, o["height"] / 2.0],
+                quat=_yaw_quat(th),
+                rgba=rgba,
+                contype=collide,
+                conaffinity=collide,
             )
 
     assets = models_dir()
     robot_model = mujoco.MjSpec.from_file(str(assets / "pepper.xml"))
-    for i, r in enumerate(scenario["robots"]):
+    for i, _r in enumerate(scenario["robots"]):
         # Attached at the origin: the joints' values are the world pose (x, y, yaw).
         frame = wb.add_frame(pos=[0.0, 0.0, 0.0])
         spec.attach(robot_model, frame=frame, prefix=f"robot_{i}/")
@@ -137,8 +164,13 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
         for name in ("shell", "eyes"):
             spec.geom(f"robot_{i}/{name}").rgba = colour
         base = spec.body(f"robot_{i}/base")
-        base.add_camera(name=f"robot_{i}/follow", pos=[-1.2, 0.0, 5.0], xyaxes=[0.0, -1.0, 0.0, 0.972, 0.0, 0.233],
-                        mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACK, fovy=60.0)
+        base.add_camera(
+            name=f"robot_{i}/follow",
+            pos=[-1.2, 0.0, 5.0],
+            xyaxes=[0.0, -1.0, 0.0, 0.972, 0.0, 0.233],
+            mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACK,
+            fovy=60.0,
+        )
     person_model = mujoco.MjSpec.from_file(str(assets / "pedestrian.xml"))
     for i, p in enumerate(scenario["persons"]):
         x, y, th = p["pose"]
@@ -178,7 +210,9 @@ class Simulation:
             [[m.actuator(f"robot_{i}/{a}").id for a in ("vx", "vy", "wz")] for i in range(self.num_robots)],
             dtype=np.intp,
         )
-        self._mocap = np.array([m.body_mocapid[m.body(f"person_{i}/root").id] for i in range(self.num_people)], dtype=np.intp)
+        self._mocap = np.array(
+            [m.body_mocapid[m.body(f"person_{i}/root").id] for i in range(self.num_people)], dtype=np.intp
+        )
         # Contiguous layouts (the usual case) use slices, which numpy handles faster than fancy indexing.
         self._qpos_slice = _as_slice(self._qpos)
         self._qvel_slice = _as_slice(self._qvel)

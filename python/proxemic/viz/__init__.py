@@ -33,6 +33,7 @@ def __getattr__(name: str) -> Any:
 
     Raises:
         AttributeError: If ``name`` is not a public attribute of the package.
+
     """
     if name in _LAZY:
         return getattr(importlib.import_module(".plots", __name__), name)

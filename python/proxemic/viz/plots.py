@@ -85,9 +85,7 @@ def _draw_map(ax: Axes, scenario: Mapping[str, Any]) -> list[Any]:
         if space is None:
             continue
         any_space = True
-        ax.add_patch(
-            PolygonPatch(space, closed=True, facecolor=(*space_color, 0.25), edgecolor="none", zorder=1)
-        )
+        ax.add_patch(PolygonPatch(space, closed=True, facecolor=(*space_color, 0.25), edgecolor="none", zorder=1))
         ax.add_patch(
             PolygonPatch(
                 space,
@@ -125,15 +123,11 @@ def _draw_map(ax: Axes, scenario: Mapping[str, Any]) -> list[Any]:
         )
         if kind not in kinds_seen:
             kinds_seen.append(kind)
-            handles.append(
-                Patch(facecolor=_rgb(color), edgecolor=_darker(color), label=kind.replace("_", " "))
-            )
+            handles.append(Patch(facecolor=_rgb(color), edgecolor=_darker(color), label=kind.replace("_", " ")))
     walls = list(scenario.get("walls", []))
     for wall in walls:
         ax.add_patch(
-            PolygonPatch(
-                wall_polygon(wall), closed=True, facecolor=_rgb(WALL_COLOR), edgecolor="none", zorder=3
-            )
+            PolygonPatch(wall_polygon(wall), closed=True, facecolor=_rgb(WALL_COLOR), edgecolor="none", zorder=3)
         )
     if walls:
         handles.insert(0, Patch(facecolor=_rgb(WALL_COLOR), label="wall"))
@@ -183,6 +177,7 @@ def plot_episodes(
 
     Raises:
         ValueError: If an episode's ``robot`` or ``people`` array has the wrong shape.
+
     """
     out = pathlib.Path(out_png)
     xmin, ymin, xmax, ymax = scene_bounds(scenario)
@@ -211,9 +206,7 @@ def plot_episodes(
         people = np.zeros((0, 0, 2)) if people_raw is None else np.asarray(people_raw, dtype=np.float64)
         if people.size > 0:
             if people.ndim != 3 or people.shape[2] < 2:
-                raise ValueError(
-                    f"episode {i} ({label!r}): people must have shape (T, P, 2), got {people.shape}"
-                )
+                raise ValueError(f"episode {i} ({label!r}): people must have shape (T, P, 2), got {people.shape}")
             any_people = True
             for p in range(people.shape[1]):
                 traj = people[:, p, :2]
@@ -356,6 +349,7 @@ def plot_metrics_bars(
 
     Raises:
         ValueError: If ``metrics`` is empty.
+
     """
     if not metrics:
         raise ValueError("metrics must name at least one metric")
@@ -402,9 +396,7 @@ def plot_metrics_bars(
                 va="top" if below else "bottom",
                 fontsize=7,
             )
-        ax.set_xticks(
-            x, groups, rotation=30 if len(groups) > 3 else 0, ha="right" if len(groups) > 3 else "center"
-        )
+        ax.set_xticks(x, groups, rotation=30 if len(groups) > 3 else 0, ha="right" if len(groups) > 3 else "center")
         ax.set_title(metric.replace("_", " "))
         ax.grid(True, axis="y", linewidth=0.3, alpha=0.6)
         ax.set_axisbelow(True)
@@ -439,6 +431,7 @@ def format_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], *, f
         The table: a header row, a ``---`` separator row and one row per dict, each line written as
         ``| a | b |`` and joined with newlines (no trailing newline). None is rendered as an en dash
         (U+2013), bools as ``yes``/``no``, ints as is and ``|`` in text escaped.
+
     """
     lines = [
         "| " + " | ".join(str(c) for c in columns) + " |",

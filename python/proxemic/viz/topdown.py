@@ -137,6 +137,7 @@ def wall_polygon(wall: Mapping[str, Any]) -> np.ndarray:
 
     Returns:
         An ``(N, 2)`` float array of vertices in metres.
+
     """
     poly = _as_polygon(wall.get("polygon"))
     if poly is not None:
@@ -160,6 +161,7 @@ def object_polygon(obj: Mapping[str, Any]) -> np.ndarray:
 
     Returns:
         An ``(N, 2)`` float array of vertices in metres.
+
     """
     poly = _as_polygon(obj.get("footprint"))
     if poly is not None:
@@ -183,6 +185,7 @@ def interaction_polygon(obj: Mapping[str, Any]) -> np.ndarray | None:
 
     Returns:
         An ``(N, 2)`` float array of vertices in metres, or None when the object has no space.
+
     """
     inter = obj.get("interaction")
     if not inter:
@@ -217,6 +220,7 @@ def scene_bounds(scenario: Mapping[str, Any]) -> tuple[float, float, float, floa
 
     Returns:
         The bounds as a tuple of four floats.
+
     """
     bounds = scenario.get("scene", {}).get("bounds")
     if bounds is not None and len(bounds) == 4:
@@ -253,6 +257,7 @@ def _pixel_view(img: np.ndarray) -> np.ndarray:
 
     Raises:
         ValueError: If ``img`` is not a C-contiguous uint8 image (a copy would silently drop writes).
+
     """
     if img.dtype != np.uint8 or not img.flags.c_contiguous or not img.flags.writeable:
         raise ValueError("drawing needs a writable C-contiguous uint8 image")
@@ -439,11 +444,10 @@ class TopDownRenderer:
         scale: Pixels per metre.
         bounds: Scene bounds ``(xmin, ymin, xmax, ymax)`` in metres.
         margin: Margin around the bounds in metres.
+
     """
 
-    def __init__(
-        self, scenario: Mapping[str, Any], width: int = 640, height: int = 480, margin: float = 0.5
-    ) -> None:
+    def __init__(self, scenario: Mapping[str, Any], width: int = 640, height: int = 480, margin: float = 0.5) -> None:
         """Precompute the transform and rasterise the static background.
 
         Args:
@@ -454,6 +458,7 @@ class TopDownRenderer:
 
         Raises:
             ValueError: If ``width``, ``height`` or ``margin`` is out of range.
+
         """
         if width < 1 or height < 1:
             raise ValueError(f"image size must be positive, got {width}x{height}")
@@ -492,6 +497,7 @@ class TopDownRenderer:
         Returns:
             Float pixel coordinates ``(col, row)`` with the same leading shape as ``xy``. Pixel
             ``(r, c)`` covers ``[c, c + 1) x [r, r + 1)``; row 0 is the top of the image.
+
         """
         p = np.asarray(xy, dtype=np.float64)
         out = np.empty((*p.shape[:-1], 2), dtype=np.float64)
@@ -507,6 +513,7 @@ class TopDownRenderer:
 
         Returns:
             World coordinates in metres with the same shape.
+
         """
         p = np.asarray(px, dtype=np.float64)
         out = np.empty((*p.shape[:-1], 2), dtype=np.float64)
@@ -527,6 +534,7 @@ class TopDownRenderer:
 
         Returns:
             An ``(r, g, b)`` tuple of ints.
+
         """
         return ROBOT_PALETTE[index % len(ROBOT_PALETTE)]
 
@@ -605,6 +613,7 @@ class TopDownRenderer:
 
         Raises:
             ValueError: If an input has the wrong shape.
+
         """
         robots_a = _rows(robots, 3, "robots")
         people_a = _rows(people, 4, "people")

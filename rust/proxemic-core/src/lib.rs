@@ -24,8 +24,8 @@ pub mod map;
 pub mod math;
 pub mod metrics;
 pub mod pedestrians;
-pub mod world;
 pub mod plan;
 pub mod scenario;
+pub mod world;
 
 pub use error::{CoreError, Result};

@@ -191,7 +191,9 @@ impl World {
                     return Err(scenario_err(
                         &scenario,
                         format!("robot[{i}].{name}"),
-                        format!("a position at least {clearance_needed:.2} m (the robot radius) from walls and furniture"),
+                        format!(
+                            "a position at least {clearance_needed:.2} m (the robot radius) from walls and furniture"
+                        ),
                         format!("{:?} ({what})", [p.x, p.y]),
                     ));
                 }
@@ -217,16 +219,17 @@ impl World {
             let goal_field = GoalField::compute(grid, goal_cell);
             let start = Vec2::new(r.start[0], r.start[1]);
             let geodesic_from_start = goal_field.distance(start);
-            let nominal_path = plan_path(&mut planner, grid, start, goal).ok_or_else(|| CoreError::Planning {
-                file: scenario.source.clone(),
-                field: format!("robot[{i}].goal"),
-                message: format!(
-                    "no collision-free path for a robot of radius {:.2} m from start {:?} to goal {:?}",
-                    r.radius,
-                    [r.start[0], r.start[1]],
-                    r.goal
-                ),
-            })?;
+            let nominal_path =
+                plan_path(&mut planner, grid, start, goal).ok_or_else(|| CoreError::Planning {
+                    file: scenario.source.clone(),
+                    field: format!("robot[{i}].goal"),
+                    message: format!(
+                        "no collision-free path for a robot of radius {:.2} m from start {:?} to goal {:?}",
+                        r.radius,
+                        [r.start[0], r.start[1]],
+                        r.goal
+                    ),
+                })?;
             let limits = Limits {
                 max_speed: r.max_speed,
                 max_angular_speed: r.max_angular_speed,
@@ -262,7 +265,8 @@ impl World {
             scratch_discs: Vec::new(),
             scenario,
         };
-        world.crowd = Crowd::spawn(&world.scenario.persons, &world.scenario.episode.randomize, &mut world.rng);
+        world.crowd =
+            Crowd::spawn(&world.scenario.persons, &world.scenario.episode.randomize, &mut world.rng);
         Ok(world)
     }
 
@@ -340,11 +344,19 @@ impl World {
     fn check_out(&self, out: &[f64], people_out: &[f64]) -> Result<()> {
         let want = self.layout.stride * self.num_robots();
         if out.len() != want {
-            return Err(CoreError::input("out", format!("{want} values ({} robots x {})", self.num_robots(), self.layout.stride), format!("{} values", out.len())));
+            return Err(CoreError::input(
+                "out",
+                format!("{want} values ({} robots x {})", self.num_robots(), self.layout.stride),
+                format!("{} values", out.len()),
+            ));
         }
         let want_p = self.num_people() * 3;
         if people_out.len() != want_p {
-            return Err(CoreError::input("people_out", format!("{want_p} values ({} people x 3)", self.num_people()), format!("{} values", people_out.len())));
+            return Err(CoreError::input(
+                "people_out",
+                format!("{want_p} values ({} people x 3)", self.num_people()),
+                format!("{} values", people_out.len()),
+            ));
         }
         Ok(())
     }
@@ -366,7 +378,11 @@ impl World {
             if jitter > 0.0 {
                 // Draw until the jittered start is clear of the static geometry (bounded tries).
                 for _ in 0..16 {
-                    let c = nominal + Vec2::new(self.rng.random_range(-jitter..=jitter), self.rng.random_range(-jitter..=jitter));
+                    let c = nominal
+                        + Vec2::new(
+                            self.rng.random_range(-jitter..=jitter),
+                            self.rng.random_range(-jitter..=jitter),
+                        );
                     if !self.geometry.contains(c) && self.geometry.distance(c) >= self.statics[i].radius {
                         start = c;
                         break;
@@ -419,10 +435,18 @@ impl World {
     pub fn command(&mut self, actions: &[f64], out: &mut [f64]) -> Result<()> {
         let n = self.num_robots();
         if !self.started {
-            return Err(CoreError::input("command", "a call after reset()", "a call before the first reset()"));
+            return Err(CoreError::input(
+                "command",
+                "a call after reset()",
+                "a call before the first reset()",
+            ));
         }
         if actions.len() != 3 * n || out.len() != self.layout.stride * n {
-            return Err(CoreError::input("actions", format!("{} values ({n} robots x 3)", 3 * n), format!("{} values", actions.len())));
+            return Err(CoreError::input(
+                "actions",
+                format!("{} values ({n} robots x 3)", 3 * n),
+                format!("{} values", actions.len()),
+            ));
         }
         let dt = self.scenario.control_dt();
         let cmd = self.layout.section("command").map_or(0, |s| s.offset);
@@ -462,20 +486,38 @@ impl World {
     /// One control step after the physics: `state` holds 6 values per robot (x, y, theta, and
     /// the world-frame velocities vx, vy, wz), `contacts` one byte of `CONTACT_*` bits per
     /// robot. Fills `out` and `people_out` (see [`Layout`]).
-    pub fn step(&mut self, state: &[f64], contacts: &[u8], out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
+    pub fn step(
+        &mut self,
+        state: &[f64],
+        contacts: &[u8],
+        out: &mut [f64],
+        people_out: &mut [f64],
+    ) -> Result<()> {
         if !self.started {
             return Err(CoreError::input("step", "a call after reset()", "a call before the first reset()"));
         }
         self.check_out(out, people_out)?;
         let n = self.num_robots();
         if state.len() != 6 * n {
-            return Err(CoreError::input("state", format!("{} values ({n} robots x 6)", 6 * n), format!("{} values", state.len())));
+            return Err(CoreError::input(
+                "state",
+                format!("{} values ({n} robots x 6)", 6 * n),
+                format!("{} values", state.len()),
+            ));
         }
         if contacts.len() != n {
-            return Err(CoreError::input("contacts", format!("{n} values"), format!("{} values", contacts.len())));
+            return Err(CoreError::input(
+                "contacts",
+                format!("{n} values"),
+                format!("{} values", contacts.len()),
+            ));
         }
         if let Some(k) = state.iter().position(|v| !v.is_finite()) {
-            return Err(CoreError::input(format!("state[{}][{}]", k / 6, k % 6), "finite robot poses and velocities", format!("{}", state[k])));
+            return Err(CoreError::input(
+                format!("state[{}][{}]", k / 6, k % 6),
+                "finite robot poses and velocities",
+                format!("{}", state[k]),
+            ));
         }
         let dt = self.scenario.control_dt();
         // The executed command becomes the reference for the acceleration limit.
@@ -721,7 +763,10 @@ fn check_people(s: &Scenario, geometry: &StaticGeometry) -> Result<()> {
             return Err(scenario_err(
                 s,
                 format!("person[{i}].pose"),
-                format!("a position at least {:.2} m (the person's radius) from walls and furniture", p.radius),
+                format!(
+                    "a position at least {:.2} m (the person's radius) from walls and furniture",
+                    p.radius
+                ),
                 format!("[{}, {}]", pos.x, pos.y),
             ));
         }
@@ -731,7 +776,10 @@ fn check_people(s: &Scenario, geometry: &StaticGeometry) -> Result<()> {
                 return Err(scenario_err(
                     s,
                     format!("person[{i}].route[{k}]"),
-                    format!("a waypoint at least {:.2} m (the person's radius) from walls and furniture", p.radius),
+                    format!(
+                        "a waypoint at least {:.2} m (the person's radius) from walls and furniture",
+                        p.radius
+                    ),
                     format!("[{}, {}]", a.x, a.y),
                 ));
             }
@@ -740,7 +788,10 @@ fn check_people(s: &Scenario, geometry: &StaticGeometry) -> Result<()> {
                 return Err(scenario_err(
                     s,
                     format!("person[{i}].route[{k}]"),
-                    format!("a route leg to route[{}] that does not cross walls or furniture", (k + 1) % p.route.len()),
+                    format!(
+                        "a route leg to route[{}] that does not cross walls or furniture",
+                        (k + 1) % p.route.len()
+                    ),
                     format!("a leg from [{}, {}] to [{}, {}] through static geometry", a.x, a.y, b.x, b.y),
                 ));
             }

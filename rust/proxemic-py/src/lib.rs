@@ -153,9 +153,14 @@ struct PyWorld {
     inner: CoreWorld,
 }
 
-fn flat_mut<'a>(py: Python<'_>, name: &str, arr: &'a mut PyReadwriteArray1<'_, f64>) -> PyResult<&'a mut [f64]> {
-    arr.as_slice_mut()
-        .map_err(|_| input_err(py, name, "a C-contiguous float64 array".into(), "a non-contiguous array".into()))
+fn flat_mut<'a>(
+    py: Python<'_>,
+    name: &str,
+    arr: &'a mut PyReadwriteArray1<'_, f64>,
+) -> PyResult<&'a mut [f64]> {
+    arr.as_slice_mut().map_err(|_| {
+        input_err(py, name, "a C-contiguous float64 array".into(), "a non-contiguous array".into())
+    })
 }
 
 #[pymethods]
@@ -239,7 +244,12 @@ impl PyWorld {
     /// Replaces the built-in planners' commands with normalised actions (3 per robot, in
     /// [-1, 1], clipped; a robot whose 3 values are all NaN keeps its planner's command).
     /// Raises `InputError` for partly non-finite actions.
-    fn command(&mut self, py: Python<'_>, actions: PyReadonlyArray1<'_, f64>, mut out: PyReadwriteArray1<'_, f64>) -> PyResult<()> {
+    fn command(
+        &mut self,
+        py: Python<'_>,
+        actions: PyReadonlyArray1<'_, f64>,
+        mut out: PyReadwriteArray1<'_, f64>,
+    ) -> PyResult<()> {
         let a = actions.as_slice().map_err(|_| {
             input_err(py, "actions", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
         })?;
@@ -278,7 +288,12 @@ impl PyWorld {
     /// The global path robot `robot` is following, as a (K, 2) float64 array.
     fn path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let path = self.inner.path(robot).ok_or_else(|| {
-            input_err(py, "robot", format!("an index below {} after reset()", self.inner.num_robots()), robot.to_string())
+            input_err(
+                py,
+                "robot",
+                format!("an index below {} after reset()", self.inner.num_robots()),
+                robot.to_string(),
+            )
         })?;
         points_to_array(py, path)
     }
@@ -292,7 +307,12 @@ impl PyWorld {
         goal: (f64, f64),
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
         if robot >= self.inner.num_robots() {
-            return Err(input_err(py, "robot", format!("an index below {}", self.inner.num_robots()), robot.to_string()));
+            return Err(input_err(
+                py,
+                "robot",
+                format!("an index below {}", self.inner.num_robots()),
+                robot.to_string(),
+            ));
         }
         match self.inner.plan(robot, Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1)) {
             Some(p) => Ok(Some(points_to_array(py, &p)?)),
@@ -305,7 +325,14 @@ impl PyWorld {
         let c = self.inner.crowd();
         let mut data = Vec::with_capacity(c.len() * 6);
         for k in 0..c.len() {
-            data.extend_from_slice(&[c.pos[k].x, c.pos[k].y, c.heading[k], c.vel[k].x, c.vel[k].y, c.radius[k]]);
+            data.extend_from_slice(&[
+                c.pos[k].x,
+                c.pos[k].y,
+                c.heading[k],
+                c.vel[k].x,
+                c.vel[k].y,
+                c.radius[k],
+            ]);
         }
         PyArray1::from_vec(py, data).reshape([c.len(), 6])
     }

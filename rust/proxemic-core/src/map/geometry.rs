@@ -32,10 +32,7 @@ impl Bounds {
 
     /// True if both corners are finite and `min <= max` component-wise.
     pub fn is_valid(&self) -> bool {
-        self.min
-            .iter()
-            .chain(self.max.iter())
-            .all(|v| v.is_finite())
+        self.min.iter().chain(self.max.iter()).all(|v| v.is_finite())
             && self.min.x <= self.max.x
             && self.min.y <= self.max.y
     }
@@ -88,11 +85,7 @@ pub(crate) fn cross(a: Vec2, b: Vec2) -> f64 {
 pub(crate) fn point_segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
     let ab = b - a;
     let l2 = ab.norm_squared();
-    let t = if l2 > 0.0 {
-        ((p - a).dot(&ab) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let t = if l2 > 0.0 { ((p - a).dot(&ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
     (a + ab * t - p).norm()
 }
 
@@ -219,12 +212,7 @@ impl StaticGeometry {
             Some(Polyline::new(vertices, Some(indices)))
         };
 
-        Ok(Self {
-            polygons: out,
-            aabbs,
-            bounds,
-            edges,
-        })
+        Ok(Self { polygons: out, aabbs, bounds, edges })
     }
 
     /// The world bounds given at construction (metres).
@@ -330,10 +318,7 @@ mod tests {
     }
 
     fn world() -> Bounds {
-        Bounds {
-            min: v(-10.0, -10.0),
-            max: v(10.0, 10.0),
-        }
+        Bounds { min: v(-10.0, -10.0), max: v(10.0, 10.0) }
     }
 
     fn unit_square() -> StaticGeometry {
@@ -347,10 +332,7 @@ mod tests {
         let c = v(3.0, 0.0);
         let th = std::f64::consts::FRAC_PI_4;
         let corners = [v(-1.0, -0.5), v(1.0, -0.5), v(1.0, 0.5), v(-1.0, 0.5)];
-        let poly = corners
-            .iter()
-            .map(|p| c + crate::math::rotate(*p, th))
-            .collect();
+        let poly = corners.iter().map(|p| c + crate::math::rotate(*p, th)).collect();
         StaticGeometry::new(vec![poly], world()).expect("valid rectangle")
     }
 
@@ -370,14 +352,8 @@ mod tests {
         let dup = vec![v(0.0, 0.0), v(1.0, 0.0), v(1.0, 0.0), v(0.0, 0.0)];
         assert!(StaticGeometry::new(vec![dup], world()).is_err());
         let nan = vec![v(0.0, 0.0), v(f64::NAN, 0.0), v(1.0, 1.0)];
-        assert!(matches!(
-            StaticGeometry::new(vec![nan], world()),
-            Err(CoreError::Input { .. })
-        ));
-        let bad_bounds = Bounds {
-            min: v(1.0, 0.0),
-            max: v(0.0, 1.0),
-        };
+        assert!(matches!(StaticGeometry::new(vec![nan], world()), Err(CoreError::Input { .. })));
+        let bad_bounds = Bounds { min: v(1.0, 0.0), max: v(0.0, 1.0) };
         assert!(StaticGeometry::new(vec![], bad_bounds).is_err());
     }
 
@@ -400,11 +376,7 @@ mod tests {
         assert!((g.cast_ray(v(-2.0, 0.5), v(1.0, 0.0), 10.0) - 2.0).abs() < 1e-12);
         assert_eq!(g.cast_ray(v(-2.0, 0.5), v(1.0, 0.0), 1.5), 1.5);
         assert_eq!(g.cast_ray(v(-2.0, 0.5), v(-1.0, 0.0), 10.0), 10.0);
-        assert_eq!(
-            g.cast_ray(v(0.5, 0.5), v(1.0, 0.0), 10.0),
-            0.0,
-            "origin inside"
-        );
+        assert_eq!(g.cast_ray(v(0.5, 0.5), v(1.0, 0.0), 10.0), 0.0, "origin inside");
         // Non-unit direction is normalised.
         assert!((g.cast_ray(v(0.5, 3.0), v(0.0, -5.0), 10.0) - 2.0).abs() < 1e-12);
         // Diagonal towards the corner (1, 1) from (2, 2).
@@ -413,10 +385,7 @@ mod tests {
 
         assert!(g.segment_hits(v(-1.0, 0.5), v(2.0, 0.5)));
         assert!(g.segment_hits(v(0.5, 0.5), v(0.6, 0.6)), "entirely inside");
-        assert!(
-            g.segment_hits(v(-1.0, 1.0), v(2.0, 1.0)),
-            "grazing the top edge"
-        );
+        assert!(g.segment_hits(v(-1.0, 1.0), v(2.0, 1.0)), "grazing the top edge");
         assert!(!g.segment_hits(v(-1.0, 1.1), v(2.0, 1.1)));
         assert!(!g.segment_hits(v(-1.0, 0.5), v(-0.1, 0.5)), "stops short");
         assert!(!g.segment_hits(v(3.0, 3.0), v(3.0, 3.0)));
@@ -454,10 +423,7 @@ mod tests {
         assert_eq!(g.cast_ray(v(0.0, 0.0), nan, 5.0), 0.0);
         assert_eq!(g.cast_ray(v(0.0, 0.0), v(0.0, 0.0), 5.0), 0.0);
         assert_eq!(g.cast_ray(v(0.0, 0.0), v(1.0, 0.0), f64::NAN), 0.0);
-        assert_eq!(
-            g.cast_ray(v(0.0, 0.0), v(-1.0, 0.0), f64::INFINITY),
-            f64::INFINITY
-        );
+        assert_eq!(g.cast_ray(v(0.0, 0.0), v(-1.0, 0.0), f64::INFINITY), f64::INFINITY);
         assert!(g.contains(v(f64::INFINITY, 0.0)));
     }
 
@@ -474,14 +440,7 @@ mod tests {
     #[test]
     fn concave_polygon_contains() {
         // An L shape.
-        let l = vec![
-            v(0.0, 0.0),
-            v(2.0, 0.0),
-            v(2.0, 1.0),
-            v(1.0, 1.0),
-            v(1.0, 2.0),
-            v(0.0, 2.0),
-        ];
+        let l = vec![v(0.0, 0.0), v(2.0, 0.0), v(2.0, 1.0), v(1.0, 1.0), v(1.0, 2.0), v(0.0, 2.0)];
         let g = StaticGeometry::new(vec![l], world()).expect("valid L");
         assert!(g.contains(v(0.5, 1.5)));
         assert!(g.contains(v(1.5, 0.5)));

@@ -65,12 +65,7 @@ impl GridSpec {
             ));
         }
         // Both are whole numbers in [1, MAX_CELLS], so the casts are exact.
-        Ok(Self {
-            origin: bounds.min,
-            resolution,
-            width: w as usize,
-            height: h as usize,
-        })
+        Ok(Self { origin: bounds.min, resolution, width: w as usize, height: h as usize })
     }
 
     /// The cell containing `p` (metres), or `None` if `p` is outside the grid or not finite.
@@ -226,9 +221,7 @@ fn fill_interior(cells: &mut [u8], spec: &GridSpec, g: &[Vec2], xs: &mut Vec<f64
         xs.sort_by(f64::total_cmp);
         for pair in xs.chunks_exact(2) {
             // Columns whose centre ix + 0.5 lies in [pair[0], pair[1]].
-            if let Some((c0, c1)) =
-                clamp_range((pair[0] - 0.5).ceil(), (pair[1] - 0.5).floor(), spec.width)
-            {
+            if let Some((c0, c1)) = clamp_range((pair[0] - 0.5).ceil(), (pair[1] - 0.5).floor(), spec.width) {
                 let row = iy * spec.width;
                 cells[row + c0..=row + c1].fill(1);
             }
@@ -296,19 +289,12 @@ impl DistanceField {
         let (w, h) = (spec.width, spec.height);
         let n = spec.len();
         if !grid.cells.iter().any(|&c| c != 0) || grid.cells.len() != n {
-            return Self {
-                spec,
-                metres: vec![f64::INFINITY; n],
-            };
+            return Self { spec, metres: vec![f64::INFINITY; n] };
         }
         // A finite "infinity" larger than any squared distance in the grid, small enough that all
         // arithmetic stays exact on integers.
         let big = 2.0 * ((w * w + h * h) as f64) + 1.0;
-        let mut sq: Vec<f64> = grid
-            .cells
-            .iter()
-            .map(|&c| if c != 0 { 0.0 } else { big })
-            .collect();
+        let mut sq: Vec<f64> = grid.cells.iter().map(|&c| if c != 0 { 0.0 } else { big }).collect();
         let m = w.max(h);
         let (mut f, mut d) = (vec![0.0; m], vec![0.0; m]);
         let (mut v, mut z) = (vec![0usize; m], vec![0.0; m + 1]);
@@ -337,11 +323,7 @@ impl DistanceField {
     /// (treated as colliding).
     pub fn at(&self, p: Vec2) -> f64 {
         match self.spec.cell_of(p) {
-            Some((ix, iy)) => self
-                .metres
-                .get(self.spec.index(ix, iy))
-                .copied()
-                .unwrap_or(0.0),
+            Some((ix, iy)) => self.metres.get(self.spec.index(ix, iy)).copied().unwrap_or(0.0),
             None => 0.0,
         }
     }
@@ -357,10 +339,7 @@ mod tests {
     }
 
     fn bounds(w: f64, h: f64) -> Bounds {
-        Bounds {
-            min: v(0.0, 0.0),
-            max: v(w, h),
-        }
+        Bounds { min: v(0.0, 0.0), max: v(w, h) }
     }
 
     fn occupied_set(g: &OccupancyGrid) -> Vec<(usize, usize)> {
@@ -387,15 +366,10 @@ mod tests {
         if sq.iter().any(|c| g.contains(*c)) {
             return true;
         }
-        if poly
-            .iter()
-            .any(|p| p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y)
-        {
+        if poly.iter().any(|p| p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y) {
             return true;
         }
-        (0..n).any(|i| {
-            (0..4).any(|j| segments_intersect(poly[i], poly[(i + 1) % n], sq[j], sq[(j + 1) % 4]))
-        })
+        (0..n).any(|i| (0..4).any(|j| segments_intersect(poly[i], poly[(i + 1) % n], sq[j], sq[(j + 1) % 4])))
     }
 
     #[test]
@@ -407,29 +381,16 @@ mod tests {
         assert_eq!(s.len(), 11);
         assert!(!s.is_empty());
         for bad in [0.0, -0.1, 5.01, f64::NAN, f64::INFINITY] {
-            assert!(matches!(
-                GridSpec::covering(bounds(1.0, 1.0), bad),
-                Err(CoreError::Input { .. })
-            ));
+            assert!(matches!(GridSpec::covering(bounds(1.0, 1.0), bad), Err(CoreError::Input { .. })));
         }
         assert!(GridSpec::covering(bounds(1e6, 1e6), 0.01).is_err());
-        let bad = Bounds {
-            min: v(0.0, f64::NAN),
-            max: v(1.0, 1.0),
-        };
+        let bad = Bounds { min: v(0.0, f64::NAN), max: v(1.0, 1.0) };
         assert!(GridSpec::covering(bad, 0.1).is_err());
     }
 
     #[test]
     fn cell_of_and_center() {
-        let s = GridSpec::covering(
-            Bounds {
-                min: v(-1.0, -2.0),
-                max: v(1.0, 2.0),
-            },
-            0.5,
-        )
-        .expect("valid");
+        let s = GridSpec::covering(Bounds { min: v(-1.0, -2.0), max: v(1.0, 2.0) }, 0.5).expect("valid");
         assert_eq!((s.width, s.height), (4, 8));
         assert_eq!(s.cell_of(v(-1.0, -2.0)), Some((0, 0)));
         assert_eq!(s.cell_of(v(0.99, 1.99)), Some((3, 7)));
@@ -478,34 +439,20 @@ mod tests {
         // A thin (0.05 m) diagonal wall: exactly the overlapping cells are marked, and it leaves no
         // 8-connected gap (no two free cells on opposite sides that touch diagonally across it).
         let d = 0.025;
-        let diag = vec![
-            v(0.5, 0.5),
-            v(0.5 + d, 0.5 - d),
-            v(3.5 + d, 3.5 - d),
-            v(3.5, 3.5),
-        ];
+        let diag = vec![v(0.5, 0.5), v(0.5 + d, 0.5 - d), v(3.5 + d, 3.5 - d), v(3.5, 3.5)];
         let g = StaticGeometry::new(vec![diag.clone()], bounds(4.0, 4.0)).expect("valid");
         let occ = OccupancyGrid::rasterize(&g, spec);
         for iy in 0..spec.height {
             for ix in 0..spec.width {
                 let got = occ.occupied(ix, iy);
-                assert!(
-                    !overlaps(&diag, &spec, ix, iy, 0.0) || got,
-                    "missed {ix},{iy}"
-                );
-                assert!(
-                    !got || overlaps(&diag, &spec, ix, iy, 1e-8),
-                    "extra {ix},{iy}"
-                );
+                assert!(!overlaps(&diag, &spec, ix, iy, 0.0) || got, "missed {ix},{iy}");
+                assert!(!got || overlaps(&diag, &spec, ix, iy, 1e-8), "extra {ix},{iy}");
             }
         }
         for i in 6..34 {
             // Cells (i, i+1) (above the wall) and (i+1, i) (below) touch diagonally at a corner on the
             // wall's centre line: one of the two cells between them must be blocked.
-            assert!(
-                occ.occupied(i, i) || occ.occupied(i + 1, i + 1),
-                "diagonal leak at {i}"
-            );
+            assert!(occ.occupied(i, i) || occ.occupied(i + 1, i + 1), "diagonal leak at {i}");
         }
     }
 
@@ -515,10 +462,7 @@ mod tests {
         let th: f64 = 0.4;
         let c = v(2.0, 2.0);
         let corners = [v(-1.0, -0.3), v(1.0, -0.3), v(1.0, 0.3), v(-1.0, 0.3)];
-        let poly: Vec<Vec2> = corners
-            .iter()
-            .map(|p| c + crate::math::rotate(*p, th))
-            .collect();
+        let poly: Vec<Vec2> = corners.iter().map(|p| c + crate::math::rotate(*p, th)).collect();
         let g = StaticGeometry::new(vec![poly.clone()], bounds(4.0, 4.0)).expect("valid");
         let occ = OccupancyGrid::rasterize(&g, spec);
         let mut count = 0;
@@ -553,10 +497,7 @@ mod tests {
     #[test]
     fn distance_field_basics() {
         let spec = GridSpec::covering(bounds(1.0, 0.5), 0.1).expect("valid");
-        let mut occ = OccupancyGrid {
-            spec,
-            cells: vec![0; spec.len()],
-        };
+        let mut occ = OccupancyGrid { spec, cells: vec![0; spec.len()] };
         let df = DistanceField::from_occupancy(&occ);
         assert!(df.metres.iter().all(|d| *d == f64::INFINITY));
         occ.cells[spec.index(0, 0)] = 1;

@@ -48,32 +48,16 @@ pub fn scan(
     out: &mut [f64],
 ) -> Result<()> {
     if out.is_empty() {
-        return Err(CoreError::input(
-            "out",
-            "a buffer of n_rays >= 1 ranges",
-            "an empty buffer",
-        ));
+        return Err(CoreError::input("out", "a buffer of n_rays >= 1 ranges", "an empty buffer"));
     }
     if !(origin.x.is_finite() && origin.y.is_finite()) {
-        return Err(CoreError::input(
-            "origin",
-            "finite coordinates (metres)",
-            format!("{origin:?}"),
-        ));
+        return Err(CoreError::input("origin", "finite coordinates (metres)", format!("{origin:?}")));
     }
     if !heading.is_finite() {
-        return Err(CoreError::input(
-            "heading",
-            "a finite angle (radians)",
-            format!("{heading}"),
-        ));
+        return Err(CoreError::input("heading", "a finite angle (radians)", format!("{heading}")));
     }
     if !(max_range.is_finite() && max_range > 0.0) {
-        return Err(CoreError::input(
-            "max_range",
-            "a finite range > 0 (metres)",
-            format!("{max_range}"),
-        ));
+        return Err(CoreError::input("max_range", "a finite range > 0 (metres)", format!("{max_range}")));
     }
     // Cull discs once; at most a small fixed number live on the stack, the rest fall back to a
     // per-ray scan over all discs.
@@ -95,11 +79,7 @@ pub fn scan(
     }
     let overflow = discs.len() > STACK && {
         // Only matters if more than STACK discs survive the cull.
-        discs
-            .iter()
-            .filter(|(c, r)| (c - origin).norm() - r < max_range)
-            .count()
-            > STACK
+        discs.iter().filter(|(c, r)| (c - origin).norm() - r < max_range).count() > STACK
     };
 
     let n = out.len();
@@ -133,10 +113,7 @@ mod tests {
     }
 
     fn world() -> Bounds {
-        Bounds {
-            min: v(-10.0, -10.0),
-            max: v(10.0, 10.0),
-        }
+        Bounds { min: v(-10.0, -10.0), max: v(10.0, 10.0) }
     }
 
     /// A wall at x in [3, 3.2], y in [-5, 5].
@@ -202,15 +179,7 @@ mod tests {
         assert!((out[0] - 3.0).abs() < 1e-12, "{out:?}");
         assert_eq!(&out[1..], &[10.0, 10.0, 10.0]);
         // Ray 0 at 45 degrees hits x = 3 at distance 3 * sqrt(2).
-        scan(
-            &g,
-            &[],
-            v(0.0, 0.0),
-            std::f64::consts::FRAC_PI_4,
-            10.0,
-            &mut out,
-        )
-        .expect("valid");
+        scan(&g, &[], v(0.0, 0.0), std::f64::consts::FRAC_PI_4, 10.0, &mut out).expect("valid");
         assert!((out[0] - 3.0 * 2f64.sqrt()).abs() < 1e-9);
     }
 
@@ -252,9 +221,8 @@ mod tests {
     #[test]
     fn many_discs_take_the_slow_path_correctly() {
         let g = wall();
-        let discs: Vec<(Vec2, f64)> = (0..100)
-            .map(|i| (v(1.0 + 0.01 * i as f64, -2.0 + 0.04 * i as f64), 0.05))
-            .collect();
+        let discs: Vec<(Vec2, f64)> =
+            (0..100).map(|i| (v(1.0 + 0.01 * i as f64, -2.0 + 0.04 * i as f64), 0.05)).collect();
         let mut out = vec![0.0; 90];
         scan(&g, &discs, v(0.0, 0.0), 0.1, 8.0, &mut out).expect("valid");
         let want = reference(&g, &discs, v(0.0, 0.0), 0.1, 8.0, 90);

@@ -65,30 +65,20 @@ impl CostGrid {
                 }
             })
             .collect();
-        Self {
-            spec: df.spec,
-            cost,
-        }
+        Self { spec: df.spec, cost }
     }
 
     /// True if `(ix, iy)` is inside the grid and its cost is below [`INSCRIBED`].
     #[inline]
     pub fn passable(&self, ix: usize, iy: usize) -> bool {
         self.spec.contains_cell(ix, iy)
-            && self
-                .cost
-                .get(self.spec.index(ix, iy))
-                .is_some_and(|&c| c < INSCRIBED)
+            && self.cost.get(self.spec.index(ix, iy)).is_some_and(|&c| c < INSCRIBED)
     }
 
     /// The cost of `(ix, iy)`, or `None` outside the grid.
     #[inline]
     pub fn cost_at(&self, ix: usize, iy: usize) -> Option<u8> {
-        if self.spec.contains_cell(ix, iy) {
-            self.cost.get(self.spec.index(ix, iy)).copied()
-        } else {
-            None
-        }
+        if self.spec.contains_cell(ix, iy) { self.cost.get(self.spec.index(ix, iy)).copied() } else { None }
     }
 }
 
@@ -104,25 +94,16 @@ pub struct SearchMode {
 
 impl SearchMode {
     /// Plain A*: binary passability, weight 0.
-    pub const PLAIN: SearchMode = SearchMode {
-        weight: 0.0,
-        heuristic: true,
-    };
+    pub const PLAIN: SearchMode = SearchMode { weight: 0.0, heuristic: true };
 
     /// Cost-aware A* with the given weight.
     pub fn weighted(weight: f64) -> Self {
-        Self {
-            weight,
-            heuristic: true,
-        }
+        Self { weight, heuristic: true }
     }
 
     /// Dijkstra with the given weight (the optimality oracle).
     pub fn dijkstra(weight: f64) -> Self {
-        Self {
-            weight,
-            heuristic: false,
-        }
+        Self { weight, heuristic: false }
     }
 }
 
@@ -254,21 +235,13 @@ impl PathPlanner {
         let s_idx = spec.index(start.0, start.1);
         let goal_idx = spec.index(goal.0, goal.1);
         let heur = |ix: usize, iy: usize| -> f64 {
-            if mode.heuristic {
-                octile(ix, iy, goal.0, goal.1) * res
-            } else {
-                0.0
-            }
+            if mode.heuristic { octile(ix, iy, goal.0, goal.1) * res } else { 0.0 }
         };
 
         self.g[s_idx] = 0.0;
         self.parent[s_idx] = s_idx as u32;
         self.seen[s_idx] = gen_;
-        self.heap.push(Open {
-            f: heur(start.0, start.1),
-            g: 0.0,
-            idx: s_idx as u32,
-        });
+        self.heap.push(Open { f: heur(start.0, start.1), g: 0.0, idx: s_idx as u32 });
         let mut expansions = 0usize;
         let cost = &grid.cost;
         let passable = |i: usize| cost[i] < INSCRIBED;
@@ -303,11 +276,7 @@ impl PathPlanner {
                     self.seen[ni] = gen_;
                     self.g[ni] = ng;
                     self.parent[ni] = cur as u32;
-                    self.heap.push(Open {
-                        f: ng + heur(nx, ny),
-                        g: ng,
-                        idx: ni as u32,
-                    });
+                    self.heap.push(Open { f: ng + heur(nx, ny), g: ng, idx: ni as u32 });
                 }
             }
         }
@@ -347,11 +316,7 @@ impl PathPlanner {
             cells.push(spec.cell(cur));
         }
         cells.reverse();
-        GridPath {
-            cells,
-            cost,
-            expansions,
-        }
+        GridPath { cells, cost, expansions }
     }
 }
 
@@ -421,16 +386,8 @@ mod tests {
     const S2: f64 = std::f64::consts::SQRT_2;
 
     fn grid(w: usize, h: usize) -> CostGrid {
-        let spec = GridSpec {
-            origin: Vec2::zeros(),
-            resolution: 1.0,
-            width: w,
-            height: h,
-        };
-        CostGrid {
-            spec,
-            cost: vec![0; w * h],
-        }
+        let spec = GridSpec { origin: Vec2::zeros(), resolution: 1.0, width: w, height: h };
+        CostGrid { spec, cost: vec![0; w * h] }
     }
 
     fn set(g: &mut CostGrid, x: usize, y: usize, c: u8) {
@@ -443,22 +400,12 @@ mod tests {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
         let mut g = grid(w, h);
         for c in g.cost.iter_mut() {
-            *c = if rng.random::<f64>() < density {
-                LETHAL
-            } else {
-                rng.random_range(0..=252)
-            };
+            *c = if rng.random::<f64>() < density { LETHAL } else { rng.random_range(0..=252) };
         }
         g
     }
 
-    fn assert_valid_path(
-        g: &CostGrid,
-        p: &GridPath,
-        start: (usize, usize),
-        goal: (usize, usize),
-        w: f64,
-    ) {
+    fn assert_valid_path(g: &CostGrid, p: &GridPath, start: (usize, usize), goal: (usize, usize), w: f64) {
         assert_eq!(p.cells.first(), Some(&start));
         assert_eq!(p.cells.last(), Some(&goal));
         let mut total = 0.0;
@@ -480,11 +427,7 @@ mod tests {
     fn empty_grid_costs() {
         let g = grid(10, 10);
         let mut pl = PathPlanner::new();
-        for mode in [
-            SearchMode::PLAIN,
-            SearchMode::weighted(2.0),
-            SearchMode::dijkstra(0.0),
-        ] {
+        for mode in [SearchMode::PLAIN, SearchMode::weighted(2.0), SearchMode::dijkstra(0.0)] {
             let p = pl.plan(&g, (0, 0), (9, 9), mode).expect("reachable");
             assert!((p.cost - 9.0 * S2).abs() < 1e-12);
             assert_valid_path(&g, &p, (0, 0), (9, 9), mode.weight);
@@ -492,13 +435,9 @@ mod tests {
             assert!((p.cost - (3.0 * S2 + 6.0)).abs() < 1e-12);
         }
         // Plain A* in open space with the larger-g tie-break goes straight to the goal.
-        let p = pl
-            .plan(&g, (0, 0), (9, 9), SearchMode::PLAIN)
-            .expect("reachable");
+        let p = pl.plan(&g, (0, 0), (9, 9), SearchMode::PLAIN).expect("reachable");
         assert_eq!(p.expansions, 10);
-        let p = pl
-            .plan(&g, (4, 4), (4, 4), SearchMode::PLAIN)
-            .expect("trivial");
+        let p = pl.plan(&g, (4, 4), (4, 4), SearchMode::PLAIN).expect("trivial");
         assert_eq!((p.cells.len(), p.cost), (1, 0.0));
     }
 
@@ -506,9 +445,7 @@ mod tests {
     fn resolution_scales_cost() {
         let mut g = grid(10, 10);
         g.spec.resolution = 0.1;
-        let p = PathPlanner::new()
-            .plan(&g, (0, 0), (9, 3), SearchMode::PLAIN)
-            .expect("reachable");
+        let p = PathPlanner::new().plan(&g, (0, 0), (9, 3), SearchMode::PLAIN).expect("reachable");
         assert!((p.cost - 0.1 * (3.0 * S2 + 6.0)).abs() < 1e-12);
     }
 
@@ -521,9 +458,7 @@ mod tests {
             }
         }
         let mut pl = PathPlanner::new();
-        let p = pl
-            .plan(&g, (0, 0), (9, 0), SearchMode::PLAIN)
-            .expect("through the gap");
+        let p = pl.plan(&g, (0, 0), (9, 0), SearchMode::PLAIN).expect("through the gap");
         assert!(p.cells.contains(&(5, 7)));
         assert_valid_path(&g, &p, (0, 0), (9, 0), 0.0);
         // No gap: unreachable, and Dijkstra expands every reachable cell exactly once.
@@ -536,19 +471,11 @@ mod tests {
     }
 
     /// Runs Dijkstra to an unreachable goal and returns how many cells it closed.
-    fn expansions_when_unreachable(
-        g: &CostGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
-    ) -> usize {
+    fn expansions_when_unreachable(g: &CostGrid, start: (usize, usize), goal: (usize, usize)) -> usize {
         let mut pl = PathPlanner::new();
         assert!(pl.plan(g, start, goal, SearchMode::dijkstra(1.0)).is_none());
         let gen_ = pl.generation;
-        pl.closed
-            .iter()
-            .take(g.spec.len())
-            .filter(|&&c| c == gen_)
-            .count()
+        pl.closed.iter().take(g.spec.len()).filter(|&&c| c == gen_).count()
     }
 
     #[test]
@@ -559,16 +486,10 @@ mod tests {
         set(&mut g, 0, 1, LETHAL);
         // From (0,0) the only moves are orthogonal (blocked) or the diagonal to (1,1), which would
         // squeeze between (1,0) and (0,1).
-        assert!(
-            PathPlanner::new()
-                .plan(&g, (0, 0), (2, 2), SearchMode::PLAIN)
-                .is_none()
-        );
+        assert!(PathPlanner::new().plan(&g, (0, 0), (2, 2), SearchMode::PLAIN).is_none());
         // With one of them open, the path goes around.
         set(&mut g, 0, 1, 0);
-        let p = PathPlanner::new()
-            .plan(&g, (0, 0), (2, 2), SearchMode::PLAIN)
-            .expect("open");
+        let p = PathPlanner::new().plan(&g, (0, 0), (2, 2), SearchMode::PLAIN).expect("open");
         assert_valid_path(&g, &p, (0, 0), (2, 2), 0.0);
         assert!((p.cost - (1.0 + S2 + 1.0)).abs() < 1e-12, "{}", p.cost);
     }
@@ -578,30 +499,16 @@ mod tests {
         let mut g = grid(5, 5);
         set(&mut g, 0, 0, INSCRIBED);
         let mut pl = PathPlanner::new();
-        let p = pl
-            .plan(&g, (0, 0), (4, 4), SearchMode::PLAIN)
-            .expect("leave the start");
+        let p = pl.plan(&g, (0, 0), (4, 4), SearchMode::PLAIN).expect("leave the start");
         assert!((p.cost - 4.0 * S2).abs() < 1e-12);
         set(&mut g, 4, 4, LETHAL);
         assert!(pl.plan(&g, (0, 0), (4, 4), SearchMode::PLAIN).is_none());
-        assert!(
-            pl.plan(&g, (0, 0), (5, 4), SearchMode::PLAIN).is_none(),
-            "goal outside"
-        );
-        assert!(
-            pl.plan(&g, (9, 0), (3, 3), SearchMode::PLAIN).is_none(),
-            "start outside"
-        );
+        assert!(pl.plan(&g, (0, 0), (5, 4), SearchMode::PLAIN).is_none(), "goal outside");
+        assert!(pl.plan(&g, (9, 0), (3, 3), SearchMode::PLAIN).is_none(), "start outside");
         for bad in [f64::NAN, -1.0, f64::INFINITY] {
-            assert!(
-                pl.plan(&g, (0, 0), (3, 3), SearchMode::weighted(bad))
-                    .is_none()
-            );
+            assert!(pl.plan(&g, (0, 0), (3, 3), SearchMode::weighted(bad)).is_none());
         }
-        let wrong = CostGrid {
-            spec: g.spec,
-            cost: vec![0; 3],
-        };
+        let wrong = CostGrid { spec: g.spec, cost: vec![0; 3] };
         assert!(pl.plan(&wrong, (0, 0), (1, 1), SearchMode::PLAIN).is_none());
     }
 
@@ -612,14 +519,10 @@ mod tests {
             set(&mut g, 4, y, 252);
         }
         let mut pl = PathPlanner::new();
-        let plain = pl
-            .plan(&g, (0, 0), (8, 0), SearchMode::PLAIN)
-            .expect("reachable");
+        let plain = pl.plan(&g, (0, 0), (8, 0), SearchMode::PLAIN).expect("reachable");
         assert!((plain.cost - 8.0).abs() < 1e-12);
         // Crossing costs 7 + 6 at w = 5; going round the top costs 8 * sqrt(2) ~ 11.3.
-        let social = pl
-            .plan(&g, (0, 0), (8, 0), SearchMode::weighted(5.0))
-            .expect("reachable");
+        let social = pl.plan(&g, (0, 0), (8, 0), SearchMode::weighted(5.0)).expect("reachable");
         assert!(social.cells.iter().all(|&(x, y)| x != 4 || y == 4));
     }
 
@@ -628,37 +531,21 @@ mod tests {
         let mut pl = PathPlanner::new();
         let big = grid(30, 30);
         let small = grid(4, 4);
-        let a = pl
-            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
-            .expect("ok");
-        let b = pl
-            .plan(&small, (0, 0), (3, 3), SearchMode::PLAIN)
-            .expect("ok");
-        let c = pl
-            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
-            .expect("ok");
+        let a = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
+        let b = pl.plan(&small, (0, 0), (3, 3), SearchMode::PLAIN).expect("ok");
+        let c = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
         assert_eq!(a, c);
         assert!((b.cost - 3.0 * S2).abs() < 1e-12);
         pl.generation = u32::MAX; // force the wrap-around reset
-        let d = pl
-            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
-            .expect("ok");
+        let d = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
         assert_eq!(a, d);
     }
 
     #[test]
     fn inflation_rule() {
         use crate::map::grid::{DistanceField, OccupancyGrid};
-        let spec = GridSpec {
-            origin: Vec2::zeros(),
-            resolution: 0.1,
-            width: 20,
-            height: 1,
-        };
-        let mut occ = OccupancyGrid {
-            spec,
-            cells: vec![0; 20],
-        };
+        let spec = GridSpec { origin: Vec2::zeros(), resolution: 0.1, width: 20, height: 1 };
+        let mut occ = OccupancyGrid { spec, cells: vec![0; 20] };
         occ.cells[0] = 1;
         let df = DistanceField::from_occupancy(&occ);
         let cg = CostGrid::inflated(&df, 0.3);

@@ -101,21 +101,14 @@ fn cell_segment_cost(grid: &CostGrid, a: (i64, i64), b: (i64, i64), weight: f64)
         None => f64::INFINITY,
         Some(mean) => {
             let (dx, dy) = ((b.0 - a.0) as f64, (b.1 - a.1) as f64);
-            let len = if dx == 0.0 || dy == 0.0 {
-                dx.abs() + dy.abs()
-            } else {
-                (dx * dx + dy * dy).sqrt()
-            };
+            let len = if dx == 0.0 || dy == 0.0 { dx.abs() + dy.abs() } else { (dx * dx + dy * dy).sqrt() };
             weighted(len * grid.spec.resolution, weight, mean)
         }
     }
 }
 
 fn as_i64(c: (usize, usize)) -> (i64, i64) {
-    (
-        i64::try_from(c.0).unwrap_or(i64::MAX),
-        i64::try_from(c.1).unwrap_or(i64::MAX),
-    )
+    (i64::try_from(c.0).unwrap_or(i64::MAX), i64::try_from(c.1).unwrap_or(i64::MAX))
 }
 
 fn centre(spec: &GridSpec, c: (usize, usize)) -> Vec2 {
@@ -203,16 +196,8 @@ mod tests {
     use proptest::prelude::*;
 
     fn grid(w: usize, h: usize, res: f64) -> CostGrid {
-        let spec = GridSpec {
-            origin: Vec2::new(-1.0, 2.0),
-            resolution: res,
-            width: w,
-            height: h,
-        };
-        CostGrid {
-            spec,
-            cost: vec![0; w * h],
-        }
+        let spec = GridSpec { origin: Vec2::new(-1.0, 2.0), resolution: res, width: w, height: h };
+        CostGrid { spec, cost: vec![0; w * h] }
     }
 
     fn walk_cells(a: (i64, i64), b: (i64, i64)) -> Vec<(i64, i64, bool)> {
@@ -228,44 +213,24 @@ mod tests {
     fn walk_known_lines() {
         assert_eq!(walk_cells((0, 0), (0, 0)), vec![]);
         assert_eq!(walk_cells((0, 0), (2, 0)), vec![(1, 0, true), (2, 0, true)]);
-        assert_eq!(
-            walk_cells((0, 0), (1, 1)),
-            vec![(1, 0, false), (0, 1, false), (1, 1, true)]
-        );
+        assert_eq!(walk_cells((0, 0), (1, 1)), vec![(1, 0, false), (0, 1, false), (1, 1, true)]);
         // Slope 1/2: (0.5, 0.5) -> (2.5, 1.5) crosses y = 1 at x = 1.5, mid-column: no vertex.
-        assert_eq!(
-            walk_cells((0, 0), (2, 1)),
-            vec![(1, 0, true), (1, 1, true), (2, 1, true)]
-        );
+        assert_eq!(walk_cells((0, 0), (2, 1)), vec![(1, 0, true), (1, 1, true), (2, 1, true)]);
         // Slope 1/3: (0.5, 0.5) -> (3.5, 1.5) passes exactly through the vertex (2, 1).
         assert_eq!(
             walk_cells((0, 0), (3, 1)),
-            vec![
-                (1, 0, true),
-                (2, 0, false),
-                (1, 1, false),
-                (2, 1, true),
-                (3, 1, true)
-            ]
+            vec![(1, 0, true), (2, 0, false), (1, 1, false), (2, 1, true), (3, 1, true)]
         );
         assert_eq!(
             walk_cells((3, 1), (0, 0)),
-            vec![
-                (2, 1, true),
-                (1, 1, false),
-                (2, 0, false),
-                (1, 0, true),
-                (0, 0, true)
-            ]
+            vec![(2, 1, true), (1, 1, false), (2, 0, false), (1, 0, true), (0, 0, true)]
         );
     }
 
     #[test]
     fn open_space_collapses_to_a_line() {
         let g = grid(10, 10, 0.1);
-        let p = PathPlanner::new()
-            .plan(&g, (0, 0), (9, 3), SearchMode::PLAIN)
-            .expect("ok");
+        let p = PathPlanner::new().plan(&g, (0, 0), (9, 3), SearchMode::PLAIN).expect("ok");
         let s = smooth_path(&g, &p, 0.0);
         assert_eq!(s, vec![g.spec.center(0, 0), g.spec.center(9, 3)]);
         let c = path_cost(&g, &s, 0.0);
@@ -281,9 +246,7 @@ mod tests {
             let i = g.spec.index(5, y);
             g.cost[i] = LETHAL;
         }
-        let p = PathPlanner::new()
-            .plan(&g, (0, 0), (9, 0), SearchMode::PLAIN)
-            .expect("ok");
+        let p = PathPlanner::new().plan(&g, (0, 0), (9, 0), SearchMode::PLAIN).expect("ok");
         let s = smooth_path(&g, &p, 0.0);
         assert!(s.len() >= 3 && s.len() < p.cells.len());
         assert!(path_cost(&g, &s, 0.0) <= p.cost + 1e-9);
@@ -295,11 +258,7 @@ mod tests {
         // A 3 x 3 grid with an expensive centre: with a large weight, the diagonal through the centre
         // costs more than going round.
         let mut g = grid(3, 3, 1.0);
-        let path = GridPath {
-            cells: vec![(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)],
-            cost: 4.0,
-            expansions: 0,
-        };
+        let path = GridPath { cells: vec![(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)], cost: 4.0, expansions: 0 };
         let s0 = smooth_path(&g, &path, 5.0);
         assert_eq!(s0.len(), 2, "free grid: straight diagonal");
         let i = g.spec.index(1, 1);
@@ -312,44 +271,19 @@ mod tests {
     #[test]
     fn degenerate_inputs() {
         let g = grid(4, 4, 0.5);
-        let empty = GridPath {
-            cells: vec![],
-            cost: 0.0,
-            expansions: 0,
-        };
+        let empty = GridPath { cells: vec![], cost: 0.0, expansions: 0 };
         assert!(smooth_path(&g, &empty, 1.0).is_empty());
-        let one = GridPath {
-            cells: vec![(2, 2)],
-            cost: 0.0,
-            expansions: 0,
-        };
+        let one = GridPath { cells: vec![(2, 2)], cost: 0.0, expansions: 0 };
         assert_eq!(smooth_path(&g, &one, 1.0), vec![g.spec.center(2, 2)]);
-        let two = GridPath {
-            cells: vec![(0, 0), (3, 3)],
-            cost: 0.0,
-            expansions: 0,
-        };
+        let two = GridPath { cells: vec![(0, 0), (3, 3)], cost: 0.0, expansions: 0 };
         assert_eq!(smooth_path(&g, &two, f64::NAN).len(), 2);
         assert_eq!(path_cost(&g, &[], 1.0), 0.0);
         let a = g.spec.center(0, 0);
-        assert_eq!(
-            path_cost(&g, &[a, Vec2::new(f64::NAN, 0.0)], 1.0),
-            f64::INFINITY
-        );
-        assert_eq!(
-            path_cost(&g, &[a, Vec2::new(100.0, 0.0)], 1.0),
-            f64::INFINITY
-        );
-        assert_eq!(
-            path_cost(&g, &[a, g.spec.center(1, 1)], -1.0),
-            f64::INFINITY
-        );
+        assert_eq!(path_cost(&g, &[a, Vec2::new(f64::NAN, 0.0)], 1.0), f64::INFINITY);
+        assert_eq!(path_cost(&g, &[a, Vec2::new(100.0, 0.0)], 1.0), f64::INFINITY);
+        assert_eq!(path_cost(&g, &[a, g.spec.center(1, 1)], -1.0), f64::INFINITY);
         // Out-of-grid cells in a hand-made path do not panic.
-        let bad = GridPath {
-            cells: vec![(0, 0), (7, 7), (usize::MAX, 0)],
-            cost: 0.0,
-            expansions: 0,
-        };
+        let bad = GridPath { cells: vec![(0, 0), (7, 7), (usize::MAX, 0)], cost: 0.0, expansions: 0 };
         assert_eq!(smooth_path(&g, &bad, 1.0).len(), 3);
     }
 
