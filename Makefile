@@ -11,7 +11,7 @@ export MUJOCO_GL ?= egl
 CARGO_FLAGS := --workspace --release
 
 .DEFAULT_GOAL := help
-.PHONY: help setup system-deps build demo test test-rust test-python lint format bench clean
+.PHONY: help setup system-deps build demo test test-rust test-python install-check lint format bench clean
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  make %-12s %s\n", $$1, $$2}'
@@ -46,6 +46,13 @@ test-rust: ## Rust unit and integration tests
 
 test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
 	$(PY) -m pytest -q
+
+install-check: system-deps ## `pip install .` into a fresh venv, then gym.make from another directory
+	rm -rf /tmp/proxemic-install-check && python3 -m venv /tmp/proxemic-install-check
+	/tmp/proxemic-install-check/bin/pip install -q .
+	cd / && /tmp/proxemic-install-check/bin/python -c "import gymnasium as gym, proxemic; \
+	  env = gym.make('proxemic/Museum-v0'); obs, _ = env.reset(seed=0); \
+	  print('installed proxemic', proxemic.__version__, 'runs from /:', {k: v.shape for k, v in obs.items()})"
 
 lint: $(VENV)/.deps ## rustfmt, clippy (warnings as errors), ruff
 	cargo fmt --all --check

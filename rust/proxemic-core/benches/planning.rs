@@ -7,9 +7,7 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use proxemic_core::map::{Bounds, DistanceField, GridSpec, OccupancyGrid, StaticGeometry, scan};
 use proxemic_core::math::Vec2;
-use proxemic_core::plan::{
-    CostGrid, INSCRIBED, PathPlanner, SearchMode, nearest_passable, smooth_path,
-};
+use proxemic_core::plan::{CostGrid, INSCRIBED, PathPlanner, SearchMode, nearest_passable, smooth_path};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
@@ -19,12 +17,7 @@ const RES: f64 = 0.1;
 const ROBOT_RADIUS: f64 = 0.3;
 
 fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Vec<Vec2> {
-    vec![
-        Vec2::new(x0, y0),
-        Vec2::new(x1, y0),
-        Vec2::new(x1, y1),
-        Vec2::new(x0, y1),
-    ]
+    vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)]
 }
 
 fn disc_polygon(c: Vec2, r: f64, n: usize) -> Vec<Vec2> {
@@ -40,12 +33,8 @@ fn disc_polygon(c: Vec2, r: f64, n: usize) -> Vec<Vec2> {
 /// and 4 round tables (24-gons): 44 polygons.
 fn museum() -> StaticGeometry {
     let (w, h, t) = (36.0, 24.0, 0.2);
-    let mut p = vec![
-        rect(0.0, 0.0, w, t),
-        rect(0.0, h - t, w, h),
-        rect(0.0, 0.0, t, h),
-        rect(w - t, 0.0, w, h),
-    ];
+    let mut p =
+        vec![rect(0.0, 0.0, w, t), rect(0.0, h - t, w, h), rect(0.0, 0.0, t, h), rect(w - t, 0.0, w, h)];
     // Vertical walls at x = 12 and x = 24, each with two 1.2 m doorways.
     for x in [12.0, 24.0] {
         p.push(rect(x, t, x + t, 5.0));
@@ -80,10 +69,7 @@ fn museum() -> StaticGeometry {
     for c in [(5.0, 12.0), (10.0, 14.0), (33.0, 10.0), (21.0, 10.0)] {
         p.push(disc_polygon(Vec2::new(c.0, c.1), 0.6, 24));
     }
-    let bounds = Bounds {
-        min: Vec2::new(0.0, 0.0),
-        max: Vec2::new(w, h),
-    };
+    let bounds = Bounds { min: Vec2::new(0.0, 0.0), max: Vec2::new(w, h) };
     StaticGeometry::new(p, bounds).expect("valid museum")
 }
 
@@ -102,9 +88,7 @@ fn with_social_blobs(base: &CostGrid, rng: &mut ChaCha8Rng) -> CostGrid {
         let c = Vec2::new(rng.random_range(1.0..35.0), rng.random_range(1.0..23.0));
         let (sigma, reach) = (0.8, 2.4);
         let lo = spec.cell_of(c - Vec2::new(reach, reach)).unwrap_or((0, 0));
-        let hi = spec
-            .cell_of(c + Vec2::new(reach, reach))
-            .unwrap_or((spec.width - 1, spec.height - 1));
+        let hi = spec.cell_of(c + Vec2::new(reach, reach)).unwrap_or((spec.width - 1, spec.height - 1));
         for iy in lo.1..=hi.1 {
             for ix in lo.0..=hi.0 {
                 let i = spec.index(ix, iy);
@@ -133,18 +117,10 @@ fn benches(c: &mut Criterion) {
     let geom = museum();
     let grid = cost_grid(&geom);
     let spec = grid.spec;
-    let start = nearest_passable(
-        &grid,
-        spec.cell_of(Vec2::new(0.8, 0.8)).expect("in grid"),
-        20,
-    )
-    .expect("start");
-    let goal = nearest_passable(
-        &grid,
-        spec.cell_of(Vec2::new(35.2, 23.2)).expect("in grid"),
-        20,
-    )
-    .expect("goal");
+    let start =
+        nearest_passable(&grid, spec.cell_of(Vec2::new(0.8, 0.8)).expect("in grid"), 20).expect("start");
+    let goal =
+        nearest_passable(&grid, spec.cell_of(Vec2::new(35.2, 23.2)).expect("in grid"), 20).expect("goal");
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let social = with_social_blobs(&grid, &mut rng);
     let noise = with_noise(&grid, &mut rng);
@@ -158,9 +134,7 @@ fn benches(c: &mut Criterion) {
         ("weighted A* (noise)", &noise, SearchMode::weighted(2.0)),
         ("Dijkstra (noise)", &noise, SearchMode::dijkstra(2.0)),
     ] {
-        let p = planner
-            .plan(g, start, goal, mode)
-            .expect("museum is connected");
+        let p = planner.plan(g, start, goal, mode).expect("museum is connected");
         let s = smooth_path(g, &p, mode.weight);
         eprintln!(
             "{name}: cost {:.3} m, {} cells, {} expansions, {} smoothed waypoints",
@@ -171,9 +145,7 @@ fn benches(c: &mut Criterion) {
         );
     }
 
-    c.bench_function("map/rasterize+edt+inflate", |b| {
-        b.iter(|| black_box(cost_grid(black_box(&geom))))
-    });
+    c.bench_function("map/rasterize+edt+inflate", |b| b.iter(|| black_box(cost_grid(black_box(&geom)))));
     c.bench_function("plan/astar_plain", |b| {
         b.iter(|| black_box(planner.plan(&grid, start, goal, SearchMode::PLAIN)))
     });
@@ -186,26 +158,15 @@ fn benches(c: &mut Criterion) {
     c.bench_function("plan/astar_w2_noise", |b| {
         b.iter(|| black_box(planner.plan(&noise, start, goal, SearchMode::weighted(2.0))))
     });
-    let plain_path = planner
-        .plan(&grid, start, goal, SearchMode::PLAIN)
-        .expect("connected");
-    let social_path = planner
-        .plan(&social, start, goal, SearchMode::weighted(2.0))
-        .expect("connected");
-    c.bench_function("plan/smooth_plain", |b| {
-        b.iter(|| black_box(smooth_path(&grid, &plain_path, 0.0)))
-    });
+    let plain_path = planner.plan(&grid, start, goal, SearchMode::PLAIN).expect("connected");
+    let social_path = planner.plan(&social, start, goal, SearchMode::weighted(2.0)).expect("connected");
+    c.bench_function("plan/smooth_plain", |b| b.iter(|| black_box(smooth_path(&grid, &plain_path, 0.0))));
     c.bench_function("plan/smooth_w2_blobs", |b| {
         b.iter(|| black_box(smooth_path(&social, &social_path, 2.0)))
     });
 
     let discs: Vec<(Vec2, f64)> = (0..20)
-        .map(|_| {
-            (
-                Vec2::new(rng.random_range(1.0..35.0), rng.random_range(1.0..23.0)),
-                0.25,
-            )
-        })
+        .map(|_| (Vec2::new(rng.random_range(1.0..35.0), rng.random_range(1.0..23.0)), 0.25))
         .collect();
     let origin = Vec2::new(18.0, 9.0);
     let mut out = vec![0.0; 72];
