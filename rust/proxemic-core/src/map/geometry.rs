@@ -8,6 +8,7 @@
 //!   ray length 0), so that a NaN that leaks in from upstream can never make something look free.
 
 use crate::error::{CoreError, Result};
+use crate::map::raycast::EdgeGrid;
 use crate::math::{Vec2, to_parry};
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
 use parry2d_f64::shape::Polyline;
@@ -41,15 +42,18 @@ impl Bounds {
 /// Static world geometry (walls, furniture) as simple polygons, with parry2d for queries.
 ///
 /// All edges of all polygons are gathered in one parry [`Polyline`] (with an index buffer), whose
-/// bounding-volume hierarchy makes ray casts and nearest-boundary queries logarithmic in the number
-/// of edges. Point containment uses an exact crossing-number test with a per-polygon bounding-box
-/// pre-filter.
+/// bounding-volume hierarchy makes nearest-boundary and segment queries logarithmic in the number
+/// of edges. Ray casts, which the lidar issues dozens of times per step, go through a uniform grid
+/// of edge buckets instead ([`EdgeGrid`]), measured several times faster than the BVH on the museum.
+/// Point containment uses an exact crossing-number test with a per-polygon bounding-box pre-filter.
 pub struct StaticGeometry {
     polygons: Vec<Vec<Vec2>>,
     aabbs: Vec<Bounds>,
     bounds: Bounds,
     /// `None` when there are no polygons (parry's BVH is not built over an empty set).
     edges: Option<Polyline>,
+    /// Bucketed edges for fast ray casts (see [`crate::map::raycast`]).
+    rays: EdgeGrid,
 }
 
 impl std::fmt::Debug for StaticGeometry {
@@ -212,7 +216,17 @@ impl StaticGeometry {
             Some(Polyline::new(vertices, Some(indices)))
         };
 
-        Ok(Self { polygons: out, aabbs, bounds, edges })
+        let segments: Vec<(Vec2, Vec2)> = out
+            .iter()
+            .flat_map(|poly| (0..poly.len()).map(move |i| (poly[i], poly[(i + 1) % poly.len()])))
+            .collect();
+        let (mut lo, mut hi) = (bounds.min, bounds.max);
+        for bb in &aabbs {
+            lo = lo.inf(&bb.min);
+            hi = hi.sup(&bb.max);
+        }
+        let rays = EdgeGrid::new(&segments, lo, hi);
+        Ok(Self { polygons: out, aabbs, bounds, edges, rays })
     }
 
     /// The world bounds given at construction (metres).
@@ -289,14 +303,13 @@ impl StaticGeometry {
         if !(n.is_finite() && n > 0.0) {
             return 0.0;
         }
-        let Some(edges) = &self.edges else {
-            return max_range;
-        };
-        let ray = Ray::new(to_parry(origin), to_parry(dir / n));
-        match edges.cast_local_ray(&ray, max_range, false) {
-            Some(t) if t < max_range => t.max(0.0),
-            _ => max_range,
-        }
+        self.cast_ray_from_outside(origin, dir / n, max_range)
+    }
+
+    /// [`Self::cast_ray`] for an origin the caller knows to be finite and outside every polygon
+    /// and a unit `dir`: the lidar checks its origin once per scan instead of once per ray.
+    pub fn cast_ray_from_outside(&self, origin: Vec2, dir: Vec2, max_range: f64) -> f64 {
+        self.rays.cast(origin, dir, max_range)
     }
 
     /// Every polygon edge `(start, end)` (metres), polygon by polygon, each polygon counter-clockwise

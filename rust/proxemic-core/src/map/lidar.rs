@@ -32,9 +32,9 @@ fn ray_disc(origin: Vec2, dir: Vec2, c: Vec2, r: f64, max_t: f64) -> Option<f64>
 /// `max_range` if nothing is hit within it, into `out[k]`. An origin inside a polygon or a disc
 /// reads 0 on every ray that starts inside.
 ///
-/// Discs whose surface is farther than `max_range` from the origin are culled once per scan, and
-/// the remaining discs are intersected analytically; the static geometry is only searched up to the
-/// nearest disc hit.
+/// The static geometry is cast through its bucket grid; each disc is then intersected analytically
+/// with only the rays inside its angular extent, so the cost grows with the rays a disc covers,
+/// not with rays times discs.
 ///
 /// Errors with [`CoreError::Input`] if `out` is empty (`out.len()` is the number of rays), if
 /// `origin` or `heading` is not finite, if `max_range` is not finite and positive, or if a disc
@@ -61,9 +61,6 @@ pub fn scan(
     }
     // Cull discs once; at most a small fixed number live on the stack, the rest fall back to a
     // per-ray scan over all discs.
-    const STACK: usize = 64;
-    let mut near = [(Vec2::zeros(), 0.0f64); STACK];
-    let mut n_near = 0usize;
     for (k, &(c, r)) in discs.iter().enumerate() {
         if !(c.x.is_finite() && c.y.is_finite() && r.is_finite() && r >= 0.0) {
             return Err(CoreError::input(
@@ -72,32 +69,42 @@ pub fn scan(
                 format!("centre {:?}, radius {r}", (c.x, c.y)),
             ));
         }
-        if (c - origin).norm() - r < max_range && n_near < STACK {
-            near[n_near] = (c, r);
-            n_near += 1;
-        }
     }
-    let overflow = discs.len() > STACK && {
-        // Only matters if more than STACK discs survive the cull.
-        discs.iter().filter(|(c, r)| (c - origin).norm() - r < max_range).count() > STACK
-    };
-
     let n = out.len();
     let step = std::f64::consts::TAU / n as f64;
+    // Static geometry: one containment check per scan, then a bucket-grid cast per ray.
+    if geom.contains(origin) {
+        out.fill(0.0);
+        return Ok(());
+    }
     for (k, slot) in out.iter_mut().enumerate() {
         let a = heading + k as f64 * step;
-        let dir = Vec2::new(a.cos(), a.sin());
-        let mut best = max_range;
-        let candidates: &[(Vec2, f64)] = if overflow { discs } else { &near[..n_near] };
-        for &(c, r) in candidates {
-            if let Some(t) = ray_disc(origin, dir, c, r, best) {
-                best = t;
+        *slot = geom.cast_ray_from_outside(origin, Vec2::new(a.cos(), a.sin()), max_range);
+    }
+    // Discs: each only touches the rays inside its angular extent asin(r / d) around its bearing
+    // (one extra ray on each side absorbs rounding); those are intersected exactly.
+    for &(c, r) in discs {
+        let rel = c - origin;
+        let d = rel.norm();
+        if d - r >= max_range {
+            continue;
+        }
+        if d <= r {
+            out.fill(0.0);
+            continue;
+        }
+        let half = (r / d).asin();
+        let bearing = rel.y.atan2(rel.x) - heading;
+        let first = ((bearing - half) / step).floor() as i64 - 1;
+        let last = ((bearing + half) / step).ceil() as i64 + 1;
+        let span = (last - first + 1).min(n as i64);
+        for j in 0..span {
+            let k = (first + j).rem_euclid(n as i64) as usize;
+            let a = heading + k as f64 * step;
+            if let Some(t) = ray_disc(origin, Vec2::new(a.cos(), a.sin()), c, r, out[k]) {
+                out[k] = t;
             }
         }
-        if best > 0.0 {
-            best = best.min(geom.cast_ray(origin, dir, best));
-        }
-        *slot = best;
     }
     Ok(())
 }

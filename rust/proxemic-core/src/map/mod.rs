@@ -7,6 +7,7 @@
 pub mod geometry;
 pub mod grid;
 pub mod lidar;
+pub mod raycast;
 
 pub use geometry::{Bounds, StaticGeometry};
 pub use grid::{DistanceField, GridSpec, OccupancyGrid};
