@@ -12,8 +12,6 @@
 //!   so a search is a pure function of its inputs.
 
 use crate::map::grid::{DistanceField, GridSpec};
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
 
 /// Cost of a cell occupied by static geometry (impassable).
 pub const LETHAL: u8 = 254;
@@ -137,48 +135,98 @@ pub struct GridPath {
     pub expansions: usize,
 }
 
-/// An open-list entry; ordered so that `BinaryHeap` (a max-heap) pops the smallest `f`, then the
-/// largest `g`, then the smallest index.
-#[derive(Clone, Copy, Debug)]
-struct Open {
-    f: f64,
+/// Bits of a cell index in an open-list key ([`crate::map::grid::MAX_CELLS`] < 2^27).
+const IDX_BITS: u32 = 27;
+
+/// An open-list entry packed into one `u128` so that the smallest key pops first:
+/// - bits 127..64: `f` as the bit pattern of a non-negative finite `f64` (ordered like `f`);
+/// - bits 63..27: the complement of the top 37 bits of `g` (sign, exponent and 25 mantissa bits),
+///   so that among equal `f` the larger `g` pops first (`g` compared to ~3e-8 relative precision);
+/// - bits 26..0: the cell index, so remaining ties go to the smaller index.
+type Open = u128;
+
+#[inline]
+fn open_entry(f: f64, g: f64, idx: u32) -> Open {
+    let g_key = (!g.to_bits()) >> IDX_BITS;
+    (u128::from(f.to_bits()) << 64) | (u128::from(g_key) << IDX_BITS) | u128::from(idx)
+}
+
+/// The cell index stored in an open-list key.
+#[inline]
+fn open_index(e: Open) -> usize {
+    (e as u64 & ((1u64 << IDX_BITS) - 1)) as usize
+}
+
+/// A 4-ary min-heap of open-list entries (shallower and more cache-friendly than a binary heap).
+#[derive(Debug, Default)]
+struct OpenList {
+    v: Vec<Open>,
+}
+
+impl OpenList {
+    fn clear(&mut self) {
+        self.v.clear();
+    }
+
+    #[inline]
+    fn push(&mut self, e: Open) {
+        let mut i = self.v.len();
+        self.v.push(e);
+        while i > 0 {
+            let p = (i - 1) / 4;
+            if e < self.v[p] {
+                self.v[i] = self.v[p];
+                i = p;
+            } else {
+                break;
+            }
+        }
+        self.v[i] = e;
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Open> {
+        let last = self.v.pop()?;
+        let n = self.v.len();
+        if n == 0 {
+            return Some(last);
+        }
+        let top = self.v[0];
+        let mut i = 0;
+        loop {
+            let c = 4 * i + 1;
+            if c >= n {
+                break;
+            }
+            let mut m = c;
+            let mut best = self.v[c];
+            for j in c + 1..(c + 4).min(n) {
+                let x = self.v[j];
+                if x < best {
+                    best = x;
+                    m = j;
+                }
+            }
+            if best < last {
+                self.v[i] = best;
+                i = m;
+            } else {
+                break;
+            }
+        }
+        self.v[i] = last;
+        Some(top)
+    }
+}
+
+/// Per-cell search state. `stamp == base` means reached in the current search (`g` and `parent`
+/// valid), `stamp == base + 1` means closed; anything else is stale from an earlier search.
+#[derive(Clone, Copy, Debug, Default)]
+struct Node {
     g: f64,
-    idx: u32,
+    parent: u32,
+    stamp: u32,
 }
-
-impl PartialEq for Open {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Open {}
-impl PartialOrd for Open {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Open {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .f
-            .total_cmp(&self.f)
-            .then_with(|| self.g.total_cmp(&other.g))
-            .then_with(|| other.idx.cmp(&self.idx))
-    }
-}
-
-/// Neighbour offsets in the fixed generation order E, W, N, S, NE, NW, SE, SW, with move length in
-/// cells.
-const NEIGHBOURS: [(i32, i32, f64); 8] = [
-    (1, 0, 1.0),
-    (-1, 0, 1.0),
-    (0, 1, 1.0),
-    (0, -1, 1.0),
-    (1, 1, std::f64::consts::SQRT_2),
-    (-1, 1, std::f64::consts::SQRT_2),
-    (1, -1, std::f64::consts::SQRT_2),
-    (-1, -1, std::f64::consts::SQRT_2),
-];
 
 /// Octile distance in cells between `(ax, ay)` and `(bx, by)`.
 #[inline]
@@ -189,27 +237,23 @@ fn octile(ax: usize, ay: usize, bx: usize, by: usize) -> f64 {
     hi + (std::f64::consts::SQRT_2 - 1.0) * lo
 }
 
-/// Cost (metres-equivalent) of one move of `len` cells into a cell of cost `c_to`.
-#[inline]
+/// Cost (metres-equivalent) of one move of `len` cells into a cell of cost `c_to` (test reference).
+#[cfg(test)]
 pub(crate) fn step_cost(len: f64, res: f64, weight: f64, c_to: u8) -> f64 {
     len * res * (1.0 + weight * f64::from(c_to) / MAX_PASSABLE)
 }
 
 /// The grid search, with its per-cell buffers kept across calls.
 ///
-/// `g`, `parent` and the visit/closed stamps are sized to the largest grid seen and never cleared:
-/// each call bumps a generation counter, and a cell's entries are valid only if its stamp equals
-/// the current generation (the buffers are reset only when the counter wraps).
+/// The per-cell `g`, parent and visit/closed stamps are sized to the largest grid seen and never
+/// cleared: each call advances a generation counter, and a cell's entries are valid only if its
+/// stamp belongs to the current generation (the buffer is reset only when the counter wraps).
 #[derive(Debug, Default)]
 pub struct PathPlanner {
-    g: Vec<f64>,
-    parent: Vec<u32>,
-    /// Generation in which the cell was first reached (its `g` and `parent` are valid).
-    seen: Vec<u32>,
-    /// Generation in which the cell was closed.
-    closed: Vec<u32>,
-    generation: u32,
-    heap: BinaryHeap<Open>,
+    nodes: Vec<Node>,
+    /// Stamp of "reached" in the current search; `base + 1` is "closed". Always even.
+    base: u32,
+    heap: OpenList,
 }
 
 impl PathPlanner {
@@ -239,7 +283,7 @@ impl PathPlanner {
         let spec = grid.spec;
         let n = spec.len();
         if grid.cost.len() != n
-            || n > u32::MAX as usize
+            || n >= 1usize << IDX_BITS
             || !spec.contains_cell(start.0, start.1)
             || !grid.passable(goal.0, goal.1)
             || !(mode.weight.is_finite() && mode.weight >= 0.0)
@@ -247,68 +291,102 @@ impl PathPlanner {
             return None;
         }
         self.begin(n);
-        let gen_ = self.generation;
+        let (reached, closed) = (self.base, self.base + 1);
         let (w, h) = (spec.width, spec.height);
         let res = spec.resolution;
-        let weight = mode.weight;
+        // Per-move cost: len * factor[c] with factor[c] = res * (1 + weight * c / 252).
+        let mut factor = [0.0f64; 256];
+        for (c, f) in factor.iter_mut().enumerate() {
+            *f = res * (1.0 + mode.weight * c as f64 / MAX_PASSABLE);
+        }
         let s_idx = spec.index(start.0, start.1);
         let goal_idx = spec.index(goal.0, goal.1);
+        let (gx, gy) = goal;
+        let use_h = mode.heuristic;
         let heur = |ix: usize, iy: usize| -> f64 {
-            if mode.heuristic {
-                octile(ix, iy, goal.0, goal.1) * res
+            if use_h {
+                octile(ix, iy, gx, gy) * res
             } else {
                 0.0
             }
         };
 
-        self.g[s_idx] = 0.0;
-        self.parent[s_idx] = s_idx as u32;
-        self.seen[s_idx] = gen_;
-        self.heap.push(Open {
-            f: heur(start.0, start.1),
+        let nodes = &mut self.nodes[..n];
+        let heap = &mut self.heap;
+        nodes[s_idx] = Node {
             g: 0.0,
-            idx: s_idx as u32,
-        });
+            parent: s_idx as u32,
+            stamp: reached,
+        };
+        heap.push(open_entry(heur(start.0, start.1), 0.0, s_idx as u32));
         let mut expansions = 0usize;
-        let cost = &grid.cost;
+        let cost = &grid.cost[..n];
         let passable = |i: usize| cost[i] < INSCRIBED;
 
-        while let Some(Open { g, idx, .. }) = self.heap.pop() {
-            let cur = idx as usize;
-            if self.closed[cur] == gen_ || g > self.g[cur] {
-                continue; // stale entry (lazy deletion)
+        while let Some(entry) = heap.pop() {
+            let cur = open_index(entry);
+            let node = nodes[cur];
+            // An entry is stale (lazy deletion) if its cell is closed; otherwise the cell's current
+            // g is the one its freshest entry was pushed with, and any older entry for the same
+            // cell carries a larger f and pops after it, finding the cell closed.
+            if node.stamp == closed {
+                continue;
             }
-            self.closed[cur] = gen_;
+            let g = node.g;
+            nodes[cur].stamp = closed;
             expansions += 1;
             if cur == goal_idx {
-                return Some(self.reconstruct(&spec, s_idx, goal_idx, g, expansions));
+                return Some(Self::reconstruct(
+                    nodes, &spec, s_idx, goal_idx, g, expansions,
+                ));
             }
             let (cx, cy) = (cur % w, cur / w);
-            for &(dx, dy, len) in &NEIGHBOURS {
-                let nx = cx as i64 + i64::from(dx);
-                let ny = cy as i64 + i64::from(dy);
-                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                    continue;
+            let (has_e, has_w, has_n, has_s) = (cx + 1 < w, cx > 0, cy + 1 < h, cy > 0);
+            // Orthogonal neighbours E, W, N, S; remember which are passable for the diagonals.
+            let e = has_e && passable(cur + 1);
+            let wst = has_w && passable(cur - 1);
+            let nth = has_n && passable(cur + w);
+            let sth = has_s && passable(cur - w);
+            let mut relax = |ni: usize, nx: usize, ny: usize, len: f64| {
+                let nd = nodes[ni];
+                if nd.stamp == closed {
+                    return;
                 }
-                let (nx, ny) = (nx as usize, ny as usize);
-                let ni = ny * w + nx;
-                if !passable(ni) || self.closed[ni] == gen_ {
-                    continue;
-                }
-                if dx != 0 && dy != 0 && !(passable(cy * w + nx) && passable(ny * w + cx)) {
-                    continue; // no corner cutting
-                }
-                let ng = g + step_cost(len, res, weight, cost[ni]);
-                if self.seen[ni] != gen_ || ng < self.g[ni] {
-                    self.seen[ni] = gen_;
-                    self.g[ni] = ng;
-                    self.parent[ni] = cur as u32;
-                    self.heap.push(Open {
-                        f: ng + heur(nx, ny),
+                let ng = g + len * factor[usize::from(cost[ni])];
+                if nd.stamp != reached || ng < nd.g {
+                    nodes[ni] = Node {
                         g: ng,
-                        idx: ni as u32,
-                    });
+                        parent: cur as u32,
+                        stamp: reached,
+                    };
+                    heap.push(open_entry(ng + heur(nx, ny), ng, ni as u32));
                 }
+            };
+            if e {
+                relax(cur + 1, cx + 1, cy, 1.0);
+            }
+            if wst {
+                relax(cur - 1, cx - 1, cy, 1.0);
+            }
+            if nth {
+                relax(cur + w, cx, cy + 1, 1.0);
+            }
+            if sth {
+                relax(cur - w, cx, cy - 1, 1.0);
+            }
+            // Diagonals NE, NW, SE, SW: both orthogonal cells must be passable (no corner cutting).
+            const D: f64 = std::f64::consts::SQRT_2;
+            if nth && e && passable(cur + w + 1) {
+                relax(cur + w + 1, cx + 1, cy + 1, D);
+            }
+            if nth && wst && passable(cur + w - 1) {
+                relax(cur + w - 1, cx - 1, cy + 1, D);
+            }
+            if sth && e && passable(cur - w + 1) {
+                relax(cur - w + 1, cx + 1, cy - 1, D);
+            }
+            if sth && wst && passable(cur - w - 1) {
+                relax(cur - w - 1, cx - 1, cy - 1, D);
             }
         }
         None
@@ -316,23 +394,19 @@ impl PathPlanner {
 
     /// Prepares the buffers for a search over `n` cells and starts a new generation.
     fn begin(&mut self, n: usize) {
-        if self.g.len() < n {
-            self.g.resize(n, 0.0);
-            self.parent.resize(n, 0);
-            self.seen.resize(n, 0);
-            self.closed.resize(n, 0);
+        if self.nodes.len() < n {
+            self.nodes.resize(n, Node::default());
         }
         self.heap.clear();
-        if self.generation == u32::MAX {
-            self.seen.fill(0);
-            self.closed.fill(0);
-            self.generation = 0;
+        if self.base >= u32::MAX - 3 {
+            self.nodes.fill(Node::default());
+            self.base = 0;
         }
-        self.generation += 1;
+        self.base += 2;
     }
 
     fn reconstruct(
-        &self,
+        nodes: &[Node],
         spec: &GridSpec,
         s_idx: usize,
         goal_idx: usize,
@@ -343,7 +417,7 @@ impl PathPlanner {
         let mut cur = goal_idx;
         // Every cell on the chain was reached in this generation; the chain is at most n long.
         while cur != s_idx && cells.len() <= spec.len() {
-            cur = self.parent[cur] as usize;
+            cur = nodes[cur].parent as usize;
             cells.push(spec.cell(cur));
         }
         cells.reverse();
@@ -543,11 +617,11 @@ mod tests {
     ) -> usize {
         let mut pl = PathPlanner::new();
         assert!(pl.plan(g, start, goal, SearchMode::dijkstra(1.0)).is_none());
-        let gen_ = pl.generation;
-        pl.closed
+        let closed = pl.base + 1;
+        pl.nodes
             .iter()
             .take(g.spec.len())
-            .filter(|&&c| c == gen_)
+            .filter(|n| n.stamp == closed)
             .count()
     }
 
@@ -639,7 +713,7 @@ mod tests {
             .expect("ok");
         assert_eq!(a, c);
         assert!((b.cost - 3.0 * S2).abs() < 1e-12);
-        pl.generation = u32::MAX; // force the wrap-around reset
+        pl.base = u32::MAX - 3; // force the wrap-around reset
         let d = pl
             .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
             .expect("ok");
