@@ -8,8 +8,10 @@
 //! - a diagonal move needs both orthogonal cells it passes between to be passable (no corner
 //!   cutting);
 //! - neighbours are generated in the fixed order E, W, N, S, NE, NW, SE, SW (`+x` is east, `+y`
-//!   north), and the open list breaks ties in `f` on the larger `g`, then on the smaller cell index,
-//!   so a search is a pure function of its inputs.
+//!   north), and the open list breaks ties in `f` on the larger `g` (compared to 25 mantissa bits),
+//!   then on the smaller cell index, so a search is a pure function of its inputs;
+//! - the open list is a bucket queue over `f` (bucket width `res`) whose current bucket is an exact
+//!   4-ary heap, with lazy deletion: a popped entry whose cell is already closed is skipped.
 
 use crate::map::grid::{DistanceField, GridSpec};
 
@@ -157,65 +159,138 @@ fn open_index(e: Open) -> usize {
     (e as u64 & ((1u64 << IDX_BITS) - 1)) as usize
 }
 
-/// A 4-ary min-heap of open-list entries (shallower and more cache-friendly than a binary heap).
+/// Most buckets the open list keeps; entries beyond share the last bucket (still exact, only
+/// slower).
+const MAX_BUCKETS: usize = 1 << 16;
+
+/// The open list: a bucket queue on `f` with an exact 4-ary min-heap for the current bucket.
+///
+/// Entries whose `f` falls in a later bucket (width `res`) are appended unsorted to that bucket;
+/// when the heap runs dry the next non-empty bucket is heapified. With a consistent heuristic the
+/// popped `f` never decreases, and an entry that lands in (or, by rounding, below) the current
+/// bucket goes straight into the heap, so pops come out in exactly the order of the keys — the same
+/// order as one global heap — while most pushes are O(1) and the heap stays small.
 #[derive(Debug, Default)]
 struct OpenList {
-    v: Vec<Open>,
+    heap: Vec<Open>,
+    buckets: Vec<Vec<Open>>,
+    /// Current bucket number.
+    cur: usize,
+    /// Highest bucket used since the last reset.
+    hi: usize,
+    /// Entries waiting in future buckets.
+    pending: usize,
+    /// 1 / bucket width (per metre).
+    inv_width: f64,
 }
 
 impl OpenList {
-    fn clear(&mut self) {
-        self.v.clear();
+    fn reset(&mut self, width: f64) {
+        self.heap.clear();
+        let used = (self.hi + 1).min(self.buckets.len());
+        for b in &mut self.buckets[..used] {
+            b.clear();
+        }
+        self.cur = 0;
+        self.hi = 0;
+        self.pending = 0;
+        self.inv_width = 1.0 / width;
     }
 
     #[inline]
-    fn push(&mut self, e: Open) {
-        let mut i = self.v.len();
-        self.v.push(e);
+    fn push(&mut self, e: Open, f: f64) {
+        // f is finite and >= 0; the float-to-int cast saturates.
+        let b = ((f * self.inv_width) as usize).min(MAX_BUCKETS - 1);
+        if b <= self.cur {
+            self.heap_push(e);
+        } else {
+            if b >= self.buckets.len() {
+                self.buckets.resize_with(b + 1, Vec::new);
+            }
+            self.buckets[b].push(e);
+            self.pending += 1;
+            self.hi = self.hi.max(b);
+        }
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Open> {
+        loop {
+            if let Some(e) = self.heap_pop() {
+                return Some(e);
+            }
+            if self.pending == 0 {
+                return None;
+            }
+            // Advance to the next non-empty bucket and heapify it (the heap is empty).
+            self.cur += 1;
+            while self.cur < self.buckets.len() && self.buckets[self.cur].is_empty() {
+                self.cur += 1;
+            }
+            let next = self.buckets.get_mut(self.cur)?;
+            std::mem::swap(&mut self.heap, next);
+            self.pending -= self.heap.len();
+            let n = self.heap.len();
+            for i in (0..n.div_ceil(4)).rev() {
+                let e = self.heap[i];
+                self.sift_down(i, e);
+            }
+        }
+    }
+
+    #[inline]
+    fn heap_push(&mut self, e: Open) {
+        let mut i = self.heap.len();
+        self.heap.push(e);
         while i > 0 {
             let p = (i - 1) / 4;
-            if e < self.v[p] {
-                self.v[i] = self.v[p];
+            if e < self.heap[p] {
+                self.heap[i] = self.heap[p];
                 i = p;
             } else {
                 break;
             }
         }
-        self.v[i] = e;
+        self.heap[i] = e;
     }
 
     #[inline]
-    fn pop(&mut self) -> Option<Open> {
-        let last = self.v.pop()?;
-        let n = self.v.len();
-        if n == 0 {
+    fn heap_pop(&mut self) -> Option<Open> {
+        let last = self.heap.pop()?;
+        if self.heap.is_empty() {
             return Some(last);
         }
-        let top = self.v[0];
-        let mut i = 0;
+        let top = self.heap[0];
+        self.sift_down(0, last);
+        Some(top)
+    }
+
+    /// Places `e` at slot `i` and sifts it down.
+    #[inline]
+    fn sift_down(&mut self, mut i: usize, e: Open) {
+        let n = self.heap.len();
         loop {
             let c = 4 * i + 1;
             if c >= n {
                 break;
             }
             let mut m = c;
-            let mut best = self.v[c];
+            let mut best = self.heap[c];
             for j in c + 1..(c + 4).min(n) {
-                let x = self.v[j];
+                let x = self.heap[j];
                 if x < best {
                     best = x;
                     m = j;
                 }
             }
-            if best < last {
-                self.v[i] = best;
+            if best < e {
+                self.heap[i] = best;
                 i = m;
             } else {
                 break;
             }
         }
-        self.v[i] = last;
-        Some(top)
+        self.heap[i] = e;
     }
 }
 
@@ -291,6 +366,7 @@ impl PathPlanner {
             return None;
         }
         self.begin(n);
+        self.heap.reset(spec.resolution);
         let (reached, closed) = (self.base, self.base + 1);
         let (w, h) = (spec.width, spec.height);
         let res = spec.resolution;
@@ -318,7 +394,8 @@ impl PathPlanner {
             parent: s_idx as u32,
             stamp: reached,
         };
-        heap.push(open_entry(heur(start.0, start.1), 0.0, s_idx as u32));
+        let f0 = heur(start.0, start.1);
+        heap.push(open_entry(f0, 0.0, s_idx as u32), f0);
         let mut expansions = 0usize;
         let cost = &grid.cost[..n];
         let passable = |i: usize| cost[i] < INSCRIBED;
@@ -347,46 +424,51 @@ impl PathPlanner {
             let wst = has_w && passable(cur - 1);
             let nth = has_n && passable(cur + w);
             let sth = has_s && passable(cur - w);
-            let mut relax = |ni: usize, nx: usize, ny: usize, len: f64| {
-                let nd = nodes[ni];
-                if nd.stamp == closed {
-                    return;
-                }
-                let ng = g + len * factor[usize::from(cost[ni])];
-                if nd.stamp != reached || ng < nd.g {
-                    nodes[ni] = Node {
-                        g: ng,
-                        parent: cur as u32,
-                        stamp: reached,
-                    };
-                    heap.push(open_entry(ng + heur(nx, ny), ng, ni as u32));
-                }
-            };
+            // Relaxes the edge into neighbour `ni` at `(nx, ny)` of length `len` cells (a macro so
+            // that it is always inlined).
+            macro_rules! relax {
+                ($ni:expr, $nx:expr, $ny:expr, $len:expr) => {{
+                    let ni: usize = $ni;
+                    let nd = nodes[ni];
+                    if nd.stamp != closed {
+                        let ng = g + $len * factor[usize::from(cost[ni])];
+                        if nd.stamp != reached || ng < nd.g {
+                            nodes[ni] = Node {
+                                g: ng,
+                                parent: cur as u32,
+                                stamp: reached,
+                            };
+                            let f = ng + heur($nx, $ny);
+                            heap.push(open_entry(f, ng, ni as u32), f);
+                        }
+                    }
+                }};
+            }
             if e {
-                relax(cur + 1, cx + 1, cy, 1.0);
+                relax!(cur + 1, cx + 1, cy, 1.0);
             }
             if wst {
-                relax(cur - 1, cx - 1, cy, 1.0);
+                relax!(cur - 1, cx - 1, cy, 1.0);
             }
             if nth {
-                relax(cur + w, cx, cy + 1, 1.0);
+                relax!(cur + w, cx, cy + 1, 1.0);
             }
             if sth {
-                relax(cur - w, cx, cy - 1, 1.0);
+                relax!(cur - w, cx, cy - 1, 1.0);
             }
             // Diagonals NE, NW, SE, SW: both orthogonal cells must be passable (no corner cutting).
             const D: f64 = std::f64::consts::SQRT_2;
             if nth && e && passable(cur + w + 1) {
-                relax(cur + w + 1, cx + 1, cy + 1, D);
+                relax!(cur + w + 1, cx + 1, cy + 1, D);
             }
             if nth && wst && passable(cur + w - 1) {
-                relax(cur + w - 1, cx - 1, cy + 1, D);
+                relax!(cur + w - 1, cx - 1, cy + 1, D);
             }
             if sth && e && passable(cur - w + 1) {
-                relax(cur - w + 1, cx + 1, cy - 1, D);
+                relax!(cur - w + 1, cx + 1, cy - 1, D);
             }
             if sth && wst && passable(cur - w - 1) {
-                relax(cur - w - 1, cx - 1, cy - 1, D);
+                relax!(cur - w - 1, cx - 1, cy - 1, D);
             }
         }
         None
@@ -397,7 +479,6 @@ impl PathPlanner {
         if self.nodes.len() < n {
             self.nodes.resize(n, Node::default());
         }
-        self.heap.clear();
         if self.base >= u32::MAX - 3 {
             self.nodes.fill(Node::default());
             self.base = 0;
@@ -761,6 +842,66 @@ mod tests {
         // Outside the grid.
         assert_eq!(nearest_passable(&g, (9, 3), 3), Some((6, 3)));
         assert_eq!(nearest_passable(&g, (usize::MAX, 3), 3), None);
+    }
+
+    #[test]
+    fn open_list_pops_in_key_order() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut ol = OpenList::default();
+        for round in 0..3 {
+            ol.reset(0.1);
+            let mut all = Vec::new();
+            let mut floor = 0.0f64;
+            // Interleave pushes (never below the last popped f, except by a rounding-sized amount)
+            // and pops, like a search does.
+            let mut popped = Vec::new();
+            for step in 0..2000 {
+                if step % 3 != 2 {
+                    let f = floor + rng.random_range(0.0..3.0) - 1e-12;
+                    let f = f.max(0.0);
+                    let g = rng.random_range(0.0..f.max(1e-3));
+                    let e = open_entry(f, g, rng.random_range(0..1000));
+                    all.push(e);
+                    ol.push(e, f);
+                } else if let Some(e) = ol.pop() {
+                    floor = f64::from_bits((e >> 64) as u64);
+                    popped.push(e);
+                }
+            }
+            while let Some(e) = ol.pop() {
+                popped.push(e);
+            }
+            assert_eq!(popped.len(), all.len(), "round {round}");
+            // Every pop was the minimum of what was in the queue at the time: popped keys ascend
+            // except where a smaller key was pushed after a larger one was popped (the -1e-12).
+            for w in popped.windows(2) {
+                let (a, b) = (
+                    f64::from_bits((w[0] >> 64) as u64),
+                    f64::from_bits((w[1] >> 64) as u64),
+                );
+                assert!(b >= a - 1e-9, "{a} then {b}");
+            }
+        }
+        // Pure ordering: push everything first, pop all: exactly sorted.
+        ol.reset(0.5);
+        let mut keys: Vec<Open> = (0..500u32)
+            .map(|i| {
+                let f = f64::from(i % 37) * 0.3;
+                let g = f64::from(i % 7) * 0.01;
+                open_entry(f, g, i)
+            })
+            .collect();
+        for &k in &keys {
+            ol.push(k, f64::from_bits((k >> 64) as u64));
+        }
+        keys.sort_unstable();
+        let out: Vec<Open> = std::iter::from_fn(|| ol.pop()).collect();
+        assert_eq!(out, keys);
+        // Larger g first among equal f, then smaller index.
+        assert!(open_entry(1.0, 0.6, 9) < open_entry(1.0, 0.5, 1));
+        assert!(open_entry(1.0, 0.5, 1) < open_entry(1.0, 0.5, 2));
+        assert!(open_entry(0.9, 0.0, 9) < open_entry(1.0, 0.9, 0));
     }
 
     proptest! {
