@@ -779,6 +779,61 @@ mod tests {
     }
 
     #[test]
+    fn social_path_avoids_a_person_in_a_corridor() {
+        // A 40 x 9 corridor with a person (Gaussian personal space, peak 252, sigma 1.5 cells)
+        // standing on the centre line at x = 20.
+        let mut g = grid(40, 9);
+        for y in 0..9 {
+            for x in 0..40 {
+                let d2 = (x as f64 - 20.0).powi(2) + (y as f64 - 4.0).powi(2);
+                set(
+                    &mut g,
+                    x,
+                    y,
+                    (252.0 * (-d2 / (2.0 * 1.5 * 1.5)).exp()).floor() as u8,
+                );
+            }
+        }
+        let mut pl = PathPlanner::new();
+        let plain = pl
+            .plan(&g, (0, 4), (39, 4), SearchMode::PLAIN)
+            .expect("open corridor");
+        let social = pl
+            .plan(&g, (0, 4), (39, 4), SearchMode::weighted(2.0))
+            .expect("open corridor");
+        let max_cost = |p: &GridPath| {
+            p.cells
+                .iter()
+                .map(|&(x, y)| g.cost[g.spec.index(x, y)])
+                .max()
+        };
+        let length = |p: &GridPath| {
+            p.cells
+                .windows(2)
+                .map(|w| {
+                    if w[0].0 != w[1].0 && w[0].1 != w[1].1 {
+                        S2
+                    } else {
+                        1.0
+                    }
+                })
+                .sum::<f64>()
+        };
+        assert_eq!(
+            max_cost(&plain),
+            Some(252),
+            "plain A* walks through the person"
+        );
+        assert!(max_cost(&social) < Some(60), "{:?}", max_cost(&social));
+        assert!(
+            length(&social) <= length(&plain) * 1.25,
+            "{} vs {}",
+            length(&social),
+            length(&plain)
+        );
+    }
+
+    #[test]
     fn buffers_reused_across_grid_sizes() {
         let mut pl = PathPlanner::new();
         let big = grid(30, 30);
