@@ -283,7 +283,8 @@ impl DistanceField {
     /// Exact Euclidean distance transform (Felzenszwalb-Huttenlocher, a column pass then a row
     /// pass over squared distances), converted to metres: the distance between the centre of each
     /// cell and the centre of the nearest occupied cell. Occupied cells are 0; if nothing is
-    /// occupied every cell is `f64::INFINITY`. O(cells).
+    /// occupied (or `grid.cells` does not have `spec.len()` entries) every cell is
+    /// `f64::INFINITY`. O(cells).
     pub fn from_occupancy(grid: &OccupancyGrid) -> Self {
         let spec = grid.spec;
         let (w, h) = (spec.width, spec.height);
@@ -293,8 +294,12 @@ impl DistanceField {
         }
         // A finite "infinity" larger than any squared distance in the grid, small enough that all
         // arithmetic stays exact on integers.
-        let big = 2.0 * ((w * w + h * h) as f64) + 1.0;
-        let mut sq: Vec<f64> = grid.cells.iter().map(|&c| if c != 0 { 0.0 } else { big }).collect();
+        let big = 2.0 * ((w as f64).powi(2) + (h as f64).powi(2)) + 1.0;
+        let mut sq: Vec<f64> = grid
+            .cells
+            .iter()
+            .map(|&c| if c != 0 { 0.0 } else { big })
+            .collect();
         let m = w.max(h);
         let (mut f, mut d) = (vec![0.0; m], vec![0.0; m]);
         let (mut v, mut z) = (vec![0usize; m], vec![0.0; m + 1]);

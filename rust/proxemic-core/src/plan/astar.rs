@@ -8,12 +8,12 @@
 //! - a diagonal move needs both orthogonal cells it passes between to be passable (no corner
 //!   cutting);
 //! - neighbours are generated in the fixed order E, W, N, S, NE, NW, SE, SW (`+x` is east, `+y`
-//!   north), and the open list breaks ties in `f` on the larger `g`, then on the smaller cell index,
-//!   so a search is a pure function of its inputs.
+//!   north), and the open list breaks ties in `f` on the larger `g` (compared to 25 mantissa bits),
+//!   then on the smaller cell index, so a search is a pure function of its inputs;
+//! - the open list is a bucket queue over `f` (bucket width `res`) whose current bucket is an exact
+//!   4-ary heap, with lazy deletion: a popped entry whose cell is already closed is skipped.
 
 use crate::map::grid::{DistanceField, GridSpec};
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
 
 /// Cost of a cell occupied by static geometry (impassable).
 pub const LETHAL: u8 = 254;
@@ -118,48 +118,171 @@ pub struct GridPath {
     pub expansions: usize,
 }
 
-/// An open-list entry; ordered so that `BinaryHeap` (a max-heap) pops the smallest `f`, then the
-/// largest `g`, then the smallest index.
-#[derive(Clone, Copy, Debug)]
-struct Open {
-    f: f64,
+/// Bits of a cell index in an open-list key ([`crate::map::grid::MAX_CELLS`] < 2^27).
+const IDX_BITS: u32 = 27;
+
+/// An open-list entry packed into one `u128` so that the smallest key pops first:
+/// - bits 127..64: `f` as the bit pattern of a non-negative finite `f64` (ordered like `f`);
+/// - bits 63..27: the complement of the top 37 bits of `g` (sign, exponent and 25 mantissa bits),
+///   so that among equal `f` the larger `g` pops first (`g` compared to ~3e-8 relative precision);
+/// - bits 26..0: the cell index, so remaining ties go to the smaller index.
+type Open = u128;
+
+#[inline]
+fn open_entry(f: f64, g: f64, idx: u32) -> Open {
+    let g_key = (!g.to_bits()) >> IDX_BITS;
+    (u128::from(f.to_bits()) << 64) | (u128::from(g_key) << IDX_BITS) | u128::from(idx)
+}
+
+/// The cell index stored in an open-list key.
+#[inline]
+fn open_index(e: Open) -> usize {
+    (e as u64 & ((1u64 << IDX_BITS) - 1)) as usize
+}
+
+/// Most buckets the open list keeps; entries beyond share the last bucket (still exact, only
+/// slower).
+const MAX_BUCKETS: usize = 1 << 16;
+
+/// The open list: a bucket queue on `f` with an exact 4-ary min-heap for the current bucket.
+///
+/// Entries whose `f` falls in a later bucket (width `res`) are appended unsorted to that bucket;
+/// when the heap runs dry the next non-empty bucket is heapified. With a consistent heuristic the
+/// popped `f` never decreases, and an entry that lands in (or, by rounding, below) the current
+/// bucket goes straight into the heap, so pops come out in exactly the order of the keys — the same
+/// order as one global heap — while most pushes are O(1) and the heap stays small.
+#[derive(Debug, Default)]
+struct OpenList {
+    heap: Vec<Open>,
+    buckets: Vec<Vec<Open>>,
+    /// Current bucket number.
+    cur: usize,
+    /// Highest bucket used since the last reset.
+    hi: usize,
+    /// Entries waiting in future buckets.
+    pending: usize,
+    /// 1 / bucket width (per metre).
+    inv_width: f64,
+}
+
+impl OpenList {
+    fn reset(&mut self, width: f64) {
+        self.heap.clear();
+        let used = (self.hi + 1).min(self.buckets.len());
+        for b in &mut self.buckets[..used] {
+            b.clear();
+        }
+        self.cur = 0;
+        self.hi = 0;
+        self.pending = 0;
+        self.inv_width = 1.0 / width;
+    }
+
+    #[inline]
+    fn push(&mut self, e: Open, f: f64) {
+        // f is finite and >= 0; the float-to-int cast saturates.
+        let b = ((f * self.inv_width) as usize).min(MAX_BUCKETS - 1);
+        if b <= self.cur {
+            self.heap_push(e);
+        } else {
+            if b >= self.buckets.len() {
+                self.buckets.resize_with(b + 1, Vec::new);
+            }
+            self.buckets[b].push(e);
+            self.pending += 1;
+            self.hi = self.hi.max(b);
+        }
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<Open> {
+        loop {
+            if let Some(e) = self.heap_pop() {
+                return Some(e);
+            }
+            if self.pending == 0 {
+                return None;
+            }
+            // Advance to the next non-empty bucket and heapify it (the heap is empty).
+            self.cur += 1;
+            while self.cur < self.buckets.len() && self.buckets[self.cur].is_empty() {
+                self.cur += 1;
+            }
+            let next = self.buckets.get_mut(self.cur)?;
+            std::mem::swap(&mut self.heap, next);
+            self.pending -= self.heap.len();
+            let n = self.heap.len();
+            for i in (0..n.div_ceil(4)).rev() {
+                let e = self.heap[i];
+                self.sift_down(i, e);
+            }
+        }
+    }
+
+    #[inline]
+    fn heap_push(&mut self, e: Open) {
+        let mut i = self.heap.len();
+        self.heap.push(e);
+        while i > 0 {
+            let p = (i - 1) / 4;
+            if e < self.heap[p] {
+                self.heap[i] = self.heap[p];
+                i = p;
+            } else {
+                break;
+            }
+        }
+        self.heap[i] = e;
+    }
+
+    #[inline]
+    fn heap_pop(&mut self) -> Option<Open> {
+        let last = self.heap.pop()?;
+        if self.heap.is_empty() {
+            return Some(last);
+        }
+        let top = self.heap[0];
+        self.sift_down(0, last);
+        Some(top)
+    }
+
+    /// Places `e` at slot `i` and sifts it down.
+    #[inline]
+    fn sift_down(&mut self, mut i: usize, e: Open) {
+        let n = self.heap.len();
+        loop {
+            let c = 4 * i + 1;
+            if c >= n {
+                break;
+            }
+            let mut m = c;
+            let mut best = self.heap[c];
+            for j in c + 1..(c + 4).min(n) {
+                let x = self.heap[j];
+                if x < best {
+                    best = x;
+                    m = j;
+                }
+            }
+            if best < e {
+                self.heap[i] = best;
+                i = m;
+            } else {
+                break;
+            }
+        }
+        self.heap[i] = e;
+    }
+}
+
+/// Per-cell search state. `stamp == base` means reached in the current search (`g` and `parent`
+/// valid), `stamp == base + 1` means closed; anything else is stale from an earlier search.
+#[derive(Clone, Copy, Debug, Default)]
+struct Node {
     g: f64,
-    idx: u32,
+    parent: u32,
+    stamp: u32,
 }
-
-impl PartialEq for Open {
-    fn eq(&self, other: &Self) -> bool {
-        self.cmp(other) == Ordering::Equal
-    }
-}
-impl Eq for Open {}
-impl PartialOrd for Open {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-impl Ord for Open {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .f
-            .total_cmp(&self.f)
-            .then_with(|| self.g.total_cmp(&other.g))
-            .then_with(|| other.idx.cmp(&self.idx))
-    }
-}
-
-/// Neighbour offsets in the fixed generation order E, W, N, S, NE, NW, SE, SW, with move length in
-/// cells.
-const NEIGHBOURS: [(i32, i32, f64); 8] = [
-    (1, 0, 1.0),
-    (-1, 0, 1.0),
-    (0, 1, 1.0),
-    (0, -1, 1.0),
-    (1, 1, std::f64::consts::SQRT_2),
-    (-1, 1, std::f64::consts::SQRT_2),
-    (1, -1, std::f64::consts::SQRT_2),
-    (-1, -1, std::f64::consts::SQRT_2),
-];
 
 /// Octile distance in cells between `(ax, ay)` and `(bx, by)`.
 #[inline]
@@ -170,27 +293,23 @@ fn octile(ax: usize, ay: usize, bx: usize, by: usize) -> f64 {
     hi + (std::f64::consts::SQRT_2 - 1.0) * lo
 }
 
-/// Cost (metres-equivalent) of one move of `len` cells into a cell of cost `c_to`.
-#[inline]
+/// Cost (metres-equivalent) of one move of `len` cells into a cell of cost `c_to` (test reference).
+#[cfg(test)]
 pub(crate) fn step_cost(len: f64, res: f64, weight: f64, c_to: u8) -> f64 {
     len * res * (1.0 + weight * f64::from(c_to) / MAX_PASSABLE)
 }
 
 /// The grid search, with its per-cell buffers kept across calls.
 ///
-/// `g`, `parent` and the visit/closed stamps are sized to the largest grid seen and never cleared:
-/// each call bumps a generation counter, and a cell's entries are valid only if its stamp equals
-/// the current generation (the buffers are reset only when the counter wraps).
+/// The per-cell `g`, parent and visit/closed stamps are sized to the largest grid seen and never
+/// cleared: each call advances a generation counter, and a cell's entries are valid only if its
+/// stamp belongs to the current generation (the buffer is reset only when the counter wraps).
 #[derive(Debug, Default)]
 pub struct PathPlanner {
-    g: Vec<f64>,
-    parent: Vec<u32>,
-    /// Generation in which the cell was first reached (its `g` and `parent` are valid).
-    seen: Vec<u32>,
-    /// Generation in which the cell was closed.
-    closed: Vec<u32>,
-    generation: u32,
-    heap: BinaryHeap<Open>,
+    nodes: Vec<Node>,
+    /// Stamp of "reached" in the current search; `base + 1` is "closed". Always even.
+    base: u32,
+    heap: OpenList,
 }
 
 impl PathPlanner {
@@ -220,7 +339,7 @@ impl PathPlanner {
         let spec = grid.spec;
         let n = spec.len();
         if grid.cost.len() != n
-            || n > u32::MAX as usize
+            || n >= 1usize << IDX_BITS
             || !spec.contains_cell(start.0, start.1)
             || !grid.passable(goal.0, goal.1)
             || !(mode.weight.is_finite() && mode.weight >= 0.0)
@@ -228,56 +347,109 @@ impl PathPlanner {
             return None;
         }
         self.begin(n);
-        let gen_ = self.generation;
+        self.heap.reset(spec.resolution);
+        let (reached, closed) = (self.base, self.base + 1);
         let (w, h) = (spec.width, spec.height);
         let res = spec.resolution;
-        let weight = mode.weight;
+        // Per-move cost: len * factor[c] with factor[c] = res * (1 + weight * c / 252).
+        let mut factor = [0.0f64; 256];
+        for (c, f) in factor.iter_mut().enumerate() {
+            *f = res * (1.0 + mode.weight * c as f64 / MAX_PASSABLE);
+        }
         let s_idx = spec.index(start.0, start.1);
         let goal_idx = spec.index(goal.0, goal.1);
+        let (gx, gy) = goal;
+        let use_h = mode.heuristic;
         let heur = |ix: usize, iy: usize| -> f64 {
-            if mode.heuristic { octile(ix, iy, goal.0, goal.1) * res } else { 0.0 }
+            if use_h {
+                octile(ix, iy, gx, gy) * res
+            } else {
+                0.0
+            }
         };
 
-        self.g[s_idx] = 0.0;
-        self.parent[s_idx] = s_idx as u32;
-        self.seen[s_idx] = gen_;
-        self.heap.push(Open { f: heur(start.0, start.1), g: 0.0, idx: s_idx as u32 });
+        let nodes = &mut self.nodes[..n];
+        let heap = &mut self.heap;
+        nodes[s_idx] = Node {
+            g: 0.0,
+            parent: s_idx as u32,
+            stamp: reached,
+        };
+        let f0 = heur(start.0, start.1);
+        heap.push(open_entry(f0, 0.0, s_idx as u32), f0);
         let mut expansions = 0usize;
-        let cost = &grid.cost;
+        let cost = &grid.cost[..n];
         let passable = |i: usize| cost[i] < INSCRIBED;
 
-        while let Some(Open { g, idx, .. }) = self.heap.pop() {
-            let cur = idx as usize;
-            if self.closed[cur] == gen_ || g > self.g[cur] {
-                continue; // stale entry (lazy deletion)
+        while let Some(entry) = heap.pop() {
+            let cur = open_index(entry);
+            let node = nodes[cur];
+            // An entry is stale (lazy deletion) if its cell is closed; otherwise the cell's current
+            // g is the one its freshest entry was pushed with, and any older entry for the same
+            // cell carries a larger f and pops after it, finding the cell closed.
+            if node.stamp == closed {
+                continue;
             }
-            self.closed[cur] = gen_;
+            let g = node.g;
+            nodes[cur].stamp = closed;
             expansions += 1;
             if cur == goal_idx {
-                return Some(self.reconstruct(&spec, s_idx, goal_idx, g, expansions));
+                return Some(Self::reconstruct(
+                    nodes, &spec, s_idx, goal_idx, g, expansions,
+                ));
             }
             let (cx, cy) = (cur % w, cur / w);
-            for &(dx, dy, len) in &NEIGHBOURS {
-                let nx = cx as i64 + i64::from(dx);
-                let ny = cy as i64 + i64::from(dy);
-                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                    continue;
-                }
-                let (nx, ny) = (nx as usize, ny as usize);
-                let ni = ny * w + nx;
-                if !passable(ni) || self.closed[ni] == gen_ {
-                    continue;
-                }
-                if dx != 0 && dy != 0 && !(passable(cy * w + nx) && passable(ny * w + cx)) {
-                    continue; // no corner cutting
-                }
-                let ng = g + step_cost(len, res, weight, cost[ni]);
-                if self.seen[ni] != gen_ || ng < self.g[ni] {
-                    self.seen[ni] = gen_;
-                    self.g[ni] = ng;
-                    self.parent[ni] = cur as u32;
-                    self.heap.push(Open { f: ng + heur(nx, ny), g: ng, idx: ni as u32 });
-                }
+            let (has_e, has_w, has_n, has_s) = (cx + 1 < w, cx > 0, cy + 1 < h, cy > 0);
+            // Orthogonal neighbours E, W, N, S; remember which are passable for the diagonals.
+            let e = has_e && passable(cur + 1);
+            let wst = has_w && passable(cur - 1);
+            let nth = has_n && passable(cur + w);
+            let sth = has_s && passable(cur - w);
+            // Relaxes the edge into neighbour `ni` at `(nx, ny)` of length `len` cells (a macro so
+            // that it is always inlined).
+            macro_rules! relax {
+                ($ni:expr, $nx:expr, $ny:expr, $len:expr) => {{
+                    let ni: usize = $ni;
+                    let nd = nodes[ni];
+                    if nd.stamp != closed {
+                        let ng = g + $len * factor[usize::from(cost[ni])];
+                        if nd.stamp != reached || ng < nd.g {
+                            nodes[ni] = Node {
+                                g: ng,
+                                parent: cur as u32,
+                                stamp: reached,
+                            };
+                            let f = ng + heur($nx, $ny);
+                            heap.push(open_entry(f, ng, ni as u32), f);
+                        }
+                    }
+                }};
+            }
+            if e {
+                relax!(cur + 1, cx + 1, cy, 1.0);
+            }
+            if wst {
+                relax!(cur - 1, cx - 1, cy, 1.0);
+            }
+            if nth {
+                relax!(cur + w, cx, cy + 1, 1.0);
+            }
+            if sth {
+                relax!(cur - w, cx, cy - 1, 1.0);
+            }
+            // Diagonals NE, NW, SE, SW: both orthogonal cells must be passable (no corner cutting).
+            const D: f64 = std::f64::consts::SQRT_2;
+            if nth && e && passable(cur + w + 1) {
+                relax!(cur + w + 1, cx + 1, cy + 1, D);
+            }
+            if nth && wst && passable(cur + w - 1) {
+                relax!(cur + w - 1, cx - 1, cy + 1, D);
+            }
+            if sth && e && passable(cur - w + 1) {
+                relax!(cur - w + 1, cx + 1, cy - 1, D);
+            }
+            if sth && wst && passable(cur - w - 1) {
+                relax!(cur - w - 1, cx - 1, cy - 1, D);
             }
         }
         None
@@ -285,23 +457,18 @@ impl PathPlanner {
 
     /// Prepares the buffers for a search over `n` cells and starts a new generation.
     fn begin(&mut self, n: usize) {
-        if self.g.len() < n {
-            self.g.resize(n, 0.0);
-            self.parent.resize(n, 0);
-            self.seen.resize(n, 0);
-            self.closed.resize(n, 0);
+        if self.nodes.len() < n {
+            self.nodes.resize(n, Node::default());
         }
-        self.heap.clear();
-        if self.generation == u32::MAX {
-            self.seen.fill(0);
-            self.closed.fill(0);
-            self.generation = 0;
+        if self.base >= u32::MAX - 3 {
+            self.nodes.fill(Node::default());
+            self.base = 0;
         }
-        self.generation += 1;
+        self.base += 2;
     }
 
     fn reconstruct(
-        &self,
+        nodes: &[Node],
         spec: &GridSpec,
         s_idx: usize,
         goal_idx: usize,
@@ -312,7 +479,7 @@ impl PathPlanner {
         let mut cur = goal_idx;
         // Every cell on the chain was reached in this generation; the chain is at most n long.
         while cur != s_idx && cells.len() <= spec.len() {
-            cur = self.parent[cur] as usize;
+            cur = nodes[cur].parent as usize;
             cells.push(spec.cell(cur));
         }
         cells.reverse();
@@ -474,8 +641,12 @@ mod tests {
     fn expansions_when_unreachable(g: &CostGrid, start: (usize, usize), goal: (usize, usize)) -> usize {
         let mut pl = PathPlanner::new();
         assert!(pl.plan(g, start, goal, SearchMode::dijkstra(1.0)).is_none());
-        let gen_ = pl.generation;
-        pl.closed.iter().take(g.spec.len()).filter(|&&c| c == gen_).count()
+        let closed = pl.base + 1;
+        pl.nodes
+            .iter()
+            .take(g.spec.len())
+            .filter(|n| n.stamp == closed)
+            .count()
     }
 
     #[test]
@@ -527,6 +698,61 @@ mod tests {
     }
 
     #[test]
+    fn social_path_avoids_a_person_in_a_corridor() {
+        // A 40 x 9 corridor with a person (Gaussian personal space, peak 252, sigma 1.5 cells)
+        // standing on the centre line at x = 20.
+        let mut g = grid(40, 9);
+        for y in 0..9 {
+            for x in 0..40 {
+                let d2 = (x as f64 - 20.0).powi(2) + (y as f64 - 4.0).powi(2);
+                set(
+                    &mut g,
+                    x,
+                    y,
+                    (252.0 * (-d2 / (2.0 * 1.5 * 1.5)).exp()).floor() as u8,
+                );
+            }
+        }
+        let mut pl = PathPlanner::new();
+        let plain = pl
+            .plan(&g, (0, 4), (39, 4), SearchMode::PLAIN)
+            .expect("open corridor");
+        let social = pl
+            .plan(&g, (0, 4), (39, 4), SearchMode::weighted(2.0))
+            .expect("open corridor");
+        let max_cost = |p: &GridPath| {
+            p.cells
+                .iter()
+                .map(|&(x, y)| g.cost[g.spec.index(x, y)])
+                .max()
+        };
+        let length = |p: &GridPath| {
+            p.cells
+                .windows(2)
+                .map(|w| {
+                    if w[0].0 != w[1].0 && w[0].1 != w[1].1 {
+                        S2
+                    } else {
+                        1.0
+                    }
+                })
+                .sum::<f64>()
+        };
+        assert_eq!(
+            max_cost(&plain),
+            Some(252),
+            "plain A* walks through the person"
+        );
+        assert!(max_cost(&social) < Some(60), "{:?}", max_cost(&social));
+        assert!(
+            length(&social) <= length(&plain) * 1.25,
+            "{} vs {}",
+            length(&social),
+            length(&plain)
+        );
+    }
+
+    #[test]
     fn buffers_reused_across_grid_sizes() {
         let mut pl = PathPlanner::new();
         let big = grid(30, 30);
@@ -536,8 +762,10 @@ mod tests {
         let c = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
         assert_eq!(a, c);
         assert!((b.cost - 3.0 * S2).abs() < 1e-12);
-        pl.generation = u32::MAX; // force the wrap-around reset
-        let d = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
+        pl.base = u32::MAX - 3; // force the wrap-around reset
+        let d = pl
+            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
+            .expect("ok");
         assert_eq!(a, d);
     }
 
@@ -574,6 +802,66 @@ mod tests {
         // Outside the grid.
         assert_eq!(nearest_passable(&g, (9, 3), 3), Some((6, 3)));
         assert_eq!(nearest_passable(&g, (usize::MAX, 3), 3), None);
+    }
+
+    #[test]
+    fn open_list_pops_in_key_order() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut ol = OpenList::default();
+        for round in 0..3 {
+            ol.reset(0.1);
+            let mut all = Vec::new();
+            let mut floor = 0.0f64;
+            // Interleave pushes (never below the last popped f, except by a rounding-sized amount)
+            // and pops, like a search does.
+            let mut popped = Vec::new();
+            for step in 0..2000 {
+                if step % 3 != 2 {
+                    let f = floor + rng.random_range(0.0..3.0) - 1e-12;
+                    let f = f.max(0.0);
+                    let g = rng.random_range(0.0..f.max(1e-3));
+                    let e = open_entry(f, g, rng.random_range(0..1000));
+                    all.push(e);
+                    ol.push(e, f);
+                } else if let Some(e) = ol.pop() {
+                    floor = f64::from_bits((e >> 64) as u64);
+                    popped.push(e);
+                }
+            }
+            while let Some(e) = ol.pop() {
+                popped.push(e);
+            }
+            assert_eq!(popped.len(), all.len(), "round {round}");
+            // Every pop was the minimum of what was in the queue at the time: popped keys ascend
+            // except where a smaller key was pushed after a larger one was popped (the -1e-12).
+            for w in popped.windows(2) {
+                let (a, b) = (
+                    f64::from_bits((w[0] >> 64) as u64),
+                    f64::from_bits((w[1] >> 64) as u64),
+                );
+                assert!(b >= a - 1e-9, "{a} then {b}");
+            }
+        }
+        // Pure ordering: push everything first, pop all: exactly sorted.
+        ol.reset(0.5);
+        let mut keys: Vec<Open> = (0..500u32)
+            .map(|i| {
+                let f = f64::from(i % 37) * 0.3;
+                let g = f64::from(i % 7) * 0.01;
+                open_entry(f, g, i)
+            })
+            .collect();
+        for &k in &keys {
+            ol.push(k, f64::from_bits((k >> 64) as u64));
+        }
+        keys.sort_unstable();
+        let out: Vec<Open> = std::iter::from_fn(|| ol.pop()).collect();
+        assert_eq!(out, keys);
+        // Larger g first among equal f, then smaller index.
+        assert!(open_entry(1.0, 0.6, 9) < open_entry(1.0, 0.5, 1));
+        assert!(open_entry(1.0, 0.5, 1) < open_entry(1.0, 0.5, 2));
+        assert!(open_entry(0.9, 0.0, 9) < open_entry(1.0, 0.9, 0));
     }
 
     proptest! {

@@ -95,7 +95,7 @@ fn weighted(length: f64, weight: f64, mean: f64) -> f64 {
 }
 
 /// Cost of the straight move between cells `a` and `b`, with the length taken in cells times the
-/// resolution (so that 8-neighbour moves reproduce the A* edge cost bit for bit).
+/// resolution.
 fn cell_segment_cost(grid: &CostGrid, a: (i64, i64), b: (i64, i64), weight: f64) -> f64 {
     match segment_mean_cost(grid, a, b) {
         None => f64::INFINITY,
