@@ -295,11 +295,7 @@ impl DistanceField {
         // A finite "infinity" larger than any squared distance in the grid, small enough that all
         // arithmetic stays exact on integers.
         let big = 2.0 * ((w as f64).powi(2) + (h as f64).powi(2)) + 1.0;
-        let mut sq: Vec<f64> = grid
-            .cells
-            .iter()
-            .map(|&c| if c != 0 { 0.0 } else { big })
-            .collect();
+        let mut sq: Vec<f64> = grid.cells.iter().map(|&c| if c != 0 { 0.0 } else { big }).collect();
         let m = w.max(h);
         let (mut f, mut d) = (vec![0.0; m], vec![0.0; m]);
         let (mut v, mut z) = (vec![0usize; m], vec![0.0; m + 1]);

@@ -360,21 +360,11 @@ impl PathPlanner {
         let goal_idx = spec.index(goal.0, goal.1);
         let (gx, gy) = goal;
         let use_h = mode.heuristic;
-        let heur = |ix: usize, iy: usize| -> f64 {
-            if use_h {
-                octile(ix, iy, gx, gy) * res
-            } else {
-                0.0
-            }
-        };
+        let heur = |ix: usize, iy: usize| -> f64 { if use_h { octile(ix, iy, gx, gy) * res } else { 0.0 } };
 
         let nodes = &mut self.nodes[..n];
         let heap = &mut self.heap;
-        nodes[s_idx] = Node {
-            g: 0.0,
-            parent: s_idx as u32,
-            stamp: reached,
-        };
+        nodes[s_idx] = Node { g: 0.0, parent: s_idx as u32, stamp: reached };
         let f0 = heur(start.0, start.1);
         heap.push(open_entry(f0, 0.0, s_idx as u32), f0);
         let mut expansions = 0usize;
@@ -394,9 +384,7 @@ impl PathPlanner {
             nodes[cur].stamp = closed;
             expansions += 1;
             if cur == goal_idx {
-                return Some(Self::reconstruct(
-                    nodes, &spec, s_idx, goal_idx, g, expansions,
-                ));
+                return Some(Self::reconstruct(nodes, &spec, s_idx, goal_idx, g, expansions));
             }
             let (cx, cy) = (cur % w, cur / w);
             let (has_e, has_w, has_n, has_s) = (cx + 1 < w, cx > 0, cy + 1 < h, cy > 0);
@@ -414,11 +402,7 @@ impl PathPlanner {
                     if nd.stamp != closed {
                         let ng = g + $len * factor[usize::from(cost[ni])];
                         if nd.stamp != reached || ng < nd.g {
-                            nodes[ni] = Node {
-                                g: ng,
-                                parent: cur as u32,
-                                stamp: reached,
-                            };
+                            nodes[ni] = Node { g: ng, parent: cur as u32, stamp: reached };
                             let f = ng + heur($nx, $ny);
                             heap.push(open_entry(f, ng, ni as u32), f);
                         }
@@ -642,11 +626,7 @@ mod tests {
         let mut pl = PathPlanner::new();
         assert!(pl.plan(g, start, goal, SearchMode::dijkstra(1.0)).is_none());
         let closed = pl.base + 1;
-        pl.nodes
-            .iter()
-            .take(g.spec.len())
-            .filter(|n| n.stamp == closed)
-            .count()
+        pl.nodes.iter().take(g.spec.len()).filter(|n| n.stamp == closed).count()
     }
 
     #[test]
@@ -705,51 +685,22 @@ mod tests {
         for y in 0..9 {
             for x in 0..40 {
                 let d2 = (x as f64 - 20.0).powi(2) + (y as f64 - 4.0).powi(2);
-                set(
-                    &mut g,
-                    x,
-                    y,
-                    (252.0 * (-d2 / (2.0 * 1.5 * 1.5)).exp()).floor() as u8,
-                );
+                set(&mut g, x, y, (252.0 * (-d2 / (2.0 * 1.5 * 1.5)).exp()).floor() as u8);
             }
         }
         let mut pl = PathPlanner::new();
-        let plain = pl
-            .plan(&g, (0, 4), (39, 4), SearchMode::PLAIN)
-            .expect("open corridor");
-        let social = pl
-            .plan(&g, (0, 4), (39, 4), SearchMode::weighted(2.0))
-            .expect("open corridor");
-        let max_cost = |p: &GridPath| {
-            p.cells
-                .iter()
-                .map(|&(x, y)| g.cost[g.spec.index(x, y)])
-                .max()
-        };
+        let plain = pl.plan(&g, (0, 4), (39, 4), SearchMode::PLAIN).expect("open corridor");
+        let social = pl.plan(&g, (0, 4), (39, 4), SearchMode::weighted(2.0)).expect("open corridor");
+        let max_cost = |p: &GridPath| p.cells.iter().map(|&(x, y)| g.cost[g.spec.index(x, y)]).max();
         let length = |p: &GridPath| {
             p.cells
                 .windows(2)
-                .map(|w| {
-                    if w[0].0 != w[1].0 && w[0].1 != w[1].1 {
-                        S2
-                    } else {
-                        1.0
-                    }
-                })
+                .map(|w| if w[0].0 != w[1].0 && w[0].1 != w[1].1 { S2 } else { 1.0 })
                 .sum::<f64>()
         };
-        assert_eq!(
-            max_cost(&plain),
-            Some(252),
-            "plain A* walks through the person"
-        );
+        assert_eq!(max_cost(&plain), Some(252), "plain A* walks through the person");
         assert!(max_cost(&social) < Some(60), "{:?}", max_cost(&social));
-        assert!(
-            length(&social) <= length(&plain) * 1.25,
-            "{} vs {}",
-            length(&social),
-            length(&plain)
-        );
+        assert!(length(&social) <= length(&plain) * 1.25, "{} vs {}", length(&social), length(&plain));
     }
 
     #[test]
@@ -763,9 +714,7 @@ mod tests {
         assert_eq!(a, c);
         assert!((b.cost - 3.0 * S2).abs() < 1e-12);
         pl.base = u32::MAX - 3; // force the wrap-around reset
-        let d = pl
-            .plan(&big, (0, 0), (29, 29), SearchMode::PLAIN)
-            .expect("ok");
+        let d = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
         assert_eq!(a, d);
     }
 
@@ -836,10 +785,7 @@ mod tests {
             // Every pop was the minimum of what was in the queue at the time: popped keys ascend
             // except where a smaller key was pushed after a larger one was popped (the -1e-12).
             for w in popped.windows(2) {
-                let (a, b) = (
-                    f64::from_bits((w[0] >> 64) as u64),
-                    f64::from_bits((w[1] >> 64) as u64),
-                );
+                let (a, b) = (f64::from_bits((w[0] >> 64) as u64), f64::from_bits((w[1] >> 64) as u64));
                 assert!(b >= a - 1e-9, "{a} then {b}");
             }
         }
