@@ -26,6 +26,7 @@ pub mod metrics;
 pub mod pedestrians;
 pub mod plan;
 pub mod scenario;
+pub mod socialmap;
 pub mod world;
 
 pub use error::{CoreError, Result};

@@ -1,0 +1,489 @@
+//! The social cost map: layers on the map grid that the social planner searches.
+//!
+//! Layers (Calderita et al. §5.2.1-5.2.2, with the cost values of the paper as defaults):
+//! - **static**: the inflated static map; lethal cells stay lethal;
+//! - **people**: for every individual (a person, a group treated as one individual, or a robot
+//!   that has joined an interaction), its intimate zone is forbidden (lethal), its personal zone
+//!   costs 4.0, its social zone 2.0, and the public zone 1.0 (the free-space cost); or, in the
+//!   continuous mode, the cost is `1 + gain * f(p)` with `f` the individual's personal-space
+//!   function;
+//! - **objects**: the cells of each object's interaction space cost R(t), the object's
+//!   time-dependent cost from the agenda (1.5 idle, up to 3.5 during an activity);
+//! - **combined**: the maximum of the layers, as the `u8` cost grid the A* searches.
+//!
+//! Costs are traversal *factors* (a path's cost is the sum of the factors of the cells it
+//! enters times the step lengths, as in Calderita's Dijkstra). The A* grid stores a factor `f`
+//! as `c = round((f - 1) / (max_factor - 1) * 252)` and searches with weight
+//! `w = max_factor - 1`, so that its edge cost `len * (1 + w * c / 252)` is `len * f` up to the
+//! 1/252 quantisation.
+//!
+//! Zones: a point's zone around an individual is decided by its *zone distance*, the distance
+//! that the individual's space function assigns to the point (the Euclidean distance for a
+//! symmetric function; stretched in front and shrunk behind for asymmetric ones), compared with
+//! Hall's radii. Distances are centre to centre.
+//!
+//! Updates are incremental: moving individuals re-evaluate only the cells of their old and new
+//! bounding boxes, and a change of the clock re-evaluates only the objects whose cost changed.
+
+use crate::map::grid::GridSpec;
+use crate::math::Vec2;
+use crate::plan::{CostGrid, INSCRIBED, LETHAL};
+
+/// What the social map needs from an individual's personal-space model.
+pub trait SpaceFunction {
+    /// Personal-space value at `p` in [0, 1] (1 at the centre).
+    fn value(&self, p: Vec2) -> f64;
+    /// Zone distance of `p` (metres): compared with Hall's radii to classify the zone.
+    fn zone_distance(&self, p: Vec2) -> f64;
+    /// Centre of the individual (metres).
+    fn centre(&self) -> Vec2;
+    /// Radius (metres) beyond which the individual adds no cost; bounds the cells touched.
+    fn reach(&self) -> f64;
+    /// A fingerprint of the individual's state; equal fingerprints mean identical contributions.
+    fn fingerprint(&self) -> [f64; 4];
+}
+
+/// How people's costs are computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CostMode {
+    /// Hall zones with discrete costs (Calderita §5.2.1).
+    Zones,
+    /// Cost `1 + gain * f(p)` with `f` the personal-space value; the intimate zone stays lethal.
+    Continuous {
+        /// Gain on the personal-space value; default 3.0 (so the centre costs 4.0, like the
+        /// personal zone).
+        gain: f64,
+    },
+}
+
+/// Parameters of the social cost map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SocialCosts {
+    /// Intimate radius (metres, centre to centre); forbidden. Default 0.45.
+    pub intimate: f64,
+    /// Personal radius (metres). Default 1.2.
+    pub personal: f64,
+    /// Social radius (metres). Default 3.6.
+    pub social: f64,
+    /// Factor inside the personal zone. Default 4.0 (Calderita).
+    pub personal_cost: f64,
+    /// Factor inside the social zone. Default 2.0 (Calderita).
+    pub social_cost: f64,
+    /// Factor in the public zone and free space. Default 1.0 (Calderita).
+    pub public_cost: f64,
+    /// Zones or continuous costs. Default zones.
+    pub mode: CostMode,
+    /// Largest representable factor (the A* weight is `max_factor - 1`). Default 5.0.
+    pub max_factor: f64,
+}
+
+impl Default for SocialCosts {
+    fn default() -> Self {
+        SocialCosts {
+            intimate: 0.45,
+            personal: 1.2,
+            social: 3.6,
+            personal_cost: 4.0,
+            social_cost: 2.0,
+            public_cost: 1.0,
+            mode: CostMode::Zones,
+            max_factor: 5.0,
+        }
+    }
+}
+
+impl SocialCosts {
+    /// The A* weight that turns stored costs back into factors.
+    pub fn weight(&self) -> f64 {
+        self.max_factor - 1.0
+    }
+
+    /// Factor of a point for one individual (f64::INFINITY for the forbidden intimate zone).
+    pub fn factor<S: SpaceFunction>(&self, s: &S, p: Vec2) -> f64 {
+        let d = s.zone_distance(p);
+        if d < self.intimate {
+            return f64::INFINITY;
+        }
+        match self.mode {
+            CostMode::Zones => {
+                if d < self.personal {
+                    self.personal_cost
+                } else if d < self.social {
+                    self.social_cost
+                } else {
+                    self.public_cost
+                }
+            }
+            CostMode::Continuous { gain } => 1.0 + gain * s.value(p),
+        }
+    }
+
+    /// Stored `u8` cost of a factor (`LETHAL` for infinity).
+    pub fn encode(&self, factor: f64) -> u8 {
+        if factor.is_infinite() || factor.is_nan() {
+            return LETHAL;
+        }
+        let c = ((factor - 1.0) / (self.max_factor - 1.0) * 252.0).round();
+        c.clamp(0.0, 252.0) as u8
+    }
+}
+
+/// Cells whose centres lie inside a polygon (even-odd rule), as grid indices in row order.
+pub fn polygon_cells(spec: &GridSpec, polygon: &[Vec2]) -> Vec<u32> {
+    let mut cells = Vec::new();
+    if polygon.len() < 3 {
+        return cells;
+    }
+    let (mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in polygon {
+        ymin = ymin.min(p.y);
+        ymax = ymax.max(p.y);
+    }
+    let res = spec.resolution;
+    let row0 = (((ymin - spec.origin.y) / res - 0.5).ceil().max(0.0)) as usize;
+    let row1 = ((((ymax - spec.origin.y) / res - 0.5).floor()).min(spec.height as f64 - 1.0)).max(-1.0);
+    if row1 < 0.0 {
+        return cells;
+    }
+    let mut xs: Vec<f64> = Vec::new();
+    for iy in row0..=(row1 as usize) {
+        let y = spec.origin.y + (iy as f64 + 0.5) * res;
+        xs.clear();
+        for k in 0..polygon.len() {
+            let a = polygon[k];
+            let b = polygon[(k + 1) % polygon.len()];
+            if (a.y <= y && b.y > y) || (b.y <= y && a.y > y) {
+                xs.push(a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x));
+            }
+        }
+        xs.sort_by(f64::total_cmp);
+        for pair in xs.chunks_exact(2) {
+            let c0 = ((pair[0] - spec.origin.x) / res - 0.5).ceil().max(0.0) as usize;
+            let c1 = ((pair[1] - spec.origin.x) / res - 0.5).floor().min(spec.width as f64 - 1.0);
+            if c1 < 0.0 {
+                continue;
+            }
+            for ix in c0..=(c1 as usize) {
+                cells.push(spec.index(ix, iy) as u32);
+            }
+        }
+    }
+    cells
+}
+
+/// Inclusive cell rectangle `(x0, y0, x1, y1)`.
+type Rect = (usize, usize, usize, usize);
+
+/// The layered social cost map of one robot footprint.
+#[derive(Clone, Debug)]
+pub struct SocialMap {
+    costs: SocialCosts,
+    static_grid: CostGrid,
+    /// Per-cell factor from people (1.0 where nobody contributes; infinity = intimate).
+    people: Vec<f64>,
+    /// Per-cell factor from objects (1.0 outside every interaction space).
+    objects: Vec<f64>,
+    combined: CostGrid,
+    object_cells: Vec<Vec<u32>>,
+    object_factor: Vec<f64>,
+    prev: Vec<(Rect, [f64; 4])>,
+    touched: usize,
+}
+
+impl SocialMap {
+    /// A social map over `static_grid` (the inflated static map) with the interaction-space
+    /// polygons of the objects (world coordinates; an empty polygon for objects without one).
+    pub fn new(static_grid: CostGrid, object_polygons: &[Vec<Vec2>], costs: SocialCosts) -> Self {
+        let n = static_grid.spec.len();
+        let object_cells: Vec<Vec<u32>> =
+            object_polygons.iter().map(|poly| polygon_cells(&static_grid.spec, poly)).collect();
+        let m = object_cells.len();
+        SocialMap {
+            costs,
+            combined: static_grid.clone(),
+            static_grid,
+            people: vec![1.0; n],
+            objects: vec![1.0; n],
+            object_cells,
+            object_factor: vec![1.0; m],
+            prev: Vec::new(),
+            touched: 0,
+        }
+    }
+
+    /// The cost parameters.
+    pub fn costs(&self) -> &SocialCosts {
+        &self.costs
+    }
+
+    /// The combined cost grid (what the social A* searches with weight [`SocialCosts::weight`]).
+    pub fn grid(&self) -> &CostGrid {
+        &self.combined
+    }
+
+    /// The static layer.
+    pub fn static_layer(&self) -> &CostGrid {
+        &self.static_grid
+    }
+
+    /// The people layer as factors (infinity marks intimate zones).
+    pub fn people_layer(&self) -> &[f64] {
+        &self.people
+    }
+
+    /// The object layer as factors.
+    pub fn object_layer(&self) -> &[f64] {
+        &self.objects
+    }
+
+    /// Number of cells re-evaluated by the last update (a measure of incrementality).
+    pub fn cells_touched(&self) -> usize {
+        self.touched
+    }
+
+    /// Sets the objects' factors R(t) (one per object polygon); only changed objects are redrawn.
+    pub fn set_object_factors(&mut self, factors: &[f64]) {
+        let changed: Vec<usize> = (0..self.object_factor.len().min(factors.len()))
+            .filter(|&k| self.object_factor[k] != factors[k])
+            .collect();
+        self.touched = 0;
+        if changed.is_empty() {
+            return;
+        }
+        for &k in &changed {
+            self.object_factor[k] = factors[k];
+        }
+        // Cells of changed objects: recompute as the max over every object covering them.
+        let mut dirty: Vec<u32> =
+            changed.iter().flat_map(|&k| self.object_cells[k].iter().copied()).collect();
+        dirty.sort_unstable();
+        dirty.dedup();
+        for &c in &dirty {
+            self.objects[c as usize] = 1.0;
+        }
+        for (k, cells) in self.object_cells.iter().enumerate() {
+            let f = self.object_factor[k];
+            for &c in cells {
+                if dirty.binary_search(&c).is_ok() && f > self.objects[c as usize] {
+                    self.objects[c as usize] = f;
+                }
+            }
+        }
+        for &c in &dirty {
+            self.combine(c as usize);
+        }
+        self.touched = dirty.len();
+    }
+
+    fn rect_of<S: SpaceFunction>(&self, s: &S) -> Option<Rect> {
+        let spec = &self.static_grid.spec;
+        let c = s.centre();
+        let r = s.reach();
+        if !(c.x.is_finite() && c.y.is_finite() && r.is_finite()) {
+            return None;
+        }
+        let res = spec.resolution;
+        let lo = |v: f64, o: f64, n: usize| (((v - o) / res).floor().max(0.0) as usize).min(n);
+        let x0 = lo(c.x - r, spec.origin.x, spec.width);
+        let x1 = lo(c.x + r, spec.origin.x, spec.width);
+        let y0 = lo(c.y - r, spec.origin.y, spec.height);
+        let y1 = lo(c.y + r, spec.origin.y, spec.height);
+        if x0 >= spec.width || y0 >= spec.height {
+            return None;
+        }
+        Some((x0, y0, x1.min(spec.width - 1), y1.min(spec.height - 1)))
+    }
+
+    /// Updates the people layer for the current individuals. Individuals whose fingerprint and
+    /// position are unchanged since the last call cost nothing; the others re-evaluate the cells
+    /// of their old and new bounding boxes. Individuals with non-finite state are ignored.
+    pub fn update_people<S: SpaceFunction>(&mut self, individuals: &[S]) {
+        let rects: Vec<Option<Rect>> = individuals.iter().map(|s| self.rect_of(s)).collect();
+        let mut dirty: Vec<Rect> = Vec::new();
+        let same_count = self.prev.len() == individuals.len();
+        for (k, s) in individuals.iter().enumerate() {
+            let fp = s.fingerprint();
+            let unchanged = same_count && self.prev[k].1 == fp;
+            if !unchanged {
+                if same_count {
+                    dirty.push(self.prev[k].0);
+                }
+                if let Some(r) = rects[k] {
+                    dirty.push(r);
+                }
+            }
+        }
+        if !same_count {
+            dirty.extend(self.prev.iter().map(|p| p.0));
+        }
+        let empty = (usize::MAX, usize::MAX, 0, 0);
+        self.prev =
+            individuals.iter().zip(&rects).map(|(s, r)| (r.unwrap_or(empty), s.fingerprint())).collect();
+        let spec = self.static_grid.spec;
+        let mut touched = 0;
+        for rect in dirty {
+            let (x0, y0, x1, y1) = rect;
+            if x0 > x1 || y0 > y1 {
+                continue;
+            }
+            // Individuals that can contribute to this rectangle.
+            let near: Vec<usize> = (0..individuals.len())
+                .filter(|&k| match rects[k] {
+                    Some((a0, b0, a1, b1)) => a0 <= x1 && a1 >= x0 && b0 <= y1 && b1 >= y0,
+                    None => false,
+                })
+                .collect();
+            for iy in y0..=y1 {
+                for ix in x0..=x1 {
+                    let idx = spec.index(ix, iy);
+                    let p = spec.center(ix, iy);
+                    let mut f: f64 = 1.0;
+                    for &k in &near {
+                        let (a0, b0, a1, b1) = rects[k].unwrap_or(empty);
+                        if ix < a0 || ix > a1 || iy < b0 || iy > b1 {
+                            continue;
+                        }
+                        f = f.max(self.costs.factor(&individuals[k], p));
+                    }
+                    self.people[idx] = f;
+                    self.combine(idx);
+                    touched += 1;
+                }
+            }
+        }
+        self.touched = touched;
+    }
+
+    fn combine(&mut self, idx: usize) {
+        let s = self.static_grid.cost[idx];
+        self.combined.cost[idx] = if s >= INSCRIBED {
+            s
+        } else {
+            let f = self.people[idx].max(self.objects[idx]);
+            self.costs.encode(f).max(s)
+        };
+    }
+
+    /// Rebuilds every layer from scratch (for tests and benchmarks of the full rebuild).
+    pub fn rebuild<S: SpaceFunction>(&mut self, individuals: &[S], object_factors: &[f64]) {
+        self.people.fill(1.0);
+        self.objects.fill(1.0);
+        self.object_factor.fill(f64::NAN);
+        self.prev.clear();
+        self.combined = self.static_grid.clone();
+        self.set_object_factors(object_factors);
+        self.update_people(individuals);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::geometry::Bounds;
+
+    /// A symmetric test individual: zone distance = Euclidean distance.
+    #[derive(Clone, Copy)]
+    struct Disc {
+        c: Vec2,
+        sigma: f64,
+    }
+
+    impl SpaceFunction for Disc {
+        fn value(&self, p: Vec2) -> f64 {
+            (-(p - self.c).norm_squared() / (2.0 * self.sigma * self.sigma)).exp()
+        }
+        fn zone_distance(&self, p: Vec2) -> f64 {
+            (p - self.c).norm()
+        }
+        fn centre(&self) -> Vec2 {
+            self.c
+        }
+        fn reach(&self) -> f64 {
+            3.6
+        }
+        fn fingerprint(&self) -> [f64; 4] {
+            [self.c.x, self.c.y, self.sigma, 0.0]
+        }
+    }
+
+    fn grid(w: f64, h: f64) -> CostGrid {
+        let spec =
+            GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(w, h) }, 0.1).expect("valid grid");
+        CostGrid { spec, cost: vec![0; spec.len()] }
+    }
+
+    fn cost_at(m: &SocialMap, p: Vec2) -> u8 {
+        let (x, y) = m.grid().spec.cell_of(p).expect("inside");
+        m.grid().cost[m.grid().spec.index(x, y)]
+    }
+
+    #[test]
+    fn zones_get_calderita_costs() {
+        let mut m = SocialMap::new(grid(10.0, 10.0), &[], SocialCosts::default());
+        m.update_people(&[Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0 }]);
+        let c = m.costs();
+        assert_eq!(cost_at(&m, Vec2::new(5.2, 5.0)), LETHAL);
+        assert_eq!(cost_at(&m, Vec2::new(5.8, 5.0)), c.encode(4.0));
+        assert_eq!(cost_at(&m, Vec2::new(7.0, 5.0)), c.encode(2.0));
+        assert_eq!(cost_at(&m, Vec2::new(9.5, 5.0)), 0);
+        // encoded factors decode back within the quantisation
+        let w = c.weight();
+        assert!(((1.0 + w * f64::from(c.encode(4.0)) / 252.0) - 4.0).abs() < w / 252.0);
+    }
+
+    #[test]
+    fn incremental_update_equals_rebuild_and_touches_fewer_cells() {
+        let spec_grid = grid(40.0, 20.0);
+        let poly = vec![Vec2::new(1.0, 1.0), Vec2::new(3.0, 1.0), Vec2::new(3.0, 3.0), Vec2::new(1.0, 3.0)];
+        let mut inc = SocialMap::new(spec_grid.clone(), std::slice::from_ref(&poly), SocialCosts::default());
+        let mut people =
+            vec![Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0 }, Disc { c: Vec2::new(15.0, 5.0), sigma: 1.0 }];
+        inc.set_object_factors(&[1.5]);
+        inc.update_people(&people);
+        people[0].c = Vec2::new(6.0, 5.5);
+        inc.update_people(&people);
+        let touched = inc.cells_touched();
+        inc.set_object_factors(&[3.5]);
+        let mut full = SocialMap::new(spec_grid, &[poly], SocialCosts::default());
+        full.rebuild(&people, &[3.5]);
+        assert_eq!(inc.grid(), full.grid());
+        assert!(touched < inc.grid().spec.len() / 2, "touched {touched}");
+        // unchanged people cost nothing
+        inc.update_people(&people);
+        assert_eq!(inc.cells_touched(), 0);
+    }
+
+    #[test]
+    fn object_space_takes_r_of_t_and_static_stays_lethal() {
+        let mut g = grid(10.0, 10.0);
+        let i = g.spec.index(20, 20);
+        g.cost[i] = LETHAL;
+        let poly = vec![Vec2::new(1.0, 1.0), Vec2::new(3.0, 1.0), Vec2::new(3.0, 3.0), Vec2::new(1.0, 3.0)];
+        let mut m = SocialMap::new(g, &[poly], SocialCosts::default());
+        m.rebuild::<Disc>(&[], &[3.5]);
+        assert_eq!(cost_at(&m, Vec2::new(2.05, 2.05)), LETHAL);
+        assert_eq!(cost_at(&m, Vec2::new(1.5, 1.5)), m.costs().encode(3.5));
+        assert_eq!(cost_at(&m, Vec2::new(5.0, 5.0)), 0);
+        m.set_object_factors(&[1.5]);
+        assert_eq!(cost_at(&m, Vec2::new(1.5, 1.5)), m.costs().encode(1.5));
+        assert_eq!(m.cells_touched(), 400);
+    }
+
+    #[test]
+    fn continuous_mode_follows_the_function() {
+        let costs = SocialCosts { mode: CostMode::Continuous { gain: 3.0 }, ..SocialCosts::default() };
+        let mut m = SocialMap::new(grid(10.0, 10.0), &[], costs);
+        m.update_people(&[Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0 }]);
+        let near = cost_at(&m, Vec2::new(5.55, 5.05));
+        let far = cost_at(&m, Vec2::new(6.55, 5.05));
+        assert!(near > far && far > 0);
+    }
+
+    #[test]
+    fn polygon_cells_of_a_square() {
+        let g = grid(10.0, 10.0);
+        let poly = vec![Vec2::new(1.0, 1.0), Vec2::new(2.0, 1.0), Vec2::new(2.0, 2.0), Vec2::new(1.0, 2.0)];
+        assert_eq!(polygon_cells(&g.spec, &poly).len(), 100);
+        assert!(polygon_cells(&g.spec, &poly[..2]).is_empty());
+    }
+}
