@@ -26,7 +26,7 @@ system-deps: ## Debian packages for offscreen rendering (EGL and OSMesa), if mis
 $(VENV)/.deps: pyproject.toml
 	@test -x $(PY) || python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
-	$(PIP) install -q maturin "numpy>=1.26" "gymnasium>=1.0" "mujoco>=3.3" "matplotlib>=3.7" "tqdm>=4.60" \
+	$(PIP) install -q maturin "numpy>=1.26" "gymnasium>=1.0" "mujoco>=3.3" "matplotlib>=3.7" "tqdm>=4.60" "pyarrow>=14" \
 	    "pytest>=8" "ruff>=0.6" "mypy>=1.10" "imageio>=2.30" "imageio-ffmpeg>=0.5"
 	@touch $@
 

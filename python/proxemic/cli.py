@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -103,6 +104,32 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_eval(args: argparse.Namespace) -> int:
+    """Seeded comparison of planners: records, summary with confidence intervals, plots."""
+    from proxemic.evaluation import EvalConfig, run_eval, summary_markdown
+
+    cfg = EvalConfig(
+        scenario=args.scenario,
+        planners=args.planner or ["astar"],
+        episodes=args.episodes,
+        seed=args.seed,
+        out=Path(args.out),
+        workers=args.workers,
+        backend=args.backend,
+        ray_address=args.ray_address,
+    )
+    t0 = time.perf_counter()
+    rows = run_eval(cfg)
+    print()
+    print(summary_markdown(rows))
+    print()
+    print(
+        f"{len(cfg.tasks())} episodes in {time.perf_counter() - t0:.1f} s; wrote {cfg.out}/episodes.csv, "
+        f"episodes.parquet, summary.md and plots"
+    )
+    return 0
+
+
 def cmd_scenes(args: argparse.Namespace) -> int:
     """Lists the bundled scenarios and their environment ids."""
     from proxemic.registration import ENV_IDS
@@ -129,6 +156,16 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
+    e = sub.add_parser("eval", help="seeded comparison of planners with summaries and plots")
+    e.add_argument("--scenario", default="museum", help="bundled scenario name or TOML path (default: museum)")
+    e.add_argument("--planner", action="append", help="a built-in planner; repeat to compare (default: astar)")
+    e.add_argument("--episodes", type=int, default=20, help="episodes per planner (default: 20)")
+    e.add_argument("--seed", type=int, default=0, help="first seed; every planner runs the same seeds (default: 0)")
+    e.add_argument("--out", default="out/eval", help="output folder (default: out/eval)")
+    e.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    e.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
+    e.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
+    e.set_defaults(func=cmd_eval)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
     return p

@@ -76,6 +76,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``scenario`` | ``"museum"`` | bundled scenario name or path to a scenario TOML file |
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
+    | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
     | ``width``, ``height`` | 640, 480 | frame size |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
 
@@ -92,6 +93,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         *,
         render_mode: str | None = None,
         autopilot: bool = False,
+        planner: str | None = None,
         width: int = 640,
         height: int = 480,
         camera: str = "top",
@@ -114,7 +116,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.render_mode = render_mode
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
-        self.core_scenario, self.scenario = scenarios.load(scenario)
+        self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner)
         self.world = _core.World(self.core_scenario)
         self.sim = Simulation(self.scenario)
         self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}

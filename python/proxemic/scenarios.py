@@ -47,7 +47,30 @@ def resolve(scenario: str | Path) -> Path:
     )
 
 
-def load(scenario: str | Path) -> tuple[_core.Scenario, dict[str, Any]]:
-    """Parses and validates a scenario; returns the core object and its description dict."""
+def check_planner(planner: str) -> str:
+    """Returns `planner` if it names a built-in planner.
+
+    Raises:
+        UnknownNameError: an unknown planner name (the message lists the known ones).
+    """
+    if planner not in _core.PLANNERS:
+        raise UnknownNameError(
+            f"unknown planner {planner!r}: expected one of {', '.join(_core.PLANNERS)}",
+            field="planner",
+            expected=f"one of {_core.PLANNERS}",
+            found=planner,
+        )
+    return planner
+
+
+def load(scenario: str | Path, *, planner: str | None = None) -> tuple[_core.Scenario, dict[str, Any]]:
+    """Parses and validates a scenario; returns the core object and its description dict.
+
+    Args:
+        scenario: Bundled name or path of a scenario file.
+        planner: If given, every robot uses this built-in planner instead of the file's.
+    """
     core = _core.Scenario.from_file(str(resolve(scenario)))
+    if planner is not None:
+        core = core.with_planner(check_planner(planner))
     return core, json.loads(core.to_json())

@@ -33,7 +33,7 @@ from .topdown import (
     wall_polygon,
 )
 
-__all__ = ["format_table", "plot_episodes", "plot_metrics_bars"]
+__all__ = ["format_table", "plot_episodes", "plot_metrics_bars", "plot_social_map"]
 
 #: End-of-trajectory marker per episode outcome.
 OUTCOME_MARKERS: Mapping[str, str] = {"success": "*", "collision": "X", "timeout": "s"}
@@ -440,3 +440,130 @@ def format_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], *, f
     for row in rows:
         lines.append("| " + " | ".join(_format_cell(row.get(c), floatfmt) for c in columns) + " |")
     return "\n".join(lines)
+
+
+def plot_social_map(
+    scenario: Mapping[str, Any],
+    people_factor: np.ndarray,
+    object_factor: np.ndarray,
+    grid: tuple[float, float, float],
+    out_png: str | os.PathLike[str],
+    *,
+    paths: Mapping[str, np.ndarray] | None = None,
+    people: np.ndarray | None = None,
+    groups: Sequence[Sequence[int]] | None = None,
+    title: str | None = None,
+) -> pathlib.Path:
+    """Draw the social cost map: people's zones, object spaces coloured by R(t), paths.
+
+    Args:
+        scenario: The validated scenario dict.
+        people_factor: (H, W) traversal factors of the people layer (1 free, inf forbidden).
+        object_factor: (H, W) traversal factors of the object layer (R(t) inside interaction spaces).
+        grid: (origin_x, origin_y, resolution) of the layers; row 0 is the lowest y.
+        out_png: Where to write the figure.
+        paths: Label -> (K, 2) path, e.g. ``{"plain A*": ..., "social A*": ...}``.
+        people: (P, 3) x, y, heading of the people, drawn with a heading tick.
+        groups: Member index lists of detected groups, outlined together.
+        title: Figure title.
+
+    Returns:
+        The path written.
+    """
+    out = pathlib.Path(out_png)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig = Figure(figsize=(10.0, 6.4))
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    handles = _draw_map(ax, scenario)
+    ox, oy, res = grid
+    h, w = people_factor.shape
+    extent = (ox, ox + w * res, oy, oy + h * res)
+    objects = np.ma.masked_where(object_factor <= 1.0, object_factor)
+    if objects.count():
+        im = ax.imshow(
+            objects,
+            origin="lower",
+            extent=extent,
+            cmap="YlOrRd",
+            vmin=1.0,
+            vmax=4.0,
+            alpha=0.75,
+            zorder=1.5,
+            interpolation="nearest",
+        )
+        cb = fig.colorbar(im, ax=ax, fraction=0.03, pad=0.01)
+        cb.set_label("object space cost R(t)")
+    finite = np.where(np.isfinite(people_factor), people_factor, np.nan)
+    zones = np.ma.masked_where(~(people_factor > 1.0), finite)
+    if zones.count():
+        ax.imshow(
+            zones,
+            origin="lower",
+            extent=extent,
+            cmap="Blues",
+            vmin=1.0,
+            vmax=5.0,
+            alpha=0.6,
+            zorder=1.6,
+            interpolation="nearest",
+        )
+        handles.append(Patch(facecolor=(0.4, 0.6, 0.85, 0.6), label="personal / social zones"))
+    lethal = np.ma.masked_where(~np.isinf(people_factor), np.ones_like(people_factor))
+    if lethal.count():
+        ax.imshow(
+            lethal,
+            origin="lower",
+            extent=extent,
+            cmap="Greys",
+            vmin=0.0,
+            vmax=1.2,
+            alpha=0.85,
+            zorder=1.7,
+            interpolation="nearest",
+        )
+        handles.append(Patch(facecolor="0.2", label="intimate zone (forbidden)"))
+    if people is not None and len(people):
+        ax.scatter(people[:, 0], people[:, 1], s=28, color="0.15", zorder=5)
+        tick = 0.45
+        for x, y, th in people[:, :3]:
+            ax.plot([x, x + tick * math.cos(th)], [y, y + tick * math.sin(th)], color="0.15", lw=1.2, zorder=5)
+        handles.append(Line2D([], [], marker="o", color="0.15", ls="", label="person (facing)"))
+    if groups and people is not None:
+        for members in groups:
+            if len(members) < 2:
+                continue
+            pts = people[list(members), :2]
+            c = pts.mean(axis=0)
+            r = float(np.max(np.linalg.norm(pts - c, axis=1))) + 0.4
+            ax.add_patch(
+                PolygonPatch(
+                    [(c[0] + r * math.cos(a), c[1] + r * math.sin(a)) for a in np.linspace(0, 2 * math.pi, 40)],
+                    closed=True,
+                    fill=False,
+                    edgecolor="purple",
+                    linestyle="--",
+                    lw=1.2,
+                    zorder=5,
+                )
+            )
+        handles.append(Line2D([], [], color="purple", ls="--", label="detected group"))
+    colors = _episode_colors(len(paths or {}))
+    for (label, path), color in zip((paths or {}).items(), colors, strict=True):
+        if path is None or len(path) == 0:
+            continue
+        ax.plot(path[:, 0], path[:, 1], color=color, lw=2.2, zorder=6)
+        ax.plot(path[0, 0], path[0, 1], "o", color=color, zorder=6)
+        ax.plot(path[-1, 0], path[-1, 1], "D", mfc="none", color=color, zorder=6)
+        handles.append(Line2D([], [], color=color, lw=2.2, label=label))
+    xmin, ymin, xmax, ymax = scene_bounds(scenario)
+    ax.set_xlim(xmin - 0.3, xmax + 0.3)
+    ax.set_ylim(ymin - 0.3, ymax + 0.3)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    if title:
+        ax.set_title(title)
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.12, 1.0), fontsize=8, frameon=False)
+    fig.savefig(out, dpi=_DPI, bbox_inches="tight")
+    return out

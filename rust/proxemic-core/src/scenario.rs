@@ -680,6 +680,18 @@ impl Scenario {
         build(raw, source)
     }
 
+    /// A copy with every robot's planner replaced by `name` (one of [`PlannerKind::NAMES`]).
+    pub fn with_planner(&self, name: &str) -> Result<Self> {
+        let kind = PlannerKind::parse(name).ok_or_else(|| {
+            err(&self.source, "planner", format!("one of {:?}", PlannerKind::NAMES), format!("{name:?}"))
+        })?;
+        let mut s = self.clone();
+        for r in &mut s.robots {
+            r.planner = kind;
+        }
+        Ok(s)
+    }
+
     /// JSON of the validated scenario (defaults filled in, world polygons computed).
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))

@@ -97,6 +97,12 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose robots all use the built-in planner `name` (see `PLANNERS`).
+    fn with_planner(&self, py: Python<'_>, name: &str) -> PyResult<Self> {
+        let inner = self.inner.with_planner(name).map_err(|e| to_py_err(py, e))?;
+        Ok(PyScenario { inner })
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
     fn to_json(&self) -> String {
         self.inner.to_json()

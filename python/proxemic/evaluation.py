@@ -1,0 +1,306 @@
+"""Seeded evaluation of planners: episodes spread over processes (or Ray), records, summaries, plots.
+
+Every planner runs the same episode seeds. Each episode yields one record (its metrics); the
+records are written as CSV (row by row, so an interrupted run keeps what it finished) and as
+Parquet at the end, and summarised per planner as means with 95% confidence intervals (Student t)
+and rates with Wilson score intervals.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+from collections.abc import Iterable, Iterator, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from proxemic import scenarios
+from proxemic.errors import InputError
+
+#: Metrics summarised as rates (0/1 per episode), with Wilson intervals.
+RATE_METRICS = ("success", "collision_person", "collision_static")
+
+#: Metrics summarised as means with t intervals (None values are left out).
+MEAN_METRICS = (
+    "time_to_goal",
+    "path_length",
+    "min_person_distance",
+    "min_person_gap",
+    "duration",
+    "reward",
+)
+
+# Two-sided 95% Student t quantiles for 1..30 degrees of freedom (Fisher & Yates tables).
+_T95 = (
+    12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+    2.201, 2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+    2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042,
+)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class EvalConfig:
+    """What to evaluate and where to write it."""
+
+    scenario: str
+    planners: Sequence[str]
+    episodes: int = 20
+    seed: int = 0
+    out: Path = Path("out/eval")
+    workers: int = 2
+    backend: str = "process"
+    ray_address: str | None = None
+    keep_trajectories: int = 5
+    """Episodes per planner whose trajectories are kept for the trajectory plot."""
+
+    def tasks(self) -> list[tuple[str, str, int]]:
+        """(scenario, planner, seed) of every episode, planner-major."""
+        return [(self.scenario, p, self.seed + k) for p in self.planners for k in range(self.episodes)]
+
+
+@dataclass
+class EpisodeResult:
+    """One episode's record and, optionally, its trajectories."""
+
+    record: dict[str, Any]
+    robot: np.ndarray | None = field(default=None, repr=False)
+    people: np.ndarray | None = field(default=None, repr=False)
+    path: np.ndarray | None = field(default=None, repr=False)
+
+
+_ENV_CACHE: dict[tuple[str, str], Any] = {}
+
+
+def run_task(task: tuple[str, str, int], keep: bool = False) -> EpisodeResult:
+    """Runs one (scenario, planner, seed) episode in this process (envs are cached per process)."""
+    from proxemic.env import ProxemicEnv
+    from proxemic.runner import run_episode
+
+    scenario, planner, seed = task
+    env = _ENV_CACHE.get((scenario, planner))
+    if env is None:
+        env = ProxemicEnv(scenario, autopilot=True, planner=planner)
+        _ENV_CACHE[(scenario, planner)] = env
+    rec = run_episode(scenario, seed, env=env)
+    record = {"scenario": env.scenario["scene"]["name"], "planner": planner, "seed": seed, "reward": rec.total_reward}
+    record.update({k: v for k, v in rec.metrics.items() if not isinstance(v, list | dict)})
+    if keep:
+        return EpisodeResult(record, rec.robot, rec.people, rec.path)
+    return EpisodeResult(record)
+
+
+def _run_task_kw(args: tuple[tuple[str, str, int], bool]) -> EpisodeResult:
+    return run_task(args[0], args[1])
+
+
+def iter_results(cfg: EvalConfig) -> Iterator[EpisodeResult]:
+    """Runs every episode of `cfg` on its backend, yielding results in task order."""
+    tasks = cfg.tasks()
+    keep = [(t, (t[2] - cfg.seed) < cfg.keep_trajectories) for t in tasks]
+    if cfg.backend == "ray":
+        yield from _iter_ray(cfg, keep)
+    elif cfg.backend == "process":
+        if cfg.workers <= 1:
+            for item in keep:
+                yield _run_task_kw(item)
+            return
+        import multiprocessing as mp
+
+        ctx = mp.get_context("fork") if hasattr(os, "fork") else mp.get_context("spawn")
+        with ctx.Pool(cfg.workers) as pool:
+            yield from pool.imap(_run_task_kw, keep, chunksize=max(1, len(keep) // (8 * cfg.workers)))
+    else:
+        raise InputError(
+            f"backend: expected 'process' or 'ray', got {cfg.backend!r}",
+            field="backend",
+            expected="'process' or 'ray'",
+            found=repr(cfg.backend),
+        )
+
+
+def _iter_ray(cfg: EvalConfig, keep: list[tuple[tuple[str, str, int], bool]]) -> Iterator[EpisodeResult]:
+    try:
+        import ray
+    except ImportError as e:
+        raise InputError(
+            "backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
+            field="backend",
+            expected="ray installed",
+            found="ray not importable",
+        ) from e
+    try:
+        if cfg.ray_address:
+            ray.init(address=cfg.ray_address, ignore_reinit_error=True, log_to_driver=False)
+        else:
+            ray.init(
+                num_cpus=max(1, cfg.workers), ignore_reinit_error=True, log_to_driver=False, include_dashboard=False
+            )
+    except Exception as e:  # ray raises ConnectionError, RuntimeError, ... for a dead address
+        raise InputError(
+            f"ray: could not connect to {cfg.ray_address or 'a local cluster'}: {e}",
+            field="ray_address",
+            expected="the address of a running Ray cluster",
+            found=str(cfg.ray_address),
+        ) from e
+    remote = ray.remote(_run_task_kw)
+    refs = [remote.remote(item) for item in keep]
+    try:
+        for ref in refs:
+            yield ray.get(ref)
+    finally:
+        ray.shutdown()
+
+
+def t95(n: int) -> float:
+    """Two-sided 95% Student t quantile for n samples (normal beyond 31)."""
+    if n < 2:
+        return math.nan
+    return _T95[n - 2] if n - 1 <= len(_T95) else 1.96
+
+
+def mean_ci(values: Iterable[float | None]) -> tuple[float, float, int]:
+    """Mean, 95% half-width (Student t) and count of the finite values."""
+    x = np.array([v for v in values if v is not None and math.isfinite(v)], dtype=np.float64)
+    n = int(x.size)
+    if n == 0:
+        return math.nan, math.nan, 0
+    if n == 1:
+        return float(x[0]), math.nan, 1
+    return float(x.mean()), t95(n) * float(x.std(ddof=1)) / math.sqrt(n), n
+
+
+def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float, float]:
+    """Rate and 95% Wilson score interval (low, high)."""
+    if n == 0:
+        return math.nan, math.nan, math.nan
+    p = successes / n
+    denom = 1 + z * z / n
+    centre = (p + z * z / (2 * n)) / denom
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / denom
+    return p, centre - half, centre + half
+
+
+def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """One row per planner: rates with Wilson intervals, means with t intervals."""
+    rows = []
+    planners = list(dict.fromkeys(r["planner"] for r in records))
+    for planner in planners:
+        recs = [r for r in records if r["planner"] == planner]
+        row: dict[str, Any] = {"planner": planner, "episodes": len(recs)}
+        for m in RATE_METRICS:
+            k = sum(bool(r.get(m)) for r in recs)
+            p, lo, hi = wilson(k, len(recs))
+            row[m] = p
+            row[f"{m}_lo"] = lo
+            row[f"{m}_hi"] = hi
+        for m in MEAN_METRICS:
+            mean, half, n = mean_ci(r.get(m) for r in recs)
+            row[m] = mean
+            row[f"{m}_ci"] = half
+            row[f"{m}_n"] = n
+        rows.append(row)
+    return rows
+
+
+def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
+    """The summary as a markdown table: rates as p [lo, hi], means as m ± ci."""
+    cols = ["planner", "episodes", *RATE_METRICS, *MEAN_METRICS]
+    lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
+    for r in rows:
+        cells = [str(r["planner"]), str(r["episodes"])]
+        for m in RATE_METRICS:
+            cells.append(f"{r[m]:.2f} [{r[m + '_lo']:.2f}, {r[m + '_hi']:.2f}]")
+        for m in MEAN_METRICS:
+            mean, ci = r[m], r[m + "_ci"]
+            if math.isnan(mean):
+                cells.append("n/a")
+            elif math.isnan(ci):
+                cells.append(f"{mean:.2f} (n={r[m + '_n']})")
+            else:
+                cells.append(f"{mean:.2f} ± {ci:.2f} (n={r[m + '_n']})")
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def _check_out(out: Path) -> None:
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        probe = out / ".write-test"
+        probe.write_text("")
+        probe.unlink()
+    except OSError as e:
+        raise InputError(
+            f"--out {out}: the output folder cannot be written ({e.strerror})",
+            field="out",
+            expected="a writable folder",
+            found=str(out),
+        ) from e
+
+
+def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
+    """Runs the evaluation and writes records, summary and plots into `cfg.out`; returns the summary."""
+    from tqdm import tqdm
+
+    from proxemic.viz.plots import plot_episodes, plot_metrics_bars
+
+    scenarios.resolve(cfg.scenario)
+    for p in cfg.planners:
+        scenarios.check_planner(p)
+    if cfg.episodes < 1:
+        raise InputError(
+            f"episodes: expected at least 1, got {cfg.episodes}",
+            field="episodes",
+            expected=">= 1",
+            found=str(cfg.episodes),
+        )
+    out = Path(cfg.out)
+    _check_out(out)
+    _, scenario = scenarios.load(cfg.scenario)
+    records: list[dict[str, Any]] = []
+    kept: dict[str, list[EpisodeResult]] = {p: [] for p in cfg.planners}
+    csv_path = out / "episodes.csv"
+    writer = None
+    with csv_path.open("w", newline="") as fh:
+        bar = tqdm(
+            total=len(cfg.tasks()), desc=f"{cfg.scenario}: {', '.join(cfg.planners)}", unit="ep", disable=not progress
+        )
+        for res in iter_results(cfg):
+            if writer is None:
+                writer = csv.DictWriter(fh, fieldnames=list(res.record.keys()))
+                writer.writeheader()
+            writer.writerow(res.record)
+            fh.flush()
+            records.append(res.record)
+            if res.robot is not None:
+                kept[res.record["planner"]].append(res)
+            bar.update(1)
+        bar.close()
+    _write_parquet(records, out / "episodes.parquet")
+    rows = summarise(records)
+    (out / "summary.md").write_text(summary_markdown(rows) + "\n")
+    plot_metrics_bars(rows, ["success", "path_length", "min_person_distance", "time_to_goal"], out / "metrics.png")
+    for planner, results in kept.items():
+        episodes = [
+            {
+                "label": f"seed {r.record['seed']}",
+                "robot": r.robot,
+                "people": r.people,
+                "path": r.path if i == 0 else None,
+                "outcome": r.record["outcome"],
+            }
+            for i, r in enumerate(results)
+        ]
+        if episodes:
+            plot_episodes(scenario, episodes, out / f"trajectories_{planner}.png", title=f"{cfg.scenario}: {planner}")
+    return rows
+
+
+def _write_parquet(records: Sequence[dict[str, Any]], path: Path) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    pq.write_table(pa.Table.from_pylist(list(records)), path)

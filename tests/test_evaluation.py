@@ -1,0 +1,82 @@
+"""proxemic eval: statistics, records, the same results on any number of processes, errors."""
+
+from __future__ import annotations
+
+import csv
+import math
+
+import pyarrow.parquet as pq
+import pytest
+
+from proxemic.cli import main
+from proxemic.evaluation import EvalConfig, mean_ci, run_eval, summarise, wilson
+
+
+def test_wilson_interval_known_values():
+    # 8 successes out of 10: Wilson 95% interval (0.4902, 0.9433), computed by hand from the formula
+    p, lo, hi = wilson(8, 10)
+    assert p == 0.8
+    assert abs(lo - 0.49016) < 1e-4 and abs(hi - 0.94333) < 1e-4
+    p, lo, hi = wilson(0, 5)
+    assert p == 0.0 and lo == 0.0 and abs(hi - 0.43448) < 1e-4
+
+
+def test_mean_ci_uses_student_t():
+    mean, half, n = mean_ci([1.0, 2.0, 3.0, None, float("nan")])
+    assert n == 3 and mean == 2.0
+    assert abs(half - 4.303 * 1.0 / math.sqrt(3)) < 1e-12
+    assert math.isnan(mean_ci([5.0])[1])
+
+
+def test_summary_rows():
+    recs = [
+        {"planner": "a", "success": True, "path_length": 2.0},
+        {"planner": "a", "success": False, "path_length": 4.0},
+        {"planner": "b", "success": True, "path_length": 1.0},
+    ]
+    rows = summarise(recs)
+    assert [r["planner"] for r in rows] == ["a", "b"]
+    assert rows[0]["success"] == 0.5 and rows[0]["path_length"] == 3.0
+    assert rows[1]["episodes"] == 1
+
+
+def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
+    runs = {}
+    for workers in (1, 2):
+        out = tmp_path / f"w{workers}"
+        cfg = EvalConfig(scenario="museum", planners=["astar"], episodes=3, seed=5, out=out, workers=workers)
+        run_eval(cfg, progress=False)
+        with (out / "episodes.csv").open() as fh:
+            runs[workers] = list(csv.DictReader(fh))
+        table = pq.read_table(out / "episodes.parquet")
+        assert table.num_rows == 3
+        assert (out / "summary.md").read_text().startswith("| planner |")
+        assert (out / "metrics.png").exists() and (out / "trajectories_astar.png").exists()
+    assert runs[1] == runs[2]
+    assert [r["seed"] for r in runs[1]] == ["5", "6", "7"]
+
+
+def test_cli_errors_exit_non_zero(tmp_path, capsys):
+    assert main(["eval", "--planner", "teleport", "--episodes", "1", "--out", str(tmp_path)]) == 2
+    assert "unknown planner 'teleport'" in capsys.readouterr().err
+    assert main(["eval", "--scenario", "atlantis", "--episodes", "1", "--out", str(tmp_path)]) == 2
+    blocked = tmp_path / "file"
+    blocked.write_text("not a folder")
+    assert main(["eval", "--episodes", "1", "--out", str(blocked / "sub")]) == 2
+    assert "cannot be written" in capsys.readouterr().err
+
+
+def test_ray_backend_without_ray_is_a_clear_error(tmp_path, monkeypatch):
+    import builtins
+
+    real_import = builtins.__import__
+
+    def no_ray(name, *args, **kwargs):
+        if name == "ray":
+            raise ImportError("no ray")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_ray)
+    cfg = EvalConfig(scenario="museum", planners=["astar"], episodes=1, out=tmp_path, backend="ray")
+    with pytest.raises(Exception, match="needs the ray package"):
+        run_eval(cfg, progress=False)
