@@ -1,39 +1,159 @@
-//! Scripted pedestrians.
+//! Scripted pedestrians driven by a social force model.
 //!
-//! The crowd is kept as a structure of arrays. Each control step every person advances by `dt`:
-//! - a **walker** walks its closed route at its preferred speed, pausing `dwell` seconds at each
-//!   waypoint; its facing turns toward the direction of motion at a bounded rate, so the body
-//!   orientation is always visible and never snaps;
-//! - a **standing** person stays at its pose.
+//! Every walker follows its closed route of waypoints, pausing `dwell` seconds at each; its
+//! motion comes from the social force model, integrated with a fixed small time step
+//! ([`SocialForceParams::dt`], 0.05 s) in a Jacobi (snapshot) update so that the result does not
+//! depend on the order of the people:
+//! - **driving force** toward the current waypoint, `(v0 e - v) / tau` (Helbing & Molnar 1995);
+//! - **interaction with other people** (and with the robots, for *aware* people) after
+//!   Moussaid et al. 2009: an exponential repulsion along the interaction direction
+//!   `t = D / |D|`, `D = lambda (v_i - v_j) + e_ij`, and a lateral term that makes people pass
+//!   each other; at exact symmetry the lateral term takes the project's passing convention
+//!   (pass on the right, [`PASS_ON_RIGHT`]);
+//! - **walls and furniture**: `F_o exp(-d / sigma_o)` along the gradient of the static
+//!   distance field, with `d` the gap between the body and the nearest obstacle (pedsim's
+//!   parameters), plus a hard constraint checked on the exact geometry: a step that would bring
+//!   a person's centre closer than half its radius to it is cancelled;
+//! - **walking groups** (people with the same group id): gaze, coherence and repulsion terms
+//!   of Moussaid et al. 2010.
 //!
-//! People who are *aware* (the default) see the robots: a walker whose next position would bring
-//! its body within [`YIELD_GAP`] of a robot's body waits in place for that step instead. People are
-//! updated from a snapshot of the previous state (Jacobi order), so the result does not depend on
-//! the order of the people, and every random draw (initial route phase, speed jitter) comes from
-//! the episode's seeded generator.
+//! Standing people stay where they are (other people and the robot go around them). Aware
+//! people additionally never step to within [`YIELD_GAP`] of a robot's body: such a step is
+//! cancelled and they wait.
+//!
+//! Every random draw (initial route phase, speed jitter) comes from the episode's seeded
+//! generator; the force sums run over neighbours in index order, so runs are bit-identical.
 
 use rand::Rng;
 
+use crate::map::geometry::StaticGeometry;
+use crate::map::grid::DistanceField;
 use crate::math::{Vec2, wrap_angle};
 use crate::scenario::{Behaviour, Person, Randomize};
 
-/// Surface gap (metres) below which an aware walker stops rather than step toward a robot.
+/// Surface gap (metres) below which an aware person does not step toward a robot.
 pub const YIELD_GAP: f64 = 0.1;
 
-/// Maximum rate at which a walker turns its body toward its walking direction (rad/s).
+/// Maximum rate at which people turn their body toward their walking direction (rad/s).
 pub const TURN_RATE: f64 = 4.0;
 
-/// The scripted crowd.
+/// The project's passing convention, shared by the pedestrians and the robot controllers:
+/// in a perfectly symmetric encounter, both pass on their right (right-hand traffic).
+pub const PASS_ON_RIGHT: bool = true;
+
+/// Parameters of the social force model (defaults from the sources named in the module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SocialForceParams {
+    /// Integration step (s); default 0.05. Control periods are split into whole steps.
+    pub dt: f64,
+    /// Relaxation time of the driving force (s); default 0.5 (Helbing & Molnar 1995).
+    pub tau: f64,
+    /// Interaction strength A (m/s^2); default 4.5 (Moussaid et al. 2009).
+    pub strength: f64,
+    /// Weight of the relative velocity in the interaction direction, lambda; default 2.0.
+    pub lambda: f64,
+    /// Range factor gamma of the interaction (B = gamma |D|); default 0.35.
+    pub gamma: f64,
+    /// Angular width n of the lateral term; default 2.0.
+    pub n: f64,
+    /// Angular width n' of the deceleration term; default 3.0.
+    pub n_prime: f64,
+    /// Neighbours farther than this are ignored (m); default 4.0 (their force is below 1e-4).
+    pub cutoff: f64,
+    /// Wall force magnitude F_o (m/s^2); default 10 (pedsim_ros).
+    pub wall_strength: f64,
+    /// Wall force range sigma_o (m); default 0.2 (pedsim_ros).
+    pub wall_range: f64,
+    /// Group gaze weight beta_1; default 4.0 (Moussaid et al. 2010 as in PySocialForce).
+    pub group_gaze: f64,
+    /// Group coherence weight beta_2; default 3.0.
+    pub group_coherence: f64,
+    /// Group repulsion weight beta_3; default 1.0.
+    pub group_repulsion: f64,
+    /// Group repulsion distance d0 (m); default 0.55.
+    pub group_d0: f64,
+    /// A waypoint counts as reached within this distance (m); default 0.3.
+    pub arrival: f64,
+    /// Maximum speed as a multiple of the preferred speed; default 1.3 (Helbing & Molnar 1995).
+    pub max_speed_factor: f64,
+}
+
+impl Default for SocialForceParams {
+    fn default() -> Self {
+        SocialForceParams {
+            dt: 0.05,
+            tau: 0.5,
+            strength: 4.5,
+            lambda: 2.0,
+            gamma: 0.35,
+            n: 2.0,
+            n_prime: 3.0,
+            cutoff: 4.0,
+            wall_strength: 10.0,
+            wall_range: 0.2,
+            group_gaze: 4.0,
+            group_coherence: 3.0,
+            group_repulsion: 1.0,
+            group_d0: 0.55,
+            arrival: 0.3,
+            max_speed_factor: 1.3,
+        }
+    }
+}
+
+/// Interaction force on a pedestrian at `pi` with velocity `vi` from an agent at `pj` with
+/// velocity `vj` (Moussaid, Helbing, Garnier, Johansson, Combe & Theraulaz 2009, Proc. R. Soc. B
+/// 276). Centre-to-centre distances; m/s^2.
+pub fn interaction_force(pi: Vec2, vi: Vec2, pj: Vec2, vj: Vec2, p: &SocialForceParams) -> Vec2 {
+    let diff = pj - pi;
+    let d2 = diff.norm_squared();
+    if d2 < 1e-18 || d2 > p.cutoff * p.cutoff {
+        return Vec2::zeros();
+    }
+    let d = d2.sqrt();
+    let e = diff / d;
+    let big_d = (vi - vj) * p.lambda + e;
+    let dn = big_d.norm();
+    if dn < 1e-12 {
+        return Vec2::zeros();
+    }
+    let t = big_d / dn;
+    let n = Vec2::new(-t.y, t.x);
+    let theta = (t.x * e.y - t.y * e.x).atan2(t.dot(&e));
+    let b = p.gamma * dn;
+    // sign(theta), with exact symmetry resolved by the passing convention: K = +1 pushes i to
+    // its right (-n), so both agents of a head-on encounter pass on the right.
+    let k = if theta > 0.0 {
+        1.0
+    } else if theta < 0.0 {
+        -1.0
+    } else if PASS_ON_RIGHT {
+        1.0
+    } else {
+        -1.0
+    };
+    let magnitude = p.strength * (-d / b).exp();
+    if magnitude < 1e-6 {
+        return Vec2::zeros();
+    }
+    let decel = (-(p.n_prime * b * theta).powi(2)).exp();
+    let lateral = (-(p.n * b * theta).powi(2)).exp();
+    -(t * decel + n * (k * lateral)) * magnitude
+}
+
+/// The scripted crowd, as a structure of arrays.
 #[derive(Clone, Debug, Default)]
 pub struct Crowd {
     /// Positions (metres).
     pub pos: Vec<Vec2>,
-    /// Velocities over the last step (m/s).
+    /// Velocities (m/s).
     pub vel: Vec<Vec2>,
     /// Body orientation (radians).
     pub heading: Vec<f64>,
     /// Body radius (metres).
     pub radius: Vec<f64>,
+    /// Ground-truth group ids.
+    pub group: Vec<Option<u32>>,
     speed: Vec<f64>,
     target: Vec<usize>,
     dwell_left: Vec<f64>,
@@ -41,6 +161,81 @@ pub struct Crowd {
     dwell: Vec<f64>,
     walker: Vec<bool>,
     aware: Vec<bool>,
+    params: SocialForceParams,
+    scratch: Vec<Vec2>,
+    /// Members of each walking group (index lists), and each person's group slot.
+    groups: Vec<Vec<usize>>,
+    group_slot: Vec<Option<usize>>,
+    /// Neighbour bins (rebuilt every substep for large crowds).
+    bins: NeighbourBins,
+}
+
+/// Uniform grid of people for the neighbour search (cell = cutoff); used above
+/// [`BRUTE_FORCE_MAX`] people.
+#[derive(Clone, Debug, Default)]
+struct NeighbourBins {
+    origin: Vec2,
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    start: Vec<usize>,
+    items: Vec<usize>,
+}
+
+/// Up to this many people, every pair is visited (cheaper than binning).
+const BRUTE_FORCE_MAX: usize = 64;
+
+impl NeighbourBins {
+    fn rebuild(&mut self, pos: &[Vec2], cell: f64) {
+        let (mut lo, mut hi) =
+            (Vec2::new(f64::INFINITY, f64::INFINITY), Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
+        for p in pos {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        self.origin = lo;
+        self.cell = cell;
+        self.nx = (((hi.x - lo.x) / cell).floor() as usize + 1).min(4096);
+        self.ny = (((hi.y - lo.y) / cell).floor() as usize + 1).min(4096);
+        let cells = self.nx * self.ny;
+        self.start.clear();
+        self.start.resize(cells + 1, 0);
+        for p in pos {
+            let k = self.key(*p);
+            self.start[k + 1] += 1;
+        }
+        for c in 0..cells {
+            self.start[c + 1] += self.start[c];
+        }
+        let mut fill = self.start.clone();
+        self.items.clear();
+        self.items.resize(pos.len(), 0);
+        for (i, p) in pos.iter().enumerate() {
+            let k = self.key(*p);
+            self.items[fill[k]] = i;
+            fill[k] += 1;
+        }
+    }
+
+    fn key(&self, p: Vec2) -> usize {
+        let x = (((p.x - self.origin.x) / self.cell).floor().max(0.0) as usize).min(self.nx - 1);
+        let y = (((p.y - self.origin.y) / self.cell).floor().max(0.0) as usize).min(self.ny - 1);
+        y * self.nx + x
+    }
+
+    /// Calls `f(j)` for every person in the 3x3 cells around `p`, in increasing cell order.
+    fn for_near(&self, p: Vec2, mut f: impl FnMut(usize)) {
+        let cx = (((p.x - self.origin.x) / self.cell).floor().max(0.0) as usize).min(self.nx - 1);
+        let cy = (((p.y - self.origin.y) / self.cell).floor().max(0.0) as usize).min(self.ny - 1);
+        for y in cy.saturating_sub(1)..=(cy + 1).min(self.ny - 1) {
+            for x in cx.saturating_sub(1)..=(cx + 1).min(self.nx - 1) {
+                let c = y * self.nx + x;
+                for &j in &self.items[self.start[c]..self.start[c + 1]] {
+                    f(j);
+                }
+            }
+        }
+    }
 }
 
 impl Crowd {
@@ -54,9 +249,19 @@ impl Crowd {
         self.pos.is_empty()
     }
 
+    /// The social force parameters.
+    pub fn params(&self) -> &SocialForceParams {
+        &self.params
+    }
+
     /// Builds the crowd for a new episode, drawing the randomised parts from `rng`.
-    pub fn spawn<R: Rng>(persons: &[Person], randomize: &Randomize, rng: &mut R) -> Self {
-        let mut c = Crowd::default();
+    pub fn spawn<R: Rng>(
+        persons: &[Person],
+        randomize: &Randomize,
+        params: SocialForceParams,
+        rng: &mut R,
+    ) -> Self {
+        let mut c = Crowd { params, ..Crowd::default() };
         for p in persons {
             let route: Vec<Vec2> = p.route.iter().map(|w| Vec2::new(w[0], w[1])).collect();
             let walker = p.behaviour == Behaviour::Walker;
@@ -81,6 +286,7 @@ impl Crowd {
             c.vel.push(Vec2::zeros());
             c.heading.push(heading);
             c.radius.push(p.radius);
+            c.group.push(p.group);
             c.speed.push(speed);
             c.target.push(target);
             c.dwell_left.push(0.0);
@@ -89,79 +295,197 @@ impl Crowd {
             c.walker.push(walker);
             c.aware.push(p.aware);
         }
+        let mut ids: Vec<u32> = c.group.iter().flatten().copied().collect();
+        ids.sort_unstable();
+        ids.dedup();
+        c.group_slot = vec![None; c.len()];
+        for id in ids {
+            let members: Vec<usize> =
+                (0..c.len()).filter(|&k| c.group[k] == Some(id) && c.walker[k]).collect();
+            if members.len() >= 2 {
+                for &k in &members {
+                    c.group_slot[k] = Some(c.groups.len());
+                }
+                c.groups.push(members);
+            }
+        }
         c
     }
 
-    /// Advances every person by `dt` seconds. `robots` are the robots' (centre, radius) discs,
-    /// which aware people yield to.
-    pub fn step(&mut self, dt: f64, robots: &[(Vec2, f64)]) {
-        for i in 0..self.len() {
+    /// Advances every person by `dt` seconds (in whole steps of `params.dt`, the last one
+    /// shortened). `robots` holds each robot's (centre, radius, velocity); aware people react to
+    /// them. `geometry` is the static world.
+    pub fn step(
+        &mut self,
+        dt: f64,
+        robots: &[(Vec2, f64, Vec2)],
+        geometry: &StaticGeometry,
+        field: &DistanceField,
+    ) {
+        let mut left = dt;
+        while left > 1e-12 {
+            let h = left.min(self.params.dt);
+            self.substep(h, robots, geometry, field);
+            left -= h;
+        }
+    }
+
+    fn substep(
+        &mut self,
+        h: f64,
+        robots: &[(Vec2, f64, Vec2)],
+        geometry: &StaticGeometry,
+        field: &DistanceField,
+    ) {
+        let n = self.len();
+        let p = self.params;
+        // 1. Waypoints and dwelling (state machine), from the snapshot.
+        for i in 0..n {
+            if !self.walker[i] {
+                continue;
+            }
+            if self.dwell_left[i] > 0.0 {
+                self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
+            } else if (self.routes[i][self.target[i]] - self.pos[i]).norm() <= p.arrival {
+                self.target[i] = (self.target[i] + 1) % self.routes[i].len();
+                self.dwell_left[i] = self.dwell[i];
+            }
+        }
+        // 2. Forces from the snapshot (Jacobi).
+        self.scratch.clear();
+        self.scratch.resize(n, Vec2::zeros());
+        let binned = n > BRUTE_FORCE_MAX;
+        if binned {
+            self.bins.rebuild(&self.pos, p.cutoff);
+        }
+        for i in 0..n {
+            if !self.walker[i] {
+                continue;
+            }
+            let (pi, vi) = (self.pos[i], self.vel[i]);
+            let desired = if self.dwell_left[i] > 0.0 {
+                Vec2::zeros()
+            } else {
+                let to = self.routes[i][self.target[i]] - pi;
+                let d = to.norm();
+                if d > 1e-9 { to * (self.speed[i] / d) } else { Vec2::zeros() }
+            };
+            let mut f = (desired - vi) / p.tau;
+            if binned {
+                let mut acc = Vec2::zeros();
+                self.bins.for_near(pi, |j| {
+                    if j != i {
+                        acc += interaction_force(pi, vi, self.pos[j], self.vel[j], &p);
+                    }
+                });
+                f += acc;
+            } else {
+                for j in 0..n {
+                    if j != i {
+                        f += interaction_force(pi, vi, self.pos[j], self.vel[j], &p);
+                    }
+                }
+            }
+            if self.aware[i] {
+                for &(c, _, v) in robots {
+                    f += interaction_force(pi, vi, c, v, &p);
+                }
+            }
+            let gap = field.at(pi) - self.radius[i];
+            if gap < 1.0 {
+                let g = field.gradient(pi);
+                let gn = g.norm();
+                if gn > 1e-9 {
+                    f += g * (p.wall_strength * (-gap.max(0.0) / p.wall_range).exp() / gn);
+                }
+            }
+            if let Some(slot) = self.group_slot[i] {
+                f += self.group_force(i, slot);
+            }
+            self.scratch[i] = f;
+        }
+        // 3. Integrate (semi-implicit Euler), with the hard constraints.
+        for i in 0..n {
             if !self.walker[i] {
                 self.vel[i] = Vec2::zeros();
                 continue;
             }
-            let start = self.pos[i];
-            let saved = (self.target[i], self.dwell_left[i]);
-            let mut pos = start;
-            let mut budget = dt;
-            let mut moving_dir = None;
-            // Walk (possibly past several close waypoints) until the step's time is used up.
-            for _ in 0..8 {
-                if budget <= 0.0 {
-                    break;
-                }
-                if self.dwell_left[i] > 0.0 {
-                    let used = self.dwell_left[i].min(budget);
-                    self.dwell_left[i] -= used;
-                    budget -= used;
-                    continue;
-                }
-                let route = &self.routes[i];
-                let goal = route[self.target[i]];
-                let to_goal = goal - pos;
-                let dist = to_goal.norm();
-                let reach = self.speed[i] * budget;
-                if dist <= reach {
-                    pos = goal;
-                    budget -= dist / self.speed[i];
-                    self.target[i] = (self.target[i] + 1) % route.len();
-                    self.dwell_left[i] = self.dwell[i];
-                    if dist > 0.0 {
-                        moving_dir = Some(to_goal / dist);
-                    }
-                } else {
-                    pos += to_goal * (reach / dist);
-                    moving_dir = Some(to_goal / dist);
-                    budget = 0.0;
-                }
+            let vmax = self.speed[i] * p.max_speed_factor;
+            let mut v = self.vel[i] + self.scratch[i] * h;
+            let s = v.norm();
+            if s > vmax {
+                v *= vmax / s;
             }
-            if self.aware[i]
-                && blocked_by_robot(pos, self.radius[i], robots)
-                && !blocked_by_robot(start, self.radius[i], robots)
-            {
-                // Yield: stay put this step, as if the step had not been taken.
+            if self.dwell_left[i] > 0.0 && v.norm() < 0.05 {
+                v = Vec2::zeros();
+            }
+            let next = self.pos[i] + v * h;
+            let r = self.radius[i];
+            // The distance field is within half a cell diagonal of the exact distance: only
+            // points it places near obstacles need the exact test.
+            let near_static = field.at(next) < r + field.spec.resolution;
+            let blocked_static =
+                near_static && (geometry.contains(next) || geometry.distance(next) < 0.5 * r);
+            let near_robot = |q: Vec2| robots.iter().any(|&(c, rr, _)| (q - c).norm() - r - rr < YIELD_GAP);
+            let blocked_robot = self.aware[i] && near_robot(next) && !near_robot(self.pos[i]);
+            if blocked_static || blocked_robot {
                 self.vel[i] = Vec2::zeros();
-                (self.target[i], self.dwell_left[i]) = saved;
-                continue;
+            } else {
+                self.vel[i] = v;
+                self.pos[i] = next;
             }
-            self.vel[i] = (pos - start) / dt;
-            self.pos[i] = pos;
-            let desired = match moving_dir {
-                Some(d) => d.y.atan2(d.x),
-                None => {
-                    // Dwelling: face the direction of the next leg.
-                    let d = self.routes[i][self.target[i]] - pos;
-                    if d.norm() > 1e-9 { d.y.atan2(d.x) } else { self.heading[i] }
-                }
+            // Facing: the walking direction, or while dwelling the next leg's direction.
+            let facing = if self.vel[i].norm() > 0.1 {
+                Some(self.vel[i].y.atan2(self.vel[i].x))
+            } else if self.dwell_left[i] > 0.0 {
+                let d = self.routes[i][self.target[i]] - self.pos[i];
+                (d.norm() > 1e-6).then(|| d.y.atan2(d.x))
+            } else {
+                None
             };
-            let turn = wrap_angle(desired - self.heading[i]).clamp(-TURN_RATE * dt, TURN_RATE * dt);
-            self.heading[i] = wrap_angle(self.heading[i] + turn);
+            if let Some(want) = facing {
+                let turn = wrap_angle(want - self.heading[i]).clamp(-TURN_RATE * h, TURN_RATE * h);
+                self.heading[i] = wrap_angle(self.heading[i] + turn);
+            }
         }
     }
-}
 
-fn blocked_by_robot(p: Vec2, r: f64, robots: &[(Vec2, f64)]) -> bool {
-    robots.iter().any(|(c, rr)| (p - c).norm() - r - rr < YIELD_GAP)
+    /// Moussaid et al. 2010 group terms for person `i` of the walking group in `slot`.
+    fn group_force(&self, i: usize, slot: usize) -> Vec2 {
+        let p = &self.params;
+        let members = &self.groups[slot];
+        let pi = self.pos[i];
+        let mut f = Vec2::zeros();
+        let others = members.iter().filter(|&&k| k != i).map(|&k| self.pos[k]);
+        let c_others = others.clone().fold(Vec2::zeros(), |a, b| a + b) / (members.len() - 1) as f64;
+        let walk = self.vel[i];
+        if walk.norm() > 1e-6 {
+            // Gaze: turn the walking direction toward the others (phi_v = 90 degrees).
+            let to = c_others - pi;
+            if to.norm() > 1e-9 {
+                let alpha = wrap_angle(to.y.atan2(to.x) - walk.y.atan2(walk.x)).abs();
+                let phi_v = std::f64::consts::FRAC_PI_2;
+                if alpha > phi_v {
+                    f -= walk.normalize() * (p.group_gaze * (alpha - phi_v));
+                }
+            }
+        }
+        // Coherence: toward the centre of all members beyond (|G| - 1) / 2 metres.
+        let c_all = members.iter().fold(Vec2::zeros(), |a, &k| a + self.pos[k]) / members.len() as f64;
+        let to = c_all - pi;
+        if to.norm() > (members.len() as f64 - 1.0) / 2.0 {
+            f += to.normalize() * p.group_coherence;
+        }
+        // Repulsion between members closer than d0.
+        for q in others {
+            let away = pi - q;
+            let d = away.norm();
+            if d < p.group_d0 && d > 1e-9 {
+                f += away / d * p.group_repulsion;
+            }
+        }
+        f
+    }
 }
 
 /// The point at `frac` (in [0, 1)) of a closed route's length, and the index of the waypoint
@@ -184,6 +508,8 @@ fn point_at_fraction(route: &[Vec2], frac: f64) -> (Vec2, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::map::geometry::Bounds;
+    use crate::map::grid::{GridSpec, OccupancyGrid};
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
@@ -206,83 +532,207 @@ mod tests {
         Randomize { person_phase: false, speed_jitter: 0.0, robot_start_jitter: 0.0 }
     }
 
-    #[test]
-    fn walker_moves_at_its_speed_and_turns_corners() {
-        let p = walker(&[[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]], 1.0, 0.0);
-        let mut rng = ChaCha8Rng::seed_from_u64(0);
-        let mut c = Crowd::spawn(&[p], &fixed(), &mut rng);
-        c.step(0.5, &[]);
-        assert!((c.pos[0] - Vec2::new(0.5, 0.0)).norm() < 1e-12);
-        assert!((c.vel[0] - Vec2::new(1.0, 0.0)).norm() < 1e-12);
-        for _ in 0..4 {
-            c.step(0.5, &[]);
+    fn room() -> StaticGeometry {
+        // 20 x 10 m room with 0.2 m walls.
+        let b = Bounds { min: Vec2::new(-1.0, -1.0), max: Vec2::new(21.0, 11.0) };
+        let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
+            vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)]
+        };
+        StaticGeometry::new(
+            vec![
+                rect(-0.2, -0.2, 20.2, 0.0),
+                rect(-0.2, 10.0, 20.2, 10.2),
+                rect(-0.2, 0.0, 0.0, 10.0),
+                rect(20.0, 0.0, 20.2, 10.0),
+            ],
+            b,
+        )
+        .expect("valid room")
+    }
+
+    struct Room {
+        geom: StaticGeometry,
+        field: DistanceField,
+    }
+
+    impl Room {
+        fn step(&self, c: &mut Crowd, dt: f64, robots: &[(Vec2, f64, Vec2)]) {
+            c.step(dt, robots, &self.geom, &self.field);
         }
-        // 2.5 m walked: 2 m along x, then 0.5 m up
-        assert!((c.pos[0] - Vec2::new(2.0, 0.5)).norm() < 1e-12, "{:?}", c.pos[0]);
+    }
+
+    fn room_with_field() -> Room {
+        let geom = room();
+        let spec = GridSpec::covering(geom.bounds(), 0.1).expect("valid grid");
+        let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geom, spec));
+        Room { geom, field }
+    }
+
+    fn spawn(persons: &[Person]) -> Crowd {
+        Crowd::spawn(persons, &fixed(), SocialForceParams::default(), &mut ChaCha8Rng::seed_from_u64(0))
     }
 
     #[test]
-    fn walker_dwells_at_waypoints() {
-        let p = walker(&[[0.0, 0.0], [1.0, 0.0]], 1.0, 2.0);
-        let mut rng = ChaCha8Rng::seed_from_u64(0);
-        let mut c = Crowd::spawn(&[p], &fixed(), &mut rng);
-        c.step(1.0, &[]); // arrives at (1, 0)
-        c.step(1.0, &[]); // dwelling
-        assert!((c.pos[0] - Vec2::new(1.0, 0.0)).norm() < 1e-12);
-        assert_eq!(c.vel[0], Vec2::zeros());
-        c.step(1.5, &[]); // 1 s more dwell, then 0.5 m back
-        assert!((c.pos[0] - Vec2::new(0.5, 0.0)).norm() < 1e-12, "{:?}", c.pos[0]);
+    fn moussaid_known_answers() {
+        // algorithms.md §4.4 (A = 4.5)
+        let p = SocialForceParams { cutoff: 10.0, ..SocialForceParams::default() };
+        let f = interaction_force(
+            Vec2::zeros(),
+            Vec2::new(1.3, 0.0),
+            Vec2::new(2.0, 0.0),
+            Vec2::new(-1.3, 0.0),
+            &p,
+        );
+        assert!((f.x + 1.7904).abs() < 1e-4, "{f:?}");
+        // exact symmetry: the passing convention adds a push to the right (negative y)
+        assert!(f.y < 0.0);
+        let f = interaction_force(
+            Vec2::zeros(),
+            Vec2::new(1.3, 0.0),
+            Vec2::new(2.0, 0.3),
+            Vec2::new(-1.3, 0.0),
+            &p,
+        );
+        assert!((f.x + 0.8832).abs() < 1e-4 && (f.y + 1.3415).abs() < 1e-4, "{f:?}");
+        let f = interaction_force(Vec2::zeros(), Vec2::new(1.3, 0.0), Vec2::new(1.0, 0.0), Vec2::zeros(), &p);
+        assert!((f.x + 2.0349).abs() < 1e-4, "{f:?}");
     }
 
     #[test]
-    fn heading_turns_at_bounded_rate() {
-        let p = walker(&[[0.0, 0.0], [1.0, 0.0], [1.0, 5.0]], 1.0, 0.0);
-        let mut rng = ChaCha8Rng::seed_from_u64(0);
-        let mut c = Crowd::spawn(&[p], &fixed(), &mut rng);
-        c.step(1.0, &[]);
-        let before = c.heading[0];
-        c.step(0.1, &[]);
-        assert!((wrap_angle(c.heading[0] - before)).abs() <= TURN_RATE * 0.1 + 1e-12);
+    fn lone_walker_relaxes_to_its_speed() {
+        let room = room_with_field();
+        let mut c = spawn(&[walker(&[[2.0, 5.0], [18.0, 5.0]], 1.2, 0.0)]);
+        room.step(&mut c, 0.5, &[]);
+        let v = c.vel[0].norm();
+        // v(t) = v0 (1 - exp(-t / tau)) up to the Euler discretisation
+        let want = 1.2 * (1.0 - (-1.0f64).exp());
+        assert!((v - want).abs() < 0.05, "{v} vs {want}");
+        room.step(&mut c, 3.0, &[]);
+        assert!((c.vel[0].norm() - 1.2).abs() < 0.01);
+        assert!((c.heading[0]).abs() < 1e-6);
     }
 
     #[test]
-    fn aware_walker_yields_to_a_robot_and_oblivious_does_not() {
-        let mut p = walker(&[[0.0, 0.0], [4.0, 0.0]], 1.0, 0.0);
-        let robot = [(Vec2::new(1.0, 0.0), 0.24)];
-        let mut rng = ChaCha8Rng::seed_from_u64(0);
-        let mut c = Crowd::spawn(std::slice::from_ref(&p), &fixed(), &mut rng);
-        for _ in 0..20 {
-            c.step(0.1, &robot);
+    fn walkers_follow_their_routes_and_dwell() {
+        let room = room_with_field();
+        let mut c = spawn(&[walker(&[[2.0, 2.0], [8.0, 2.0], [8.0, 8.0]], 1.0, 3.0)]);
+        let mut reached_second = false;
+        let mut dwelt = 0;
+        for _ in 0..400 {
+            room.step(&mut c, 0.1, &[]);
+            if (c.pos[0] - Vec2::new(8.0, 2.0)).norm() < 0.35 {
+                reached_second = true;
+                if c.vel[0].norm() < 1e-9 {
+                    dwelt += 1;
+                }
+            }
         }
-        let gap = (c.pos[0] - robot[0].0).norm() - 0.2 - 0.24;
-        assert!(gap >= YIELD_GAP - 1e-9, "gap {gap}");
+        assert!(reached_second);
+        assert!(dwelt >= 20, "dwelt {dwelt} steps");
+    }
+
+    #[test]
+    fn nobody_enters_the_walls_in_a_crowded_long_run() {
+        let room = room_with_field();
+        let mut persons = Vec::new();
+        for k in 0..30 {
+            let y = 0.5 + (k % 10) as f64 * 0.9;
+            let (a, b) = if k % 2 == 0 { ([1.0, y], [19.0, 9.5 - y]) } else { ([19.0, y], [1.0, 9.5 - y]) };
+            persons.push(walker(&[a, b], 1.0 + 0.01 * k as f64, 0.0));
+        }
+        let mut c = Crowd::spawn(
+            &persons,
+            &Randomize::default(),
+            SocialForceParams::default(),
+            &mut ChaCha8Rng::seed_from_u64(3),
+        );
+        for _ in 0..1200 {
+            room.step(&mut c, 0.1, &[]);
+            for (i, q) in c.pos.iter().enumerate() {
+                assert!(!room.geom.contains(*q), "person {i} inside the walls at {q:?}");
+                assert!(room.geom.distance(*q) >= 0.5 * c.radius[i] - 1e-9);
+            }
+        }
+    }
+
+    #[test]
+    fn head_on_walkers_pass_on_their_right() {
+        let room = room_with_field();
+        let mut c = spawn(&[
+            walker(&[[2.0, 5.0], [18.0, 5.0]], 1.2, 0.0),
+            walker(&[[18.0, 5.0], [2.0, 5.0]], 1.2, 0.0),
+        ]);
+        let mut min_d = f64::INFINITY;
+        for _ in 0..80 {
+            room.step(&mut c, 0.1, &[]);
+            min_d = min_d.min((c.pos[0] - c.pos[1]).norm());
+        }
+        assert!(min_d > 0.4, "they collided: {min_d}");
+        // walker 0 heads +x: its right is -y; walker 1 heads -x: its right is +y.
+        assert!(c.pos[0].y < 5.0 && c.pos[1].y > 5.0, "{:?}", c.pos);
+    }
+
+    #[test]
+    fn aware_walker_goes_around_a_standing_robot_and_oblivious_does_not_avoid_it() {
+        let room = room_with_field();
+        let robot = [(Vec2::new(8.0, 5.0), 0.24, Vec2::zeros())];
+        let mut p = walker(&[[2.0, 5.0], [16.0, 5.0]], 1.0, 0.0);
+        let mut c = spawn(std::slice::from_ref(&p));
+        let mut min_gap = f64::INFINITY;
+        for _ in 0..200 {
+            room.step(&mut c, 0.1, &robot);
+            min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
+        }
+        assert!(min_gap >= YIELD_GAP - 1e-9, "gap {min_gap}");
+        assert!(c.pos[0].x > 10.0, "stuck behind the robot at {:?}", c.pos[0]);
         p.aware = false;
-        let mut c = Crowd::spawn(&[p], &fixed(), &mut rng);
-        for _ in 0..20 {
-            c.step(0.1, &robot);
+        let mut c = spawn(&[p]);
+        let mut min_gap = f64::INFINITY;
+        for _ in 0..200 {
+            room.step(&mut c, 0.1, &robot);
+            min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
         }
-        assert!(c.pos[0].x > 1.5);
+        assert!(min_gap < 0.0);
     }
 
     #[test]
-    fn random_phase_is_on_the_route_and_seeded() {
-        let p = walker(&[[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]], 1.0, 0.0);
-        let r = Randomize::default();
-        let a = Crowd::spawn(std::slice::from_ref(&p), &r, &mut ChaCha8Rng::seed_from_u64(7));
-        let b = Crowd::spawn(std::slice::from_ref(&p), &r, &mut ChaCha8Rng::seed_from_u64(7));
-        let c = Crowd::spawn(std::slice::from_ref(&p), &r, &mut ChaCha8Rng::seed_from_u64(8));
-        assert_eq!(a.pos, b.pos);
-        assert_ne!(a.pos, c.pos);
-        // on one of the three segments
-        let q = a.pos[0];
-        let on = (q.y.abs() < 1e-9 && (0.0..=4.0).contains(&q.x))
-            || ((q.x - 4.0).abs() < 1e-9 && (0.0..=3.0).contains(&q.y))
-            || ((q.y - 0.75 * q.x).abs() < 1e-9);
-        assert!(on, "{q:?}");
+    fn walking_group_stays_together() {
+        let room = room_with_field();
+        let mut a = walker(&[[2.0, 4.5], [18.0, 4.5]], 1.0, 0.0);
+        let mut b = walker(&[[2.0, 5.5], [18.0, 5.5]], 1.2, 0.0);
+        a.group = Some(1);
+        b.group = Some(1);
+        let mut c = spawn(&[a, b]);
+        for _ in 0..100 {
+            room.step(&mut c, 0.1, &[]);
+            assert!((c.pos[0] - c.pos[1]).norm() < 2.0);
+        }
+    }
+
+    #[test]
+    fn same_seed_same_crowd_bit_for_bit() {
+        let room = room_with_field();
+        let persons: Vec<Person> =
+            (0..12).map(|k| walker(&[[1.0 + k as f64, 1.0], [18.0 - k as f64, 9.0]], 1.0, 1.0)).collect();
+        let run = |seed| {
+            let mut c = Crowd::spawn(
+                &persons,
+                &Randomize::default(),
+                SocialForceParams::default(),
+                &mut ChaCha8Rng::seed_from_u64(seed),
+            );
+            for _ in 0..300 {
+                room.step(&mut c, 0.1, &[]);
+            }
+            c.pos.iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect::<Vec<u64>>()
+        };
+        assert_eq!(run(4), run(4));
+        assert_ne!(run(4), run(5));
     }
 
     #[test]
     fn standing_person_stays() {
+        let room = room_with_field();
         let p = Person {
             name: "s".into(),
             behaviour: Behaviour::Standing,
@@ -295,9 +745,26 @@ mod tests {
             group: None,
             aware: true,
         };
-        let mut c = Crowd::spawn(&[p], &Randomize::default(), &mut ChaCha8Rng::seed_from_u64(0));
-        c.step(1.0, &[]);
+        let mut c = spawn(&[p]);
+        room.step(&mut c, 1.0, &[]);
         assert_eq!(c.pos[0], Vec2::new(3.0, 2.0));
         assert_eq!(c.heading[0], 1.0);
+    }
+
+    #[test]
+    fn random_phase_is_on_the_route_and_seeded() {
+        let p = walker(&[[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]], 1.0, 0.0);
+        let r = Randomize::default();
+        let sp = SocialForceParams::default();
+        let a = Crowd::spawn(std::slice::from_ref(&p), &r, sp, &mut ChaCha8Rng::seed_from_u64(7));
+        let b = Crowd::spawn(std::slice::from_ref(&p), &r, sp, &mut ChaCha8Rng::seed_from_u64(7));
+        let c = Crowd::spawn(std::slice::from_ref(&p), &r, sp, &mut ChaCha8Rng::seed_from_u64(8));
+        assert_eq!(a.pos, b.pos);
+        assert_ne!(a.pos, c.pos);
+        let q = a.pos[0];
+        let on = (q.y.abs() < 1e-9 && (0.0..=4.0).contains(&q.x))
+            || ((q.x - 4.0).abs() < 1e-9 && (0.0..=3.0).contains(&q.y))
+            || ((q.y - 0.75 * q.x).abs() < 1e-9);
+        assert!(on, "{q:?}");
     }
 }

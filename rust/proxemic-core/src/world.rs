@@ -22,7 +22,7 @@ use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar;
 use crate::math::{Vec2, wrap_angle};
 use crate::metrics::{EpisodeMetrics, MetricsAccumulator, Outcome, StepSample};
-use crate::pedestrians::Crowd;
+use crate::pedestrians::{Crowd, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
 use crate::scenario::{PlannerKind, Scenario};
@@ -138,6 +138,8 @@ struct InflatedGrid {
 pub struct World {
     scenario: Scenario,
     geometry: StaticGeometry,
+    /// Distance from every cell to the static geometry (for the people's wall forces).
+    field: DistanceField,
     grids: Vec<InflatedGrid>,
     statics: Vec<RobotStatic>,
     robots: Vec<RobotRuntime>,
@@ -252,6 +254,7 @@ impl World {
         let layout = Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays);
         let mut world = World {
             geometry,
+            field,
             grids,
             statics,
             robots: Vec::new(),
@@ -265,8 +268,12 @@ impl World {
             scratch_discs: Vec::new(),
             scenario,
         };
-        world.crowd =
-            Crowd::spawn(&world.scenario.persons, &world.scenario.episode.randomize, &mut world.rng);
+        world.crowd = Crowd::spawn(
+            &world.scenario.persons,
+            &world.scenario.episode.randomize,
+            SocialForceParams::default(),
+            &mut world.rng,
+        );
         Ok(world)
     }
 
@@ -367,7 +374,12 @@ impl World {
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
-        self.crowd = Crowd::spawn(&self.scenario.persons, &self.scenario.episode.randomize, &mut self.rng);
+        self.crowd = Crowd::spawn(
+            &self.scenario.persons,
+            &self.scenario.episode.randomize,
+            SocialForceParams::default(),
+            &mut self.rng,
+        );
         self.steps = 0;
         self.robots.clear();
         let jitter = self.scenario.episode.randomize.robot_start_jitter;
@@ -533,13 +545,13 @@ impl World {
             rb.wz = s[5];
         }
         // People move to the same instant as the robots.
-        self.scratch_discs.clear();
-        for (rb, st) in self.robots.iter().zip(&self.statics) {
-            self.scratch_discs.push((Vec2::new(rb.pose[0], rb.pose[1]), st.radius));
-        }
-        let discs = std::mem::take(&mut self.scratch_discs);
-        self.crowd.step(dt, &discs);
-        self.scratch_discs = discs;
+        let robots: Vec<(Vec2, f64, Vec2)> = self
+            .robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(rb, st)| (Vec2::new(rb.pose[0], rb.pose[1]), st.radius, rb.velocity))
+            .collect();
+        self.crowd.step(dt, &robots, &self.geometry, &self.field);
         self.steps += 1;
         let out_of_time = self.time() >= self.scenario.episode.max_time - 1e-9;
         let stride = self.layout.stride;

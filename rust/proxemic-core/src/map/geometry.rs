@@ -9,7 +9,7 @@
 
 use crate::error::{CoreError, Result};
 use crate::map::raycast::EdgeGrid;
-use crate::math::{Vec2, to_parry};
+use crate::math::{Vec2, from_parry, to_parry};
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
 use parry2d_f64::shape::Polyline;
 
@@ -269,6 +269,19 @@ impl StaticGeometry {
             None => f64::INFINITY,
             Some(edges) => edges.distance_to_local_point(to_parry(p), false),
         }
+    }
+
+    /// The nearest point of any polygon boundary to `p` and its distance (metres), or `None`
+    /// without polygons or for a non-finite `p`. Unlike [`Self::distance`] this does not test
+    /// containment: for a point inside a polygon it returns the nearest boundary point.
+    pub fn nearest_boundary(&self, p: Vec2) -> Option<(Vec2, f64)> {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return None;
+        }
+        let edges = self.edges.as_ref()?;
+        let proj = edges.project_local_point(to_parry(p), false);
+        let q = from_parry(proj.point);
+        Some((q, (q - p).norm()))
     }
 
     /// True if the closed segment `ab` (metres) touches any polygon (boundary or interior).

@@ -328,6 +328,25 @@ impl DistanceField {
             None => 0.0,
         }
     }
+
+    /// Gradient of the field at `p` (central differences over the neighbouring cells; unit-free,
+    /// about unit length away from obstacles), or zero where a neighbour is outside the grid or
+    /// infinitely far from any obstacle. Points away from the nearest obstacle.
+    pub fn gradient(&self, p: Vec2) -> Vec2 {
+        let Some((ix, iy)) = self.spec.cell_of(p) else {
+            return Vec2::zeros();
+        };
+        if ix == 0 || iy == 0 || ix + 1 >= self.spec.width || iy + 1 >= self.spec.height {
+            return Vec2::zeros();
+        }
+        let v = |x: usize, y: usize| self.metres[self.spec.index(x, y)];
+        let (l, r, d, u) = (v(ix - 1, iy), v(ix + 1, iy), v(ix, iy - 1), v(ix, iy + 1));
+        if !(l.is_finite() && r.is_finite() && d.is_finite() && u.is_finite()) {
+            return Vec2::zeros();
+        }
+        let h = 2.0 * self.spec.resolution;
+        Vec2::new((r - l) / h, (u - d) / h)
+    }
 }
 
 #[cfg(test)]
