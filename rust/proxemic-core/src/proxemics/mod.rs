@@ -24,7 +24,7 @@ pub use features::{
     EMOTIONAL_STATES, InfluenceValues, MAX_VARIANCE_SCALE, SideInfluences, adapt, emotional_state_value,
     influence_values, variance_scale,
 };
-pub use space::{Asymmetric, PersonalSpace};
+pub use space::{Asymmetric, PersonalSpace, Placed};
 
 use crate::error::{CoreError, Result};
 use crate::math::Vec2;

@@ -246,6 +246,77 @@ impl PersonalSpace {
     }
 }
 
+impl PersonalSpace {
+    /// The largest extent over all directions (metres) at which the value falls to `level`:
+    /// `sigma_max * sqrt(2 ln(1 / level))`, with `sigma_max` the largest parameter. Outside this
+    /// radius the value is below `level` everywhere, so a cost map can limit the cells it visits
+    /// to it. Errors: `level` not in (0, 1] or NaN.
+    pub fn max_extent(&self, level: f64) -> Result<f64> {
+        if !(level > 0.0 && level <= 1.0) {
+            return Err(CoreError::input("level", "a value in (0, 1]", format!("{level}")));
+        }
+        let sigma_max = match *self {
+            PersonalSpace::Symmetric { sigma } => sigma,
+            PersonalSpace::Kirby { sigma_h, sigma_r, sigma_s } => sigma_h.max(sigma_r).max(sigma_s),
+            PersonalSpace::Asymmetric(a) => a.front.max(a.rear).max(a.right).max(a.left),
+        };
+        Ok(sigma_max * (-2.0 * level.ln()).max(0.0).sqrt())
+    }
+
+    /// The function placed at one person's pose, with the trigonometry and the per-side
+    /// coefficients computed once: [`Placed::value`] equals [`PersonalSpace::value`] (to rounding)
+    /// and is several times cheaper, for filling many cells around one person.
+    pub fn at(&self, person: Pose) -> Placed {
+        let k = |sigma: f64| 1.0 / (2.0 * sigma * sigma);
+        let (front, rear, right, left) = match *self {
+            PersonalSpace::Symmetric { sigma } => (k(sigma), k(sigma), k(sigma), k(sigma)),
+            PersonalSpace::Kirby { sigma_h, sigma_r, sigma_s } => {
+                (k(sigma_h), k(sigma_r), k(sigma_s), k(sigma_s))
+            }
+            PersonalSpace::Asymmetric(a) => (k(a.front), k(a.rear), k(a.right), k(a.left)),
+        };
+        let (sin, cos) = person.theta.sin_cos();
+        Placed { x: person.x, y: person.y, cos, sin, front, rear, right, left }
+    }
+}
+
+/// A [`PersonalSpace`] placed at a person's pose (see [`PersonalSpace::at`]).
+///
+/// It evaluates Sousa 2022 eq. 5 with the quadrant of eq. 8 taken from the signs of the two axis
+/// distances instead of the angle of eq. 7: `alpha` in [0, pi) (eq. 8's front cases) is exactly
+/// the half plane `d_sag >= 0` and `alpha` in [-pi/2, pi/2) (its right cases) the half plane
+/// `d_fro >= 0`, up to the boundary lines, where the term whose sigma would differ is zero. Kirby's
+/// function is the case left = right; the symmetric one has all four equal. The tests check that
+/// the values agree with [`PersonalSpace::value`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placed {
+    x: f64,
+    y: f64,
+    cos: f64,
+    sin: f64,
+    /// 1 / (2 sigma^2) per side (1/m^2).
+    front: f64,
+    rear: f64,
+    right: f64,
+    left: f64,
+}
+
+impl Placed {
+    /// The value at `point` (metres, world frame), in [0, 1]; 0 where undefined (NaN inputs).
+    #[inline]
+    pub fn value(&self, point: Vec2) -> f64 {
+        let (dx, dy) = (point.x - self.x, point.y - self.y);
+        // Sousa 2022 eq. 5.
+        let d_sag = self.cos * dx + self.sin * dy;
+        let d_fro = self.sin * dx - self.cos * dy;
+        // Sousa 2022 eq. 8 by half planes (see the type's docs).
+        let ks = if d_sag >= 0.0 { self.front } else { self.rear };
+        let kf = if d_fro >= 0.0 { self.right } else { self.left };
+        let v = (-(ks * d_sag * d_sag + kf * d_fro * d_fro)).exp();
+        if v.is_nan() { 0.0 } else { v.min(1.0) }
+    }
+}
+
 impl Default for PersonalSpace {
     /// [`PersonalSpace::CALDERITA`].
     fn default() -> Self {
@@ -544,6 +615,55 @@ mod tests {
         );
         assert_eq!(PersonalSpace::kirby_for_speed(f64::NAN), PersonalSpace::kirby_for_speed(0.0));
         PersonalSpace::kirby_for_speed(1e300).validate().expect("valid test input");
+    }
+
+    #[test]
+    fn placed_matches_value_including_the_quadrant_boundaries() {
+        let spaces = [
+            PersonalSpace::DAZA2021,
+            PersonalSpace::CALDERITA,
+            PersonalSpace::kirby_for_speed(0.3),
+            PersonalSpace::Asymmetric(Asymmetric { front: 1.7, rear: 0.6, right: 0.9, left: 1.3 }),
+        ];
+        for sp in spaces {
+            for theta in [0.0, FRAC_PI_2, PI, -FRAC_PI_2, 0.4, -2.7, 9.0] {
+                let person = Pose::new(0.7, -1.1, theta);
+                let placed = sp.at(person);
+                let mut points = pts();
+                // Points exactly on the axes and the diagonals, at several distances.
+                for i in 0..16 {
+                    let b = i as f64 * TAU / 16.0;
+                    for r in [0.0, 0.3, 1.0, 2.5] {
+                        points.push(rotate(Vec2::new(r * b.cos(), r * b.sin()), theta));
+                    }
+                }
+                for p in points {
+                    let q = person.position() + p;
+                    let (a, b) = (sp.value(person, q), placed.value(q));
+                    assert!((a - b).abs() < 1e-12, "{sp:?} theta {theta} at {p:?}: {a} vs {b}");
+                }
+            }
+        }
+        let placed = PersonalSpace::CALDERITA.at(Pose::new(f64::NAN, 0.0, 0.0));
+        assert_eq!(placed.value(Vec2::zeros()), 0.0);
+    }
+
+    #[test]
+    fn max_extent_bounds_every_direction() {
+        let sp = PersonalSpace::Asymmetric(Asymmetric { front: 1.7, rear: 0.6, right: 0.9, left: 1.3 });
+        let m = sp.max_extent(0.1).expect("valid level");
+        assert!((m - 1.7 * (2.0 * 10f64.ln()).sqrt()).abs() < 1e-12);
+        for i in 0..360 {
+            let e = sp.extent(i as f64 * TAU / 360.0, 0.1).expect("valid level");
+            assert!(e <= m + 1e-12);
+        }
+        assert!(
+            (PersonalSpace::CALDERITA.max_extent(0.5).expect("valid") - 2.0 * (2.0 * 2f64.ln()).sqrt()).abs()
+                < 1e-12
+        );
+        assert_eq!(PersonalSpace::DAZA2021.max_extent(1.0).expect("valid"), 0.0);
+        assert!(PersonalSpace::DAZA2021.max_extent(0.0).is_err());
+        assert!(PersonalSpace::DAZA2021.max_extent(f64::NAN).is_err());
     }
 
     #[test]
