@@ -28,6 +28,9 @@ use crate::error::{CoreError, Result};
 /// Seconds in a day; the agenda's period.
 pub const DAY: f64 = 86_400.0;
 
+/// Change points closer than this after a query time count as passed (seconds).
+const CHANGE_EPS: f64 = 1e-6;
+
 /// One scheduled activity at an object.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Activity {
@@ -226,10 +229,11 @@ impl Agenda {
         })
     }
 
-    /// The first time strictly after `t` at which some object's cost changes slope (a ramp starts
-    /// or ends, an activity starts or ends, two overlapping ramps cross) or jumps (with `ramp =
-    /// 0`). The result is `t + delta` with `delta` in (0, 86400], so it may lie past midnight
-    /// (above 86400) when `t` is a time of day. `None` when no object's cost ever changes (no
+    /// The first time after `t` at which some object's cost changes slope (a ramp starts or ends,
+    /// an activity starts or ends, two overlapping ramps cross) or jumps (with `ramp = 0`). Change
+    /// points less than a microsecond after `t` count as passed. The result lies in (t, t + 86400]
+    /// on the same clock as `t`, so it may lie past midnight (above 86400) when `t` is a time of
+    /// day; for `t` in [0, 86400) change points are returned exactly. `None` when no object's cost ever changes (no
     /// activities, or activities covering the whole day) or for a non-finite `t`. Use it to
     /// schedule re-planning.
     pub fn next_change(&self, t: f64) -> Option<f64> {
@@ -238,12 +242,17 @@ impl Agenda {
         }
         let tw = wrap_day(t);
         let first = *self.changes.first()?;
-        let i = self.changes.partition_point(|&c| c <= tw);
-        let delta = match self.changes.get(i) {
-            Some(&c) => c - tw,
-            None => first + DAY - tw,
+        // Whole days before t, so that the result is `days * DAY + c` for a change point c: exact
+        // for times of day, and within rounding of c on later days.
+        let days = ((t - tw) / DAY).round();
+        // A change point within CHANGE_EPS of t counts as passed, so that feeding a result back in
+        // (after rounding on a later day) moves on to the next change.
+        let i = self.changes.partition_point(|&c| c <= tw + CHANGE_EPS);
+        let next = match self.changes.get(i) {
+            Some(&c) => days * DAY + c,
+            None => (days + 1.0) * DAY + first,
         };
-        Some(t + delta)
+        Some(next.max(t))
     }
 
     /// R(t) of one activity span shifted by `shift` seconds, at wrapped time `t`.
@@ -345,6 +354,8 @@ fn sort_dedup(v: &mut Vec<f64>) {
 
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
     use super::*;
 
     const H: f64 = 3600.0;
@@ -492,6 +503,74 @@ mod tests {
         let q = AgendaParams { idle: 1.0, active: 10.0, ramp: 600.0 };
         let ag = Agenda::new(vec![Activity::new("tv", 10.0 * H, 11.0 * H)], q).expect("valid test input");
         assert!(close(ag.cost("tv", 10.0 * H - 300.0), 5.5));
+    }
+
+    /// Non-overlapping activities on three objects from random (object, start, duration) triples.
+    fn random_agenda(raw: &[(u8, f64, f64)], params: AgendaParams) -> Agenda {
+        let mut acts = Vec::new();
+        for obj in 0..3u8 {
+            let mut mine: Vec<(f64, f64)> =
+                raw.iter().filter(|r| r.0 % 3 == obj).map(|&(_, s, d)| (s, s + d)).collect();
+            mine.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut kept: Vec<(f64, f64)> = Vec::new();
+            for (s, e) in mine {
+                if kept.last().is_none_or(|&(_, le)| s >= le) {
+                    kept.push((s, e));
+                }
+            }
+            if kept.len() > 1
+                && let (Some(&(fs, _)), Some(&(_, le))) = (kept.first(), kept.last())
+                && le > fs + DAY
+            {
+                kept.pop();
+            }
+            acts.extend(kept.into_iter().map(|(s, e)| Activity::new(format!("o{obj}"), s, e)));
+        }
+        Agenda::new(acts, params).expect("non-overlapping by construction")
+    }
+
+    proptest! {
+        #[test]
+        fn cost_is_bounded_piecewise_linear_between_reported_changes(
+            raw in prop::collection::vec((any::<u8>(), 0.0f64..DAY, 60.0f64..30_000.0), 0..8),
+            ramp in prop_oneof![Just(0.0), Just(2700.0), 1.0f64..20_000.0],
+            t in -DAY..2.0 * DAY,
+        ) {
+            let params = AgendaParams { ramp, ..AgendaParams::CALDERITA };
+            let ag = random_agenda(&raw, params);
+            let m = if ramp > 0.0 { 2.0 / ramp } else { 0.0 };
+            for o in ["o0", "o1", "o2", "none"] {
+                let c = ag.cost(o, t);
+                prop_assert!((1.5..=3.5).contains(&c), "{c}");
+                if ramp > 0.0 {
+                    // Continuous, with slope at most (active - idle) / ramp.
+                    prop_assert!((ag.cost(o, t + 1.0) - c).abs() <= m * 1.0 + 1e-9);
+                }
+            }
+            let Some(n) = ag.next_change(t) else {
+                for o in ["o0", "o1", "o2"] {
+                    prop_assert!((ag.cost(o, t) - ag.cost(o, t + 12_345.0)).abs() < 1e-12);
+                }
+                return Ok(());
+            };
+            prop_assert!(n > t && n <= t + DAY + 1e-6);
+            let len = n - t;
+            // Linear on [t, n): zero second differences at five equally spaced points.
+            for o in ["o0", "o1", "o2"] {
+                let f: Vec<f64> = (0..5).map(|i| ag.cost(o, t + len * i as f64 / 5.0)).collect();
+                for w in f.windows(3) {
+                    prop_assert!((w[0] - 2.0 * w[1] + w[2]).abs() < 1e-7, "{o}: {f:?} on [{t}, {n})");
+                }
+            }
+            // And at n some object really changes slope or jumps.
+            let after = ag.next_change(n).map_or(DAY, |a| a - n);
+            let h = (0.25 * len).min(0.25 * after).min(1.0);
+            let kink = ["o0", "o1", "o2"].iter().any(|o| {
+                let (l, c, r) = (ag.cost(o, n - h), ag.cost(o, n), ag.cost(o, n + h));
+                (l - 2.0 * c + r).abs() > 1e-9 || (c - l).abs() > 1e-9 && ramp == 0.0
+            });
+            prop_assert!(kink, "no change at {n}");
+        }
     }
 
     #[test]

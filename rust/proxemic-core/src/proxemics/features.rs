@@ -181,6 +181,8 @@ pub fn emotional_state_value(name: &str) -> Option<f64> {
 mod tests {
     use std::f64::consts::{FRAC_PI_2, PI};
 
+    use proptest::prelude::*;
+
     use super::*;
     use crate::proxemics::PersonalSpace;
 
@@ -377,6 +379,36 @@ mod tests {
         };
         let a = adapt(base, &[1.0; 3], &three).expect("valid test input");
         assert!(close(a.front, 0.7) && close(a.rear, 1.4));
+    }
+
+    proptest! {
+        #[test]
+        fn adapt_keeps_sigmas_within_the_bound_and_is_monotone(
+            fv in prop::collection::vec(0.001f64..=1.0, 0..5),
+            seed in prop::collection::vec(-1.0f64..=1.0, 20),
+            bump in 0.0f64..1.0,
+        ) {
+            let n = fv.len();
+            let ivs = SideInfluences {
+                front: seed[0..n].to_vec(),
+                rear: seed[5..5 + n].to_vec(),
+                right: seed[10..10 + n].to_vec(),
+                left: seed[15..15 + n].to_vec(),
+            };
+            let base = Asymmetric { front: 1.4, rear: 0.7, right: 0.9, left: 1.1 };
+            let a = adapt(base, &fv, &ivs).expect("valid input");
+            for (x, b) in [(a.front, base.front), (a.rear, base.rear), (a.right, base.right), (a.left, base.left)] {
+                prop_assert!(x >= 0.5 * b - 1e-12 && x <= 2.0 * b + 1e-12);
+            }
+            // Raising one influence on the front never makes the front larger.
+            if n > 0 {
+                let mut more = ivs.clone();
+                more.front[0] = (more.front[0] + bump).min(1.0);
+                let b = adapt(base, &fv, &more).expect("valid input");
+                prop_assert!(b.front <= a.front + 1e-12);
+                prop_assert_eq!((b.rear, b.right, b.left), (a.rear, a.right, a.left));
+            }
+        }
     }
 
     fn zeros(n: usize) -> SideInfluences {

@@ -350,6 +350,8 @@ fn check_sigmas(fields: &[(&str, f64)]) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
+    use proptest::prelude::*;
+
     use super::*;
     use crate::math::rotate;
 
@@ -664,6 +666,60 @@ mod tests {
         assert_eq!(PersonalSpace::DAZA2021.max_extent(1.0).expect("valid"), 0.0);
         assert!(PersonalSpace::DAZA2021.max_extent(0.0).is_err());
         assert!(PersonalSpace::DAZA2021.max_extent(f64::NAN).is_err());
+    }
+
+    fn any_f64() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            4 => -50.0f64..50.0,
+            1 => prop::num::f64::ANY,
+            1 => Just(0.0),
+        ]
+    }
+
+    fn space_of(kind: u8, a: f64, b: f64, c: f64, d: f64) -> PersonalSpace {
+        match kind % 3 {
+            0 => PersonalSpace::Symmetric { sigma: a },
+            1 => PersonalSpace::Kirby { sigma_h: a, sigma_r: b, sigma_s: c },
+            _ => PersonalSpace::Asymmetric(Asymmetric { front: a, rear: b, right: c, left: d }),
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn any_input_gives_a_value_in_unit_interval(
+            kind in any::<u8>(), s in prop::array::uniform4(any_f64()),
+            pose in prop::array::uniform3(any_f64()), pt in prop::array::uniform2(any_f64()),
+        ) {
+            let sp = space_of(kind, s[0], s[1], s[2], s[3]);
+            let person = Pose::new(pose[0], pose[1], pose[2]);
+            let p = Vec2::new(pt[0], pt[1]);
+            let v = sp.value(person, p);
+            prop_assert!((0.0..=1.0).contains(&v), "{v}");
+            let w = sp.at(person).value(p);
+            prop_assert!((0.0..=1.0).contains(&w), "{w}");
+            let _ = sp.extent(pose[2], pt[0]);
+            let _ = sp.max_extent(pt[1]);
+        }
+
+        #[test]
+        fn valid_spaces_agree_placed_and_are_rotation_invariant(
+            kind in any::<u8>(), s in prop::array::uniform4(0.1f64..5.0),
+            x in -20.0f64..20.0, y in -20.0f64..20.0, theta in -10.0f64..10.0,
+            u in -6.0f64..6.0, v in -6.0f64..6.0, turn in -7.0f64..7.0,
+        ) {
+            let sp = space_of(kind, s[0], s[1], s[2], s[3]);
+            let person = Pose::new(x, y, theta);
+            let local = Vec2::new(u, v);
+            let q = person.position() + rotate(local, theta);
+            let a = sp.value(person, q);
+            prop_assert!((a - sp.at(person).value(q)).abs() < 1e-12);
+            // Turn the person and the point together about the origin of the world.
+            let p2 = Pose::new(rotate(person.position(), turn).x, rotate(person.position(), turn).y, theta + turn);
+            let b = sp.value(p2, rotate(q, turn));
+            prop_assert!((a - b).abs() < 1e-9, "{a} vs {b}");
+            // Monotone along every ray from the centre.
+            prop_assert!(sp.value(person, person.position() + rotate(local * 1.1, theta)) <= a + 1e-15);
+        }
     }
 
     #[test]
