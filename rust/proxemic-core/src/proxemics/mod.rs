@@ -7,6 +7,11 @@
 //!   - the symmetric Gaussian of Daza et al. 2021 §5.1,
 //!   - Kirby's asymmetric Gaussian as used by Calderita et al. (eq. 1-4),
 //!   - the fully asymmetric Gaussian of Sousa et al. 2022 (eq. 5-8), [`Asymmetric`].
+//!
+//!   [`PersonalSpace::extent`] / [`PersonalSpace::extent_toward`] give the distance at which the
+//!   value falls to a level in a direction (the edge of someone's personal space),
+//!   [`PersonalSpace::max_extent`] the radius beyond which it is below that level everywhere, and
+//!   [`PersonalSpace::at`] a [`Placed`] evaluator for filling many cells around one person.
 //! - [`features`]: Sousa et al. 2022 §3.3.1 and §3.3.3, socialization features (FV) and influence
 //!   vectors (IV) reshaping the four sides of an [`Asymmetric`] Gaussian, and the "emotional
 //!   state" feature of Table 1.
