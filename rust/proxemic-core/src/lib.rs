@@ -18,6 +18,7 @@
 //! - [`metrics`]: per-step accumulation and episode summaries.
 //! - [`world`]: ties these together behind one `step`.
 
+pub mod chronemics;
 pub mod control;
 pub mod error;
 pub mod map;
@@ -25,6 +26,7 @@ pub mod math;
 pub mod metrics;
 pub mod pedestrians;
 pub mod plan;
+pub mod proxemics;
 pub mod scenario;
 pub mod socialmap;
 pub mod world;
