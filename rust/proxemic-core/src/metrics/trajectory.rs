@@ -836,14 +836,14 @@ pub fn evaluate(
         let mut closest = f64::INFINITY;
         let mut closest_gap = f64::INFINITY;
         let mut on_robot = Vec2::zeros();
-        for i in 0..np {
+        for (i, dm) in d_min.iter_mut().enumerate() {
             let qi = person(t, i);
             let ri = people.radii[i];
             let d = (qi - pos[t]).norm();
             let gap = d - rr - ri;
             closest = closest.min(d);
             closest_gap = closest_gap.min(gap);
-            if let Some(m) = d_min[i].as_mut() {
+            if let Some(m) = dm.as_mut() {
                 *m = m.min(d);
             }
             sf_people += social_force(pos[t], rr, qi, people.headings[t * np + i], ri, q).norm();
@@ -874,12 +874,12 @@ pub fn evaluate(
     let mut inside_count = 0usize;
     let mut ospace_entries = 0usize;
     let mut was_inside = false;
-    for t in 0..n {
+    for (t, &p) in pos.iter().enumerate() {
         let (lo, hi) = rows(groups.ospace_offsets, t);
         let mut closest = f64::INFINITY;
         let mut inside = false;
         for o in &groups.ospaces[lo..hi] {
-            let d = (pos[t] - o.centre).norm();
+            let d = (p - o.centre).norm();
             closest = closest.min(d);
             inside |= d <= o.radius;
         }
@@ -906,10 +906,10 @@ pub fn evaluate(
     let mut obj_active_in = vec![0usize; nm];
     let mut obj_any_in = vec![0usize; nm];
     let mut any_active_in = 0usize;
-    for t in 0..n {
+    for (t, &p) in pos.iter().enumerate() {
         let mut hit = false;
         for (k, poly) in objects.polygons.iter().enumerate() {
-            if inside_polygon(pos[t], poly) {
+            if inside_polygon(p, poly) {
                 obj_any_in[k] += 1;
                 if objects.active[t * nm + k] {
                     obj_active_in[k] += 1;
@@ -1542,5 +1542,89 @@ mod tests {
             PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
         let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
         assert_eq!(run(&t, &people, &ctx(9.0)), run(&t, &people, &ctx(9.0)));
+    }
+
+    fn special(v: f64, pick: u8) -> f64 {
+        match pick {
+            0 => f64::NAN,
+            1 => f64::INFINITY,
+            2 => f64::NEG_INFINITY,
+            _ => v,
+        }
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn never_panics_and_stays_consistent(
+            raw in proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0, -7.0f64..7.0), 0..12),
+            people_raw in proptest::collection::vec((-20.0f64..20.0, -20.0f64..20.0), 0..3),
+            dt in 0.01f64..2.0,
+            bad_at in proptest::option::of((0usize..40, 0u8..6)),
+            links in proptest::collection::vec((-10.0f64..10.0, -10.0f64..10.0, -10.0f64..10.0, -10.0f64..10.0), 0..3),
+        ) {
+            let mut robot: Vec<[f64; 3]> = raw.iter().map(|&(x, y, th)| [x, y, th]).collect();
+            let n = robot.len();
+            let np = people_raw.len();
+            let mut positions: Vec<Vec2> = (0..n)
+                .flat_map(|t| people_raw.iter().map(move |&(x, y)| Vec2::new(x + 0.1 * t as f64, y)))
+                .collect();
+            let velocities = vec![Vec2::new(1.0, 0.0); n * np];
+            let headings = vec![0.5; n * np];
+            let radii = vec![0.25; np];
+            let mut corrupted = false;
+            if let Some((i, pick)) = bad_at {
+                let v = special(1.0, pick);
+                if !v.is_finite() {
+                    if i < 3 * n {
+                        robot[i / 3][i % 3] = v;
+                        corrupted = true;
+                    } else if i - 3 * n < positions.len() {
+                        positions[i - 3 * n].x = v;
+                        corrupted = true;
+                    }
+                }
+            }
+            let all_links: Vec<InteractionLink> = (0..n)
+                .flat_map(|_| links.iter().map(|&(ax, ay, bx, by)| InteractionLink {
+                    a: Vec2::new(ax, ay),
+                    b: Vec2::new(bx, by),
+                    kind: LinkKind::PersonObject,
+                }))
+                .collect();
+            let link_offsets: Vec<usize> = if n == 0 { vec![] } else { (0..=n).map(|t| t * links.len()).collect() };
+            let groups = Groups { ospace_offsets: &[], ospaces: &[], link_offsets: &link_offsets, links: &all_links };
+            let square = vec![vec![Vec2::new(-1.0, -1.0), Vec2::new(1.0, -1.0), Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0)]];
+            let active: Vec<bool> = (0..n).map(|t| t % 2 == 0).collect();
+            let objects = ObjectSpaces { polygons: &square, active: &active };
+            let people = PeopleTracks { positions: &positions, velocities: &velocities, headings: &headings, radii: &radii, count: np };
+            let astar = [Vec2::new(-5.0, 0.0), Vec2::new(5.0, 3.0)];
+            let mut c = ctx(7.0);
+            c.astar_path = &astar;
+            let t = Trajectory { dt, robot: &robot, robot_radius: 0.3, goal: Vec2::new(1.0, 1.0), success_radius: 0.5 };
+            match evaluate(&t, &people, &groups, &objects, &c) {
+                Err(_) => proptest::prop_assert!(corrupted),
+                Ok(m) => {
+                    proptest::prop_assert!(!corrupted);
+                    proptest::prop_assert_eq!(m.steps, n.saturating_sub(1));
+                    proptest::prop_assert!(!(m.success && m.timeout) && !(m.collision && m.timeout));
+                    proptest::prop_assert!(m.path_length >= 0.0 && m.chc >= 0.0 && m.chc_motion >= 0.0);
+                    if n > 0 {
+                        let zones = [m.psi_intimate, m.psi_personal, m.psi_social, m.psi_public];
+                        let total: f64 = zones.iter().map(|z| z.unwrap_or(f64::NAN)).sum();
+                        proptest::prop_assert!((total - 100.0).abs() < 1e-9, "{}", total);
+                        for f in [m.discomfort_frequency, m.personal_space_compliance, m.psi_objects.map(|p| p / 100.0)] {
+                            let f = f.unwrap_or(f64::NAN);
+                            proptest::prop_assert!((0.0..=1.0).contains(&f), "{}", f);
+                        }
+                        proptest::prop_assert!(m.psi_object[0] <= m.psi_object_any[0]);
+                    }
+                    if let Some(r) = m.l_ratio {
+                        proptest::prop_assert!(r > 0.0);
+                    }
+                    proptest::prop_assert!(m.interaction_crossings <= m.steps * links.len());
+                    proptest::prop_assert!(serde_json::to_string(&m).is_ok());
+                }
+            }
+        }
     }
 }
