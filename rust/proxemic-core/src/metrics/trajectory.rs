@@ -1606,7 +1606,7 @@ mod tests {
                 Ok(m) => {
                     proptest::prop_assert!(!corrupted);
                     proptest::prop_assert_eq!(m.steps, n.saturating_sub(1));
-                    proptest::prop_assert!(!(m.success && m.timeout) && !(m.collision && m.timeout));
+                    proptest::prop_assert!(!(m.timeout && (m.success || m.collision)));
                     proptest::prop_assert!(m.path_length >= 0.0 && m.chc >= 0.0 && m.chc_motion >= 0.0);
                     if n > 0 {
                         let zones = [m.psi_intimate, m.psi_personal, m.psi_social, m.psi_public];
