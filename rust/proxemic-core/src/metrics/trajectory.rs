@@ -18,6 +18,21 @@
 //!   otherwise [`evaluate`] returns [`CoreError::Input`] naming the array and index. It never
 //!   panics. An empty trajectory gives counts 0, `false` outcomes and `None` for every value that
 //!   needs a sample.
+//!
+//! # Index (metrics.md numbering → [`FullMetrics`] fields)
+//! 1 `success`; 2 `hc`/`wc`/`ac` (+`_count`), `collision`; 3 `timeout`; 4 `time_to_goal`;
+//! 5 `path_length` (= Calderita `d_t`); 6 `path_length_ratio`; 7 `spl`; 8 `failure_to_progress`;
+//! 9 `stalled_time`; 10 `vel_*`; 11 `acc_*`, `jerk_*`; 12 `chc` (body yaw, = Calderita CHC),
+//! `chc_motion`; 13 `path_irregularity`; 15 `dist_person_min`, `gap_person_min`, `cp_avg`
+//! (+ Calderita `d_min` per person); 16 `discomfort_frequency`, `discomfort_gap_avg`;
+//! 17 `personal_space_compliance`; 18 `psi_intimate`/`_personal`/`_social`/`_public` (= Calderita
+//! Ψ per zone); 19 `group_psi_*`, `ospace_pct`, `ospace_time`, `ospace_entries`,
+//! `interaction_crossings*`; 20 `ttc_min`, `ttc_below_fraction`; 21 `clearance_min`,
+//! `clearance_avg`; 22 `social_force_on_people`, `social_force_on_robot`, `social_work`.
+//! Daza et al. 2021: `l_ratio`, `smooth`, `smooth_k`. Calderita et al.: `d_t`, `tau`, `chc`,
+//! `d_min`, `psi_*`, `psi_object` (activity on), `psi_object_any`, `psi_objects`.
+//! Not computed here: STL (needs a reference time), the optional item 14, item 23 (needs a
+//! robot-free replay) and the learned scores of item 24.
 
 use serde::Serialize;
 
