@@ -12,6 +12,8 @@
 //! - **minimum distance to people**: over all control instants and people, the centre-to-centre
 //!   distance `d = |p - q_i|` (m) and the surface gap `d - r_robot - r_i` (m).
 
+pub mod trajectory;
+
 use serde::Serialize;
 
 use crate::math::Vec2;
