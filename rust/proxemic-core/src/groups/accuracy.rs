@@ -49,9 +49,11 @@ pub fn detection_accuracy(detected: &[usize], truth: &[Option<u32>], threshold: 
     if !(threshold.is_finite() && threshold > 0.0 && threshold <= 1.0) {
         return Err(CoreError::input("threshold", "a value in (0, 1]", threshold.to_string()));
     }
-    let det: Vec<Vec<usize>> = Groups::from_labels(detected).members.into_iter().filter(|m| m.len() > 1).collect();
+    let det: Vec<Vec<usize>> =
+        Groups::from_labels(detected).members.into_iter().filter(|m| m.len() > 1).collect();
     // Ground truth: people with the same Some(id) form a group; None people are alone.
-    let mut ids: Vec<(u32, usize)> = truth.iter().enumerate().filter_map(|(i, t)| t.map(|id| (id, i))).collect();
+    let mut ids: Vec<(u32, usize)> =
+        truth.iter().enumerate().filter_map(|(i, t)| t.map(|id| (id, i))).collect();
     ids.sort_unstable();
     let mut gt: Vec<Vec<usize>> = Vec::new();
     for (k, &(id, i)) in ids.iter().enumerate() {

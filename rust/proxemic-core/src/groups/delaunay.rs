@@ -275,9 +275,8 @@ pub(crate) fn detect(people: &[PersonState], params: &DelaunayParams) -> Result<
         return Ok(uf.into_groups());
     }
 
-    let tri: DelaunayTriangulation<Vertex> = DelaunayTriangulation::bulk_load(reps).map_err(|e| {
-        CoreError::input("people", "positions the triangulation accepts", format!("{e:?}"))
-    })?;
+    let tri: DelaunayTriangulation<Vertex> = DelaunayTriangulation::bulk_load(reps)
+        .map_err(|e| CoreError::input("people", "positions the triangulation accepts", format!("{e:?}")))?;
 
     // Rules 2-5 and the pair part of rule 6: one test per Delaunay edge.
     for e in tri.undirected_edges() {

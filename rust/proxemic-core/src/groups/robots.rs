@@ -66,13 +66,25 @@ pub fn robot_joins_interaction(
     let mut out = Vec::with_capacity(robots.len());
     for (k, r) in robots.iter().enumerate() {
         if !(r.pos.x.is_finite() && r.pos.y.is_finite()) {
-            return Err(CoreError::input(format!("robots[{k}].pos"), "finite coordinates", format!("{:?}", r.pos)));
+            return Err(CoreError::input(
+                format!("robots[{k}].pos"),
+                "finite coordinates",
+                format!("{:?}", r.pos),
+            ));
         }
         if !(r.radius.is_finite() && r.radius >= 0.0) {
-            return Err(CoreError::input(format!("robots[{k}].radius"), "a finite value >= 0", r.radius.to_string()));
+            return Err(CoreError::input(
+                format!("robots[{k}].radius"),
+                "a finite value >= 0",
+                r.radius.to_string(),
+            ));
         }
         if !(r.vel.x.is_finite() && r.vel.y.is_finite()) {
-            return Err(CoreError::input(format!("robots[{k}].vel"), "a finite velocity", format!("{:?}", r.vel)));
+            return Err(CoreError::input(
+                format!("robots[{k}].vel"),
+                "a finite velocity",
+                format!("{:?}", r.vel),
+            ));
         }
         if r.vel.norm() > params.stationary_speed {
             out.push(None);

@@ -255,7 +255,8 @@ fn empty_single_and_coincident_inputs() {
 #[test]
 fn collinear_inputs() {
     // Five people on a line, 1 m apart: facing pairs (0,1), (2,3), and 4 alone.
-    let p = [st(0.0, 0.0, 0.0), st(1.0, 0.0, 180.0), st(2.0, 0.0, 0.0), st(3.0, 0.0, 180.0), st(4.0, 0.0, 0.0)];
+    let p =
+        [st(0.0, 0.0, 0.0), st(1.0, 0.0, 180.0), st(2.0, 0.0, 0.0), st(3.0, 0.0, 180.0), st(4.0, 0.0, 0.0)];
     assert_eq!(labels(&p, &delaunay()), vec![0, 0, 1, 1, 2]);
     assert_eq!(labels(&p, &DelaunayParams::distance_only(1.5).method()), vec![0; 5]);
     assert_eq!(labels(&p, &DelaunayParams::distance_only(0.9).method()), vec![0, 1, 2, 3, 4]);
@@ -275,17 +276,27 @@ fn bad_input_names_the_field() {
         }
     }
     let q = [st(0.0, 0.0, f64::INFINITY)];
-    assert!(matches!(detect(&q, &delaunay()), Err(CoreError::Input { field, .. }) if field == "people[0].heading"));
+    assert!(
+        matches!(detect(&q, &delaunay()), Err(CoreError::Input { field, .. }) if field == "people[0].heading")
+    );
     let q = [PersonState { pos: Vec2::zeros(), heading: 0.0, vel: Vec2::new(f64::NAN, 0.0) }];
-    assert!(matches!(detect(&q, &delaunay()), Err(CoreError::Input { field, .. }) if field == "people[0].vel"));
+    assert!(
+        matches!(detect(&q, &delaunay()), Err(CoreError::Input { field, .. }) if field == "people[0].vel")
+    );
     let q = [st(2e9, 0.0, 0.0)];
     assert!(detect(&q, &delaunay()).is_err());
     let bad = DelaunayParams { d_max: -1.0, ..DelaunayParams::default() };
-    assert!(matches!(detect(&[], &bad.method()), Err(CoreError::Input { field, .. }) if field == "delaunay.d_max"));
+    assert!(
+        matches!(detect(&[], &bad.method()), Err(CoreError::Input { field, .. }) if field == "delaunay.d_max")
+    );
     let bad = DensityParams { resolution: 0.0, ..DensityParams::default() };
-    assert!(matches!(detect(&[], &bad.method()), Err(CoreError::Input { field, .. }) if field == "density.resolution"));
+    assert!(
+        matches!(detect(&[], &bad.method()), Err(CoreError::Input { field, .. }) if field == "density.resolution")
+    );
     let bad = FFormationParams { mdl: f64::NAN, ..FFormationParams::default() };
-    assert!(matches!(detect(&[], &bad.method()), Err(CoreError::Input { field, .. }) if field == "fformation.mdl"));
+    assert!(
+        matches!(detect(&[], &bad.method()), Err(CoreError::Input { field, .. }) if field == "fformation.mdl")
+    );
 }
 
 #[test]
@@ -360,7 +371,11 @@ fn labels_are_invariant_under_permutation() {
                     let j = rng.random_range(0..=i);
                     perm.swap(i, j);
                 }
-                assert_eq!(partition_after_permutation(&people, &perm, &method), base, "seed {seed} {method:?}");
+                assert_eq!(
+                    partition_after_permutation(&people, &perm, &method),
+                    base,
+                    "seed {seed} {method:?}"
+                );
             }
         }
     }
@@ -433,7 +448,8 @@ proptest! {
 #[test]
 fn group_as_individual_hand_example() {
     // Heading 0 (front = +x); centre (0, 0).
-    let m = [st(2.0, 0.0, 0.0), st(1.0, 0.0, 0.0), st(-1.0, 0.0, 0.0), st(0.0, 1.0, 0.0), st(-2.0, -1.0, 0.0)];
+    let m =
+        [st(2.0, 0.0, 0.0), st(1.0, 0.0, 0.0), st(-1.0, 0.0, 0.0), st(0.0, 1.0, 0.0), st(-2.0, -1.0, 0.0)];
     let f = [0.70, 0.70, 0.14, 0.98, 0.14];
     let g = group_as_individual(&m, &f, FeatureAggregate::Mean).expect("ok");
     assert!(g.centre.norm() < 1e-12);
@@ -442,7 +458,10 @@ fn group_as_individual_hand_example() {
     assert!((g.rear - 5f64.sqrt()).abs() < 1e-12);
     assert!((g.left - 1.0).abs() < 1e-12);
     assert_eq!(g.right, 0.0);
-    assert_eq!(g.vertices, [Some(Vec2::new(2.0, 0.0)), Some(Vec2::new(0.0, 1.0)), Some(Vec2::new(-2.0, -1.0)), None]);
+    assert_eq!(
+        g.vertices,
+        [Some(Vec2::new(2.0, 0.0)), Some(Vec2::new(0.0, 1.0)), Some(Vec2::new(-2.0, -1.0)), None]
+    );
     assert!((g.feature - 2.66 / 5.0).abs() < 1e-12);
     let g = group_as_individual(&m, &f, FeatureAggregate::Min).expect("ok");
     assert_eq!(g.feature, 0.14);
@@ -462,16 +481,21 @@ fn group_heading_is_the_circular_mean_across_the_wrap() {
     assert!((g.centre - Vec2::new(0.0, 2.0 / 3.0)).norm() < 1e-12);
     // Front is -x now: (-1, 0) (offset (-1, -2/3)) is in front, (1, 0) behind, and (0, 2)
     // (offset (0, 4/3)) on the right: the left of a person facing -x is -y.
-    assert_eq!(g.vertices, [Some(Vec2::new(-1.0, 0.0)), None, Some(Vec2::new(1.0, 0.0)), Some(Vec2::new(0.0, 2.0))]);
+    assert_eq!(
+        g.vertices,
+        [Some(Vec2::new(-1.0, 0.0)), None, Some(Vec2::new(1.0, 0.0)), Some(Vec2::new(0.0, 2.0))]
+    );
     assert!((g.right - 4.0 / 3.0).abs() < 1e-12 && g.left == 0.0);
     let diag = 13f64.sqrt() / 3.0;
     assert!((g.front - diag).abs() < 1e-12 && (g.rear - diag).abs() < 1e-12);
     // Facing pair: undefined mean, falls back to the first member's heading.
-    let g = group_as_individual(&[st(0.0, 0.0, 0.0), st(1.0, 0.0, 180.0)], &[1.0, 1.0], FeatureAggregate::Mean)
-        .expect("ok");
+    let g =
+        group_as_individual(&[st(0.0, 0.0, 0.0), st(1.0, 0.0, 180.0)], &[1.0, 1.0], FeatureAggregate::Mean)
+            .expect("ok");
     assert_eq!(g.heading, 0.0);
-    let g = group_as_individual(&[st(0.0, 0.0, 90.0), st(1.0, 0.0, 0.0)], &[1.0, 1.0], FeatureAggregate::Mean)
-        .expect("ok");
+    let g =
+        group_as_individual(&[st(0.0, 0.0, 90.0), st(1.0, 0.0, 0.0)], &[1.0, 1.0], FeatureAggregate::Mean)
+            .expect("ok");
     assert!((g.heading - FRAC_PI_2 / 2.0).abs() < 1e-12);
 }
 
@@ -584,7 +608,8 @@ fn stationary_robot_in_personal_zone_joins() {
     let people = [st(0.0, 0.0, 0.0), st(1.0, 0.0, 180.0), st(5.0, 0.0, 90.0)];
     let groups = detect(&people, &delaunay()).expect("ok");
     assert_eq!(groups.labels, vec![0, 0, 1]);
-    let disc = |x: f64, y: f64, vx: f64| RobotDisc { pos: Vec2::new(x, y), radius: 0.3, vel: Vec2::new(vx, 0.0) };
+    let disc =
+        |x: f64, y: f64, vx: f64| RobotDisc { pos: Vec2::new(x, y), radius: 0.3, vel: Vec2::new(vx, 0.0) };
     let robots = [
         disc(0.0, -0.9, 0.0), // gap 0.6 m to person 0, stationary: joins group 0
         disc(0.0, -0.9, 0.5), // same place, moving: no
