@@ -113,8 +113,9 @@ impl DensityParams {
     }
 }
 
-/// `G_d(x)` of eq. 5 (people given as position and unit facing).
-fn density(params: &DensityParams, people: &[(Vec2, Vec2)], x: Vec2) -> Real {
+/// `G_d(x)` of eq. 5 (people given as position and unit facing). Every term is positive, so the
+/// sum stops as soon as it reaches `stop` (the caller only compares it with `phi`).
+fn density(params: &DensityParams, people: &[(Vec2, Vec2)], x: Vec2, stop: Real) -> Real {
     let mut g = 0.0;
     for (p, f) in people {
         let d = x - p;
@@ -122,6 +123,9 @@ fn density(params: &DensityParams, people: &[(Vec2, Vec2)], x: Vec2) -> Real {
         let v = -f.y * d.x + f.x * d.y;
         if let Some(q) = params.exponent_local(u, v) {
             g += (-q).exp();
+            if g >= stop {
+                return g;
+            }
         }
     }
     g
@@ -140,7 +144,7 @@ pub(crate) fn detect(people: &[PersonState], params: &DensityParams) -> Result<G
     let mut cells: HashMap<(i64, i64), Option<usize>> = HashMap::new();
     // Forced cells: the own cells of people in J.
     let mut forced: HashSet<(i64, i64)> = HashSet::new();
-    let in_j: Vec<bool> = frames.iter().map(|&(p, _)| density(params, &frames, p) >= phi).collect();
+    let in_j: Vec<bool> = frames.iter().map(|&(p, _)| density(params, &frames, p, phi) >= phi).collect();
     for (i, &inside) in in_j.iter().enumerate() {
         if inside {
             forced.insert(cell_of(frames[i].0));
@@ -180,7 +184,7 @@ pub(crate) fn detect(people: &[PersonState], params: &DensityParams) -> Result<G
                         ));
                     }
                     let centre = Vec2::new((c.0 as Real + 0.5) * res, (c.1 as Real + 0.5) * res);
-                    let inside = forced.contains(&c) || density(params, &frames, centre) >= phi;
+                    let inside = forced.contains(&c) || density(params, &frames, centre, phi) >= phi;
                     cells.insert(c, inside.then_some(comp));
                     if inside {
                         stack.push(c);
