@@ -15,12 +15,14 @@
 //! - [`plan`]: 8-connected A* (plain and cost-aware), Dijkstra oracle, path smoothing.
 //! - [`control`]: command limits and the path follower.
 //! - [`pedestrians`]: scripted people.
+//! - [`groups`]: group detection (Delaunay, density, F-formation), groups as individuals.
 //! - [`metrics`]: per-step accumulation and episode summaries.
 //! - [`world`]: ties these together behind one `step`.
 
 pub mod chronemics;
 pub mod control;
 pub mod error;
+pub mod groups;
 pub mod map;
 pub mod math;
 pub mod metrics;
