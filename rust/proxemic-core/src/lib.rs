@@ -30,6 +30,7 @@ pub mod pedestrians;
 pub mod plan;
 pub mod proxemics;
 pub mod scenario;
+pub mod social;
 pub mod socialmap;
 pub mod world;
 

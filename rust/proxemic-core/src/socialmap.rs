@@ -30,17 +30,22 @@ use crate::math::Vec2;
 use crate::plan::{CostGrid, INSCRIBED, LETHAL};
 
 /// What the social map needs from an individual's personal-space model.
+///
+/// The personal-space value is `exp(-q(p))`. The *zone distance* of a point is
+/// `zone_scale * sqrt(2 q(p))`: for a symmetric Gaussian of standard deviation `zone_scale` it is
+/// the Euclidean distance; for asymmetric functions it stretches where the function is wider.
+/// Zones are classified by comparing `q` with `r^2 / (2 zone_scale^2)`, without exp or sqrt.
 pub trait SpaceFunction {
-    /// Personal-space value at `p` in [0, 1] (1 at the centre).
-    fn value(&self, p: Vec2) -> f64;
-    /// Zone distance of `p` (metres): compared with Hall's radii to classify the zone.
-    fn zone_distance(&self, p: Vec2) -> f64;
+    /// The exponent `q(p) >= 0` of the personal-space value `exp(-q)` at `p`.
+    fn exponent(&self, p: Vec2) -> f64;
+    /// The length (metres) that turns `sqrt(2 q)` into a zone distance.
+    fn zone_scale(&self) -> f64;
     /// Centre of the individual (metres).
     fn centre(&self) -> Vec2;
     /// Radius (metres) beyond which the individual adds no cost; bounds the cells touched.
     fn reach(&self) -> f64;
     /// A fingerprint of the individual's state; equal fingerprints mean identical contributions.
-    fn fingerprint(&self) -> [f64; 4];
+    fn fingerprint(&self) -> [f64; 8];
 }
 
 /// How people's costs are computed.
@@ -100,22 +105,33 @@ impl SocialCosts {
 
     /// Factor of a point for one individual (f64::INFINITY for the forbidden intimate zone).
     pub fn factor<S: SpaceFunction>(&self, s: &S, p: Vec2) -> f64 {
-        let d = s.zone_distance(p);
-        if d < self.intimate {
+        let q = s.exponent(p);
+        if q.is_nan() {
+            return self.public_cost;
+        }
+        // zone distance d = z sqrt(2 q)  <=>  d^2 = 2 z^2 q
+        let z = s.zone_scale();
+        let d2 = 2.0 * z * z * q;
+        if d2 < self.intimate * self.intimate {
             return f64::INFINITY;
         }
         match self.mode {
             CostMode::Zones => {
-                if d < self.personal {
+                if d2 < self.personal * self.personal {
                     self.personal_cost
-                } else if d < self.social {
+                } else if d2 < self.social * self.social {
                     self.social_cost
                 } else {
                     self.public_cost
                 }
             }
-            CostMode::Continuous { gain } => 1.0 + gain * s.value(p),
+            CostMode::Continuous { gain } => 1.0 + gain * (-q).exp(),
         }
+    }
+
+    /// The zone distance (metres) of a point for one individual (see [`SpaceFunction`]).
+    pub fn zone_distance<S: SpaceFunction>(s: &S, p: Vec2) -> f64 {
+        s.zone_scale() * (2.0 * s.exponent(p)).max(0.0).sqrt()
     }
 
     /// Stored `u8` cost of a factor (`LETHAL` for infinity).
@@ -186,7 +202,7 @@ pub struct SocialMap {
     combined: CostGrid,
     object_cells: Vec<Vec<u32>>,
     object_factor: Vec<f64>,
-    prev: Vec<(Rect, [f64; 4])>,
+    prev: Vec<(Rect, [f64; 8])>,
     touched: usize,
 }
 
@@ -389,11 +405,11 @@ mod tests {
     }
 
     impl SpaceFunction for Disc {
-        fn value(&self, p: Vec2) -> f64 {
-            (-(p - self.c).norm_squared() / (2.0 * self.sigma * self.sigma)).exp()
+        fn exponent(&self, p: Vec2) -> f64 {
+            (p - self.c).norm_squared() / (2.0 * self.sigma * self.sigma)
         }
-        fn zone_distance(&self, p: Vec2) -> f64 {
-            (p - self.c).norm()
+        fn zone_scale(&self) -> f64 {
+            self.sigma
         }
         fn centre(&self) -> Vec2 {
             self.c
@@ -401,8 +417,8 @@ mod tests {
         fn reach(&self) -> f64 {
             3.6
         }
-        fn fingerprint(&self) -> [f64; 4] {
-            [self.c.x, self.c.y, self.sigma, 0.0]
+        fn fingerprint(&self) -> [f64; 8] {
+            [self.c.x, self.c.y, self.sigma, 0.0, 0.0, 0.0, 0.0, 0.0]
         }
     }
 

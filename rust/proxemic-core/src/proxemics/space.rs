@@ -302,9 +302,9 @@ pub struct Placed {
 }
 
 impl Placed {
-    /// The value at `point` (metres, world frame), in [0, 1]; 0 where undefined (NaN inputs).
+    /// The exponent `q >= 0` with `value = exp(-q)` at `point` (NaN for NaN inputs).
     #[inline]
-    pub fn value(&self, point: Vec2) -> f64 {
+    pub fn exponent(&self, point: Vec2) -> f64 {
         let (dx, dy) = (point.x - self.x, point.y - self.y);
         // Sousa 2022 eq. 5.
         let d_sag = self.cos * dx + self.sin * dy;
@@ -312,7 +312,13 @@ impl Placed {
         // Sousa 2022 eq. 8 by half planes (see the type's docs).
         let ks = if d_sag >= 0.0 { self.front } else { self.rear };
         let kf = if d_fro >= 0.0 { self.right } else { self.left };
-        let v = (-(ks * d_sag * d_sag + kf * d_fro * d_fro)).exp();
+        ks * d_sag * d_sag + kf * d_fro * d_fro
+    }
+
+    /// The value at `point` (metres, world frame), in [0, 1]; 0 where undefined (NaN inputs).
+    #[inline]
+    pub fn value(&self, point: Vec2) -> f64 {
+        let v = (-self.exponent(point)).exp();
         if v.is_nan() { 0.0 } else { v.min(1.0) }
     }
 }

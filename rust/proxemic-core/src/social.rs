@@ -1,0 +1,313 @@
+//! Social perception: from people (and robots) to the *individuals* of the social map.
+//!
+//! Each control step the robot sees the people's poses and velocities. [`perceive`]:
+//! 1. detects groups ([`crate::groups`]: Delaunay with the distance and orientation rules of
+//!    Sousa 2022, moving groups by the DILMO movement rule of Daza 2021, or the density and
+//!    F-formation alternatives);
+//! 2. lets a stationary robot standing in a person's personal zone join that person's
+//!    interaction (Daza 2021 §4.3): it then counts as a member, with a proxemic zone like a person;
+//! 3. makes one *individual* per group (Sousa 2022 §3.3.4: centre at the members' midpoint,
+//!    orientation their circular mean, extents from the farthest member in each quadrant, one
+//!    aggregated feature value, and its own asymmetric Gaussian) and one per person alone;
+//! 4. reshapes each individual's Gaussian with its socialization features and the scenario's
+//!    influence vectors (Sousa 2022 §3.3.3, see [`crate::proxemics::adapt`]).
+//!
+//! Individuals implement [`SpaceFunction`], so the social map can rasterise them.
+
+use crate::error::Result;
+use crate::groups::{
+    FeatureAggregate, GroupMethod, Groups, JoinParams, PersonState, RobotDisc, detect, group_as_individual,
+    robot_joins_interaction,
+};
+use crate::math::Vec2;
+use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, Placed, Pose, SideInfluences, adapt};
+use crate::socialmap::{CostMode, SocialCosts, SpaceFunction};
+
+/// The social model of a scenario (its `[proxemics]` table, validated).
+#[derive(Clone, Debug)]
+pub struct SocialConfig {
+    /// Hall's zone radii (metres, centre to centre).
+    pub zones: HallZones,
+    /// The base personal-space function of a person.
+    pub space: PersonalSpace,
+    /// Names of the socialization features, in the order of each person's feature vector.
+    pub features: Vec<String>,
+    /// Influence vectors per side (one entry per feature).
+    pub influence: SideInfluences,
+    /// Costs of the social map.
+    pub costs: SocialCosts,
+    /// Group detection, or `None` to treat everybody as alone.
+    pub groups: Option<GroupMethod>,
+    /// How a group's feature values are combined.
+    pub aggregate: FeatureAggregate,
+    /// When a robot joins a person's interaction.
+    pub join: JoinParams,
+}
+
+impl Default for SocialConfig {
+    fn default() -> Self {
+        let zones = HallZones::EVALUATION;
+        SocialConfig {
+            zones,
+            space: PersonalSpace::CALDERITA,
+            features: Vec::new(),
+            influence: SideInfluences::default(),
+            costs: SocialCosts {
+                intimate: zones.intimate,
+                personal: zones.personal,
+                social: zones.social,
+                ..SocialCosts::default()
+            },
+            groups: Some(GroupMethod::default()),
+            aggregate: FeatureAggregate::Mean,
+            join: JoinParams::default(),
+        }
+    }
+}
+
+impl SocialConfig {
+    /// The base function as four per-side sigmas (front, rear, right, left).
+    pub fn base_sides(&self) -> Asymmetric {
+        match self.space {
+            PersonalSpace::Symmetric { sigma } => Asymmetric { front: sigma, rear: sigma, right: sigma, left: sigma },
+            PersonalSpace::Kirby { sigma_h, sigma_r, sigma_s } => {
+                Asymmetric { front: sigma_h, rear: sigma_r, right: sigma_s, left: sigma_s }
+            }
+            PersonalSpace::Asymmetric(a) => a,
+        }
+    }
+
+    /// The zone scale of the base function: the side sigma for Kirby's function (sideways zone
+    /// distances are Euclidean), sigma for the symmetric one, the geometric mean of the four
+    /// sides for the fully asymmetric one.
+    pub fn zone_scale(&self) -> f64 {
+        match self.space {
+            PersonalSpace::Symmetric { sigma } => sigma,
+            PersonalSpace::Kirby { sigma_s, .. } => sigma_s,
+            PersonalSpace::Asymmetric(a) => (a.front * a.rear * a.right * a.left).powf(0.25),
+        }
+    }
+}
+
+/// One individual of the social map: a person alone, or a group as one individual.
+#[derive(Clone, Debug)]
+pub struct Individual {
+    /// Centre (metres).
+    pub centre: Vec2,
+    /// Orientation (radians).
+    pub heading: f64,
+    /// Per-side sigmas after features and group extents (metres).
+    pub sides: Asymmetric,
+    /// Person indices of the members (one for a person alone).
+    pub members: Vec<usize>,
+    /// Robot indices that joined this interaction.
+    pub robots: Vec<usize>,
+    placed: Placed,
+    zone_scale: f64,
+    reach: f64,
+}
+
+impl Individual {
+    fn new(
+        centre: Vec2,
+        heading: f64,
+        sides: Asymmetric,
+        members: Vec<usize>,
+        robots: Vec<usize>,
+        cfg: &SocialConfig,
+    ) -> Self {
+        let placed = PersonalSpace::Asymmetric(sides).at(Pose::new(centre.x, centre.y, heading));
+        let zone_scale = cfg.zone_scale();
+        let widest = sides.front.max(sides.rear).max(sides.right).max(sides.left);
+        // Zones end where the zone distance reaches the social radius: sqrt(2 q) z = r_s, and
+        // q <= d^2 / (2 sigma_min^2) along any ray, so d <= r_s * widest / z bounds them.
+        let mut reach = cfg.costs.social * widest / zone_scale;
+        if let CostMode::Continuous { .. } = cfg.costs.mode {
+            // Continuous costs fade below 1% of the centre value at sqrt(2 ln 100) sigma.
+            reach = reach.max(widest * (2.0 * 100f64.ln()).sqrt());
+        }
+        Individual { centre, heading, sides, members, robots, placed, zone_scale, reach }
+    }
+
+    /// The personal-space value at `p` in [0, 1].
+    pub fn value(&self, p: Vec2) -> f64 {
+        self.placed.value(p)
+    }
+}
+
+impl SpaceFunction for Individual {
+    fn exponent(&self, p: Vec2) -> f64 {
+        self.placed.exponent(p)
+    }
+    fn zone_scale(&self) -> f64 {
+        self.zone_scale
+    }
+    fn centre(&self) -> Vec2 {
+        self.centre
+    }
+    fn reach(&self) -> f64 {
+        self.reach
+    }
+    fn fingerprint(&self) -> [f64; 8] {
+        let s = &self.sides;
+        [self.centre.x, self.centre.y, self.heading, s.front, s.rear, s.right, s.left, self.reach]
+    }
+}
+
+/// What the robot perceives of the people in one step.
+#[derive(Clone, Debug)]
+pub struct Perception {
+    /// Detected groups (every person is in exactly one; singletons included).
+    pub groups: Groups,
+    /// For each robot, the index of the group it joined, if any.
+    pub robot_joins: Vec<Option<usize>>,
+    /// The individuals of the social map, one per detected group.
+    pub individuals: Vec<Individual>,
+}
+
+/// Builds the social map's individuals from the people's states and feature vectors (one vector
+/// per person, with one value per configured feature; empty vectors when no features are
+/// configured) and the robots.
+pub fn perceive(
+    cfg: &SocialConfig,
+    people: &[PersonState],
+    features: &[Vec<f64>],
+    robots: &[RobotDisc],
+) -> Result<Perception> {
+    let groups = match &cfg.groups {
+        Some(method) => detect(people, method)?,
+        None => Groups::from_labels(&(0..people.len()).collect::<Vec<usize>>()),
+    };
+    let robot_joins = if robots.is_empty() {
+        Vec::new()
+    } else {
+        robot_joins_interaction(people, &groups, robots, &cfg.join)?
+    };
+    let base = cfg.base_sides();
+    let mut individuals = Vec::with_capacity(groups.members.len());
+    for (g, members) in groups.members.iter().enumerate() {
+        let joined: Vec<usize> = (0..robot_joins.len()).filter(|&k| robot_joins[k] == Some(g)).collect();
+        let fv_of = |i: usize| features.get(i).cloned().unwrap_or_default();
+        if members.len() == 1 && joined.is_empty() {
+            let i = members[0];
+            let sides = if cfg.features.is_empty() { base } else { adapt(base, &fv_of(i), &cfg.influence)? };
+            individuals.push(Individual::new(people[i].pos, people[i].heading, sides, vec![i], vec![], cfg));
+            continue;
+        }
+        // Members of the interaction: the people plus the robots that joined it (as people).
+        let mut states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
+        for &k in &joined {
+            let r = &robots[k];
+            let toward = people[members[0]].pos - r.pos;
+            states.push(PersonState { pos: r.pos, heading: toward.y.atan2(toward.x), vel: r.vel });
+        }
+        let nf = cfg.features.len();
+        let group_fv: Vec<f64> = if nf == 0 {
+            Vec::new()
+        } else {
+            // One aggregated value per feature (Sousa 2022 §3.3.4); robots carry no features.
+            (0..nf)
+                .map(|f| {
+                    let vals: Vec<f64> = members.iter().map(|&i| fv_of(i).get(f).copied().unwrap_or(1.0)).collect();
+                    let member_states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
+                    group_as_individual(&member_states, &vals, cfg.aggregate).map(|gi| gi.feature)
+                })
+                .collect::<Result<Vec<f64>>>()?
+        };
+        let ones = vec![1.0; states.len()];
+        let gi = group_as_individual(&states, &ones, cfg.aggregate)?;
+        // The group's Gaussian covers its members and keeps a person's margin beyond them.
+        let grown = Asymmetric {
+            front: base.front + gi.front,
+            rear: base.rear + gi.rear,
+            right: base.right + gi.right,
+            left: base.left + gi.left,
+        };
+        let sides = if nf == 0 { grown } else { adapt(grown, &group_fv, &cfg.influence)? };
+        individuals.push(Individual::new(gi.centre, gi.heading, sides, members.clone(), joined, cfg));
+    }
+    Ok(Perception { groups, robot_joins, individuals })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::groups::DelaunayParams;
+    use crate::socialmap::SocialCosts;
+
+    fn standing(x: f64, y: f64, th: f64) -> PersonState {
+        PersonState::standing(Vec2::new(x, y), th)
+    }
+
+    #[test]
+    fn a_person_alone_keeps_the_base_function_and_zones_are_euclidean_sideways() {
+        let cfg = SocialConfig::default();
+        let p = perceive(&cfg, &[standing(0.0, 0.0, 0.0)], &[vec![]], &[]).expect("valid");
+        assert_eq!(p.individuals.len(), 1);
+        let ind = &p.individuals[0];
+        assert_eq!(ind.sides, cfg.base_sides());
+        // Kirby: sideways the zone distance equals the Euclidean distance; in front it is shorter
+        // (the zone extends farther), behind longer.
+        let side = SocialCosts::zone_distance(ind, Vec2::new(0.0, 1.0));
+        let front = SocialCosts::zone_distance(ind, Vec2::new(1.0, 0.0));
+        let rear = SocialCosts::zone_distance(ind, Vec2::new(-1.0, 0.0));
+        assert!((side - 1.0).abs() < 1e-12);
+        assert!(front < 1.0 && rear > 1.0);
+    }
+
+    #[test]
+    fn a_conversation_is_one_individual_covering_its_members() {
+        let cfg = SocialConfig::default();
+        // two people facing each other 1.2 m apart
+        let people = [standing(0.0, 0.0, 0.0), standing(1.2, 0.0, std::f64::consts::PI)];
+        let p = perceive(&cfg, &people, &[vec![], vec![]], &[]).expect("valid");
+        assert_eq!(p.individuals.len(), 1, "{:?}", p.groups);
+        let g = &p.individuals[0];
+        assert_eq!(g.members, vec![0, 1]);
+        assert!((g.centre - Vec2::new(0.6, 0.0)).norm() < 1e-9);
+        // the midpoint between them is deep inside the group's space (intimate: forbidden)
+        assert!(SocialCosts::zone_distance(g, Vec2::new(0.6, 0.0)) < cfg.zones.intimate);
+    }
+
+    #[test]
+    fn no_group_detection_keeps_everybody_alone() {
+        let cfg = SocialConfig { groups: None, ..SocialConfig::default() };
+        let people = [standing(0.0, 0.0, 0.0), standing(1.2, 0.0, std::f64::consts::PI)];
+        let p = perceive(&cfg, &people, &[vec![], vec![]], &[]).expect("valid");
+        assert_eq!(p.individuals.len(), 2);
+        let cfg = SocialConfig {
+            groups: Some(GroupMethod::Delaunay(DelaunayParams::default())),
+            ..SocialConfig::default()
+        };
+        assert_eq!(perceive(&cfg, &people, &[vec![], vec![]], &[]).expect("valid").individuals.len(), 1);
+    }
+
+    #[test]
+    fn features_reshape_the_space() {
+        let cfg = SocialConfig {
+            features: vec!["emotional_state".into()],
+            influence: SideInfluences::single(0.9, 0.0, 0.5, 0.5),
+            ..SocialConfig::default()
+        };
+        let angry = perceive(&cfg, &[standing(0.0, 0.0, 0.0)], &[vec![0.14]], &[]).expect("valid");
+        let happy = perceive(&cfg, &[standing(0.0, 0.0, 0.0)], &[vec![0.98]], &[]).expect("valid");
+        // a happy person lets the robot come closer in front (Sousa 2022 Fig. 14a)
+        assert!(happy.individuals[0].sides.front < angry.individuals[0].sides.front);
+        assert_eq!(happy.individuals[0].sides.rear, angry.individuals[0].sides.rear);
+    }
+
+    #[test]
+    fn a_robot_talking_to_a_person_joins_the_interaction() {
+        let cfg = SocialConfig::default();
+        let people = [standing(0.0, 0.0, 0.0)];
+        let robot = RobotDisc { pos: Vec2::new(0.9, 0.0), radius: 0.24, vel: Vec2::zeros() };
+        let p = perceive(&cfg, &people, &[vec![]], &[robot]).expect("valid");
+        assert_eq!(p.robot_joins, vec![Some(0)]);
+        assert_eq!(p.individuals[0].robots, vec![0]);
+        // the interaction covers the space between the person and the robot
+        assert!(SocialCosts::zone_distance(&p.individuals[0], Vec2::new(0.45, 0.0)) < cfg.zones.intimate);
+        // a moving robot does not join
+        let moving = RobotDisc { vel: Vec2::new(0.5, 0.0), ..robot };
+        assert_eq!(perceive(&cfg, &people, &[vec![]], &[moving]).expect("valid").robot_joins, vec![None]);
+    }
+}
