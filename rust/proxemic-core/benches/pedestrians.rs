@@ -51,6 +51,7 @@ fn crowd(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
                 height: 1.7,
                 group: if k % 10 < 2 { Some((k / 10) as u32) } else { None },
                 aware: true,
+                features: vec![],
             }
         })
         .collect()

@@ -181,6 +181,11 @@ impl PathFollower {
         best
     }
 
+    /// Distance from `p` to the path ahead of the current progress (metres), without advancing.
+    pub fn step_preview_cross_track(&self, p: Vec2) -> f64 {
+        self.project(p, 2.0 * self.params.lookahead + 1.0).1
+    }
+
     /// One control step of `dt` seconds: robot at `p` with heading `theta`, with a maximum speed
     /// and acceleration used to plan the stop at the end of the path.
     pub fn step(&mut self, p: Vec2, theta: f64, max_speed: f64, max_accel: f64, dt: f64) -> FollowerOutput {

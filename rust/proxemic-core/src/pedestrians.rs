@@ -525,6 +525,7 @@ mod tests {
             height: 1.7,
             group: None,
             aware: true,
+            features: vec![],
         }
     }
 
@@ -744,6 +745,7 @@ mod tests {
             height: 1.7,
             group: None,
             aware: true,
+            features: vec![],
         };
         let mut c = spawn(&[p]);
         room.step(&mut c, 1.0, &[]);

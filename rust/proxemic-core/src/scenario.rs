@@ -43,6 +43,150 @@ struct RawScenario {
     sensors: Sensors,
     #[serde(default)]
     reward: RewardWeights,
+    #[serde(default)]
+    proxemics: RawProxemics,
+    #[serde(default)]
+    agenda: RawAgenda,
+    #[serde(default)]
+    activity: Vec<RawActivity>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProxemics {
+    #[serde(default = "d_zones")]
+    zones: String,
+    zone_radii: Option<[f64; 3]>,
+    #[serde(default = "d_space")]
+    space: String,
+    sigma: Option<f64>,
+    sigma_front: Option<f64>,
+    sigma_rear: Option<f64>,
+    sigma_left: Option<f64>,
+    sigma_right: Option<f64>,
+    #[serde(default = "d_cost_mode")]
+    cost_mode: String,
+    #[serde(default = "d_personal_cost")]
+    personal_cost: f64,
+    #[serde(default = "d_social_cost")]
+    social_cost: f64,
+    #[serde(default = "d_public_cost")]
+    public_cost: f64,
+    #[serde(default = "d_continuous_gain")]
+    continuous_gain: f64,
+    #[serde(default = "d_groups")]
+    groups: String,
+    d_max: Option<f64>,
+    orientation_rule: Option<bool>,
+    #[serde(default = "d_aggregate")]
+    aggregate: String,
+    #[serde(default)]
+    features: Vec<String>,
+    #[serde(default)]
+    influence: RawInfluence,
+}
+
+impl Default for RawProxemics {
+    fn default() -> Self {
+        RawProxemics {
+            zones: d_zones(),
+            zone_radii: None,
+            space: d_space(),
+            sigma: None,
+            sigma_front: None,
+            sigma_rear: None,
+            sigma_left: None,
+            sigma_right: None,
+            cost_mode: d_cost_mode(),
+            personal_cost: d_personal_cost(),
+            social_cost: d_social_cost(),
+            public_cost: d_public_cost(),
+            continuous_gain: d_continuous_gain(),
+            groups: d_groups(),
+            d_max: None,
+            orientation_rule: None,
+            aggregate: d_aggregate(),
+            features: Vec::new(),
+            influence: RawInfluence::default(),
+        }
+    }
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawInfluence {
+    #[serde(default)]
+    front: Vec<f64>,
+    #[serde(default)]
+    rear: Vec<f64>,
+    #[serde(default)]
+    left: Vec<f64>,
+    #[serde(default)]
+    right: Vec<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAgenda {
+    #[serde(default = "d_idle")]
+    idle: f64,
+    #[serde(default = "d_active")]
+    active: f64,
+    #[serde(default = "d_ramp_minutes")]
+    ramp_minutes: f64,
+}
+
+impl Default for RawAgenda {
+    fn default() -> Self {
+        RawAgenda { idle: d_idle(), active: d_active(), ramp_minutes: d_ramp_minutes() }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawActivity {
+    object: String,
+    start: String,
+    end: String,
+    #[serde(default)]
+    name: String,
+}
+
+fn d_zones() -> String {
+    "evaluation".into()
+}
+fn d_space() -> String {
+    "calderita".into()
+}
+fn d_cost_mode() -> String {
+    "zones".into()
+}
+fn d_personal_cost() -> f64 {
+    4.0
+}
+fn d_social_cost() -> f64 {
+    2.0
+}
+fn d_public_cost() -> f64 {
+    1.0
+}
+fn d_continuous_gain() -> f64 {
+    3.0
+}
+fn d_groups() -> String {
+    "delaunay".into()
+}
+fn d_aggregate() -> String {
+    "mean".into()
+}
+fn d_idle() -> f64 {
+    1.5
+}
+fn d_active() -> f64 {
+    3.5
+}
+fn d_ramp_minutes() -> f64 {
+    45.0
 }
 
 #[derive(Deserialize)]
@@ -117,6 +261,9 @@ struct RawPerson {
     group: Option<u32>,
     #[serde(default = "d_true")]
     aware: bool,
+    #[serde(default)]
+    features: Vec<f64>,
+    emotional_state: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -296,6 +443,9 @@ pub enum PlannerKind {
     /// Plain 8-connected A* on the inflated static map, followed by a pure-pursuit path follower.
     /// It avoids walls and furniture, not people: the baseline of every comparison.
     Astar,
+    /// Social A* on the social cost map (people's zones, groups, object spaces at R(t)), re-planned
+    /// when the agenda or the people change the path's cost, followed by the same path follower.
+    SocialAstar,
 }
 
 impl PlannerKind {
@@ -303,12 +453,13 @@ impl PlannerKind {
     pub fn parse(name: &str) -> Option<Self> {
         match name {
             "astar" => Some(PlannerKind::Astar),
+            "social_astar" => Some(PlannerKind::SocialAstar),
             _ => None,
         }
     }
 
     /// The names accepted by [`PlannerKind::parse`].
-    pub const NAMES: &'static [&'static str] = &["astar"];
+    pub const NAMES: &'static [&'static str] = &["astar", "social_astar"];
 }
 
 /// Scene-wide settings.
@@ -433,6 +584,8 @@ pub struct Person {
     pub group: Option<u32>,
     /// Whether the person sees the robots and yields to them (default true).
     pub aware: bool,
+    /// Socialization feature values in (0, 1], one per `proxemics.features` name.
+    pub features: Vec<f64>,
 }
 
 /// A robot.
@@ -575,6 +728,63 @@ impl Default for RewardWeights {
     }
 }
 
+/// The social model of the scenario (`[proxemics]`), validated; see [`crate::social`].
+#[derive(Clone, Debug, Serialize)]
+pub struct Proxemics {
+    /// Hall's zone radii `[intimate, personal, social]` (metres, centre to centre).
+    pub zones: [f64; 3],
+    /// Name of the base personal-space preset (`daza2021`, `calderita`, `sousa2022`).
+    pub space: String,
+    /// Base sigmas per side `[front, rear, right, left]` (metres) after overrides.
+    pub sigmas: [f64; 4],
+    /// `zones` (discrete Calderita costs) or `continuous` (1 + gain * personal-space value).
+    pub cost_mode: String,
+    /// Traversal factor inside the personal zone (default 4.0).
+    pub personal_cost: f64,
+    /// Traversal factor inside the social zone (default 2.0).
+    pub social_cost: f64,
+    /// Traversal factor of the public zone and free space (default 1.0).
+    pub public_cost: f64,
+    /// Gain of the continuous mode (default 3.0).
+    pub continuous_gain: f64,
+    /// Group detection: `delaunay`, `density`, `fformation` or `none`.
+    pub groups: String,
+    /// Distance rule d_max of the Delaunay detector (metres, default 1.5).
+    pub d_max: f64,
+    /// Whether the Delaunay detector uses the orientation rule (default true).
+    pub orientation_rule: bool,
+    /// How a group's feature values combine: `mean`, `min`, `mode`.
+    pub aggregate: String,
+    /// Socialization feature names, in the order of each person's `features`.
+    pub features: Vec<String>,
+    /// Influence vectors `[front, rear, right, left]`, one value per feature each, in [-1, 1].
+    pub influence: [Vec<f64>; 4],
+}
+
+/// An agenda item: an activity on an object, in time of day.
+#[derive(Clone, Debug, Serialize)]
+pub struct ActivitySpec {
+    /// Name (may be empty).
+    pub name: String,
+    /// The object whose interaction space the activity uses.
+    pub object: String,
+    /// Start (seconds after midnight).
+    pub start: f64,
+    /// End (seconds after midnight; may exceed 86400 for activities past midnight).
+    pub end: f64,
+}
+
+/// R(t) parameters (Calderita §5.2.2).
+#[derive(Clone, Debug, Serialize)]
+pub struct AgendaSpec {
+    /// Object-space factor with nothing scheduled (default 1.5).
+    pub idle: f64,
+    /// Factor while an activity runs (default 3.5).
+    pub active: f64,
+    /// Ramp before and after an activity (seconds; default 45 minutes).
+    pub ramp: f64,
+}
+
 /// A validated scenario.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scenario {
@@ -596,6 +806,12 @@ pub struct Scenario {
     pub sensors: Sensors,
     /// Reward weights.
     pub reward: RewardWeights,
+    /// The social model.
+    pub proxemics: Proxemics,
+    /// R(t) parameters.
+    pub agenda: AgendaSpec,
+    /// The agenda's activities.
+    pub activities: Vec<ActivitySpec>,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -678,6 +894,79 @@ impl Scenario {
             err(source, field, expected, found)
         })?;
         build(raw, source)
+    }
+
+    /// The agenda of the given spec and activities (validated: no overlaps, ends after starts).
+    pub fn agenda_from(spec: &AgendaSpec, acts: &[ActivitySpec]) -> Result<crate::chronemics::Agenda> {
+        let params =
+            crate::chronemics::AgendaParams { idle: spec.idle, active: spec.active, ramp: spec.ramp };
+        let list =
+            acts.iter().map(|a| crate::chronemics::Activity::new(a.object.clone(), a.start, a.end)).collect();
+        crate::chronemics::Agenda::new(list, params)
+    }
+
+    /// The scenario's agenda.
+    pub fn agenda(&self) -> Result<crate::chronemics::Agenda> {
+        Self::agenda_from(&self.agenda, &self.activities)
+    }
+
+    /// The social model described by `[proxemics]`.
+    pub fn social_config(&self) -> crate::social::SocialConfig {
+        use crate::groups::{DelaunayParams, DensityParams, FFormationParams, FeatureAggregate, GroupMethod};
+        use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, SideInfluences};
+        use crate::socialmap::{CostMode, SocialCosts};
+        let p = &self.proxemics;
+        let [front, rear, right, left] = p.sigmas;
+        let space = match p.space.as_str() {
+            "daza2021" if front == rear && rear == right && right == left => {
+                PersonalSpace::Symmetric { sigma: front }
+            }
+            "calderita" if right == left => {
+                PersonalSpace::Kirby { sigma_h: front, sigma_r: rear, sigma_s: right }
+            }
+            _ => PersonalSpace::Asymmetric(Asymmetric { front, rear, right, left }),
+        };
+        let zones = HallZones { intimate: p.zones[0], personal: p.zones[1], social: p.zones[2] };
+        let mode = if p.cost_mode == "continuous" {
+            CostMode::Continuous { gain: p.continuous_gain }
+        } else {
+            CostMode::Zones
+        };
+        let groups = match p.groups.as_str() {
+            "none" => None,
+            "density" => Some(GroupMethod::Density(DensityParams::default())),
+            "fformation" => Some(GroupMethod::FFormation(FFormationParams::default())),
+            _ => Some(GroupMethod::Delaunay(DelaunayParams {
+                d_max: p.d_max,
+                orientation_rule: p.orientation_rule,
+                ..DelaunayParams::default()
+            })),
+        };
+        let aggregate = match p.aggregate.as_str() {
+            "min" => FeatureAggregate::Min,
+            "mode" => FeatureAggregate::Mode,
+            _ => FeatureAggregate::Mean,
+        };
+        let [fi, ri, rti, li] = p.influence.clone();
+        crate::social::SocialConfig {
+            zones,
+            space,
+            features: p.features.clone(),
+            influence: SideInfluences { front: fi, rear: ri, right: rti, left: li },
+            costs: SocialCosts {
+                intimate: zones.intimate,
+                personal: zones.personal,
+                social: zones.social,
+                personal_cost: p.personal_cost,
+                social_cost: p.social_cost,
+                public_cost: p.public_cost,
+                mode,
+                max_factor: 5.0,
+            },
+            groups,
+            aggregate,
+            join: crate::groups::JoinParams { personal_radius: zones.personal, ..Default::default() },
+        }
     }
 
     /// A copy with every robot's planner replaced by `name` (one of [`PlannerKind::NAMES`]).
@@ -1036,9 +1325,17 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
             height: p.height,
             group: p.group,
             aware: p.aware,
+            features: Vec::new(),
         });
     }
     check_unique(file, "person", persons.iter().map(|p| p.name.as_str()))?;
+
+    // ---- proxemics, features, agenda
+    let proxemics = build_proxemics(&ck, &raw.proxemics)?;
+    for (i, (person, rp)) in persons.iter_mut().zip(&raw.person).enumerate() {
+        person.features = person_features(&ck, i, rp, &proxemics.features)?;
+    }
+    let (agenda, activities) = build_agenda(&ck, &raw.agenda, &raw.activity, &objects)?;
 
     // ---- robots
     if raw.robot.is_empty() {
@@ -1108,7 +1405,243 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
         },
         sensors: raw.sensors,
         reward: raw.reward,
+        proxemics,
+        agenda,
+        activities,
     })
+}
+
+/// Validates `[proxemics]` by building the social model it describes.
+fn build_proxemics(ck: &Checker<'_>, r: &RawProxemics) -> Result<Proxemics> {
+    let file = ck.file;
+    let zones = match (r.zones.as_str(), r.zone_radii) {
+        (_, Some(radii)) => radii,
+        ("evaluation", None) => [0.45, 1.2, 3.6],
+        ("daza2021", None) => [0.5, 1.0, 4.0],
+        (other, None) => {
+            return Err(err(
+                file,
+                "proxemics.zones",
+                "\"evaluation\" or \"daza2021\" (or zone_radii = [i, p, s])",
+                format!("{other:?}"),
+            ));
+        }
+    };
+    crate::proxemics::HallZones::new(zones[0], zones[1], zones[2])
+        .map_err(|e| prefix_input(file, "proxemics.zone_radii", e))?;
+    let mut sigmas = match r.space.as_str() {
+        "calderita" => [2.0, 1.0, 4.0 / 3.0, 4.0 / 3.0],
+        "daza2021" => [1.0; 4],
+        "sousa2022" => [1.0; 4],
+        other => {
+            return Err(err(
+                file,
+                "proxemics.space",
+                "\"calderita\", \"daza2021\" or \"sousa2022\"",
+                format!("{other:?}"),
+            ));
+        }
+    };
+    if let Some(sg) = r.sigma {
+        ck.range("proxemics.sigma", sg, 0.0, 20.0, true)?;
+        sigmas = [sg; 4];
+    }
+    for (k, (name, v)) in [
+        ("sigma_front", r.sigma_front),
+        ("sigma_rear", r.sigma_rear),
+        ("sigma_right", r.sigma_right),
+        ("sigma_left", r.sigma_left),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        if let Some(v) = v {
+            ck.range(&format!("proxemics.{name}"), v, 0.0, 20.0, true)?;
+            sigmas[k] = v;
+        }
+    }
+    if !matches!(r.cost_mode.as_str(), "zones" | "continuous") {
+        return Err(err(
+            file,
+            "proxemics.cost_mode",
+            "\"zones\" or \"continuous\"",
+            format!("{:?}", r.cost_mode),
+        ));
+    }
+    ck.range("proxemics.public_cost", r.public_cost, 1.0, 5.0, false)?;
+    ck.range("proxemics.social_cost", r.social_cost, r.public_cost, 5.0, false)?;
+    ck.range("proxemics.personal_cost", r.personal_cost, r.social_cost, 5.0, false)?;
+    ck.range("proxemics.continuous_gain", r.continuous_gain, 0.0, 4.0, false)?;
+    if !matches!(r.groups.as_str(), "delaunay" | "density" | "fformation" | "none") {
+        return Err(err(
+            file,
+            "proxemics.groups",
+            "\"delaunay\", \"density\", \"fformation\" or \"none\"",
+            format!("{:?}", r.groups),
+        ));
+    }
+    let d_max = r.d_max.unwrap_or(1.5);
+    ck.range("proxemics.d_max", d_max, 0.0, 20.0, true)?;
+    if !matches!(r.aggregate.as_str(), "mean" | "min" | "mode") {
+        return Err(err(
+            file,
+            "proxemics.aggregate",
+            "\"mean\", \"min\" or \"mode\"",
+            format!("{:?}", r.aggregate),
+        ));
+    }
+    let nf = r.features.len();
+    let inf = &r.influence;
+    let mut influence: [Vec<f64>; 4] =
+        [inf.front.clone(), inf.rear.clone(), inf.right.clone(), inf.left.clone()];
+    for (side, v) in ["front", "rear", "right", "left"].iter().zip(influence.iter_mut()) {
+        if v.is_empty() {
+            *v = vec![0.0; nf];
+        }
+        if v.len() != nf {
+            return Err(err(
+                file,
+                format!("proxemics.influence.{side}"),
+                format!("{nf} value(s), one per feature in proxemics.features"),
+                format!("{} value(s)", v.len()),
+            ));
+        }
+        for (k, x) in v.iter().enumerate() {
+            ck.range(&format!("proxemics.influence.{side}[{k}]"), *x, -1.0, 1.0, false)?;
+        }
+    }
+    Ok(Proxemics {
+        zones,
+        space: r.space.clone(),
+        sigmas,
+        cost_mode: r.cost_mode.clone(),
+        personal_cost: r.personal_cost,
+        social_cost: r.social_cost,
+        public_cost: r.public_cost,
+        continuous_gain: r.continuous_gain,
+        groups: r.groups.clone(),
+        d_max,
+        orientation_rule: r.orientation_rule.unwrap_or(true),
+        aggregate: r.aggregate.clone(),
+        features: r.features.clone(),
+        influence,
+    })
+}
+
+/// A person's feature vector: explicit `features`, or the emotional state looked up in Sousa
+/// 2022 Table 1; features not given default to their neutral value (0.70 for the emotional
+/// state, 0.5 otherwise).
+fn person_features(ck: &Checker<'_>, i: usize, raw: &RawPerson, names: &[String]) -> Result<Vec<f64>> {
+    let file = ck.file;
+    let f = format!("person[{i}]");
+    let mut fv: Vec<f64> = names.iter().map(|n| if n == "emotional_state" { 0.70 } else { 0.5 }).collect();
+    if !raw.features.is_empty() {
+        if raw.features.len() != names.len() {
+            return Err(err(
+                file,
+                format!("{f}.features"),
+                format!("{} value(s), one per name in proxemics.features {names:?}", names.len()),
+                format!("{} value(s)", raw.features.len()),
+            ));
+        }
+        for (k, v) in raw.features.iter().enumerate() {
+            ck.range(&format!("{f}.features[{k}]"), *v, 0.0, 1.0, true)?;
+        }
+        fv.clone_from(&raw.features);
+    }
+    if let Some(state) = &raw.emotional_state {
+        let k = names.iter().position(|n| n == "emotional_state").ok_or_else(|| {
+            err(
+                file,
+                format!("{f}.emotional_state"),
+                "\"emotional_state\" listed in proxemics.features",
+                "a scenario without it",
+            )
+        })?;
+        fv[k] = crate::proxemics::emotional_state_value(state).ok_or_else(|| {
+            err(
+                file,
+                format!("{f}.emotional_state"),
+                format!("one of {:?}", crate::proxemics::EMOTIONAL_STATES),
+                format!("{state:?}"),
+            )
+        })?;
+    }
+    Ok(fv)
+}
+
+/// Re-labels a core input error as a scenario error under `field`.
+fn prefix_input(file: &str, field: &str, e: CoreError) -> CoreError {
+    match e {
+        CoreError::Input { field: inner, expected, found } => {
+            err(file, format!("{field} ({inner})"), expected, found)
+        }
+        other => other,
+    }
+}
+
+/// Validates the agenda: times of day, objects with interaction spaces, no overlaps.
+fn build_agenda(
+    ck: &Checker<'_>,
+    raw: &RawAgenda,
+    acts: &[RawActivity],
+    objects: &[Object],
+) -> Result<(AgendaSpec, Vec<ActivitySpec>)> {
+    let file = ck.file;
+    ck.range("agenda.idle", raw.idle, 1.0, 5.0, false)?;
+    ck.range("agenda.active", raw.active, raw.idle, 5.0, false)?;
+    ck.range("agenda.ramp_minutes", raw.ramp_minutes, 0.0, 24.0 * 60.0, false)?;
+    let spec = AgendaSpec { idle: raw.idle, active: raw.active, ramp: raw.ramp_minutes * 60.0 };
+    let mut out = Vec::with_capacity(acts.len());
+    for (i, a) in acts.iter().enumerate() {
+        let f = format!("activity[{i}]");
+        match objects.iter().find(|o| o.name == a.object) {
+            None => {
+                return Err(err(
+                    file,
+                    format!("{f}.object"),
+                    format!("the name of an [[object]] ({} objects defined)", objects.len()),
+                    format!("{:?}", a.object),
+                ));
+            }
+            Some(o) if o.interaction.is_none() => {
+                return Err(err(
+                    file,
+                    format!("{f}.object"),
+                    "an object with an interaction space",
+                    format!("{:?} (has none)", a.object),
+                ));
+            }
+            Some(_) => {}
+        }
+        let start = parse_time_of_day(&a.start).ok_or_else(|| {
+            err(file, format!("{f}.start"), "a time of day \"HH:MM\"", format!("{:?}", a.start))
+        })?;
+        let mut end = parse_time_of_day(&a.end).ok_or_else(|| {
+            err(file, format!("{f}.end"), "a time of day \"HH:MM\"", format!("{:?}", a.end))
+        })?;
+        if end <= start {
+            if end == 0.0 {
+                end = 86400.0; // "24:00" written as "00:00"
+            } else {
+                return Err(err(
+                    file,
+                    format!("{f}.end"),
+                    format!("a time after start ({})", a.start),
+                    format!("{:?}", a.end),
+                ));
+            }
+        }
+        out.push(ActivitySpec { name: a.name.clone(), object: a.object.clone(), start, end });
+    }
+    let agenda = Scenario::agenda_from(&spec, &out);
+    agenda.map_err(|e| match e {
+        CoreError::Input { field, expected, found } => {
+            err(file, field.replace("activities", "activity"), expected, found)
+        }
+        other => other,
+    })?;
+    Ok((spec, out))
 }
 
 fn check_unique<'a>(file: &str, table: &str, names: impl Iterator<Item = &'a str>) -> Result<()> {
@@ -1413,5 +1946,86 @@ goal = [9, 4]
             assert!((mid[0].hypot(mid[1]) - 1.0).abs() < 1e-9);
         }
         assert!(signed_area(&poly) > 0.0);
+    }
+
+    const SOCIAL: &str = r#"
+[proxemics]
+space = "sousa2022"
+features = ["emotional_state", "food_need"]
+groups = "delaunay"
+d_max = 1.2
+
+[proxemics.influence]
+front = [0.9, 0.0]
+left = [0.5, 0.5]
+
+[[activity]]
+object = "painting"
+start = "10:00"
+end = "11:00"
+name = "guided talk"
+"#;
+
+    fn social_scenario(extra_person: &str) -> String {
+        let text = MINIMAL.replace("speed = 1.2", &format!("speed = 1.2\n{extra_person}"));
+        format!("{text}{SOCIAL}")
+    }
+
+    #[test]
+    fn proxemics_and_agenda_parse() {
+        let s = parse(&social_scenario("emotional_state = \"happy\"")).expect("valid");
+        assert_eq!(s.persons[0].features, vec![0.98, 0.5]);
+        assert_eq!(s.persons[1].features, vec![0.70, 0.5]);
+        assert_eq!(s.proxemics.influence[0], vec![0.9, 0.0]);
+        assert_eq!(s.proxemics.influence[1], vec![0.0, 0.0]);
+        let cfg = s.social_config();
+        assert_eq!(cfg.features.len(), 2);
+        assert!(matches!(cfg.groups, Some(crate::groups::GroupMethod::Delaunay(p)) if p.d_max == 1.2));
+        let agenda = s.agenda().expect("valid agenda");
+        assert_eq!(agenda.cost("painting", 10.5 * 3600.0), 3.5);
+        assert_eq!(agenda.cost("painting", 8.0 * 3600.0), 1.5);
+        assert_eq!(s.activities[0].name, "guided talk");
+    }
+
+    #[test]
+    fn social_bad_input_names_the_field() {
+        let (_, f, e, _) = scenario_err(&social_scenario("emotional_state = \"grumpy\""));
+        assert_eq!(f, "person[0].emotional_state");
+        assert!(e.contains("happy"));
+        let (_, f, _, _) = scenario_err(&social_scenario("features = [0.5]"));
+        assert_eq!(f, "person[0].features");
+        let (_, f, _, found) = scenario_err(&social_scenario("features = [0.0, 0.5]"));
+        assert_eq!((f.as_str(), found.as_str()), ("person[0].features[0]", "0"));
+        let (_, f, _, _) =
+            scenario_err(&social_scenario("").replace("front = [0.9, 0.0]", "front = [1.5, 0.0]"));
+        assert_eq!(f, "proxemics.influence.front[0]");
+        let (_, f, _, _) = scenario_err(&social_scenario("").replace("front = [0.9, 0.0]", "front = [0.9]"));
+        assert_eq!(f, "proxemics.influence.front");
+        let (_, f, _, _) = scenario_err(&social_scenario("").replace("\"sousa2022\"", "\"hall\""));
+        assert_eq!(f, "proxemics.space");
+    }
+
+    #[test]
+    fn agenda_bad_input_names_the_activity() {
+        let (_, f, _, found) =
+            scenario_err(&social_scenario("").replace("object = \"painting\"", "object = \"tv\""));
+        assert_eq!((f.as_str(), found.as_str()), ("activity[0].object", "\"tv\""));
+        let (_, f, _, _) = scenario_err(&social_scenario("").replace("end = \"11:00\"", "end = \"09:00\""));
+        assert_eq!(f, "activity[0].end");
+        let overlap = format!(
+            "{}\n[[activity]]\nobject = \"painting\"\nstart = \"10:30\"\nend = \"12:00\"\n",
+            social_scenario("")
+        );
+        let (_, f, _, _) = scenario_err(&overlap);
+        assert!(f.contains("activity[0]") && f.contains("activity[1]"), "{f}");
+        let text = MINIMAL.replace(
+            "interaction = { shape = \"trapezoid\", length = 2.0, near_width = 1.5, far_width = 3.0 }\n",
+            "",
+        );
+        let no_space =
+            format!("{text}\n[[activity]]\nobject = \"painting\"\nstart = \"10:00\"\nend = \"11:00\"\n");
+        let (_, f, e, _) = scenario_err(&no_space);
+        assert_eq!(f, "activity[0].object");
+        assert!(e.contains("interaction space"));
     }
 }

@@ -69,7 +69,9 @@ impl SocialConfig {
     /// The base function as four per-side sigmas (front, rear, right, left).
     pub fn base_sides(&self) -> Asymmetric {
         match self.space {
-            PersonalSpace::Symmetric { sigma } => Asymmetric { front: sigma, rear: sigma, right: sigma, left: sigma },
+            PersonalSpace::Symmetric { sigma } => {
+                Asymmetric { front: sigma, rear: sigma, right: sigma, left: sigma }
+            }
             PersonalSpace::Kirby { sigma_h, sigma_r, sigma_s } => {
                 Asymmetric { front: sigma_h, rear: sigma_r, right: sigma_s, left: sigma_s }
             }
@@ -208,7 +210,8 @@ pub fn perceive(
             // One aggregated value per feature (Sousa 2022 §3.3.4); robots carry no features.
             (0..nf)
                 .map(|f| {
-                    let vals: Vec<f64> = members.iter().map(|&i| fv_of(i).get(f).copied().unwrap_or(1.0)).collect();
+                    let vals: Vec<f64> =
+                        members.iter().map(|&i| fv_of(i).get(f).copied().unwrap_or(1.0)).collect();
                     let member_states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
                     group_as_individual(&member_states, &vals, cfg.aggregate).map(|gi| gi.feature)
                 })

@@ -12,11 +12,16 @@
 //! [`Layout`] (one row of [`Layout::stride`] values per robot), plus a `(people, 3)` buffer of
 //! the people's poses, so a step allocates nothing and crosses the language boundary once.
 
+mod social_planning;
+
+pub use social_planning::{SocialPath, SocialPlanning, Trigger};
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
+use crate::groups::RobotDisc;
 use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar;
@@ -100,6 +105,7 @@ impl Layout {
 
 /// Per-robot state that does not change between episodes.
 struct RobotStatic {
+    planner: PlannerKind,
     limits: Limits,
     radius: f64,
     goal: Vec2,
@@ -126,7 +132,16 @@ struct RobotRuntime {
     outcome: Outcome,
     geodesic: f64,
     user_command: bool,
+    /// The social path (social planners only) and when it was last planned.
+    social_path: Option<SocialPath>,
+    last_plan_step: usize,
+    replans: usize,
 }
+
+/// Social planners check their path every this many control steps...
+const SOCIAL_CHECK_PERIOD: usize = 3;
+/// ...and re-plan at most once per this many steps.
+const SOCIAL_MIN_REPLAN: usize = 10;
 
 /// A cost grid shared by all robots with the same inflation radius.
 struct InflatedGrid {
@@ -140,6 +155,8 @@ pub struct World {
     geometry: StaticGeometry,
     /// Distance from every cell to the static geometry (for the people's wall forces).
     field: DistanceField,
+    /// The social model, maps and global planner.
+    social: SocialPlanning,
     grids: Vec<InflatedGrid>,
     statics: Vec<RobotStatic>,
     robots: Vec<RobotRuntime>,
@@ -238,10 +255,8 @@ impl World {
                 max_accel: r.max_accel,
                 max_angular_accel: Limits::PEPPER.max_angular_accel,
             };
-            match r.planner {
-                PlannerKind::Astar => {}
-            }
             statics.push(RobotStatic {
+                planner: r.planner,
                 limits,
                 radius: r.radius,
                 goal,
@@ -252,9 +267,12 @@ impl World {
             });
         }
         let layout = Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays);
+        let grid_refs: Vec<&CostGrid> = grids.iter().map(|g| &g.grid).collect();
+        let social = SocialPlanning::new(&scenario, &grid_refs)?;
         let mut world = World {
             geometry,
             field,
+            social,
             grids,
             statics,
             robots: Vec::new(),
@@ -425,9 +443,23 @@ impl World {
                 outcome: Outcome::Running,
                 geodesic: st.goal_field.distance(start),
                 user_command: false,
+                social_path: None,
+                last_plan_step: 0,
+                replans: 0,
             });
         }
         self.started = true;
+        if self.statics.iter().any(|s| s.planner == PlannerKind::SocialAstar) {
+            self.perceive()?;
+            let tod = self.time_of_day();
+            for i in 0..self.robots.len() {
+                if self.statics[i].planner == PlannerKind::SocialAstar {
+                    let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+                    self.social_plan(i, p, tod);
+                    self.robots[i].replans = 0;
+                }
+            }
+        }
         let stride = self.layout.stride;
         for i in 0..self.robots.len() {
             let row = &mut out[i * stride..(i + 1) * stride];
@@ -706,6 +738,135 @@ impl World {
         ((b[2] - b[0]).hypot(b[3] - b[1])).ceil()
     }
 
+    /// The robots as discs for perception (position, radius, velocity).
+    fn robot_discs(&self) -> Vec<RobotDisc> {
+        self.robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(r, s)| RobotDisc {
+                pos: Vec2::new(r.pose[0], r.pose[1]),
+                radius: s.radius,
+                vel: r.velocity,
+            })
+            .collect()
+    }
+
+    /// Perceives the people's groups and individuals now.
+    pub fn perceive(&mut self) -> Result<()> {
+        let discs = self.robot_discs();
+        self.social.perceive(&self.crowd, &discs)
+    }
+
+    /// The social model, maps and planner.
+    pub fn social(&self) -> &SocialPlanning {
+        &self.social
+    }
+
+    /// Updates robot `i`'s social map for the current people and the agenda at `time_of_day`.
+    pub fn update_social_map(&mut self, i: usize, time_of_day: f64) -> Result<()> {
+        let Some(st) = self.statics.get(i) else {
+            return Err(CoreError::input(
+                "robot",
+                format!("an index below {}", self.statics.len()),
+                i.to_string(),
+            ));
+        };
+        let k = st.grid_index;
+        if self.social.perception().is_none() {
+            self.perceive()?;
+        }
+        self.social.update_map(k, time_of_day);
+        Ok(())
+    }
+
+    /// Plans a social A* path for robot `i`'s footprint between two points at `time_of_day`,
+    /// with the people as perceived now.
+    pub fn plan_social(
+        &mut self,
+        i: usize,
+        start: Vec2,
+        goal: Vec2,
+        time_of_day: f64,
+    ) -> Result<Option<Vec<Vec2>>> {
+        let Some(st) = self.statics.get(i) else {
+            return Err(CoreError::input(
+                "robot",
+                format!("an index below {}", self.statics.len()),
+                i.to_string(),
+            ));
+        };
+        let k = st.grid_index;
+        self.perceive()?;
+        Ok(self.social.plan(&mut self.planner, k, start, goal, time_of_day).map(|p| p.points))
+    }
+
+    /// Robot `i`'s social map (as last updated).
+    pub fn social_map_of(&self, i: usize) -> Option<&crate::socialmap::SocialMap> {
+        self.social.map(self.statics.get(i)?.grid_index)
+    }
+
+    /// Number of times robot `i`'s social path was re-planned this episode.
+    pub fn replans(&self, i: usize) -> usize {
+        self.robots.get(i).map_or(0, |r| r.replans)
+    }
+
+    /// (Re-)plans robot `i`'s social path from `p`; falls back to the plain path when the goal
+    /// is unreachable on the social map (for example inside someone's intimate zone).
+    fn social_plan(&mut self, i: usize, p: Vec2, time_of_day: f64) {
+        let st = &self.statics[i];
+        let k = st.grid_index;
+        let goal = st.goal;
+        let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
+        let rb = &mut self.robots[i];
+        match plan {
+            Some(sp) => {
+                rb.follower = PathFollower::new(sp.points.clone(), FollowerParams::default());
+                rb.social_path = Some(sp);
+            }
+            None => {
+                let grid = &self.grids[k].grid;
+                if let Some(path) = plan_path(&mut self.planner, grid, p, goal) {
+                    rb.follower = PathFollower::new(path, FollowerParams::default());
+                }
+                rb.social_path = None;
+            }
+        }
+        rb.last_plan_step = self.steps;
+        rb.replans += 1;
+    }
+
+    /// Re-planning triggers of the social planners (every few steps).
+    fn social_checks(&mut self) {
+        let due: Vec<usize> = (0..self.robots.len())
+            .filter(|&i| {
+                let rb = &self.robots[i];
+                self.statics[i].planner == PlannerKind::SocialAstar
+                    && rb.outcome == Outcome::Running
+                    && self.steps > 0
+                    && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
+                    && self.steps >= rb.last_plan_step + SOCIAL_MIN_REPLAN
+            })
+            .collect();
+        if due.is_empty() {
+            return;
+        }
+        if self.perceive().is_err() {
+            return;
+        }
+        let tod = self.time_of_day();
+        for i in due {
+            let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+            let off_path = self.robots[i].follower.step_preview_cross_track(p) > 1.0;
+            let trigger = match &self.robots[i].social_path {
+                Some(path) => self.social.check(path, p, tod),
+                None => Trigger::Blocked, // on the plain fallback: try the social map again
+            };
+            if trigger != Trigger::None || off_path {
+                self.social_plan(i, p, tod);
+            }
+        }
+    }
+
     /// Runs every robot's built-in planner: the next command (written to `command`) and the
     /// same command as a normalised action (`planner_action`).
     fn plan_all(&mut self, out: &mut [f64]) {
@@ -713,13 +874,14 @@ impl World {
         let cmd = self.layout.section("command").map_or(0, |s| s.offset);
         let act = self.layout.section("planner_action").map_or(0, |s| s.offset);
         let dt = self.scenario.control_dt();
+        self.social_checks();
         for i in 0..self.robots.len() {
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
             let p = Vec2::new(rb.pose[0], rb.pose[1]);
             let (v, w) = if rb.outcome == Outcome::Running {
                 let mut o = rb.follower.step(p, rb.pose[2], st.limits.max_speed, st.limits.max_accel, dt);
-                if o.cross_track > rb.follower.params().replan_distance {
+                if o.cross_track > rb.follower.params().replan_distance && st.planner == PlannerKind::Astar {
                     // Pushed off the path (by people or contacts): re-plan from here.
                     let grid = &self.grids[st.grid_index].grid;
                     if let Some(path) = plan_path(&mut self.planner, grid, p, st.goal) {

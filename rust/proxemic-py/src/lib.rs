@@ -304,13 +304,18 @@ impl PyWorld {
         points_to_array(py, path)
     }
 
-    /// Plans a plain A* path for robot `robot`'s footprint; None if there is none.
+    /// Plans a path for robot `robot`'s footprint: plain A* on the inflated static map, or with
+    /// `social=True` social A* on the social cost map (people as perceived now, object spaces at
+    /// R(`time_of_day`), default the current time of day). None if there is no path.
+    #[pyo3(signature = (robot, start, goal, social = false, time_of_day = None))]
     fn plan<'py>(
         &mut self,
         py: Python<'py>,
         robot: usize,
         start: (f64, f64),
         goal: (f64, f64),
+        social: bool,
+        time_of_day: Option<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
         if robot >= self.inner.num_robots() {
             return Err(input_err(
@@ -320,10 +325,89 @@ impl PyWorld {
                 robot.to_string(),
             ));
         }
-        match self.inner.plan(robot, Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1)) {
+        let (s, g) = (Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1));
+        let path = if social {
+            let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+            let w = &mut self.inner;
+            enter_core(py, move || w.plan_social(robot, s, g, tod))?
+        } else {
+            self.inner.plan(robot, s, g)
+        };
+        match path {
             Some(p) => Ok(Some(points_to_array(py, &p)?)),
             None => Ok(None),
         }
+    }
+
+    /// Robot `robot`'s social cost map now (people as perceived now, object spaces at
+    /// R(`time_of_day`), default the current time of day), as a dict of (H, W) arrays, row 0 the
+    /// lowest y: `static` (uint8, 254 obstacles, 253 inflation), `people` and `objects` (float64
+    /// traversal factors, 1 free, inf forbidden), `combined` (uint8, what social A* searches),
+    /// plus `grid` (origin_x, origin_y, resolution) and `weight` (the A* cost weight).
+    #[pyo3(signature = (robot = 0, time_of_day = None))]
+    fn social_layers<'py>(
+        &mut self,
+        py: Python<'py>,
+        robot: usize,
+        time_of_day: Option<f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+        {
+            let w = &mut self.inner;
+            enter_core(py, move || w.update_social_map(robot, tod))?;
+        }
+        let Some(cg) = self.inner.cost_grid(robot) else {
+            return Err(input_err(
+                py,
+                "robot",
+                format!("an index below {}", self.inner.num_robots()),
+                robot.to_string(),
+            ));
+        };
+        let spec = cg.spec;
+        let map = self.inner.social_map_of(robot).ok_or_else(|| internal_error(py))?;
+        let shape = [spec.height, spec.width];
+        let d = PyDict::new(py);
+        d.set_item("static", PyArray1::from_slice(py, &map.static_layer().cost).reshape(shape)?)?;
+        d.set_item("people", PyArray1::from_slice(py, map.people_layer()).reshape(shape)?)?;
+        d.set_item("objects", PyArray1::from_slice(py, map.object_layer()).reshape(shape)?)?;
+        d.set_item("combined", PyArray1::from_slice(py, &map.grid().cost).reshape(shape)?)?;
+        d.set_item("grid", (spec.origin.x, spec.origin.y, spec.resolution))?;
+        d.set_item("weight", map.costs().weight())?;
+        Ok(d)
+    }
+
+    /// What the robots perceive of the people now: `labels` (group index per person),
+    /// `groups` (member lists), `robot_joins` (group joined per robot, or None), and
+    /// `individuals` (dicts with centre, heading, sides = [front, rear, right, left] sigmas,
+    /// members, robots).
+    fn perception<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        {
+            let w = &mut self.inner;
+            enter_core(py, move || w.perceive())?;
+        }
+        let per = self.inner.social().perception().ok_or_else(|| internal_error(py))?;
+        let d = PyDict::new(py);
+        d.set_item("labels", per.groups.labels.clone())?;
+        d.set_item("groups", per.groups.members.clone())?;
+        d.set_item("robot_joins", per.robot_joins.clone())?;
+        let inds = pyo3::types::PyList::empty(py);
+        for ind in &per.individuals {
+            let e = PyDict::new(py);
+            e.set_item("centre", (ind.centre.x, ind.centre.y))?;
+            e.set_item("heading", ind.heading)?;
+            e.set_item("sides", (ind.sides.front, ind.sides.rear, ind.sides.right, ind.sides.left))?;
+            e.set_item("members", ind.members.clone())?;
+            e.set_item("robots", ind.robots.clone())?;
+            inds.append(e)?;
+        }
+        d.set_item("individuals", inds)?;
+        Ok(d)
+    }
+
+    /// How many times robot `robot`'s social path was (re-)planned this episode.
+    fn replans(&self, robot: usize) -> usize {
+        self.inner.replans(robot)
     }
 
     /// The people now: (P, 6) float64 of x, y, heading, vx, vy, radius.

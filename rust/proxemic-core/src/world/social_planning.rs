@@ -1,0 +1,277 @@
+//! The social global planner: social A* on the social cost map, and its re-planning triggers.
+//!
+//! The map combines the static layer, the people (as the individuals of
+//! [`crate::social::perceive`]) and the objects' interaction spaces at R(t) from the agenda. The
+//! path is re-planned when
+//! - the agenda changes an object's cost along the path,
+//! - people move into the path (a point of the path ahead is now in someone's zone with a
+//!   higher cost than when it was planned), or
+//! - the path is blocked (a point ahead is in an intimate zone).
+//!
+//! The checks run on points sampled along the path ahead, so they cost little; the map itself is
+//! updated (incrementally) only when a plan is made.
+
+use crate::chronemics::Agenda;
+use crate::error::Result;
+use crate::groups::{PersonState, RobotDisc};
+use crate::math::Vec2;
+use crate::pedestrians::Crowd;
+use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path};
+use crate::scenario::Scenario;
+use crate::social::{Perception, SocialConfig, perceive};
+use crate::socialmap::SocialMap;
+
+/// Spacing of the points sampled along a path for the re-planning checks (metres).
+const SAMPLE_SPACING: f64 = 0.25;
+/// How far ahead along the path the checks look (metres).
+const LOOKAHEAD: f64 = 8.0;
+/// A sampled point whose traversal factor rose by at least this much triggers a re-plan.
+const FACTOR_RISE: f64 = 0.75;
+
+/// Why a path should be re-planned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Trigger {
+    /// Nothing changed enough.
+    None,
+    /// Someone's intimate zone covers the path ahead.
+    Blocked,
+    /// People moved into the path ahead.
+    People,
+    /// The agenda raised an object's cost on the path ahead.
+    Agenda,
+}
+
+/// A planned social path with the traversal factors seen along it when it was planned.
+#[derive(Clone, Debug, Default)]
+pub struct SocialPath {
+    /// Waypoints (world frame).
+    pub points: Vec<Vec2>,
+    samples: Vec<(Vec2, f64, f64)>,
+}
+
+/// State of the social planner for all robots of a world.
+pub struct SocialPlanning {
+    cfg: SocialConfig,
+    agenda: Agenda,
+    object_names: Vec<String>,
+    object_polygons: Vec<Vec<Vec2>>,
+    maps: Vec<SocialMap>,
+    features: Vec<Vec<f64>>,
+    perception: Option<Perception>,
+    people: Vec<PersonState>,
+}
+
+fn point_in_polygon(poly: &[Vec2], p: Vec2) -> bool {
+    let mut inside = false;
+    let n = poly.len();
+    for k in 0..n {
+        let (a, b) = (poly[k], poly[(k + 1) % n]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+impl SocialPlanning {
+    /// Builds the social model and one social map per inflated grid.
+    pub fn new(scenario: &Scenario, grids: &[&CostGrid]) -> Result<Self> {
+        let cfg = scenario.social_config();
+        let agenda = scenario.agenda()?;
+        let mut object_names = Vec::new();
+        let mut object_polygons = Vec::new();
+        for o in &scenario.objects {
+            if let Some(space) = &o.interaction {
+                object_names.push(o.name.clone());
+                object_polygons
+                    .push(space.polygon.iter().map(|q| Vec2::new(q[0], q[1])).collect::<Vec<Vec2>>());
+            }
+        }
+        let maps = grids.iter().map(|g| SocialMap::new((*g).clone(), &object_polygons, cfg.costs)).collect();
+        let features = scenario.persons.iter().map(|p| p.features.clone()).collect();
+        Ok(SocialPlanning {
+            cfg,
+            agenda,
+            object_names,
+            object_polygons,
+            maps,
+            features,
+            perception: None,
+            people: Vec::new(),
+        })
+    }
+
+    /// The social model.
+    pub fn config(&self) -> &SocialConfig {
+        &self.cfg
+    }
+
+    /// The social map of inflated grid `k`.
+    pub fn map(&self, k: usize) -> Option<&SocialMap> {
+        self.maps.get(k)
+    }
+
+    /// The latest perception (groups and individuals), if any.
+    pub fn perception(&self) -> Option<&Perception> {
+        self.perception.as_ref()
+    }
+
+    /// Names of the objects with interaction spaces, in the order of the object layer.
+    pub fn object_names(&self) -> &[String] {
+        &self.object_names
+    }
+
+    /// R(t) of every object with an interaction space at `time_of_day`.
+    pub fn object_factors(&self, time_of_day: f64) -> Vec<f64> {
+        self.object_names.iter().map(|n| self.agenda.cost(n, time_of_day)).collect()
+    }
+
+    /// Perceives the people (and the robots that may join their interactions).
+    pub fn perceive(&mut self, crowd: &Crowd, robots: &[RobotDisc]) -> Result<()> {
+        self.people.clear();
+        for k in 0..crowd.len() {
+            self.people.push(PersonState { pos: crowd.pos[k], heading: crowd.heading[k], vel: crowd.vel[k] });
+        }
+        self.perception = Some(perceive(&self.cfg, &self.people, &self.features, robots)?);
+        Ok(())
+    }
+
+    /// Brings social map `k` up to date with the latest perception and the agenda at
+    /// `time_of_day` (incrementally).
+    pub fn update_map(&mut self, k: usize, time_of_day: f64) {
+        let factors = self.object_factors(time_of_day);
+        let Some(map) = self.maps.get_mut(k) else { return };
+        map.set_object_factors(&factors);
+        if let Some(p) = &self.perception {
+            map.update_people(&p.individuals);
+        }
+    }
+
+    /// Traversal factor at `p` from the people and the objects at `time_of_day`:
+    /// (people factor, object factor).
+    fn factors_at(&self, p: Vec2, object_factors: &[f64]) -> (f64, f64) {
+        let mut people: f64 = 1.0;
+        if let Some(per) = &self.perception {
+            for ind in &per.individuals {
+                if (ind.centre - p).norm() <= ind_reach(ind) {
+                    people = people.max(self.cfg.costs.factor(ind, p));
+                }
+            }
+        }
+        let mut objects: f64 = 1.0;
+        for (poly, f) in self.object_polygons.iter().zip(object_factors) {
+            if point_in_polygon(poly, p) {
+                objects = objects.max(*f);
+            }
+        }
+        (people, objects)
+    }
+
+    /// Plans a social A* path on map `k` from `start` to `goal` at `time_of_day` (updating the
+    /// map first). `None` when the goal is unreachable on the social map.
+    pub fn plan(
+        &mut self,
+        planner: &mut PathPlanner,
+        k: usize,
+        start: Vec2,
+        goal: Vec2,
+        time_of_day: f64,
+    ) -> Option<SocialPath> {
+        self.update_map(k, time_of_day);
+        let map = self.maps.get(k)?;
+        let grid = map.grid();
+        let weight = self.cfg.costs.weight();
+        let s = super::snap_to_passable(grid, start)?;
+        let g = super::snap_to_passable(grid, goal)?;
+        let path = planner.plan(grid, s, g, SearchMode { weight, heuristic: true })?;
+        let mut points = smooth_path(grid, &path, weight);
+        if let Some(first) = points.first_mut() {
+            *first = start;
+        }
+        points.push(goal);
+        let factors = self.object_factors(time_of_day);
+        let samples = sample_path(&points, 0.0, f64::INFINITY)
+            .into_iter()
+            .map(|q| {
+                let (pf, of) = self.factors_at(q, &factors);
+                (q, pf, of)
+            })
+            .collect();
+        Some(SocialPath { points, samples })
+    }
+
+    /// Whether `path` should be re-planned, looking ahead from the sample nearest to `from`.
+    pub fn check(&self, path: &SocialPath, from: Vec2, time_of_day: f64) -> Trigger {
+        let factors = self.object_factors(time_of_day);
+        let Some(first) = path
+            .samples
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1.0 - from).norm().total_cmp(&(b.1.0 - from).norm()))
+            .map(|(i, _)| i)
+        else {
+            return Trigger::None;
+        };
+        let ahead = (LOOKAHEAD / SAMPLE_SPACING) as usize;
+        let mut trigger = Trigger::None;
+        for &(q, people_then, objects_then) in path.samples.iter().skip(first + 1).take(ahead) {
+            let (people_now, objects_now) = self.factors_at(q, &factors);
+            if people_now.is_infinite() {
+                return Trigger::Blocked;
+            }
+            if people_now >= people_then + FACTOR_RISE {
+                trigger = Trigger::People;
+            } else if objects_now >= objects_then + FACTOR_RISE && trigger == Trigger::None {
+                trigger = Trigger::Agenda;
+            }
+        }
+        trigger
+    }
+}
+
+fn ind_reach(ind: &crate::social::Individual) -> f64 {
+    use crate::socialmap::SpaceFunction;
+    ind.reach()
+}
+
+/// Points every [`SAMPLE_SPACING`] metres along a polyline between arc lengths `from` and `to`.
+fn sample_path(points: &[Vec2], from: f64, to: f64) -> Vec<Vec2> {
+    let mut out = Vec::new();
+    let mut s = 0.0;
+    let mut next = from;
+    for w in points.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let len = (b - a).norm();
+        while next <= s + len && next <= to {
+            let t = if len > 0.0 { (next - s) / len } else { 0.0 };
+            out.push(a + (b - a) * t);
+            next += SAMPLE_SPACING;
+        }
+        s += len;
+    }
+    if let Some(&last) = points.last() {
+        out.push(last);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_are_evenly_spaced_and_end_at_the_goal() {
+        let pts = [Vec2::zeros(), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0)];
+        let s = sample_path(&pts, 0.0, f64::INFINITY);
+        assert_eq!(s.len(), 10);
+        assert!((s[4] - Vec2::new(1.0, 0.0)).norm() < 1e-12);
+        assert_eq!(*s.last().expect("non-empty"), Vec2::new(1.0, 1.0));
+    }
+
+    #[test]
+    fn point_in_polygon_square() {
+        let sq = [Vec2::zeros(), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)];
+        assert!(point_in_polygon(&sq, Vec2::new(0.5, 0.5)));
+        assert!(!point_in_polygon(&sq, Vec2::new(1.5, 0.5)));
+    }
+}
