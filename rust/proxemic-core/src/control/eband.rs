@@ -27,8 +27,12 @@
 //! bubbles slide and bunch up). A bubble moves by `α f` with Quinlan's step `α = max(ρ̃, min_bubble)`
 //! (metres), the contraction part clamped to the distance to the chord of its neighbours (no
 //! overshoot, so a dense band cannot oscillate), the total clamped to
-//! `max_step_fraction * α`. A move is rejected (the bubble stays) if it is non-finite or would leave
-//! the bubble with clearance below `min_bubble` and below its current clearance.
+//! `max_step_fraction * α`, and scaled by a per-bubble damping factor that halves whenever a move
+//! reverses the bubble's previous one (down to 1/64) and recovers by 25% per iteration otherwise
+//! (the role of eband's overshoot recursion: it stops limit cycles on quantised distance fields,
+//! so a converged band passes the early-stop `tolerance`). A move is rejected (the bubble stays)
+//! if it is non-finite or would leave the bubble with clearance below `min_bubble` and below its
+//! current clearance.
 //!
 //! # Topology maintenance
 //! After every iteration: an interior bubble is removed when its neighbours already satisfy the
@@ -180,6 +184,8 @@ pub struct ElasticBand {
     points: Vec<Vec2>,
     /// Clearance of each point (m, sanitised) as of the last update; empty before it.
     radii: Vec<f64>,
+    /// Per point: last displacement (m) and step scale in (0, 1] (overshoot damping).
+    steps: Vec<(Vec2, f64)>,
     connected: bool,
     params: EbandParams,
 }
@@ -237,7 +243,8 @@ impl ElasticBand {
                 points.push(*p);
             }
         }
-        Ok(ElasticBand { points, radii: Vec::new(), connected: false, params })
+        let steps = vec![(Vec2::zeros(), 1.0); points.len()];
+        Ok(ElasticBand { points, radii: Vec::new(), steps, connected: false, params })
     }
 
     /// The band's points, start to goal (m).
@@ -277,6 +284,7 @@ impl ElasticBand {
         if let Some(first) = self.points.first_mut() {
             *first = p;
         }
+        self.steps.iter_mut().for_each(|s| *s = (Vec2::zeros(), 1.0));
         self.connected = false;
         Ok(())
     }
@@ -366,14 +374,24 @@ impl ElasticBand {
             if dn > max_step {
                 d *= max_step / dn;
             }
+            // Overshoot damping: a bubble whose move reverses its previous one halves its step
+            // scale (down to 1/64), otherwise the scale recovers by 25% per iteration up to 1.
+            let (last, scale) = self.steps.get(i).copied().unwrap_or((Vec2::zeros(), 1.0));
+            let scale =
+                if d.dot(&last) < 0.0 { (0.5 * scale).max(1.0 / 64.0) } else { (1.25 * scale).min(1.0) };
+            d *= scale;
             let cand = cur + d;
-            if !finite2(cand) || d.norm() == 0.0 {
-                continue;
+            let mut taken = Vec2::zeros();
+            if finite2(cand) && d.norm() > 0.0 {
+                let rc = rho(cand);
+                if rc >= p.min_bubble || rc >= r {
+                    self.points[i] = cand;
+                    moved = moved.max(d.norm());
+                    taken = d;
+                }
             }
-            let rc = rho(cand);
-            if rc >= p.min_bubble || rc >= r {
-                self.points[i] = cand;
-                moved = moved.max(d.norm());
+            if let Some(st) = self.steps.get_mut(i) {
+                *st = (taken, scale);
             }
         }
         moved
@@ -389,9 +407,12 @@ impl ElasticBand {
         let cap = |r: f64| r.min(p.max_bubble);
         let overlaps = |a: Vec2, ra: f64, b: Vec2, rb: f64| (a - b).norm() < p.overlap * (cap(ra) + cap(rb));
         let radii: Vec<f64> = self.points.iter().map(|q| rho(*q)).collect();
-        // Removal.
+        self.steps.resize(n, (Vec2::zeros(), 1.0));
+        // Removal (each kept bubble keeps its damping state).
         let mut kept: Vec<(Vec2, f64)> = Vec::with_capacity(n);
+        let mut kept_steps: Vec<(Vec2, f64)> = Vec::with_capacity(n);
         kept.push((self.points[0], radii[0]));
+        kept_steps.push(self.steps[0]);
         for i in 1..n - 1 {
             let (a, ra) = kept[kept.len() - 1];
             let (b, rb) = (self.points[i + 1], radii[i + 1]);
@@ -401,18 +422,25 @@ impl ElasticBand {
                 continue;
             }
             kept.push((c, rc));
+            kept_steps.push(self.steps[i]);
         }
         kept.push((self.points[n - 1], radii[n - 1]));
-        // Insertion.
+        kept_steps.push(self.steps[n - 1]);
+        // Insertion (new bubbles start undamped).
         let mut out: Vec<Vec2> = Vec::with_capacity(kept.len() * 2);
+        let mut out_steps: Vec<(Vec2, f64)> = Vec::with_capacity(kept.len() * 2);
         out.push(kept[0].0);
+        out_steps.push(kept_steps[0]);
         for (j, w) in kept.windows(2).enumerate() {
             // Points still to push after this gap, including `w[1]`.
             let remaining = kept.len() - (j + 1);
             self.fill(&mut out, w[0], w[1], 0, remaining, rho);
+            out_steps.resize(out.len(), (Vec2::zeros(), 1.0));
             out.push(w[1].0);
+            out_steps.push(kept_steps[j + 1]);
         }
         self.points = out;
+        self.steps = out_steps;
     }
 
     /// Inserts midpoints between `a` and `b` (exclusive) until consecutive bubbles overlap, the
