@@ -569,6 +569,78 @@ mod tests {
     }
 
     #[test]
+    fn mirrored_scene_gives_mirrored_action() {
+        let m = |a: Vec2| v(a.x, -a.y);
+        let p = SocialMomentumParams::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut compared = 0;
+        for _ in 0..100 {
+            let vel = v(rng.random_range(-0.4..0.55), rng.random_range(-0.3..0.3));
+            let goal = v(rng.random_range(2.0..5.0), rng.random_range(-2.0..2.0));
+            let others: Vec<Agent> = (0..3)
+                .map(|_| {
+                    person(
+                        v(rng.random_range(1.0..4.0), rng.random_range(-2.0..2.0)),
+                        v(rng.random_range(-1.0..0.5), rng.random_range(-0.5..0.5)),
+                    )
+                })
+                .collect();
+            let mirrored: Vec<Agent> =
+                others.iter().map(|a| Agent { pos: m(a.pos), vel: m(a.vel), ..*a }).collect();
+            // Skip scenes where a person's rotation sense is undecided (the convention breaks the
+            // mirror symmetry there on purpose).
+            if others.iter().any(|a| angular_momentum(Vec2::zeros(), vel, a.pos, a.vel).abs() < 0.1) {
+                continue;
+            }
+            let a = step(Vec2::zeros(), vel, goal, &others, &p);
+            let b = step(Vec2::zeros(), m(vel), m(goal), &mirrored, &p);
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    assert!((m(a) - b).norm() < 1e-9, "{a:?} vs mirrored {b:?}");
+                    compared += 1;
+                }
+                (None, None) => {}
+                _ => panic!("one side stopped: {a:?} {b:?}"),
+            }
+        }
+        assert!(compared > 20, "{compared}");
+    }
+
+    #[test]
+    fn crossing_from_the_left_keeps_its_rotation_sense_and_arrives() {
+        let p = SocialMomentumParams::default();
+        let l = Limits::PEPPER;
+        let goal = v(8.0, 0.0);
+        let (mut pos, mut vel) = (Vec2::zeros(), Vec2::zeros());
+        let mut ped = v(3.5, 3.5);
+        let ped_vel = v(0.0, -0.8);
+        let mut sign = 0.0;
+        let mut min_d = f64::INFINITY;
+        for _ in 0..400 {
+            let partial = pos + clamp_norm(goal - pos, 2.0);
+            let others = [person(ped, ped_vel)];
+            let out = step(pos, vel, partial, &others, &p)
+                .unwrap_or_else(|| l.apply(Vec2::zeros(), 0.0, vel, 0.0, DT).0);
+            check_limits(out, vel, &l, DT);
+            let lm = angular_momentum(pos, out, ped, ped_vel);
+            let ahead = (ped - pos).dot(&out) > 0.0 && (ped - pos).norm() < p.sensing_range;
+            if ahead && lm.abs() >= p.min_momentum {
+                if sign == 0.0 {
+                    sign = lm.signum();
+                }
+                assert_eq!(lm.signum(), sign, "switched sides at {pos:?}, person {ped:?}");
+            }
+            vel = out;
+            pos += vel * DT;
+            ped += ped_vel * DT;
+            min_d = min_d.min((pos - ped).norm());
+        }
+        assert!(sign != 0.0);
+        assert!(min_d >= 0.6, "collided: {min_d}");
+        assert!((pos - goal).norm() < 0.1, "did not arrive: {pos:?}");
+    }
+
+    #[test]
     fn passing_side_follows_rotation_already_under_way() {
         // The person is offset to the robot's right (y = -0.5) and the pass is already clockwise
         // (L < 0, robot passing on the left): Social Momentum keeps that sense rather than
@@ -638,6 +710,14 @@ mod tests {
                 check_limits(out, vel, &l, dt);
             }
         }
+        // A current velocity above the limit: the speed bound wins, decelerating at most a*dt.
+        let l = Limits::PEPPER;
+        let out =
+            social_momentum(Vec2::zeros(), v(0.6, 0.0), R, v(5.0, 0.0), &[], None, &l, DT, &p).expect("free");
+        check_limits(out, v(0.6, 0.0), &l, DT);
+        let out =
+            social_momentum(Vec2::zeros(), v(2.0, 0.0), R, v(5.0, 0.0), &[], None, &l, DT, &p).expect("free");
+        assert!(out.norm() <= l.max_speed + 1e-12, "{out:?}");
     }
 
     #[test]
