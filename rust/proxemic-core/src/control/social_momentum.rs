@@ -1,0 +1,878 @@
+//! Social Momentum: a sampling-based local controller that prefers legible, momentum-preserving
+//! passes around people.
+//!
+//! After Mavrogiannis, Thomason and Knepper, "Social Momentum: A Framework for Legible Navigation in
+//! Dynamic Multi-Agent Environments" (HRI 2018), and Mavrogiannis, Alves-Oliveira, Thomason and
+//! Knepper, "Social Momentum: Design and Evaluation of a Framework for Socially Competent Robot
+//! Navigation" (ACM THRI 2022); used near people and groups, with a partial goal on the global path,
+//! by Daza et al. 2021 (Algorithm 1, lines 14-19). No official code exists; this follows the spec in
+//! `design/algorithms.md` §2. The paper's weight λ and action set are unverified, so every parameter
+//! is in [`SocialMomentumParams`].
+//!
+//! # One step
+//! 1. **Action set.** The dynamic window `W = {|v| <= max_speed} ∩ {|v - vel| <= max_accel * dt}`
+//!    is sampled on a polar grid centred on the current velocity: `n_speeds` rings (radii
+//!    `k/n_speeds * max_accel * dt`, `k = 1..=n_speeds`) times `n_headings` rays, the first ray
+//!    pointing at the partial goal. Every sample is projected onto `W` (exact closest point).
+//!    Three more samples come first: the goal-seeking one (the point of `W` closest to
+//!    `(partial_goal - pos) / projection_time`, i.e. the efficiency optimum), the current velocity
+//!    (coast) and the maximum-braking one (the point of `W` closest to zero).
+//! 2. **Collision filter.** Each sample is held constant over `horizon` seconds, as are the people's
+//!    velocities. A sample is rejected if the minimum centre distance to a person,
+//!    `|d0 + t* dv|` with `t* = clamp(-(d0·dv)/|dv|², 0, horizon)`, is below
+//!    `radius + r_i + safety_margin`, or if the swept segment `pos → pos + v * horizon` comes within
+//!    `radius + safety_margin` of a wall edge (exact segment-segment distance). A pair that is
+//!    *already* closer than its bound does not reject a sample that does not bring it closer (the
+//!    minimum over the horizon is at `t = 0`), so a robot inside a margin can always back away.
+//! 3. **Score.** Efficiency `E(v) = -|pos + v * projection_time - partial_goal|`. For each person
+//!    in the reactive set (within `sensing_range` and within `field_of_view` about the robot's
+//!    heading), the pairwise angular momentum about the pair's midpoint with unit masses is
+//!    `L_i = ½ det(pos - p_i, vel - v_i)` now and `L̂_i(v) = ½ det(pos - p_i, v - v_i)` for the
+//!    action (the midpoint form `det(p̂_R - ĉ, v) + det(p̂_i - ĉ, v_i)` reduces exactly to this for
+//!    any projection time; see [`angular_momentum`]). The momentum term is
+//!    `SM(v) = Σ w_i |L̂_i(v)|` when `sign(L̂_i(v)) = s_i` for every reactive person, else 0
+//!    (all-or-nothing, the 2022 form; `per_agent_mask` switches to a per-person mask), with
+//!    `w_i ∝ weight_i / |pos - p_i|` normalised to sum 1. `E` is normalised to `[0, 1]` and `SM` to
+//!    `[0, 1]` over the collision-free samples; the chosen velocity maximises `E + λ SM` (the
+//!    first sample wins a tie, so the result is deterministic).
+//!
+//! # Passing convention (right-hand traffic)
+//! The world frame is REP-103 (x forward, y left, counter-clockwise positive). A robot at the
+//! origin moving along +x meets a person at `(4, 0)` moving along -x. Passing on the right means
+//! each keeps to its own right: the robot moves to `y = -a`, the person to `y = +a`. Then
+//! `pos - p_i = (-dx, -2a)`, `vel - v_i = (s, 0)` with `s > 0`, and
+//! `L = ½ det((-dx, -2a), (s, 0)) = ½ (0 - (-2a) s) = a s > 0`: right-hand passing is a
+//! counter-clockwise (positive) joint rotation, and the same sign holds for a standing person the
+//! robot passes with the person on its left. So the required sign `s_i` of a person is
+//! `sign(L_i)` when `|L_i| >= min_momentum` (respect the rotation already under way), and
+//! [`PASSING_MOMENTUM_SIGN`] = +1 otherwise (exact head-on, slow or ambiguous encounters resolve to
+//! the right, the same way every time).
+//!
+//! # Bad input
+//! Any non-finite position, velocity, radius, weight, goal, limit, `dt` or parameter, a negative
+//! radius, weight, gain or limit, `dt <= 0`, or a robot whose centre is inside a static polygon:
+//! the function returns `None` (stop). It never panics and never returns a non-finite velocity.
+
+use crate::control::{Limits, clamp_norm};
+use crate::map::StaticGeometry;
+use crate::math::Vec2;
+
+/// Sign of the pairwise angular momentum `L` that corresponds to passing on the right
+/// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
+/// the derivation.
+pub const PASSING_MOMENTUM_SIGN: f64 = 1.0;
+
+/// Parameters of [`social_momentum`]. All lengths in metres, times in seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SocialMomentumParams {
+    /// Weight λ of the normalised momentum term against the normalised efficiency term
+    /// (dimensionless, `>= 0`); default 3.0. The paper's value is unverified;
+    /// `design/algorithms.md` §2.3 suggests sweeping 0.1, 0.3, 1, but with the action set confined
+    /// to the one-step acceleration window those turn too late: a Pepper-limited robot
+    /// (0.55 m/s, 0.55 m/s², dt = 0.1 s) meeting a non-reactive person walking head-on at 1 m/s
+    /// from 8 m was run over for λ <= 1 and cleared the person for λ >= 2 (horizon 1.5 s).
+    /// 0 gives the pure-efficiency choice.
+    pub lambda: f64,
+    /// Number of rings of the polar action grid inside the acceleration window (`>= 0`); default 5.
+    pub n_speeds: usize,
+    /// Number of rays of the polar action grid, the first toward the partial goal (`>= 0`);
+    /// default 24 (every 15°).
+    pub n_headings: usize,
+    /// Collision horizon `T_c` over which samples and people move at constant velocity
+    /// (s, `>= 0`); default 1.5. The action set lies inside the acceleration window, so a long
+    /// horizon leaves no feasible sample sooner against a person walking straight at the robot,
+    /// and a short one reacts late (1.0-1.25 s failed the head-on test at λ = 2).
+    pub horizon: f64,
+    /// Extra clearance added to every radius sum and to the robot's radius against walls
+    /// (m, `>= 0`); default 0.1.
+    pub safety_margin: f64,
+    /// Time over which a sample is projected to score efficiency (s, `> 0`); default 1.0.
+    pub projection_time: f64,
+    /// People farther than this do not enter the momentum term (m, `>= 0`, may be infinite);
+    /// default 5.0. Every person is still considered by the collision filter.
+    pub sensing_range: f64,
+    /// Full angle of the cone about the robot's heading (its velocity, or the goal direction when
+    /// nearly stopped) inside which people enter the momentum term (rad, in `[0, 2π]`); default π
+    /// (people in front, ±90°).
+    pub field_of_view: f64,
+    /// Below this `|L_i|` (m²/s, `>= 0`) a person's current rotation sense is treated as
+    /// undecided and the preferred sign is [`PASSING_MOMENTUM_SIGN`]; default 0.05.
+    pub min_momentum: f64,
+    /// `false` (default): the momentum term is zero for a sample that flips the rotation sense of
+    /// any reactive person (the 2022 all-or-nothing form). `true`: only the flipped persons'
+    /// terms are dropped.
+    pub per_agent_mask: bool,
+}
+
+impl Default for SocialMomentumParams {
+    fn default() -> Self {
+        SocialMomentumParams {
+            lambda: 3.0,
+            n_speeds: 5,
+            n_headings: 24,
+            horizon: 1.5,
+            safety_margin: 0.1,
+            projection_time: 1.0,
+            sensing_range: 5.0,
+            field_of_view: std::f64::consts::PI,
+            min_momentum: 0.05,
+            per_agent_mask: false,
+        }
+    }
+}
+
+impl SocialMomentumParams {
+    fn is_valid(&self) -> bool {
+        let nonneg = |x: f64| x.is_finite() && x >= 0.0;
+        nonneg(self.lambda)
+            && nonneg(self.horizon)
+            && nonneg(self.safety_margin)
+            && self.projection_time.is_finite()
+            && self.projection_time > 0.0
+            && !self.sensing_range.is_nan()
+            && self.sensing_range >= 0.0
+            && nonneg(self.field_of_view)
+            && self.field_of_view <= std::f64::consts::TAU
+            && nonneg(self.min_momentum)
+    }
+}
+
+/// Another moving body the robot reasons about: a person, or a member of a group given as an
+/// individual.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Agent {
+    /// Position in the world frame (m).
+    pub pos: Vec2,
+    /// Estimated velocity in the world frame (m/s), assumed constant over the horizon.
+    pub vel: Vec2,
+    /// Body radius (m, `>= 0`).
+    pub radius: f64,
+    /// Importance in the momentum term (dimensionless, `>= 0`; 1 for an individual, heavier for
+    /// group members, 0 to ignore the person in the momentum term but not in the collision filter).
+    pub weight: f64,
+}
+
+impl Agent {
+    fn is_valid(&self) -> bool {
+        finite2(self.pos)
+            && finite2(self.vel)
+            && self.radius.is_finite()
+            && self.radius >= 0.0
+            && self.weight.is_finite()
+            && self.weight >= 0.0
+    }
+}
+
+/// Pairwise angular momentum (m²/s) of the robot `(p_r, v_r)` and a person `(p_i, v_i)` about
+/// their midpoint with unit masses, z component: `det(p_r - c, v_r) + det(p_i - c, v_i)` with
+/// `c = (p_r + p_i)/2`, which equals `½ det(p_r - p_i, v_r - v_i)`. Positive (counter-clockwise)
+/// for a pass on the right; translation invariant. Example: robot at the origin moving at (1, 0),
+/// person at (4, 1) moving at (-1, 0): `L = 1.0`; exact head-on: `L = 0`.
+pub fn angular_momentum(p_r: Vec2, v_r: Vec2, p_i: Vec2, v_i: Vec2) -> f64 {
+    0.5 * det(p_r - p_i, v_r - v_i)
+}
+
+/// Chooses the robot's velocity with Social Momentum (see the module docs for the algorithm).
+///
+/// - `pos`, `vel`: the robot's position (m) and current velocity command (m/s), world frame;
+/// - `radius`: the robot's radius (m, `>= 0`);
+/// - `partial_goal`: the point on the global path to head for (m);
+/// - `others`: the people, group members given as individuals;
+/// - `geom`: static geometry; samples whose straight motion over the horizon would bring the
+///   robot within `radius + safety_margin` of a wall are rejected;
+/// - `limits`: `max_speed` (m/s) and `max_accel` (m/s², may be infinite) bound the action set:
+///   every returned velocity has norm `<= max_speed` and lies within `max_accel * dt` of `vel`
+///   (when `|vel| > max_speed + max_accel * dt` both cannot hold; the speed bound wins, as in
+///   [`Limits::apply`]);
+/// - `dt`: the control period (s, `> 0`).
+///
+/// Returns `None` (stop) when every sample collides, and for any bad input (module docs).
+#[allow(clippy::too_many_arguments)]
+pub fn social_momentum(
+    pos: Vec2,
+    vel: Vec2,
+    radius: f64,
+    partial_goal: Vec2,
+    others: &[Agent],
+    geom: Option<&StaticGeometry>,
+    limits: &Limits,
+    dt: f64,
+    params: &SocialMomentumParams,
+) -> Option<Vec2> {
+    // ---- input validation: anything non-finite or out of range stops the robot.
+    let valid = finite2(pos)
+        && finite2(vel)
+        && finite2(partial_goal)
+        && radius.is_finite()
+        && radius >= 0.0
+        && dt.is_finite()
+        && dt > 0.0
+        && limits.max_speed.is_finite()
+        && limits.max_speed >= 0.0
+        && limits.max_accel >= 0.0 // false for NaN; +inf allowed
+        && params.is_valid()
+        && others.iter().all(Agent::is_valid);
+    if !valid {
+        return None;
+    }
+    let vmax = limits.max_speed;
+    // Beyond |vel| + vmax the acceleration disc contains the whole speed disc: cap it there so an
+    // infinite acceleration limit stays finite.
+    let reach = (limits.max_accel * dt).min(vel.norm() + vmax);
+    let horizon = params.horizon;
+    let tau = params.projection_time;
+
+    // ---- static geometry: the edges the robot could reach within the horizon.
+    let wall_bound = radius + params.safety_margin;
+    let mut edges: Vec<(Vec2, Vec2, f64)> = Vec::new();
+    if let Some(g) = geom {
+        if g.contains(pos) {
+            return None;
+        }
+        let range = vmax * horizon + wall_bound;
+        for (poly, bb) in g.polygons().iter().zip(g.polygon_bounds()) {
+            let dx = (bb.min.x - pos.x).max(pos.x - bb.max.x).max(0.0);
+            let dy = (bb.min.y - pos.y).max(pos.y - bb.max.y).max(0.0);
+            if dx * dx + dy * dy > range * range {
+                continue;
+            }
+            let n = poly.len();
+            for k in 0..n {
+                let (a, b) = (poly[k], poly[(k + 1) % n]);
+                let d = point_segment_distance(pos, a, b);
+                if d <= range {
+                    edges.push((a, b, d));
+                }
+            }
+        }
+    }
+
+    // ---- people: those that could be met within the horizon, and the reactive set.
+    struct Near {
+        pos: Vec2,
+        vel: Vec2,
+        bound2: f64,
+    }
+    struct Reactive {
+        /// pos - p_i
+        d0: Vec2,
+        /// ½ det(d0, v_i)
+        k: f64,
+        /// Required rotation sense (±1).
+        sign: f64,
+        /// Normalised weight.
+        w: f64,
+    }
+    let mut near: Vec<Near> = Vec::new();
+    let mut reactive: Vec<Reactive> = Vec::new();
+    let to_goal = partial_goal - pos;
+    let heading = if vel.norm() > 1e-6 {
+        Some(vel / vel.norm())
+    } else if to_goal.norm() > 1e-9 {
+        Some(to_goal / to_goal.norm())
+    } else {
+        None
+    };
+    let cos_half_fov = (0.5 * params.field_of_view).cos();
+    let mut weight_sum = 0.0;
+    for a in others {
+        let d0 = pos - a.pos;
+        let dist = d0.norm();
+        let bound = radius + a.radius + params.safety_margin;
+        if dist - bound <= (vmax + a.vel.norm()) * horizon {
+            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound });
+        }
+        let in_fov = match heading {
+            Some(h) => params.field_of_view >= std::f64::consts::TAU || (-d0).dot(&h) >= dist * cos_half_fov,
+            None => true,
+        };
+        if dist <= params.sensing_range && in_fov && a.weight > 0.0 {
+            let l_now = 0.5 * det(d0, vel - a.vel);
+            let sign =
+                if l_now.abs() >= params.min_momentum { l_now.signum() } else { PASSING_MOMENTUM_SIGN };
+            // Inverse distance, guarded against coincident centres.
+            let w = a.weight / dist.max(1e-6);
+            weight_sum += w;
+            reactive.push(Reactive { d0, k: 0.5 * det(d0, a.vel), sign, w });
+        }
+    }
+    if weight_sum > 0.0 {
+        for r in &mut reactive {
+            r.w /= weight_sum;
+        }
+    }
+
+    // ---- the action set.
+    let goal_dir = if to_goal.norm() > 1e-9 {
+        to_goal / to_goal.norm()
+    } else {
+        heading.unwrap_or_else(|| Vec2::new(1.0, 0.0))
+    };
+    let project = |w: Vec2| project_window(w, vel, reach, vmax);
+    let mut samples: Vec<Vec2> = Vec::with_capacity(3 + params.n_speeds * params.n_headings);
+    samples.push(project(to_goal / tau));
+    samples.push(project(vel));
+    samples.push(project(Vec2::zeros()));
+    if params.n_headings > 0 {
+        let step = std::f64::consts::TAU / params.n_headings as f64;
+        let dirs: Vec<Vec2> =
+            (0..params.n_headings).map(|h| crate::math::rotate(goal_dir, step * h as f64)).collect();
+        for s in 1..=params.n_speeds {
+            let r = reach * s as f64 / params.n_speeds as f64;
+            for d in &dirs {
+                samples.push(project(vel + d * r));
+            }
+        }
+    }
+
+    // ---- filter and score.
+    let mut feasible: Vec<(Vec2, f64, f64)> = Vec::with_capacity(samples.len());
+    for &v in &samples {
+        if !finite2(v) {
+            continue;
+        }
+        let hits_person = near.iter().any(|a| {
+            let d0 = pos - a.pos;
+            let dv = v - a.vel;
+            let dd = dv.norm_squared();
+            let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
+            t > 0.0 && (d0 + dv * t).norm_squared() < a.bound2
+        });
+        if hits_person {
+            continue;
+        }
+        let end = pos + v * horizon;
+        let hits_wall = edges.iter().any(|&(a, b, d_now)| {
+            let d = segment_segment_distance(pos, end, a, b);
+            d < wall_bound && d < d_now
+        });
+        if hits_wall {
+            continue;
+        }
+        let e = -(pos + v * tau - partial_goal).norm();
+        let mut sm = 0.0;
+        let mut all_kept = true;
+        for r in &reactive {
+            let l = 0.5 * det(r.d0, v) - r.k;
+            if l * r.sign > 0.0 {
+                sm += r.w * l.abs();
+            } else {
+                all_kept = false;
+            }
+        }
+        if !params.per_agent_mask && !all_kept {
+            sm = 0.0;
+        }
+        feasible.push((v, e, sm));
+    }
+    if feasible.is_empty() {
+        return None;
+    }
+    let (mut e_min, mut e_max, mut sm_max) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+    for &(_, e, sm) in &feasible {
+        e_min = e_min.min(e);
+        e_max = e_max.max(e);
+        sm_max = sm_max.max(sm);
+    }
+    let e_range = e_max - e_min;
+    let mut best: Option<(Vec2, f64)> = None;
+    for &(v, e, sm) in &feasible {
+        let e_n = if e_range > 1e-12 { (e - e_min) / e_range } else { 1.0 };
+        let sm_n = if sm_max > 1e-12 { sm / sm_max } else { 0.0 };
+        let score = e_n + params.lambda * sm_n;
+        if best.is_none_or(|(_, s)| score > s) {
+            best = Some((v, score));
+        }
+    }
+    best.map(|(v, _)| v).filter(|v| finite2(*v))
+}
+
+#[inline]
+fn finite2(v: Vec2) -> bool {
+    v.x.is_finite() && v.y.is_finite()
+}
+
+#[inline]
+fn det(a: Vec2, b: Vec2) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// The point of `{|v| <= vmax} ∩ {|v - c| <= r}` closest to `w` (exact). When the two discs are
+/// disjoint the speed bound wins: the point of the speed disc closest to the acceleration disc.
+fn project_window(w: Vec2, c: Vec2, r: f64, vmax: f64) -> Vec2 {
+    let in_speed = |v: Vec2| v.norm() <= vmax;
+    let in_reach = |v: Vec2| (v - c).norm() <= r;
+    if in_speed(w) && in_reach(w) {
+        return w;
+    }
+    let p1 = clamp_norm(w, vmax);
+    if in_reach(p1) {
+        return p1;
+    }
+    let p2 = c + clamp_norm(w - c, r);
+    if in_speed(p2) {
+        return p2;
+    }
+    // The closest point is one of the two corners where the circles cross.
+    let dc = c.norm();
+    if dc > 0.0 {
+        let a = (vmax * vmax - r * r + dc * dc) / (2.0 * dc);
+        let h2 = vmax * vmax - a * a;
+        if h2 >= 0.0 {
+            let u = c / dc;
+            let perp = Vec2::new(-u.y, u.x);
+            let h = h2.sqrt();
+            let q1 = u * a + perp * h;
+            let q2 = u * a - perp * h;
+            let q = if (q1 - w).norm_squared() <= (q2 - w).norm_squared() { q1 } else { q2 };
+            return clamp_norm(q, vmax);
+        }
+    }
+    clamp_norm(p2, vmax)
+}
+
+/// Distance (m) from `p` to the segment `ab`.
+fn point_segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.norm_squared();
+    let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (p - (a + ab * t)).norm()
+}
+
+/// Minimum distance (m) between the segments `pq` and `ab` (0 if they cross).
+fn segment_segment_distance(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> f64 {
+    let d1 = det(q - p, a - p);
+    let d2 = det(q - p, b - p);
+    let d3 = det(b - a, p - a);
+    let d4 = det(b - a, q - a);
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return 0.0;
+    }
+    point_segment_distance(p, a, b)
+        .min(point_segment_distance(q, a, b))
+        .min(point_segment_distance(a, p, q))
+        .min(point_segment_distance(b, p, q))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::Bounds;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    const DT: f64 = 0.1;
+    const R: f64 = 0.3;
+
+    fn v(x: f64, y: f64) -> Vec2 {
+        Vec2::new(x, y)
+    }
+
+    fn person(pos: Vec2, vel: Vec2) -> Agent {
+        Agent { pos, vel, radius: 0.3, weight: 1.0 }
+    }
+
+    fn step(
+        pos: Vec2,
+        vel: Vec2,
+        goal: Vec2,
+        others: &[Agent],
+        params: &SocialMomentumParams,
+    ) -> Option<Vec2> {
+        social_momentum(pos, vel, R, goal, others, None, &Limits::PEPPER, DT, params)
+    }
+
+    fn check_limits(out: Vec2, vel: Vec2, l: &Limits, dt: f64) {
+        assert!(out.norm() <= l.max_speed + 1e-12, "speed {} > {}", out.norm(), l.max_speed);
+        assert!((out - vel).norm() <= l.max_accel * dt + 1e-12, "accel {:?} from {:?}", out, vel);
+    }
+
+    #[test]
+    fn angular_momentum_known_answers() {
+        let l = angular_momentum(v(0.0, 0.0), v(1.0, 0.0), v(4.0, 1.0), v(-1.0, 0.0));
+        assert!((l - 1.0).abs() < 1e-12, "{l}");
+        assert_eq!(angular_momentum(v(0.0, 0.0), v(1.0, 0.0), v(4.0, 0.0), v(-1.0, 0.0)), 0.0);
+        // Midpoint form of design §2.2 gives the same value.
+        let (pr, vr, pi, vi) = (v(0.3, -1.2), v(0.4, 0.1), v(2.5, 0.7), v(-0.8, 0.3));
+        let c = (pr + pi) * 0.5;
+        let mid = det(pr - c, vr) + det(pi - c, vi);
+        assert!((angular_momentum(pr, vr, pi, vi) - mid).abs() < 1e-12);
+        // Translation invariance.
+        let s = v(10.0, -7.0);
+        assert!((angular_momentum(pr + s, vr, pi + s, vi) - mid).abs() < 1e-12);
+        // Mirroring across x flips the sign.
+        let m = |a: Vec2| v(a.x, -a.y);
+        assert!((angular_momentum(m(pr), m(vr), m(pi), m(vi)) + mid).abs() < 1e-12);
+    }
+
+    #[test]
+    fn alone_it_heads_straight_to_the_goal_at_max_speed() {
+        let p = SocialMomentumParams::default();
+        let l = Limits::PEPPER;
+        let goal = v(20.0, 5.0);
+        let dir = goal.normalize();
+        let (mut pos, mut vel) = (Vec2::zeros(), Vec2::zeros());
+        for k in 0..40 {
+            let out = step(pos, vel, goal, &[], &p).expect("free space");
+            check_limits(out, vel, &l, DT);
+            let expected = (l.max_accel * DT * (k + 1) as f64).min(l.max_speed);
+            assert!((out.norm() - expected).abs() < 1e-9, "step {k}: {} vs {expected}", out.norm());
+            assert!((out.normalize() - dir).norm() < 1e-9, "step {k}: direction {out:?}");
+            vel = out;
+            pos += vel * DT;
+        }
+        assert!((vel.norm() - l.max_speed).abs() < 1e-12);
+    }
+
+    /// Head-on encounter with a scripted person walking straight at the robot; returns the robot's
+    /// trajectory and the minimum centre distance.
+    fn head_on(params: &SocialMomentumParams, mirror: bool) -> (Vec<Vec2>, f64) {
+        let sy = if mirror { -1.0 } else { 1.0 };
+        let (mut pos, mut vel) = (Vec2::zeros(), v(0.55, 0.0));
+        let mut ped = v(8.0, 0.0);
+        let ped_vel = v(-1.0, 0.0);
+        let mut traj = vec![pos];
+        let mut min_d = f64::INFINITY;
+        for _ in 0..120 {
+            // Partial goal: 2 m ahead on the global path y = 0.
+            let goal = v(pos.x + 2.0, 0.0);
+            let others = [person(v(ped.x, sy * ped.y), ped_vel)];
+            // None: stop, through the limits like any command.
+            let out = step(pos, vel, goal, &others, params)
+                .unwrap_or_else(|| Limits::PEPPER.apply(Vec2::zeros(), 0.0, vel, 0.0, DT).0);
+            check_limits(out, vel, &Limits::PEPPER, DT);
+            vel = out;
+            pos += vel * DT;
+            ped += ped_vel * DT;
+            min_d = min_d.min((pos - ped).norm());
+            traj.push(pos);
+        }
+        (traj, min_d)
+    }
+
+    #[test]
+    fn head_on_it_passes_on_the_right_deterministically() {
+        let p = SocialMomentumParams::default();
+        let (traj, min_d) = head_on(&p, false);
+        let (traj2, _) = head_on(&p, false);
+        assert_eq!(traj, traj2, "not deterministic");
+        let min_y = traj.iter().map(|q| q.y).fold(f64::INFINITY, f64::min);
+        let max_y = traj.iter().map(|q| q.y).fold(f64::NEG_INFINITY, f64::max);
+        assert!(min_y < -0.2, "did not move right: min y {min_y}");
+        assert!(max_y < 1e-9, "moved left: max y {max_y}");
+        assert!(min_d >= 0.6 - 1e-9, "collided: {min_d}");
+        // It kept going: the robot is past the person and back near the path.
+        let end = traj[traj.len() - 1];
+        assert!(end.x > 4.0, "stalled at {end:?}");
+    }
+
+    #[test]
+    fn mirrored_scene_gives_mirrored_action() {
+        let m = |a: Vec2| v(a.x, -a.y);
+        let p = SocialMomentumParams::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut compared = 0;
+        for _ in 0..100 {
+            let vel = v(rng.random_range(-0.4..0.55), rng.random_range(-0.3..0.3));
+            let goal = v(rng.random_range(2.0..5.0), rng.random_range(-2.0..2.0));
+            let others: Vec<Agent> = (0..3)
+                .map(|_| {
+                    person(
+                        v(rng.random_range(1.0..4.0), rng.random_range(-2.0..2.0)),
+                        v(rng.random_range(-1.0..0.5), rng.random_range(-0.5..0.5)),
+                    )
+                })
+                .collect();
+            let mirrored: Vec<Agent> =
+                others.iter().map(|a| Agent { pos: m(a.pos), vel: m(a.vel), ..*a }).collect();
+            // Skip scenes where a person's rotation sense is undecided (the convention breaks the
+            // mirror symmetry there on purpose).
+            if others.iter().any(|a| angular_momentum(Vec2::zeros(), vel, a.pos, a.vel).abs() < 0.1) {
+                continue;
+            }
+            let a = step(Vec2::zeros(), vel, goal, &others, &p);
+            let b = step(Vec2::zeros(), m(vel), m(goal), &mirrored, &p);
+            match (a, b) {
+                (Some(a), Some(b)) => {
+                    assert!((m(a) - b).norm() < 1e-9, "{a:?} vs mirrored {b:?}");
+                    compared += 1;
+                }
+                (None, None) => {}
+                _ => panic!("one side stopped: {a:?} {b:?}"),
+            }
+        }
+        assert!(compared > 20, "{compared}");
+    }
+
+    #[test]
+    fn crossing_from_the_left_keeps_its_rotation_sense_and_arrives() {
+        let p = SocialMomentumParams::default();
+        let l = Limits::PEPPER;
+        let goal = v(8.0, 0.0);
+        let (mut pos, mut vel) = (Vec2::zeros(), Vec2::zeros());
+        let mut ped = v(3.5, 3.5);
+        let ped_vel = v(0.0, -0.8);
+        let mut sign = 0.0;
+        let mut min_d = f64::INFINITY;
+        for _ in 0..400 {
+            let partial = pos + clamp_norm(goal - pos, 2.0);
+            let others = [person(ped, ped_vel)];
+            let out = step(pos, vel, partial, &others, &p)
+                .unwrap_or_else(|| l.apply(Vec2::zeros(), 0.0, vel, 0.0, DT).0);
+            check_limits(out, vel, &l, DT);
+            let lm = angular_momentum(pos, out, ped, ped_vel);
+            let ahead = (ped - pos).dot(&out) > 0.0 && (ped - pos).norm() < p.sensing_range;
+            if ahead && lm.abs() >= p.min_momentum {
+                if sign == 0.0 {
+                    sign = lm.signum();
+                }
+                assert_eq!(lm.signum(), sign, "switched sides at {pos:?}, person {ped:?}");
+            }
+            vel = out;
+            pos += vel * DT;
+            ped += ped_vel * DT;
+            min_d = min_d.min((pos - ped).norm());
+        }
+        assert!(sign != 0.0);
+        assert!(min_d >= 0.6, "collided: {min_d}");
+        assert!((pos - goal).norm() < 0.1, "did not arrive: {pos:?}");
+    }
+
+    #[test]
+    fn passing_side_follows_rotation_already_under_way() {
+        // The person is offset to the robot's right (y = -0.5) and the pass is already clockwise
+        // (L < 0, robot passing on the left): Social Momentum keeps that sense rather than
+        // crossing in front of the person.
+        let p = SocialMomentumParams::default();
+        let pos = Vec2::zeros();
+        let vel = v(0.55, 0.0);
+        let others = [person(v(3.0, -0.5), v(-1.0, 0.0))];
+        let l = angular_momentum(pos, vel, others[0].pos, others[0].vel);
+        assert!(l < -p.min_momentum, "{l}");
+        let out = step(pos, vel, v(5.0, 0.0), &others, &p).expect("free");
+        assert!(angular_momentum(pos, out, others[0].pos, others[0].vel) < 0.0);
+        assert!(out.y >= 0.0, "{out:?}");
+    }
+
+    #[test]
+    fn lambda_increases_the_momentum_terms_influence() {
+        let pos = Vec2::zeros();
+        let vel = v(0.5, 0.0);
+        let goal = v(5.0, 0.0);
+        let others = [person(v(3.0, 0.4), v(-0.8, 0.0))];
+        let sm_of = |out: Vec2| angular_momentum(pos, out, others[0].pos, others[0].vel);
+        let mut last: Option<(Vec2, f64)> = None;
+        for lambda in [0.0, 0.3, 3.0] {
+            let p = SocialMomentumParams { lambda, ..Default::default() };
+            let out = step(pos, vel, goal, &others, &p).expect("free");
+            let sm = sm_of(out);
+            if let Some((prev, prev_sm)) = last {
+                assert!(sm >= prev_sm - 1e-12, "lambda {lambda}: {sm} < {prev_sm}");
+                if lambda == 3.0 {
+                    assert!((out - prev).norm() > 1e-3, "no measurable change: {out:?} vs {prev:?}");
+                }
+            }
+            last = Some((out, sm));
+        }
+        // λ = 0 is the pure-efficiency choice: straight at the goal.
+        let p0 = SocialMomentumParams { lambda: 0.0, ..Default::default() };
+        let out0 = step(pos, vel, goal, &others, &p0).expect("free");
+        assert!((out0 - v(0.55, 0.0)).norm() < 1e-12, "{out0:?}");
+    }
+
+    #[test]
+    fn never_exceeds_speed_or_acceleration() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let p = SocialMomentumParams::default();
+        for _ in 0..300 {
+            let l = Limits {
+                max_speed: rng.random_range(0.1..1.5),
+                max_angular_speed: 2.0,
+                max_accel: rng.random_range(0.1..3.0),
+                max_angular_accel: 3.0,
+            };
+            let dt = rng.random_range(0.02..0.5);
+            let speed = rng.random_range(0.0..l.max_speed);
+            let ang: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let vel = v(ang.cos(), ang.sin()) * speed;
+            let goal = v(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0));
+            let others: Vec<Agent> = (0..rng.random_range(0..6))
+                .map(|_| {
+                    person(
+                        v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0)),
+                        v(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)),
+                    )
+                })
+                .collect();
+            if let Some(out) = social_momentum(Vec2::zeros(), vel, R, goal, &others, None, &l, dt, &p) {
+                check_limits(out, vel, &l, dt);
+            }
+        }
+        // A current velocity above the limit: the speed bound wins, decelerating at most a*dt.
+        let l = Limits::PEPPER;
+        let out =
+            social_momentum(Vec2::zeros(), v(0.6, 0.0), R, v(5.0, 0.0), &[], None, &l, DT, &p).expect("free");
+        check_limits(out, v(0.6, 0.0), &l, DT);
+        let out =
+            social_momentum(Vec2::zeros(), v(2.0, 0.0), R, v(5.0, 0.0), &[], None, &l, DT, &p).expect("free");
+        assert!(out.norm() <= l.max_speed + 1e-12, "{out:?}");
+    }
+
+    #[test]
+    fn boxed_in_returns_none() {
+        // Eight people on a 1.2 m ring walking straight at the robot.
+        let others: Vec<Agent> = (0..8)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 8.0;
+                let u = v(a.cos(), a.sin());
+                person(u * 1.2, -u * 1.0)
+            })
+            .collect();
+        let p = SocialMomentumParams::default();
+        assert_eq!(step(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &others, &p), None);
+        // One person farther away leaves room to side-step.
+        let one = [person(v(2.5, 0.0), v(-1.0, 0.0))];
+        assert!(step(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &one, &p).is_some());
+    }
+
+    fn room() -> StaticGeometry {
+        let rect = |x0: f64, y0: f64, x1: f64, y1: f64| vec![v(x0, y0), v(x1, y0), v(x1, y1), v(x0, y1)];
+        let polys = vec![
+            rect(-5.0, -5.0, 5.0, -4.8),
+            rect(-5.0, 4.8, 5.0, 5.0),
+            rect(-5.0, -5.0, -4.8, 5.0),
+            rect(4.8, -5.0, 5.0, 5.0),
+            rect(1.0, -1.0, 1.5, 3.0),
+            rect(-2.0, -3.0, 0.0, -2.5),
+        ];
+        let bounds = Bounds { min: v(-5.0, -5.0), max: v(5.0, 5.0) };
+        match StaticGeometry::new(polys, bounds) {
+            Ok(g) => g,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn chosen_samples_never_collide_within_the_horizon() {
+        let geom = room();
+        let p = SocialMomentumParams::default();
+        let l = Limits::PEPPER;
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let mut checked = 0;
+        let mut stopped = 0;
+        for _ in 0..400 {
+            let pos = v(rng.random_range(-4.3..4.3), rng.random_range(-4.3..4.3));
+            if geom.distance(pos) < R + p.safety_margin || geom.contains(pos) {
+                continue;
+            }
+            let ang: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let vel = v(ang.cos(), ang.sin()) * rng.random_range(0.0..0.55);
+            let goal = v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0));
+            let others: Vec<Agent> = (0..6)
+                .map(|_| {
+                    person(
+                        v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5)),
+                        v(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2)),
+                    )
+                })
+                .filter(|a| (a.pos - pos).norm() >= R + a.radius + p.safety_margin)
+                .collect();
+            match social_momentum(pos, vel, R, goal, &others, Some(&geom), &l, DT, &p) {
+                None => stopped += 1,
+                Some(out) => {
+                    checked += 1;
+                    // Dense time sampling, independent of the closed form.
+                    for k in 0..=400 {
+                        let t = p.horizon * k as f64 / 400.0;
+                        let q = pos + out * t;
+                        for a in &others {
+                            let d = (q - (a.pos + a.vel * t)).norm();
+                            assert!(d >= R + a.radius + p.safety_margin - 1e-9, "person hit at t={t}: {d}");
+                        }
+                        assert!(geom.distance(q) >= R + p.safety_margin - 1e-9, "wall hit at t={t}");
+                    }
+                }
+            }
+        }
+        assert!(checked > 100, "only {checked} checked ({stopped} stopped)");
+    }
+
+    #[test]
+    fn inside_a_margin_it_can_back_away() {
+        let geom = room();
+        let p = SocialMomentumParams::default();
+        // 0.32 m from the wall face at x = 1.0 (bound 0.4), goal straight through the wall.
+        let pos = v(0.68, 1.0);
+        let out =
+            social_momentum(pos, Vec2::zeros(), R, v(3.0, 1.0), &[], Some(&geom), &Limits::PEPPER, DT, &p)
+                .expect("can move away or along");
+        assert!(out.x <= 1e-12, "{out:?}");
+    }
+
+    #[test]
+    fn nan_inputs_stop_the_robot() {
+        let p = SocialMomentumParams::default();
+        let l = Limits::PEPPER;
+        let nan = f64::NAN;
+        let ok = person(v(3.0, 0.0), v(-1.0, 0.0));
+        let call = |pos: Vec2,
+                    vel: Vec2,
+                    goal: Vec2,
+                    others: &[Agent],
+                    l: &Limits,
+                    dt: f64,
+                    p: &SocialMomentumParams| {
+            social_momentum(pos, vel, R, goal, others, None, l, dt, p)
+        };
+        assert!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &p).is_some());
+        assert_eq!(call(v(nan, 0.0), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &p), None);
+        assert_eq!(call(Vec2::zeros(), v(0.0, nan), v(5.0, 0.0), &[ok], &l, DT, &p), None);
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(f64::INFINITY, 0.0), &[ok], &l, DT, &p), None);
+        let bad = Agent { pos: v(nan, 1.0), ..ok };
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok, bad], &l, DT, &p), None);
+        let bad = Agent { vel: v(1.0, f64::INFINITY), ..ok };
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[bad], &l, DT, &p), None);
+        let bad = Agent { radius: nan, ..ok };
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[bad], &l, DT, &p), None);
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, nan, &p), None);
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, 0.0, &p), None);
+        let bl = Limits { max_speed: nan, ..l };
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &bl, DT, &p), None);
+        let bp = SocialMomentumParams { lambda: nan, ..p };
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &bp), None);
+        let bp = SocialMomentumParams { horizon: f64::INFINITY, ..p };
+        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &bp), None);
+        assert_eq!(
+            social_momentum(Vec2::zeros(), Vec2::zeros(), nan, v(5.0, 0.0), &[ok], None, &l, DT, &p),
+            None
+        );
+        // An infinite acceleration limit is allowed and stays finite.
+        let il = Limits { max_accel: f64::INFINITY, ..l };
+        let out = call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[], &il, DT, &p).expect("free");
+        assert!((out - v(0.55, 0.0)).norm() < 1e-12, "{out:?}");
+        // A goal on the robot, and degenerate action sets, still give finite answers.
+        let g0 = SocialMomentumParams { n_speeds: 0, n_headings: 0, ..p };
+        let out = call(Vec2::zeros(), v(0.2, 0.0), Vec2::zeros(), &[ok], &l, DT, &g0).expect("free");
+        assert!(out.x.is_finite() && out.y.is_finite());
+    }
+
+    #[test]
+    fn inside_an_obstacle_stops() {
+        let geom = room();
+        let p = SocialMomentumParams::default();
+        let out = social_momentum(
+            v(1.2, 0.0),
+            Vec2::zeros(),
+            R,
+            v(3.0, 0.0),
+            &[],
+            Some(&geom),
+            &Limits::PEPPER,
+            DT,
+            &p,
+        );
+        assert_eq!(out, None);
+    }
+}
