@@ -12,6 +12,8 @@
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
 
+pub mod orca;
+
 use crate::math::{Vec2, rotate, wrap_angle};
 
 /// Motion limits of a robot base.
