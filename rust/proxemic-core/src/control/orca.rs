@@ -784,7 +784,7 @@ impl Query<'_> {
                     continue;
                 }
                 let d2 = (t.pos - self.pos).norm_squared();
-                if !(d2 < self.range) {
+                if d2 >= self.range || d2.is_nan() {
                     continue;
                 }
                 let cand = Neighbor { d2, id: t.id, idx: t.idx };
@@ -1038,7 +1038,7 @@ fn obstacle_line(a: &OrcaAgent, obstacles: &ObstacleSet, e1: usize, inv_tau: f64
         return;
     }
     let inf = f64::INFINITY;
-    let dist_cut = if t < 0.0 || t > 1.0 || same { inf } else { (v - (cl + cvec * t)).norm_squared() };
+    let dist_cut = if !(0.0..=1.0).contains(&t) || same { inf } else { (v - (cl + cvec * t)).norm_squared() };
     let dist_left = if tl < 0.0 { inf } else { (v - (cl + left * tl)).norm_squared() };
     let dist_right = if tr < 0.0 { inf } else { (v - (cr + right * tr)).norm_squared() };
     if dist_cut <= dist_left && dist_cut <= dist_right {
@@ -1059,7 +1059,7 @@ fn lp1(lines: &[Line], i: usize, speed: f64, opt: Vec2, dir_opt: bool, result: &
     let li = lines[i];
     let b = li.point.dot(&li.dir);
     let disc = b * b + speed * speed - li.point.norm_squared();
-    if !(disc >= 0.0) {
+    if disc < 0.0 || disc.is_nan() {
         return false;
     }
     let sq = disc.sqrt();
