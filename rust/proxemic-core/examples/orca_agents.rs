@@ -1,6 +1,6 @@
 //! ORCA cost per agent-step on navground's `Cross` scenario, for `benches/orca_vs_navground.py`.
 //!
-//! usage: `cargo run --release --example orca_agents -- N STEPS [REPS]`
+//! usage: `cargo run --release --example orca_agents -- N STEPS [REPS [SEED0]]`
 //!
 //! The world mirrors the navground bench (`shared/design/peers.md`, Appendix A): N agents placed at
 //! random without overlap in a square of side `2 sqrt(N)` m (4 m^2 per agent), agent `k` shuttling
@@ -9,7 +9,7 @@
 //! neighbours within 5 m (navground's `Bounded` range) with no count limit (navground's ORCA default
 //! is 1000), time horizons 10 s, dt = 0.1 s, holonomic Euler integration. 20 warm-up steps, then
 //! `STEPS` timed steps (ORCA for every agent + integration + target switching), per repetition with
-//! seeds `0..REPS`. Prints one JSON line with the median wall and thread-CPU microseconds per
+//! seeds `SEED0..SEED0 + REPS` (default 0). Prints one JSON line with the median wall and thread-CPU microseconds per
 //! agent-step and the mean number of neighbours.
 
 #![allow(missing_docs)]
@@ -107,6 +107,7 @@ fn main() {
     let n = parse(1, 200);
     let steps = parse(2, 100);
     let reps = parse(3, 5).max(1);
+    let seed0 = parse(4, 0) as u64;
     let params = OrcaParams {
         time_horizon: 10.0,
         time_horizon_obst: 10.0,
@@ -119,7 +120,7 @@ fn main() {
     let mut cpu = Vec::new();
     let mut neighbors = Vec::new();
     let mut overlaps = 0usize;
-    for seed in 0..reps as u64 {
+    for seed in seed0..seed0 + reps as u64 {
         let mut w = make_world(n, seed);
         let mut orca = match Orca::new(params) {
             Ok(o) => o,
