@@ -6,11 +6,13 @@
 //! random without overlap in a square of side `2 sqrt(N)` m (4 m^2 per agent), agent `k` shuttling
 //! between the mid-points of two opposite sides (four groups: +x, -x, +y, -y, switching target within
 //! 0.5 m), radius 0.25 m + 0.1 m safety margin, maximum speed 1.5 m/s, preferred speed 1.0 m/s,
-//! neighbours within 5 m (navground's `Bounded` range) with no count limit (navground's ORCA default
-//! is 1000), time horizons 10 s, dt = 0.1 s, holonomic Euler integration. 20 warm-up steps, then
-//! `STEPS` timed steps (ORCA for every agent + integration + target switching), per repetition with
-//! seeds `SEED0..SEED0 + REPS` (default 0). Prints one JSON line with the median wall and thread-CPU microseconds per
-//! agent-step and the mean number of neighbours.
+//! neighbours within 5 m (navground's `Bounded` range; `ORCA_NEIGHBOR_DIST` in the environment
+//! overrides it, to match neighbour counts) with no count limit (navground's ORCA default is 1000),
+//! time horizons 10 s, dt = 0.1 s, holonomic Euler integration.
+//!
+//! Per repetition (seeds `SEED0..SEED0 + REPS`, default 0): 20 warm-up steps, then `STEPS` timed
+//! steps (ORCA for every agent + integration + target switching). Prints one JSON line with the
+//! median wall and thread-CPU microseconds per agent-step and the mean number of neighbours.
 
 #![allow(missing_docs)]
 
@@ -111,7 +113,7 @@ fn main() {
     let params = OrcaParams {
         time_horizon: 10.0,
         time_horizon_obst: 10.0,
-        neighbor_dist: 5.0,
+        neighbor_dist: std::env::var("ORCA_NEIGHBOR_DIST").ok().and_then(|s| s.parse().ok()).unwrap_or(5.0),
         max_neighbors: 1000,
         ..OrcaParams::default()
     };
