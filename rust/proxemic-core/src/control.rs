@@ -13,6 +13,7 @@
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
 
 pub mod eband;
+pub mod orca;
 pub mod social_momentum;
 
 use crate::math::{Vec2, rotate, wrap_angle};
