@@ -106,7 +106,7 @@ pub struct Individual {
     pub robots: Vec<usize>,
     placed: Placed,
     zone_scale: f64,
-    reach: f64,
+    bounds: [f64; 4],
 }
 
 impl Individual {
@@ -120,15 +120,24 @@ impl Individual {
     ) -> Self {
         let placed = PersonalSpace::Asymmetric(sides).at(Pose::new(centre.x, centre.y, heading));
         let zone_scale = cfg.zone_scale();
-        let widest = sides.front.max(sides.rear).max(sides.right).max(sides.left);
-        // Zones end where the zone distance reaches the social radius: sqrt(2 q) z = r_s, and
-        // q <= d^2 / (2 sigma_min^2) along any ray, so d <= r_s * widest / z bounds them.
-        let mut reach = cfg.costs.social * widest / zone_scale;
+        // Along each half-axis the social zone ends where sqrt(2 q) z = r_s, i.e. at
+        // r_s * sigma_side / z; in each quadrant the zone lies inside the box spanned by its two
+        // half-axis extents (the exponent is a sum of two squares). Continuous costs fade below
+        // 1% of the centre value at sqrt(2 ln 100) sigma.
+        let mut scale = cfg.costs.social / zone_scale;
         if let CostMode::Continuous { .. } = cfg.costs.mode {
-            // Continuous costs fade below 1% of the centre value at sqrt(2 ln 100) sigma.
-            reach = reach.max(widest * (2.0 * 100f64.ln()).sqrt());
+            scale = scale.max((2.0 * 100f64.ln()).sqrt());
         }
-        Individual { centre, heading, sides, members, robots, placed, zone_scale, reach }
+        let (f, r, ri, l) =
+            (sides.front * scale, sides.rear * scale, sides.right * scale, sides.left * scale);
+        let (sn, cs) = heading.sin_cos();
+        let mut bounds = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+        for (lx, ly) in [(f, l), (f, -ri), (-r, l), (-r, -ri)] {
+            let x = centre.x + cs * lx - sn * ly;
+            let y = centre.y + sn * lx + cs * ly;
+            bounds = [bounds[0].min(x), bounds[1].min(y), bounds[2].max(x), bounds[3].max(y)];
+        }
+        Individual { centre, heading, sides, members, robots, placed, zone_scale, bounds }
     }
 
     /// The personal-space value at `p` in [0, 1].
@@ -144,15 +153,15 @@ impl SpaceFunction for Individual {
     fn zone_scale(&self) -> f64 {
         self.zone_scale
     }
-    fn centre(&self) -> Vec2 {
-        self.centre
+    fn bounds(&self) -> [f64; 4] {
+        self.bounds
     }
-    fn reach(&self) -> f64 {
-        self.reach
+    fn quadratic(&self) -> Option<[f64; 8]> {
+        Some(self.placed.coefficients())
     }
     fn fingerprint(&self) -> [f64; 8] {
         let s = &self.sides;
-        [self.centre.x, self.centre.y, self.heading, s.front, s.rear, s.right, s.left, self.reach]
+        [self.centre.x, self.centre.y, self.heading, s.front, s.rear, s.right, s.left, self.bounds[0]]
     }
 }
 
@@ -312,5 +321,52 @@ mod tests {
         // a moving robot does not join
         let moving = RobotDisc { vel: Vec2::new(0.5, 0.0), ..robot };
         assert_eq!(perceive(&cfg, &people, &[vec![]], &[moving]).expect("valid").robot_joins, vec![None]);
+    }
+
+    /// Hides the quadratic form, so the map takes its generic per-cell path.
+    struct Generic<'a>(&'a Individual);
+
+    impl SpaceFunction for Generic<'_> {
+        fn exponent(&self, p: Vec2) -> f64 {
+            self.0.exponent(p)
+        }
+        fn zone_scale(&self) -> f64 {
+            self.0.zone_scale()
+        }
+        fn bounds(&self) -> [f64; 4] {
+            self.0.bounds()
+        }
+        fn fingerprint(&self) -> [f64; 8] {
+            self.0.fingerprint()
+        }
+    }
+
+    #[test]
+    fn the_row_sweep_equals_the_per_cell_evaluation() {
+        use crate::map::geometry::Bounds;
+        use crate::map::grid::GridSpec;
+        use crate::plan::CostGrid;
+        use crate::socialmap::SocialMap;
+        let cfg = SocialConfig::default();
+        let people: Vec<PersonState> = (0..12)
+            .map(|k| {
+                let k = k as f64;
+                standing(2.0 + 1.7 * k % 15.0, 2.0 + (k * 2.3) % 9.0, k * 0.7)
+            })
+            .collect();
+        let p = perceive(&cfg, &people, &vec![vec![]; people.len()], &[]).expect("valid");
+        let spec =
+            GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(20.0, 12.0) }, 0.1).expect("grid");
+        let grid = CostGrid { spec, cost: vec![0; spec.len()] };
+        let mut fast = SocialMap::new(grid.clone(), &[], cfg.costs);
+        let mut slow = SocialMap::new(grid, &[], cfg.costs);
+        fast.update_people(&p.individuals);
+        let generic: Vec<Generic<'_>> = p.individuals.iter().map(Generic).collect();
+        slow.update_people(&generic);
+        let (a, b) = (fast.people_layer(), slow.people_layer());
+        let differing = a.iter().zip(b).filter(|(x, y)| x != y).count();
+        // Cells exactly on a zone boundary may round either way; allow a handful.
+        assert!(differing <= 5, "{differing} cells differ");
+        assert!(a.iter().any(|f| f.is_infinite()) && a.iter().any(|f| *f == 2.0));
     }
 }

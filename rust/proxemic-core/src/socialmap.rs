@@ -40,12 +40,17 @@ pub trait SpaceFunction {
     fn exponent(&self, p: Vec2) -> f64;
     /// The length (metres) that turns `sqrt(2 q)` into a zone distance.
     fn zone_scale(&self) -> f64;
-    /// Centre of the individual (metres).
-    fn centre(&self) -> Vec2;
-    /// Radius (metres) beyond which the individual adds no cost; bounds the cells touched.
-    fn reach(&self) -> f64;
+    /// Axis-aligned box `[xmin, ymin, xmax, ymax]` (metres) outside which the individual adds no
+    /// cost; bounds the cells it touches.
+    fn bounds(&self) -> [f64; 4];
     /// A fingerprint of the individual's state; equal fingerprints mean identical contributions.
     fn fingerprint(&self) -> [f64; 8];
+    /// The exponent as a quadrant-wise quadratic form, if it is one: `(x, y, cos, sin, front,
+    /// rear, right, left)` with `q = k_s d_sag^2 + k_f d_fro^2` (see
+    /// [`crate::proxemics::Placed::coefficients`]); lets the map sweep rows incrementally.
+    fn quadratic(&self) -> Option<[f64; 8]> {
+        None
+    }
 }
 
 /// How people's costs are computed.
@@ -139,8 +144,11 @@ impl SocialCosts {
         if factor.is_infinite() || factor.is_nan() {
             return LETHAL;
         }
-        let c = ((factor - 1.0) / (self.max_factor - 1.0) * 252.0).round();
-        c.clamp(0.0, 252.0) as u8
+        if factor <= 1.0 {
+            return 0;
+        }
+        let c = ((factor - 1.0) * (252.0 / (self.max_factor - 1.0))).round();
+        c.min(252.0) as u8
     }
 }
 
@@ -204,6 +212,8 @@ pub struct SocialMap {
     object_factor: Vec<f64>,
     prev: Vec<(Rect, [f64; 8])>,
     touched: usize,
+    /// Scratch: cells being re-evaluated.
+    mark: Vec<bool>,
 }
 
 impl SocialMap {
@@ -224,6 +234,7 @@ impl SocialMap {
             object_factor: vec![1.0; m],
             prev: Vec::new(),
             touched: 0,
+            mark: Vec::new(),
         }
     }
 
@@ -293,81 +304,165 @@ impl SocialMap {
 
     fn rect_of<S: SpaceFunction>(&self, s: &S) -> Option<Rect> {
         let spec = &self.static_grid.spec;
-        let c = s.centre();
-        let r = s.reach();
-        if !(c.x.is_finite() && c.y.is_finite() && r.is_finite()) {
+        let [x0, y0, x1, y1] = s.bounds();
+        if !(x0.is_finite() && y0.is_finite() && x1.is_finite() && y1.is_finite()) {
             return None;
         }
         let res = spec.resolution;
-        let lo = |v: f64, o: f64, n: usize| (((v - o) / res).floor().max(0.0) as usize).min(n);
-        let x0 = lo(c.x - r, spec.origin.x, spec.width);
-        let x1 = lo(c.x + r, spec.origin.x, spec.width);
-        let y0 = lo(c.y - r, spec.origin.y, spec.height);
-        let y1 = lo(c.y + r, spec.origin.y, spec.height);
-        if x0 >= spec.width || y0 >= spec.height {
+        let cx = |v: f64| ((v - spec.origin.x) / res).floor();
+        let cy = |v: f64| ((v - spec.origin.y) / res).floor();
+        let (a0, a1, b0, b1) = (cx(x0), cx(x1), cy(y0), cy(y1));
+        if a1 < 0.0 || b1 < 0.0 || a0 >= spec.width as f64 || b0 >= spec.height as f64 {
             return None;
         }
-        Some((x0, y0, x1.min(spec.width - 1), y1.min(spec.height - 1)))
+        let clampx = |v: f64| (v.max(0.0) as usize).min(spec.width - 1);
+        let clampy = |v: f64| (v.max(0.0) as usize).min(spec.height - 1);
+        Some((clampx(a0), clampy(b0), clampx(a1), clampy(b1)))
     }
 
-    /// Updates the people layer for the current individuals. Individuals whose fingerprint and
-    /// position are unchanged since the last call cost nothing; the others re-evaluate the cells
-    /// of their old and new bounding boxes. Individuals with non-finite state are ignored.
+    /// Updates the people layer for the current individuals. Individuals whose fingerprint is
+    /// unchanged since the last call cost nothing; otherwise the cells of the changed
+    /// individuals' old and new boxes are cleared and every individual overlapping them is
+    /// splatted (max) over the overlap. Individuals with non-finite state are ignored.
     pub fn update_people<S: SpaceFunction>(&mut self, individuals: &[S]) {
         let rects: Vec<Option<Rect>> = individuals.iter().map(|s| self.rect_of(s)).collect();
-        let mut dirty: Vec<Rect> = Vec::new();
         let same_count = self.prev.len() == individuals.len();
-        for (k, s) in individuals.iter().enumerate() {
-            let fp = s.fingerprint();
-            let unchanged = same_count && self.prev[k].1 == fp;
-            if !unchanged {
-                if same_count {
-                    dirty.push(self.prev[k].0);
-                }
-                if let Some(r) = rects[k] {
-                    dirty.push(r);
+        let mut dirty: Vec<Rect> = Vec::new();
+        if same_count {
+            for (k, s) in individuals.iter().enumerate() {
+                if self.prev[k].1 != s.fingerprint() {
+                    // An individual's old and new boxes mostly overlap: take their union.
+                    let old = self.prev[k].0;
+                    match rects[k] {
+                        Some(r) if old.0 <= old.2 => {
+                            dirty.push((old.0.min(r.0), old.1.min(r.1), old.2.max(r.2), old.3.max(r.3)))
+                        }
+                        Some(r) => dirty.push(r),
+                        None => dirty.push(old),
+                    }
                 }
             }
-        }
-        if !same_count {
+        } else {
             dirty.extend(self.prev.iter().map(|p| p.0));
+            dirty.extend(rects.iter().flatten().copied());
         }
         let empty = (usize::MAX, usize::MAX, 0, 0);
         self.prev =
             individuals.iter().zip(&rects).map(|(s, r)| (r.unwrap_or(empty), s.fingerprint())).collect();
+        dirty.retain(|&(x0, y0, x1, y1)| x0 <= x1 && y0 <= y1);
+        if dirty.is_empty() {
+            self.touched = 0;
+            return;
+        }
         let spec = self.static_grid.spec;
-        let mut touched = 0;
-        for rect in dirty {
-            let (x0, y0, x1, y1) = rect;
-            if x0 > x1 || y0 > y1 {
-                continue;
-            }
-            // Individuals that can contribute to this rectangle.
-            let near: Vec<usize> = (0..individuals.len())
-                .filter(|&k| match rects[k] {
-                    Some((a0, b0, a1, b1)) => a0 <= x1 && a1 >= x0 && b0 <= y1 && b1 >= y0,
-                    None => false,
-                })
-                .collect();
-            for iy in y0..=y1 {
-                for ix in x0..=x1 {
-                    let idx = spec.index(ix, iy);
-                    let p = spec.center(ix, iy);
-                    let mut f: f64 = 1.0;
-                    for &k in &near {
-                        let (a0, b0, a1, b1) = rects[k].unwrap_or(empty);
-                        if ix < a0 || ix > a1 || iy < b0 || iy > b1 {
-                            continue;
+        // 1. Mark and clear the dirty cells (all of them when the boxes cover most of the grid).
+        self.mark.resize(spec.len(), false);
+        let area: usize = dirty.iter().map(|&(x0, y0, x1, y1)| (x1 - x0 + 1) * (y1 - y0 + 1)).sum();
+        let whole = area >= spec.len();
+        let mut cells: Vec<u32> = Vec::new();
+        if whole {
+            self.mark.fill(true);
+            self.people.fill(1.0);
+            dirty = vec![(0, 0, spec.width - 1, spec.height - 1)];
+        } else {
+            for &(x0, y0, x1, y1) in &dirty {
+                for iy in y0..=y1 {
+                    for ix in x0..=x1 {
+                        let idx = spec.index(ix, iy);
+                        if !self.mark[idx] {
+                            self.mark[idx] = true;
+                            self.people[idx] = 1.0;
+                            cells.push(idx as u32);
                         }
-                        f = f.max(self.costs.factor(&individuals[k], p));
                     }
-                    self.people[idx] = f;
-                    self.combine(idx);
-                    touched += 1;
                 }
             }
         }
-        self.touched = touched;
+        // 2. Splat every individual over the parts of its box inside the dirty rectangles (every
+        //    cell there was cleared, so overlapping rectangles only repeat an idempotent max).
+        for (k, ind) in individuals.iter().enumerate() {
+            let Some((a0, b0, a1, b1)) = rects[k] else { continue };
+            for &(x0, y0, x1, y1) in &dirty {
+                let (lo_x, lo_y, hi_x, hi_y) = (a0.max(x0), b0.max(y0), a1.min(x1), b1.min(y1));
+                if lo_x > hi_x || lo_y > hi_y {
+                    continue;
+                }
+                let part = (lo_x, lo_y, hi_x, hi_y);
+                match (ind.quadratic(), self.costs.mode) {
+                    (Some(qf), CostMode::Zones) => self.splat_zones(&qf, ind.zone_scale(), part),
+                    _ => {
+                        for iy in lo_y..=hi_y {
+                            let row = spec.index(0, iy);
+                            for ix in lo_x..=hi_x {
+                                let f = self.costs.factor(ind, spec.center(ix, iy));
+                                if f > self.people[row + ix] {
+                                    self.people[row + ix] = f;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        // 3. Combine and unmark.
+        if whole {
+            for c in 0..spec.len() {
+                self.combine(c);
+            }
+            self.mark.fill(false);
+            self.touched = spec.len();
+        } else {
+            for &c in &cells {
+                self.combine(c as usize);
+                self.mark[c as usize] = false;
+            }
+            self.touched = cells.len();
+        }
+    }
+
+    /// Zone costs of one quadratic-form individual over a cell box: the axis
+    /// distances advance by constant steps along a row, and zones are decided by comparing the
+    /// exponent with the zone radii's thresholds (no exp, no sqrt).
+    fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, rect: Rect) {
+        let [cx, cy, cos, sin, kf, kr, kri, kl] = *q;
+        let (a0, b0, a1, b1) = rect;
+        let spec = self.static_grid.spec;
+        let c = &self.costs;
+        let two_z2 = 2.0 * zone_scale * zone_scale;
+        let (qi, qp, qs) = (
+            c.intimate * c.intimate / two_z2,
+            c.personal * c.personal / two_z2,
+            c.social * c.social / two_z2,
+        );
+        let (fp, fs) = (c.personal_cost, c.social_cost);
+        let res = spec.resolution;
+        for iy in b0..=b1 {
+            let row = spec.index(0, iy);
+            let p0 = spec.center(a0, iy);
+            let (dx, dy) = (p0.x - cx, p0.y - cy);
+            let mut sag = cos * dx + sin * dy;
+            let mut fro = sin * dx - cos * dy;
+            let (dsag, dfro) = (cos * res, sin * res);
+            for cell in &mut self.people[row + a0..=row + a1] {
+                let ks = if sag >= 0.0 { kf } else { kr };
+                let kq = if fro >= 0.0 { kri } else { kl };
+                let e = ks * sag * sag + kq * fro * fro;
+                if e < qs {
+                    let f = if e < qi {
+                        f64::INFINITY
+                    } else if e < qp {
+                        fp
+                    } else {
+                        fs
+                    };
+                    if f > *cell {
+                        *cell = f;
+                    }
+                }
+                sag += dsag;
+                fro += dfro;
+            }
+        }
     }
 
     fn combine(&mut self, idx: usize) {
@@ -411,11 +506,8 @@ mod tests {
         fn zone_scale(&self) -> f64 {
             self.sigma
         }
-        fn centre(&self) -> Vec2 {
-            self.c
-        }
-        fn reach(&self) -> f64 {
-            3.6
+        fn bounds(&self) -> [f64; 4] {
+            [self.c.x - 3.6, self.c.y - 3.6, self.c.x + 3.6, self.c.y + 3.6]
         }
         fn fingerprint(&self) -> [f64; 8] {
             [self.c.x, self.c.y, self.sigma, 0.0, 0.0, 0.0, 0.0, 0.0]

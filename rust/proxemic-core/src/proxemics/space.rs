@@ -302,6 +302,13 @@ pub struct Placed {
 }
 
 impl Placed {
+    /// The coefficients `(x, y, cos, sin, front, rear, right, left)`: the centre, the facing
+    /// direction, and `1 / (2 sigma^2)` per side, so that `q = k_s d_sag^2 + k_f d_fro^2` with
+    /// `d_sag = cos dx + sin dy`, `d_fro = sin dx - cos dy` (Sousa 2022 eq. 5).
+    pub fn coefficients(&self) -> [f64; 8] {
+        [self.x, self.y, self.cos, self.sin, self.front, self.rear, self.right, self.left]
+    }
+
     /// The exponent `q >= 0` with `value = exp(-q)` at `point` (NaN for NaN inputs).
     #[inline]
     pub fn exponent(&self, point: Vec2) -> f64 {

@@ -153,7 +153,8 @@ impl SocialPlanning {
         let mut people: f64 = 1.0;
         if let Some(per) = &self.perception {
             for ind in &per.individuals {
-                if (ind.centre - p).norm() <= ind_reach(ind) {
+                let [x0, y0, x1, y1] = ind_bounds(ind);
+                if p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1 {
                     people = people.max(self.cfg.costs.factor(ind, p));
                 }
             }
@@ -229,9 +230,9 @@ impl SocialPlanning {
     }
 }
 
-fn ind_reach(ind: &crate::social::Individual) -> f64 {
+fn ind_bounds(ind: &crate::social::Individual) -> [f64; 4] {
     use crate::socialmap::SpaceFunction;
-    ind.reach()
+    ind.bounds()
 }
 
 /// Points every [`SAMPLE_SPACING`] metres along a polyline between arc lengths `from` and `to`.
