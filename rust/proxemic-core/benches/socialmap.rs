@@ -24,7 +24,7 @@ fn people(n: usize, geom: &StaticGeometry, rng: &mut ChaCha8Rng) -> Vec<PersonSt
     while out.len() < n {
         let p = Vec2::new(rng.random_range(b.min.x..b.max.x), rng.random_range(b.min.y..b.max.y));
         if !geom.contains(p) && geom.distance(p) > 0.4 {
-            let th: f64 = rng.random_range(-3.14..3.14);
+            let th: f64 = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
             let moving = out.len() % 2 == 0;
             let vel = if moving { Vec2::new(th.cos(), th.sin()) } else { Vec2::zeros() };
             out.push(PersonState { pos: p, heading: th, vel });
