@@ -34,12 +34,15 @@ def test_topdown_render_shows_the_robot():
     env.close()
 
 
-def test_demo_writes_table_and_plot(tmp_path, capsys):
-    assert main(["demo", "--episodes", "2", "--out", str(tmp_path)]) == 0
+def test_demo_writes_tables_and_plots(tmp_path, capsys):
+    assert main(["demo", "--episodes", "1", "--workers", "1", "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
-    assert ("| seed |" in text and "success" in text) or "collision" in text
-    assert (tmp_path / "trajectories.png").stat().st_size > 10_000
-    assert (tmp_path / "metrics.md").read_text().count("\n") >= 4
+    assert "| astar |" in text and "| social_astar |" in text
+    for scenario in ("museum", "care_center"):
+        assert (tmp_path / scenario / "summary.md").read_text().count("\n") == 4
+        for planner in ("astar", "social_astar"):
+            assert (tmp_path / scenario / f"trajectories_{planner}.png").stat().st_size > 10_000
+    assert (tmp_path / "social_map_sousa2022_fig16.png").stat().st_size > 20_000
 
 
 def test_cli_reports_unknown_scenario(capsys):

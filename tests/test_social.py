@@ -125,7 +125,7 @@ def test_social_planner_drives_an_episode_and_replans(room):
 
 
 def test_a_person_walking_into_the_path_triggers_a_replan(write_scenario):
-    walker = '[[person]]\nroute = [[10.5, 1.2], [10.5, 6.8]]\nspeed = 0.8\naware = false\n\n[[robot]]'
+    walker = "[[person]]\nroute = [[10.5, 1.2], [10.5, 6.8]]\nspeed = 0.8\naware = false\n\n[[robot]]"
     path = write_scenario(ROOM.replace("[[robot]]", walker, 1), "walker.toml")
     env = ProxemicEnv(path, autopilot=True, planner="social_astar")
     env.reset(seed=1)

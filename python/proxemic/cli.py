@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import time
@@ -13,94 +14,56 @@ import numpy as np
 from proxemic import scenarios
 from proxemic.errors import ProxemicError
 
-
-def _summary_rows(records: list, planner: str) -> list[dict]:
-    from proxemic.runner import EpisodeRecord
-
-    recs: list[EpisodeRecord] = records
-    rows = []
-    for r in recs:
-        m = r.metrics
-        rows.append(
-            {
-                "seed": r.seed,
-                "outcome": m["outcome"],
-                "time to goal [s]": m["time_to_goal"],
-                "path length [m]": m["path_length"],
-                "min dist to people [m] (centre)": m["min_person_distance"],
-                "min gap to people [m] (surface)": m["min_person_gap"],
-                "steps": m["steps"],
-            }
-        )
-    n = len(recs)
-    succ = sum(r.metrics["success"] for r in recs)
-    ttg = [r.metrics["time_to_goal"] for r in recs if r.metrics["time_to_goal"] is not None]
-    rows.append(
-        {
-            "seed": f"all ({planner})",
-            "outcome": f"{succ}/{n} success",
-            "time to goal [s]": float(np.mean(ttg)) if ttg else None,
-            "path length [m]": float(np.mean([r.metrics["path_length"] for r in recs])),
-            "min dist to people [m] (centre)": float(np.min([_num(r.metrics["min_person_distance"]) for r in recs])),
-            "min gap to people [m] (surface)": float(np.min([_num(r.metrics["min_person_gap"]) for r in recs])),
-            "steps": int(np.sum([r.metrics["steps"] for r in recs])),
-        }
-    )
-    return rows
-
-
-def _num(v: float | None) -> float:
-    return float("inf") if v is None else float(v)
+#: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
+DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None), ("calderita_exp1", None))
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    """Plain A* in the museum: seeded episodes, a metrics table and a trajectory plot."""
-    from tqdm import tqdm
-
-    from proxemic.env import ProxemicEnv
-    from proxemic.runner import run_episode
-    from proxemic.viz.plots import format_table, plot_episodes
+    """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
+    from proxemic.evaluation import EvalConfig, run_eval, summary_markdown
+    from proxemic.social import SocialMap
 
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    env = ProxemicEnv(args.scenario, autopilot=True)
-    records = []
-    t0 = time.perf_counter()
-    seeds = range(args.seed, args.seed + args.episodes)
-    for seed in tqdm(seeds, desc=f"{env.scenario['scene']['name']} / astar", unit="episode"):
-        records.append(run_episode(args.scenario, seed, env=env))
-    wall = time.perf_counter() - t0
-    steps = sum(r.metrics["steps"] for r in records)
-    rows = _summary_rows(records, "astar")
-    columns = list(rows[0].keys())
-    table = format_table(rows, columns, floatfmt=".2f")
+    planners = args.planner or ["astar", "social_astar"]
+    written: list[Path] = []
+    for scenario in args.scenario or ["museum", "care_center"]:
+        cfg = EvalConfig(
+            scenario=scenario,
+            planners=planners,
+            episodes=args.episodes,
+            seed=args.seed,
+            out=out / Path(scenario).stem,
+            workers=args.workers,
+        )
+        t0 = time.perf_counter()
+        rows = run_eval(cfg)
+        print()
+        print(
+            f"## {scenario}: {', '.join(planners)}, {args.episodes} seeded episodes each "
+            f"({time.perf_counter() - t0:.1f} s)"
+        )
+        print()
+        print(summary_markdown(rows))
+        written += [cfg.out / "summary.md", cfg.out / "metrics.png"]
+        written += [cfg.out / f"trajectories_{p}.png" for p in planners]
     print()
-    print(
-        f"Scenario {env.scenario['scene']['name']!r}, planner astar (plain A*), {len(records)} episodes, "
-        f"{steps} control steps in {wall:.1f} s ({steps / wall:.0f} steps/s including recording)"
-    )
+    print("## social maps: plain A* vs social A* paths")
     print()
-    print(table)
-    (out / "metrics.md").write_text(table + "\n")
-    episodes = [
-        {
-            "label": f"seed {r.seed}",
-            "robot": r.robot,
-            "people": r.people,
-            "path": r.path if i == 0 else None,
-            "outcome": r.metrics["outcome"],
-        }
-        for i, r in enumerate(records)
-    ]
-    png = plot_episodes(
-        env.scenario,
-        episodes,
-        out / "trajectories.png",
-        title=f"{env.scenario['scene']['name']}: plain A*, {len(records)} seeded episodes",
-    )
-    env.close()
+    for scenario, tod in DEMO_SOCIAL_MAPS:
+        sm = SocialMap(scenario, time_of_day=tod)
+        plain, social = sm.plan(social=False), sm.plan(social=True)
+        png = sm.plot(out / f"social_map_{scenario}.png", paths={"plain A*": plain, "social A*": social})
+        length = lambda p: float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1))) if p is not None else math.nan  # noqa: E731
+        crosses = bool(plain is not None and np.isinf(sm.factor_along(plain)).any())
+        print(
+            f"- {scenario}: {sm.summary()['groups']} groups, plain A* {length(plain):.1f} m"
+            f"{' (crosses an intimate zone)' if crosses else ''}, social A* {length(social):.1f} m"
+        )
+        written.append(png)
     print()
-    print(f"wrote {out / 'metrics.md'} and {png}")
+    print("wrote:")
+    for w in written:
+        print(f"  {w}")
     return 0
 
 
@@ -150,10 +113,12 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``proxemic`` command."""
     p = argparse.ArgumentParser(prog="proxemic", description="Evaluation gym for socially-aware robot navigation.")
     sub = p.add_subparsers(dest="command", required=True)
-    d = sub.add_parser("demo", help="plain A* in the museum: metrics table and trajectory plot")
-    d.add_argument("--scenario", default="museum", help="bundled scenario name or TOML path (default: museum)")
-    d.add_argument("--episodes", type=int, default=8, help="number of seeded episodes (default: 8)")
+    d = sub.add_parser("demo", help="planners compared in the museum and the care center, with plots")
+    d.add_argument("--scenario", action="append", help="scenario(s) to run (default: museum and care_center)")
+    d.add_argument("--planner", action="append", help="planner(s) to compare (default: astar and social_astar)")
+    d.add_argument("--episodes", type=int, default=10, help="seeded episodes per planner (default: 10)")
     d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
+    d.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
     e = sub.add_parser("eval", help="seeded comparison of planners with summaries and plots")

@@ -150,6 +150,9 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         lay = self.world.layout
         self._views = {name: row[off : off + n] for name, (off, n) in lay.items()}
         self._obs_people_view = self._views["obs_people"].reshape(k, _core.PERSON_FEATURES)
+        off = lay["command"][0]
+        # Every robot's command (the others keep their built-in planners).
+        self._commands = self._out.reshape(self.world.num_robots, self.world.stride)[:, off : off + 3]
         self._action = np.zeros(3 * self.world.num_robots)
         self._action[3:] = np.nan  # other robots (if any) keep their built-in planners
         self._terms = [f"reward_{t}" for t in _core.REWARD_TERMS]
@@ -187,7 +190,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self.world.command(a, self._out)
         sim = self.sim
         sim.write_people(self._people2d)
-        sim.step(self._views["command"])
+        sim.step(self._commands)
         sim.read()
         self.world.step(sim.state, sim.contacts, self._out, self._people)
         flags = self._views["flags"]

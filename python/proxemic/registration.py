@@ -7,6 +7,17 @@ import gymnasium as gym
 #: Environment id -> bundled scenario name.
 ENV_IDS: dict[str, str] = {
     "proxemic/Museum-v0": "museum",
+    "proxemic/CareCenter-v0": "care_center",
+    "proxemic/Daza2021Fig15-v0": "daza2021_fig15",
+    "proxemic/Daza2021Path1-v0": "daza2021_path1",
+    "proxemic/Daza2021Path2-v0": "daza2021_path2",
+    "proxemic/Daza2021Path3-v0": "daza2021_path3",
+    "proxemic/Daza2021Path4-v0": "daza2021_path4",
+    "proxemic/Daza2021Path5-v0": "daza2021_path5",
+    "proxemic/Sousa2022Fig16-v0": "sousa2022_fig16",
+    "proxemic/Sousa2022Fig17-v0": "sousa2022_fig17",
+    "proxemic/CalderitaExp1-v0": "calderita_exp1",
+    "proxemic/CalderitaExp2-v0": "calderita_exp2",
 }
 
 

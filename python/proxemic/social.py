@@ -15,6 +15,7 @@ rasterised with the objects' interaction spaces at R(t) for the given time of da
 
 from __future__ import annotations
 
+import itertools
 import json
 import os
 import pathlib
@@ -112,7 +113,7 @@ class SocialMap:
         ox, oy, res = self.layers["grid"]
         grid = self.layers[layer]
         pts = []
-        for a, b in zip(path[:-1], path[1:], strict=True):
+        for a, b in itertools.pairwise(path):
             n = max(1, int(np.ceil(np.linalg.norm(b - a) / spacing)))
             t = np.linspace(0.0, 1.0, n, endpoint=False)[:, None]
             pts.append(a + t * (b - a))

@@ -193,9 +193,29 @@ impl PathFollower {
     /// One control step of `dt` seconds: robot at `p` with heading `theta`, with a maximum speed
     /// and acceleration used to plan the stop at the end of the path.
     pub fn step(&mut self, p: Vec2, theta: f64, max_speed: f64, max_accel: f64, dt: f64) -> FollowerOutput {
+        self.step_visible(p, theta, max_speed, max_accel, dt, &|_, _| true)
+    }
+
+    /// [`PathFollower::step`] that never aims across an obstacle: when the straight line to the
+    /// look-ahead point is not `visible`, the look-ahead is halved (down to 5 cm), so the robot
+    /// does not cut inside corners such as doorways.
+    pub fn step_visible(
+        &mut self,
+        p: Vec2,
+        theta: f64,
+        max_speed: f64,
+        max_accel: f64,
+        dt: f64,
+        visible: &dyn Fn(Vec2, Vec2) -> bool,
+    ) -> FollowerOutput {
         let (s, cross) = self.project(p, 2.0 * self.params.lookahead + 1.0);
         self.progress = s;
-        let target = self.point_at(s + self.params.lookahead);
+        let mut ahead = self.params.lookahead;
+        let mut target = self.point_at(s + ahead);
+        while ahead > 0.05 && !visible(p, target) {
+            ahead *= 0.5;
+            target = self.point_at(s + ahead);
+        }
         let remaining = (self.length() - s) + cross;
         let to_target = target - p;
         let dist = to_target.norm();
@@ -276,6 +296,26 @@ mod tests {
         assert!((p - Vec2::new(4.0, 3.0)).norm() < 0.05, "{p:?}");
         assert!(speed < 0.02);
         assert!(max_cross < 0.5, "cut the corner by {max_cross}");
+    }
+
+    #[test]
+    fn follower_does_not_aim_across_obstacles() {
+        // An L-shaped path around a corner at (2, 0): the look-ahead point beyond the corner is
+        // hidden behind the block x > 1.8, y < -0.2, so the follower aims at the corner instead.
+        let path = vec![Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0), Vec2::new(2.0, -3.0)];
+        let mut f = PathFollower::new(path, FollowerParams::default());
+        let blocked = |a: Vec2, b: Vec2| {
+            (0..=20).all(|k| {
+                let q = a + (b - a) * (k as f64 / 20.0);
+                !(q.x > 1.8 && q.y < -0.2)
+            })
+        };
+        let free = f.clone().step(Vec2::new(1.7, 0.0), 0.0, 0.55, 0.55, 0.1);
+        let out = f.step_visible(Vec2::new(1.7, 0.0), 0.0, 0.55, 0.55, 0.1, &blocked);
+        // Free: aims at (2, -0.5) through the block (slope -5/3); checked: at (2, -0.1) (slope -1/3).
+        assert!(free.velocity.y / free.velocity.x < -1.5, "{free:?}");
+        let slope = out.velocity.y / out.velocity.x;
+        assert!(slope > -0.5 && slope < 0.0, "{out:?}");
     }
 
     #[test]

@@ -880,7 +880,16 @@ impl World {
             let rb = &mut self.robots[i];
             let p = Vec2::new(rb.pose[0], rb.pose[1]);
             let (v, w) = if rb.outcome == Outcome::Running {
-                let mut o = rb.follower.step(p, rb.pose[2], st.limits.max_speed, st.limits.max_accel, dt);
+                let grid = &self.grids[st.grid_index].grid;
+                let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
+                let mut o = rb.follower.step_visible(
+                    p,
+                    rb.pose[2],
+                    st.limits.max_speed,
+                    st.limits.max_accel,
+                    dt,
+                    &visible,
+                );
                 if o.cross_track > rb.follower.params().replan_distance && st.planner == PlannerKind::Astar {
                     // Pushed off the path (by people or contacts): re-plan from here.
                     let grid = &self.grids[st.grid_index].grid;
@@ -906,6 +915,21 @@ impl World {
             row[act + 2] = (w / st.limits.max_angular_speed).clamp(-1.0, 1.0);
         }
     }
+}
+
+/// Whether the straight segment `ab` crosses only passable cells of `grid` (sampled every half
+/// cell; cells the segment starts in are allowed, so a robot already in the inflation can leave).
+fn segment_clear(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
+    let len = (b - a).norm();
+    let n = (len / (0.5 * grid.spec.resolution)).ceil() as usize;
+    let start = grid.spec.cell_of(a);
+    (1..=n).all(|k| {
+        let q = a + (b - a) * (k as f64 / n as f64);
+        match grid.spec.cell_of(q) {
+            Some(c) => Some(c) == start || grid.passable(c.0, c.1),
+            None => false,
+        }
+    })
 }
 
 /// Nearest passable cell to `p` within 0.5 m.
