@@ -65,9 +65,13 @@ format: $(VENV)/.deps ## apply rustfmt and ruff format
 	$(VENV)/bin/ruff format python tests benches
 	$(VENV)/bin/ruff check --fix python tests benches
 
-bench: setup ## criterion benches of the core and the env throughput bench
-	cargo bench -p proxemic-core --bench planning -- --warm-up-time 1 --measurement-time 3
+BENCHES := planning pedestrians proxemics groups socialmap controllers orca
+
+bench: setup ## criterion benches of the core (medians), the env throughput bench, ORCA vs navground
+	for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \
+	  | grep -E '^[a-z_/0-9]+|time:|thrpt:' || exit 1; done
 	$(PY) benches/env_bench.py
+	$(PY) benches/orca_vs_navground.py
 
 clean: ## remove build products and the venv
 	rm -rf target $(VENV) $(OUT) python/proxemic/_core*.so
