@@ -16,6 +16,9 @@ from proxemic.sim import Simulation, ensure_gl_backend
 
 OUTCOMES = ("running", "success", "collision", "timeout")
 
+#: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
+PLANNER_MODES = ("follow_path", "orca", "social_momentum", "wait")
+
 
 class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     """## Description.
@@ -223,6 +226,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         info["is_success"] = bool(flags[2])
         info["collision"] = bool(flags[3])
         info["planner_action"] = v["planner_action"].astype(np.float32)
+        info["planner_mode"] = PLANNER_MODES[int(v["mode"][0])]
         info["time_of_day"] = self.world.time_of_day
         if final:
             info["metrics"] = self.metrics()

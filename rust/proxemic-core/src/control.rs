@@ -14,6 +14,7 @@
 
 pub mod eband;
 pub mod orca;
+pub mod social;
 pub mod social_momentum;
 
 use crate::math::{Vec2, rotate, wrap_angle};
@@ -183,6 +184,12 @@ impl PathFollower {
             }
         }
         best
+    }
+
+    /// The point `d` metres ahead of the current progress along the path (its end beyond it):
+    /// the partial goal of the local planners.
+    pub fn point_ahead(&self, d: f64) -> Vec2 {
+        self.point_at(self.progress + d)
     }
 
     /// Distance from `p` to the path ahead of the current progress (metres), without advancing.

@@ -426,8 +426,14 @@ impl Crowd {
             let near_static = field.at(next) < r + field.spec.resolution;
             let blocked_static =
                 near_static && (geometry.contains(next) || geometry.distance(next) < 0.5 * r);
-            let near_robot = |q: Vec2| robots.iter().any(|&(c, rr, _)| (q - c).norm() - r - rr < YIELD_GAP);
-            let blocked_robot = self.aware[i] && near_robot(next) && !near_robot(self.pos[i]);
+            // An aware person never steps to within YIELD_GAP of a robot's body, nor closer to a
+            // robot it is already that near (it may step away).
+            let here = self.pos[i];
+            let blocked_robot = self.aware[i]
+                && robots.iter().any(|&(c, rr, _)| {
+                    let gap_next = (next - c).norm() - r - rr;
+                    gap_next < YIELD_GAP && gap_next < (here - c).norm() - r - rr
+                });
             if blocked_static || blocked_robot {
                 self.vel[i] = Vec2::zeros();
             } else {

@@ -446,6 +446,16 @@ pub enum PlannerKind {
     /// Social A* on the social cost map (people's zones, groups, object spaces at R(t)), re-planned
     /// when the agenda or the people change the path's cost, followed by the same path follower.
     SocialAstar,
+    /// The full social planner (Daza 2021 Algorithm 1): the social A* global path, ORCA when only
+    /// robots are around and one is in the collision cone, Social Momentum near people and groups,
+    /// path following otherwise.
+    Social,
+    /// Plain A* global path; ORCA against everyone (people do not reciprocate).
+    Orca,
+    /// Plain A* global path; Social Momentum whenever people are near.
+    SocialMomentum,
+    /// Plain A* global path deformed by an elastic band (static clearance and people's spaces).
+    Eband,
 }
 
 impl PlannerKind {
@@ -454,12 +464,22 @@ impl PlannerKind {
         match name {
             "astar" => Some(PlannerKind::Astar),
             "social_astar" => Some(PlannerKind::SocialAstar),
+            "social" => Some(PlannerKind::Social),
+            "orca" => Some(PlannerKind::Orca),
+            "social_momentum" => Some(PlannerKind::SocialMomentum),
+            "eband" => Some(PlannerKind::Eband),
             _ => None,
         }
     }
 
     /// The names accepted by [`PlannerKind::parse`].
-    pub const NAMES: &'static [&'static str] = &["astar", "social_astar"];
+    pub const NAMES: &'static [&'static str] =
+        &["astar", "social_astar", "social", "orca", "social_momentum", "eband"];
+
+    /// Whether the planner's global path is the social A* path (re-planned on triggers).
+    pub fn social_global(self) -> bool {
+        matches!(self, PlannerKind::SocialAstar | PlannerKind::Social)
+    }
 }
 
 /// Scene-wide settings.

@@ -19,6 +19,11 @@ pub use social_planning::{SocialPath, SocialPlanning, Trigger};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::control::eband::{EbandParams, ElasticBand};
+use crate::control::orca::{ObstacleSet, Orca, OrcaAgent, OrcaParams};
+use crate::control::social::{
+    Mode, OtherRobot, Person as CtlPerson, SocialControlParams, choose_mode, social_momentum_step,
+};
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
@@ -70,13 +75,14 @@ pub struct Layout {
     /// Named sections: `command` (3: vx, vy, wz, robot frame, to execute), `planner_action` (3:
     /// the built-in planner's command as a normalised action), `obs_robot` (5), `obs_people`
     /// (k * 5), `obs_people_mask` (k), `obs_lidar` (rays), `reward_terms` (5), `reward` (1),
-    /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta).
+    /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta), `mode`
+    /// (1: the local planner's mode, see [`Mode::code`]).
     pub sections: Vec<(&'static str, Section)>,
 }
 
 impl Layout {
     fn new(k: usize, rays: usize) -> Self {
-        let sizes: [(&'static str, usize); 10] = [
+        let sizes: [(&'static str, usize); 11] = [
             ("command", 3),
             ("planner_action", 3),
             ("obs_robot", ROBOT_FEATURES),
@@ -87,6 +93,7 @@ impl Layout {
             ("reward", 1),
             ("flags", 4),
             ("pose", 3),
+            ("mode", 1),
         ];
         let mut offset = 0;
         let mut sections = Vec::with_capacity(sizes.len());
@@ -136,7 +143,13 @@ struct RobotRuntime {
     social_path: Option<SocialPath>,
     last_plan_step: usize,
     replans: usize,
+    /// The elastic band (eband planner only).
+    band: Option<ElasticBand>,
+    mode: Mode,
 }
+
+/// Added to every radius ORCA sees (metres): ORCA lets bodies touch, the physics counts a touch.
+const ORCA_MARGIN: f64 = 0.08;
 
 /// Social planners check their path every this many control steps...
 const SOCIAL_CHECK_PERIOD: usize = 3;
@@ -157,6 +170,10 @@ pub struct World {
     field: DistanceField,
     /// The social model, maps and global planner.
     social: SocialPlanning,
+    /// Local planners.
+    control: SocialControlParams,
+    orca: Orca,
+    obstacles: ObstacleSet,
     grids: Vec<InflatedGrid>,
     statics: Vec<RobotStatic>,
     robots: Vec<RobotRuntime>,
@@ -269,7 +286,12 @@ impl World {
         let layout = Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays);
         let grid_refs: Vec<&CostGrid> = grids.iter().map(|g| &g.grid).collect();
         let social = SocialPlanning::new(&scenario, &grid_refs)?;
+        let obstacles = ObstacleSet::from_geometry(&geometry)?;
+        let orca = Orca::new(OrcaParams::default())?;
         let mut world = World {
+            control: SocialControlParams::default(),
+            orca,
+            obstacles,
             geometry,
             field,
             social,
@@ -446,14 +468,22 @@ impl World {
                 social_path: None,
                 last_plan_step: 0,
                 replans: 0,
+                band: None,
+                mode: Mode::FollowPath,
             });
         }
         self.started = true;
-        if self.statics.iter().any(|s| s.planner == PlannerKind::SocialAstar) {
+        for i in 0..self.robots.len() {
+            if self.statics[i].planner == PlannerKind::Eband {
+                self.robots[i].band =
+                    ElasticBand::new(self.robots[i].follower.path(), EbandParams::default()).ok();
+            }
+        }
+        if self.statics.iter().any(|s| s.planner.social_global()) {
             self.perceive()?;
             let tod = self.time_of_day();
             for i in 0..self.robots.len() {
-                if self.statics[i].planner == PlannerKind::SocialAstar {
+                if self.statics[i].planner.social_global() {
                     let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
                     self.social_plan(i, p, tod);
                     self.robots[i].replans = 0;
@@ -840,7 +870,7 @@ impl World {
         let due: Vec<usize> = (0..self.robots.len())
             .filter(|&i| {
                 let rb = &self.robots[i];
-                self.statics[i].planner == PlannerKind::SocialAstar
+                self.statics[i].planner.social_global()
                     && rb.outcome == Outcome::Running
                     && self.steps > 0
                     && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
@@ -867,38 +897,171 @@ impl World {
         }
     }
 
-    /// Runs every robot's built-in planner: the next command (written to `command`) and the
-    /// same command as a normalised action (`planner_action`).
-    fn plan_all(&mut self, out: &mut [f64]) {
-        let stride = self.layout.stride;
-        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
-        let act = self.layout.section("planner_action").map_or(0, |s| s.offset);
-        let dt = self.scenario.control_dt();
-        self.social_checks();
-        for i in 0..self.robots.len() {
-            let st = &self.statics[i];
-            let rb = &mut self.robots[i];
-            let p = Vec2::new(rb.pose[0], rb.pose[1]);
-            let (v, w) = if rb.outcome == Outcome::Running {
-                let grid = &self.grids[st.grid_index].grid;
-                let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
-                let mut o = rb.follower.step_visible(
-                    p,
-                    rb.pose[2],
-                    st.limits.max_speed,
-                    st.limits.max_accel,
-                    dt,
-                    &visible,
+    /// The people (and robots that joined human interactions) as the local planners see them:
+    /// each person keeps the robot's centre out of their intimate zone; each group adds one
+    /// heavier individual covering its o-space. Entries carry the robot index they stand for,
+    /// if any, so a robot does not avoid itself.
+    fn controller_people(&self, robot_radius: f64) -> Vec<(CtlPerson, Option<usize>)> {
+        let intimate = self.social.config().zones.intimate;
+        let keep = |r: f64| r.max(intimate - robot_radius);
+        let c = &self.crowd;
+        let mut out: Vec<(CtlPerson, Option<usize>)> = Vec::with_capacity(c.len() + 4);
+        let per = self.social.perception();
+        let group_of =
+            |k: usize| per.map(|p| p.groups.members[p.groups.labels[k]].len() > 1).unwrap_or(false);
+        for k in 0..c.len() {
+            let weight = if group_of(k) { self.control.group_weight } else { 1.0 };
+            out.push((CtlPerson { pos: c.pos[k], vel: c.vel[k], keep_out: keep(c.radius[k]), weight }, None));
+        }
+        if let Some(p) = per {
+            for ind in &p.individuals {
+                if ind.members.len() + ind.robots.len() < 2 {
+                    continue;
+                }
+                let mut pts: Vec<Vec2> = ind.members.iter().map(|&k| c.pos[k]).collect();
+                pts.extend(
+                    ind.robots
+                        .iter()
+                        .filter_map(|&r| self.robots.get(r))
+                        .map(|r| Vec2::new(r.pose[0], r.pose[1])),
                 );
-                if o.cross_track > rb.follower.params().replan_distance && st.planner == PlannerKind::Astar {
-                    // Pushed off the path (by people or contacts): re-plan from here.
-                    let grid = &self.grids[st.grid_index].grid;
-                    if let Some(path) = plan_path(&mut self.planner, grid, p, st.goal) {
-                        rb.follower = PathFollower::new(path, FollowerParams::default());
-                        o = rb.follower.step(p, rb.pose[2], st.limits.max_speed, st.limits.max_accel, dt);
+                let ospace = pts.iter().map(|q| (q - ind.centre).norm()).sum::<f64>() / pts.len() as f64;
+                let vel = ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k])
+                    / ind.members.len().max(1) as f64;
+                out.push((
+                    CtlPerson { pos: ind.centre, vel, keep_out: ospace, weight: self.control.group_weight },
+                    None,
+                ));
+                for &r in &ind.robots {
+                    if let (Some(rb), Some(st)) = (self.robots.get(r), self.statics.get(r)) {
+                        let q = Vec2::new(rb.pose[0], rb.pose[1]);
+                        out.push((
+                            CtlPerson { pos: q, vel: rb.velocity, keep_out: keep(st.radius), weight: 1.0 },
+                            Some(r),
+                        ));
                     }
                 }
-                st.limits.apply(o.velocity, o.wz, rb.exec_v, rb.exec_wz, dt)
+            }
+        }
+        out
+    }
+
+    /// Runs every robot's built-in planner: the next command (written to `command`), the same
+    /// command as a normalised action (`planner_action`) and the local planner's `mode`.
+    fn plan_all(&mut self, out: &mut [f64]) {
+        let stride = self.layout.stride;
+        let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
+        let (cmd, act, mode_off) = (sec("command"), sec("planner_action"), sec("mode"));
+        let dt = self.scenario.control_dt();
+        self.social_checks();
+        let n = self.robots.len();
+        let local = |k: PlannerKind| {
+            matches!(k, PlannerKind::Social | PlannerKind::SocialMomentum | PlannerKind::Orca)
+        };
+        if self.statics.iter().any(|s| local(s.planner) || s.planner == PlannerKind::Eband) {
+            // Groups and robots joining them, as perceived now (the social planners' perception).
+            let _ = self.perceive();
+        }
+        let mut desired: Vec<Vec2> = vec![Vec2::zeros(); n];
+        let mut orca_active: Vec<usize> = Vec::new();
+        let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
+        for i in 0..n {
+            if self.robots[i].outcome != Outcome::Running {
+                self.robots[i].mode = Mode::FollowPath;
+                continue;
+            }
+            let planner = self.statics[i].planner;
+            let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+            let theta = self.robots[i].pose[2];
+            if planner == PlannerKind::Eband {
+                self.update_band(i, p);
+            }
+            // Path following: the nominal command, and the partial goal for the local planners.
+            let st = &self.statics[i];
+            let grid = &self.grids[st.grid_index].grid;
+            let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
+            let rb = &mut self.robots[i];
+            let mut o =
+                rb.follower.step_visible(p, theta, st.limits.max_speed, st.limits.max_accel, dt, &visible);
+            if o.cross_track > rb.follower.params().replan_distance && !planner.social_global() {
+                // Pushed off the path (by people or contacts): re-plan from here.
+                if let Some(path) = plan_path(&mut self.planner, grid, p, st.goal) {
+                    rb.follower = PathFollower::new(path, FollowerParams::default());
+                    o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
+                    if planner == PlannerKind::Eband {
+                        rb.band = ElasticBand::new(rb.follower.path(), EbandParams::default()).ok();
+                    }
+                }
+            }
+            partial_goals[i] = rb.follower.point_ahead(self.control.partial_goal);
+            desired[i] = o.velocity;
+            rb.mode = Mode::FollowPath;
+            if !local(planner) {
+                continue;
+            }
+            let people: Vec<CtlPerson> = self
+                .controller_people(st.radius)
+                .into_iter()
+                .filter(|(_, r)| *r != Some(i))
+                .map(|(q, _)| q)
+                .collect();
+            let others: Vec<OtherRobot> = (0..n)
+                .filter(|&j| j != i)
+                .map(|j| OtherRobot {
+                    pos: Vec2::new(self.robots[j].pose[0], self.robots[j].pose[1]),
+                    vel: self.robots[j].velocity,
+                    radius: self.statics[j].radius,
+                })
+                .collect();
+            let rb = &self.robots[i];
+            let mode = match planner {
+                PlannerKind::Orca => Mode::Orca,
+                PlannerKind::SocialMomentum => {
+                    let near = people.iter().any(|q| (q.pos - p).norm() <= self.control.people_range);
+                    if near { Mode::SocialMomentum } else { Mode::FollowPath }
+                }
+                _ => choose_mode(p, rb.exec_v, st.radius, &people, &others, &self.control),
+            };
+            let mode = match mode {
+                Mode::SocialMomentum => {
+                    let (v, m) = social_momentum_step(
+                        p,
+                        rb.exec_v,
+                        st.radius,
+                        partial_goals[i],
+                        &people,
+                        &others,
+                        Some(&self.geometry),
+                        &st.limits,
+                        dt,
+                        &self.control,
+                    );
+                    desired[i] = v;
+                    m
+                }
+                Mode::Orca => {
+                    orca_active.push(i);
+                    Mode::Orca
+                }
+                m => m,
+            };
+            self.robots[i].mode = mode;
+        }
+        if !orca_active.is_empty() {
+            self.orca_step(&orca_active, &partial_goals, &mut desired, dt);
+        }
+        for i in 0..n {
+            let st = &self.statics[i];
+            let rb = &mut self.robots[i];
+            let (v, w) = if rb.outcome == Outcome::Running {
+                // Heading policy: face the direction of motion.
+                let d = desired[i];
+                let wz = if d.norm() > FollowerParams::default().min_turn_speed {
+                    FollowerParams::default().heading_gain * wrap_angle(d.y.atan2(d.x) - rb.pose[2])
+                } else {
+                    0.0
+                };
+                st.limits.apply(d, wz, rb.exec_v, rb.exec_wz, dt)
             } else {
                 // Finished robots are commanded to stop (within the deceleration limit).
                 st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
@@ -913,6 +1076,69 @@ impl World {
             row[act] = (b.x / st.limits.max_speed).clamp(-1.0, 1.0);
             row[act + 1] = (b.y / st.limits.max_speed).clamp(-1.0, 1.0);
             row[act + 2] = (w / st.limits.max_angular_speed).clamp(-1.0, 1.0);
+            row[mode_off] = f64::from(rb.mode.code());
+        }
+    }
+
+    /// ORCA for the robots in `active` (one batched call): every robot reciprocates, people do
+    /// not (the robot takes the whole avoidance); static geometry as obstacle edges.
+    fn orca_step(&mut self, active: &[usize], partial_goals: &[Vec2], desired: &mut [Vec2], dt: f64) {
+        let mut agents: Vec<OrcaAgent> = Vec::with_capacity(self.robots.len() + self.crowd.len());
+        for (j, (rb, st)) in self.robots.iter().zip(&self.statics).enumerate() {
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            let pref = if active.contains(&j) {
+                // Toward the partial goal at the speed the path follower wanted (it brakes at the end).
+                let to = partial_goals[j] - p;
+                let speed = desired[j].norm().min(st.limits.max_speed);
+                if to.norm() > 1e-9 { to * (speed / to.norm()) } else { Vec2::zeros() }
+            } else {
+                rb.exec_v
+            };
+            agents.push(OrcaAgent {
+                pos: p,
+                vel: rb.exec_v,
+                pref_vel: pref,
+                // A safety margin: ORCA lets discs touch, the physics counts touching as contact.
+                radius: st.radius + ORCA_MARGIN,
+                max_speed: st.limits.max_speed,
+                reciprocal: rb.outcome == Outcome::Running,
+                id: j as u64,
+            });
+        }
+        let intimate = self.social.config().zones.intimate;
+        for k in 0..self.crowd.len() {
+            agents.push(OrcaAgent {
+                pos: self.crowd.pos[k],
+                vel: self.crowd.vel[k],
+                pref_vel: self.crowd.vel[k],
+                radius: self.crowd.radius[k].max(intimate - 0.24) + ORCA_MARGIN,
+                max_speed: 2.5,
+                reciprocal: false,
+                id: 1_000_000 + k as u64,
+            });
+        }
+        let mut out = vec![Vec2::zeros(); agents.len()];
+        if self.orca.compute(&agents, active, &self.obstacles, dt, self.steps as u64, &mut out).is_ok() {
+            for &i in active {
+                desired[i] = out[i];
+            }
+        }
+    }
+
+    /// Moves robot `i`'s elastic band one optimisation pass and follows it.
+    fn update_band(&mut self, i: usize, p: Vec2) {
+        let field = &self.field;
+        // The band's bubbles are free space for the robot's centre: clearance minus its footprint.
+        let body = self.statics[i].radius + self.scenario.robots[i].inflation_margin;
+        let clearance = |q: Vec2| field.at(q) - body;
+        let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
+        let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
+        let rb = &mut self.robots[i];
+        if let Some(band) = rb.band.as_mut()
+            && band.set_start(p).is_ok()
+        {
+            band.update(&clearance, Some(&social));
+            rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         }
     }
 }
