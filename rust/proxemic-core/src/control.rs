@@ -19,6 +19,11 @@ pub mod social_momentum;
 
 use crate::math::{Vec2, rotate, wrap_angle};
 
+/// The project's one passing convention, shared by ORCA, Social Momentum and the pedestrians'
+/// social force: in a perfectly symmetric encounter both parties pass on their own right
+/// (right-hand traffic), so head-on meetings resolve the same way every time.
+pub const PASS_ON_RIGHT: bool = true;
+
 /// Motion limits of a robot base.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {

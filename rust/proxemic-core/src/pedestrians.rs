@@ -37,9 +37,7 @@ pub const YIELD_GAP: f64 = 0.1;
 /// Maximum rate at which people turn their body toward their walking direction (rad/s).
 pub const TURN_RATE: f64 = 4.0;
 
-/// The project's passing convention, shared by the pedestrians and the robot controllers:
-/// in a perfectly symmetric encounter, both pass on their right (right-hand traffic).
-pub const PASS_ON_RIGHT: bool = true;
+pub use crate::control::PASS_ON_RIGHT;
 
 /// Parameters of the social force model (defaults from the sources named in the module doc).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -995,8 +995,8 @@ impl World {
             }
             partial_goals[i] = rb.follower.point_ahead(self.control.partial_goal);
             desired[i] = o.velocity;
-            rb.mode = Mode::FollowPath;
             if !local(planner) {
+                rb.mode = Mode::FollowPath;
                 continue;
             }
             let people: Vec<CtlPerson> = self
@@ -1020,7 +1020,13 @@ impl World {
                     let near = people.iter().any(|q| (q.pos - p).norm() <= self.control.people_range);
                     if near { Mode::SocialMomentum } else { Mode::FollowPath }
                 }
-                _ => choose_mode(p, rb.exec_v, st.radius, &people, &others, &self.control),
+                _ => {
+                    let m = choose_mode(p, rb.exec_v, st.radius, &people, &others, &self.control);
+                    // Hysteresis: once avoiding robots, keep ORCA while any is still within range
+                    // (leaving it on a clear cone would steer straight back into the conflict).
+                    let robots_near = others.iter().any(|o| (o.pos - p).norm() <= self.control.robot_range);
+                    if m == Mode::FollowPath && rb.mode == Mode::Orca && robots_near { Mode::Orca } else { m }
+                }
             };
             let mode = match mode {
                 Mode::SocialMomentum => {
@@ -1101,7 +1107,8 @@ impl World {
                 // A safety margin: ORCA lets discs touch, the physics counts touching as contact.
                 radius: st.radius + ORCA_MARGIN,
                 max_speed: st.limits.max_speed,
-                reciprocal: rb.outcome == Outcome::Running,
+                // Only robots computing ORCA this step take their share of the avoidance.
+                reciprocal: active.contains(&j),
                 id: j as u64,
             });
         }

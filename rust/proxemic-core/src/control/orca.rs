@@ -54,12 +54,11 @@
 use crate::error::{CoreError, Result};
 use crate::math::Vec2;
 
-/// The project's passing convention: two agents meeting head-on pass each other on their own right
-/// (right-hand traffic). ORCA realises it three ways, all keyed on this constant: the right leg of the
-/// velocity obstacle when the relative velocity points exactly at the other agent, the passing-side
-/// tilt of the cut-off half-plane near head-on ([`OrcaParams::pass_tilt`]), and the side of the
-/// preferred-velocity perturbation. Social Momentum and the pedestrians use this same constant.
-pub const PASS_ON_RIGHT: bool = true;
+/// The project's passing convention ([`crate::control::PASS_ON_RIGHT`]). ORCA realises it three
+/// ways, all keyed on this constant: the right leg of the velocity obstacle when the relative
+/// velocity points exactly at the other agent, the passing-side tilt of the cut-off half-plane near
+/// head-on ([`OrcaParams::pass_tilt`]), and the side of the preferred-velocity perturbation.
+pub use crate::control::PASS_ON_RIGHT;
 
 /// Tolerance for parallel lines in the linear programs (dimensionless, on unit directions).
 const LP_EPS: f64 = 1e-9;

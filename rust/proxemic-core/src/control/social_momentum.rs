@@ -60,7 +60,7 @@ use crate::math::Vec2;
 /// Sign of the pairwise angular momentum `L` that corresponds to passing on the right
 /// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
 /// the derivation.
-pub const PASSING_MOMENTUM_SIGN: f64 = 1.0;
+pub const PASSING_MOMENTUM_SIGN: f64 = if crate::control::PASS_ON_RIGHT { 1.0 } else { -1.0 };
 
 /// Parameters of [`social_momentum`]. All lengths in metres, times in seconds.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,0 +1,268 @@
+//! The social controller in the situations of Daza et al. 2021 (Fig. 15-21) and over 200 seeded
+//! random scenes, simulated kinematically (commands integrated exactly; no MuJoCo): contacts are
+//! measured geometrically.
+
+use proxemic_core::control::body_to_world;
+use proxemic_core::math::Vec2;
+use proxemic_core::scenario::Scenario;
+use proxemic_core::world::{CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, World};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const ENVS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../python/proxemic/data/envs");
+
+/// Per step: robot positions, people positions; plus the outcome flags of every robot at the end.
+struct Run {
+    robots: Vec<Vec<Vec2>>,
+    people: Vec<Vec<Vec2>>,
+    success: Vec<bool>,
+    robot_radius: Vec<f64>,
+    static_hits: usize,
+}
+
+fn simulate(scenario: Scenario, seed: u64) -> Run {
+    let dt = scenario.control_dt();
+    let max_steps = scenario.max_steps();
+    let robot_radius: Vec<f64> = scenario.robots.iter().map(|r| r.radius).collect();
+    let mut world = World::new(scenario).expect("valid world");
+    let n = world.num_robots();
+    let stride = world.layout().stride;
+    let cmd = world.layout().section("command").expect("command").offset;
+    let pose_off = world.layout().section("pose").expect("pose").offset;
+    let flags = world.layout().section("flags").expect("flags").offset;
+    let mut out = vec![0.0; stride * n];
+    let mut people_out = vec![0.0; world.num_people() * 3];
+    world.reset(seed, &mut out, &mut people_out).expect("reset");
+    let mut state: Vec<f64> = (0..n)
+        .flat_map(|i| {
+            let r = &out[i * stride + pose_off..i * stride + pose_off + 3];
+            [r[0], r[1], r[2], 0.0, 0.0, 0.0]
+        })
+        .collect();
+    let mut run =
+        Run { robots: vec![], people: vec![], success: vec![false; n], robot_radius, static_hits: 0 };
+    let record = |world: &World, state: &[f64], run: &mut Run| {
+        run.robots.push((0..n).map(|i| Vec2::new(state[6 * i], state[6 * i + 1])).collect());
+        run.people.push(world.crowd().pos.clone());
+    };
+    record(&world, &state, &mut run);
+    for _ in 0..max_steps {
+        for i in 0..n {
+            let c = &out[i * stride + cmd..i * stride + cmd + 3];
+            let th = state[6 * i + 2];
+            let v = body_to_world(Vec2::new(c[0], c[1]), th);
+            state[6 * i] += v.x * dt;
+            state[6 * i + 1] += v.y * dt;
+            state[6 * i + 2] = th + c[2] * dt;
+            state[6 * i + 3] = v.x;
+            state[6 * i + 4] = v.y;
+            state[6 * i + 5] = c[2];
+        }
+        let mut contacts = vec![0u8; n];
+        for i in 0..n {
+            let p = Vec2::new(state[6 * i], state[6 * i + 1]);
+            if world.geometry().distance(p) < run.robot_radius[i] {
+                contacts[i] |= CONTACT_STATIC;
+                run.static_hits += 1;
+            }
+            for j in 0..n {
+                let q = Vec2::new(state[6 * j], state[6 * j + 1]);
+                if j != i && (p - q).norm() < run.robot_radius[i] + run.robot_radius[j] {
+                    contacts[i] |= CONTACT_ROBOT;
+                }
+            }
+            let c = world.crowd();
+            if c.pos.iter().zip(&c.radius).any(|(q, r)| (p - q).norm() < run.robot_radius[i] + r) {
+                contacts[i] |= CONTACT_PERSON;
+            }
+        }
+        world.step(&state, &contacts, &mut out, &mut people_out).expect("step");
+        record(&world, &state, &mut run);
+        let mut all_done = true;
+        for i in 0..n {
+            let f = &out[i * stride + flags..i * stride + flags + 4];
+            if f[2] > 0.5 {
+                run.success[i] = true;
+            }
+            all_done &= f[0] > 0.5 || f[1] > 0.5;
+        }
+        if all_done {
+            break;
+        }
+    }
+    run
+}
+
+fn load(name: &str, planner: &str) -> Scenario {
+    Scenario::from_file(format!("{ENVS}/{name}.toml"))
+        .expect("scene parses")
+        .with_planner(planner)
+        .expect("planner")
+}
+
+/// Steps where robot `i` came within `zone` (centre distance) of a person *by its own motion*:
+/// the robot moved toward that person during the step (a person walking into a robot that stands
+/// or backs away is not the robot's intrusion).
+fn intrusions(run: &Run, i: usize, zone: f64) -> usize {
+    let mut count = 0;
+    for t in 1..run.robots.len() {
+        let (p0, p1) = (run.robots[t - 1][i], run.robots[t][i]);
+        for q in &run.people[t] {
+            let d = (p1 - q).norm();
+            if d < zone && (p1 - p0).dot(&(q - p0)) > 1e-9 {
+                count += 1;
+            }
+        }
+    }
+    count
+}
+
+fn min_person_distance(run: &Run, i: usize) -> f64 {
+    let mut m = f64::INFINITY;
+    for (robots, people) in run.robots.iter().zip(&run.people) {
+        for q in people {
+            m = m.min((robots[i] - q).norm());
+        }
+    }
+    m
+}
+
+#[test]
+fn fig_15_four_robots_cross_without_collision_and_arrive() {
+    let run = simulate(load("daza2021_fig15", "social"), 0);
+    assert!(run.success.iter().all(|&s| s), "{:?}", run.success);
+    for robots in &run.robots {
+        for a in 0..robots.len() {
+            for b in a + 1..robots.len() {
+                let gap = (robots[a] - robots[b]).norm() - run.robot_radius[a] - run.robot_radius[b];
+                assert!(gap >= 0.0, "robots {a} and {b} overlap by {gap}");
+            }
+        }
+    }
+}
+
+#[test]
+fn daza_paths_1_to_5_the_social_robot_keeps_out_of_intimate_zones_and_arrives() {
+    for path in 1..=5 {
+        let name = format!("daza2021_path{path}");
+        let scenario = load(&name, "social");
+        let zone = scenario.proxemics.zones[0];
+        for seed in 0..3 {
+            let run = simulate(scenario.clone(), seed);
+            assert!(run.success[0], "{name} seed {seed}: the robot did not arrive");
+            let d = min_person_distance(&run, 0);
+            assert!(d >= zone, "{name} seed {seed}: closest person at {d:.3} m (intimate zone {zone} m)");
+        }
+    }
+}
+
+#[test]
+fn daza_path_1_plain_astar_enters_the_person_s_personal_zone_and_the_social_robot_keeps_farther() {
+    let plain = load("daza2021_path1", "astar");
+    let personal = plain.proxemics.zones[1];
+    let plain_d = min_person_distance(&simulate(plain, 0), 0);
+    let social_d = min_person_distance(&simulate(load("daza2021_path1", "social"), 0), 0);
+    assert!(plain_d < personal, "plain A* kept {plain_d:.2} m");
+    assert!(social_d > plain_d, "social {social_d:.2} m vs plain {plain_d:.2} m");
+}
+
+/// A 12 x 8 m room with `n_stand` standing people (some in conversations) and `n_walk` walkers
+/// crossing it, the robot going from the west side to the east side.
+fn random_scene(seed: u64, planner: &str) -> Scenario {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut text = String::from(
+        r#"
+[scene]
+name = "random_room"
+bounds = [0, 0, 12, 8]
+[[wall]]
+from = [0, 0]
+to = [12, 0]
+[[wall]]
+from = [12, 0]
+to = [12, 8]
+[[wall]]
+from = [12, 8]
+to = [0, 8]
+[[wall]]
+from = [0, 8]
+to = [0, 0]
+[episode]
+max_time = 90
+"#,
+    );
+    let mut placed: Vec<(f64, f64)> = vec![(1.2, 4.0), (10.8, 4.0)];
+    let free =
+        |x: f64, y: f64, placed: &[(f64, f64)], d: f64| placed.iter().all(|&(a, b)| (a - x).hypot(b - y) > d);
+    let n_conv = rng.random_range(0..3);
+    for g in 0..n_conv {
+        let (cx, cy) = (rng.random_range(3.5..8.5), rng.random_range(2.0..6.0));
+        if !free(cx, cy, &placed, 2.0) {
+            continue;
+        }
+        placed.push((cx, cy));
+        let members = rng.random_range(2..4);
+        for k in 0..members {
+            let a = k as f64 * std::f64::consts::TAU / members as f64;
+            let (x, y) = (cx + 0.6 * a.cos(), cy + 0.6 * a.sin());
+            let th = (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU);
+            text += &format!(
+                "[[person]]\nbehaviour = \"standing\"\npose = [{x:.3}, {y:.3}, {th:.3}]\ngroup = {g}\n"
+            );
+        }
+    }
+    for _ in 0..rng.random_range(1..5) {
+        let (x, y) = (rng.random_range(2.5..9.5), rng.random_range(1.0..7.0));
+        if !free(x, y, &placed, 1.2) {
+            continue;
+        }
+        placed.push((x, y));
+        let th: f64 = rng.random_range(-3.1..3.1);
+        text += &format!("[[person]]\nbehaviour = \"standing\"\npose = [{x:.3}, {y:.3}, {th:.3}]\n");
+    }
+    for _ in 0..rng.random_range(0..4) {
+        let x = rng.random_range(3.0..9.0);
+        let (y0, y1) = if rng.random::<bool>() { (1.0, 7.0) } else { (7.0, 1.0) };
+        let speed = rng.random_range(0.6..1.3);
+        text += &format!("[[person]]\nroute = [[{x:.3}, {y0}], [{x:.3}, {y1}]]\nspeed = {speed:.2}\n");
+    }
+    text += "[[robot]]\nstart = [1.2, 4.0, 0.0]\ngoal = [10.8, 4.0]\n";
+    Scenario::from_toml_str(&text, "random_room")
+        .expect("valid random scene")
+        .with_planner(planner)
+        .expect("planner")
+}
+
+#[test]
+fn over_200_random_scenes_the_social_robot_never_walks_into_an_intimate_zone_and_plain_astar_does() {
+    let mut astar_scenes_with_intrusion: u64 = 0;
+    let mut social_successes: u64 = 0;
+    let scenes: u64 = 200;
+    for seed in 0..scenes {
+        let social = simulate(random_scene(seed, "social"), seed);
+        let zone = 0.45;
+        let n = intrusions(&social, 0, zone);
+        assert_eq!(n, 0, "scene {seed}: the social robot moved into an intimate zone {n} times");
+        social_successes += u64::from(social.success[0]);
+        let plain = simulate(random_scene(seed, "astar"), seed);
+        if intrusions(&plain, 0, zone) > 0 {
+            astar_scenes_with_intrusion += 1;
+        }
+    }
+    assert!(
+        astar_scenes_with_intrusion >= scenes / 5,
+        "plain A* intruded in only {astar_scenes_with_intrusion}"
+    );
+    // The social robot mostly still arrives (it waits when it has no room).
+    assert!(social_successes >= scenes * 8 / 10, "social successes {social_successes}/{scenes}");
+}
+
+#[test]
+fn named_planners_all_drive_the_museum_without_touching_walls() {
+    for planner in ["astar", "social_astar", "social", "orca", "social_momentum", "eband"] {
+        let run = simulate(load("museum", planner), 1);
+        assert_eq!(run.static_hits, 0, "{planner} touched the walls or furniture");
+        let moved = (run.robots.last().expect("steps")[0] - run.robots[0][0]).norm();
+        assert!(moved > 5.0, "{planner} barely moved ({moved:.2} m)");
+    }
+}
