@@ -271,7 +271,8 @@ struct RawPerson {
 struct RawRobot {
     name: Option<String>,
     start: [f64; 3],
-    goal: [f64; 2],
+    goal: Option<[f64; 2]>,
+    approach: Option<RawApproach>,
     #[serde(default = "d_planner")]
     planner: PlannerKind,
     #[serde(default = "d_robot_radius")]
@@ -284,6 +285,19 @@ struct RawRobot {
     max_accel: f64,
     #[serde(default = "d_inflation_margin")]
     inflation_margin: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawApproach {
+    person: String,
+    #[serde(default = "d_side")]
+    side: String,
+    level: Option<f64>,
+}
+
+fn d_side() -> String {
+    "auto".into()
 }
 
 #[derive(Deserialize)]
@@ -615,8 +629,10 @@ pub struct Robot {
     pub name: String,
     /// Start pose `[x, y, theta]`.
     pub start: [f64; 3],
-    /// Goal position `[x, y]`.
+    /// Goal position `[x, y]` (for an approach task, computed from the person's personal space).
     pub goal: [f64; 2],
+    /// An approach task: go to the edge of a person's personal space and face them.
+    pub approach: Option<Approach>,
     /// Built-in planner.
     pub planner: PlannerKind,
     /// Footprint radius (metres); default 0.24 (Pepper).
@@ -629,6 +645,20 @@ pub struct Robot {
     pub max_accel: f64,
     /// Extra clearance added to the radius when inflating the map (metres); default 0.06.
     pub inflation_margin: f64,
+}
+
+/// An approach task (Sousa 2022's waiter serving food from the left and drinks from the right;
+/// Calderita's robot coming to face a person to take their attention).
+#[derive(Clone, Debug, Serialize)]
+pub struct Approach {
+    /// Index of the (standing) person approached.
+    pub person: usize,
+    /// The side approached: `front`, `left`, `right` (the person's), or as chosen by `auto`.
+    pub side: String,
+    /// Personal-space value at which the robot's body stops (default: the personal zone's edge).
+    pub level: f64,
+    /// The point the robot faces at the goal (the person's position).
+    pub face: [f64; 2],
 }
 
 /// Per-episode randomisation, drawn from the episode's seeded generator.
@@ -1366,16 +1396,38 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
         let f = format!("robot[{i}]");
         ck.finite(&format!("{f}.start"), &r.start)?;
         ck.inside(&format!("{f}.start"), [r.start[0], r.start[1]], b)?;
-        ck.inside(&format!("{f}.goal"), r.goal, b)?;
         ck.range(&format!("{f}.radius"), r.radius, 0.0, 2.0, true)?;
         ck.range(&format!("{f}.max_speed"), r.max_speed, 0.0, 5.0, true)?;
         ck.range(&format!("{f}.max_angular_speed"), r.max_angular_speed, 0.0, 10.0, true)?;
         ck.range(&format!("{f}.max_accel"), r.max_accel, 0.0, 20.0, true)?;
         ck.range(&format!("{f}.inflation_margin"), r.inflation_margin, 0.0, 1.0, false)?;
+        let (goal, approach) = match (&r.goal, &r.approach) {
+            (Some(g), None) => {
+                ck.inside(&format!("{f}.goal"), *g, b)?;
+                (*g, None)
+            }
+            (None, Some(a)) => {
+                let (g, ap) = build_approach(&ck, &f, a, &persons, &proxemics, r.radius)?;
+                ck.inside(&format!("{f}.approach"), g, b)?;
+                (g, Some(ap))
+            }
+            (Some(_), Some(_)) => {
+                return Err(err(file, format!("{f}.approach"), "either goal or approach, not both", "both"));
+            }
+            (None, None) => {
+                return Err(err(
+                    file,
+                    format!("{f}.goal"),
+                    "goal = [x, y] (or an approach = { person = ... } task)",
+                    "nothing",
+                ));
+            }
+        };
         robots.push(Robot {
             name: r.name.clone().unwrap_or_else(|| format!("robot_{i}")),
             start: r.start,
-            goal: r.goal,
+            goal,
+            approach,
             planner: r.planner,
             radius: r.radius,
             max_speed: r.max_speed,
@@ -1588,6 +1640,76 @@ fn person_features(ck: &Checker<'_>, i: usize, raw: &RawPerson, names: &[String]
         })?;
     }
     Ok(fv)
+}
+
+/// The goal of an approach task: the robot's centre one body radius beyond the edge of the
+/// person's (feature-adapted) personal space on the requested side, facing the person. `auto`
+/// picks, among front, left and right, the side where that edge is nearest (the side the
+/// person's features make most welcoming; never the back).
+fn build_approach(
+    ck: &Checker<'_>,
+    f: &str,
+    a: &RawApproach,
+    persons: &[Person],
+    prox: &Proxemics,
+    robot_radius: f64,
+) -> Result<([f64; 2], Approach)> {
+    use crate::proxemics::{Asymmetric, PersonalSpace, SideInfluences, adapt};
+    let file = ck.file;
+    let k = persons.iter().position(|p| p.name == a.person).ok_or_else(|| {
+        err(file, format!("{f}.approach.person"), "the name of a [[person]]", format!("{:?}", a.person))
+    })?;
+    let person = &persons[k];
+    if person.behaviour != Behaviour::Standing {
+        return Err(err(
+            file,
+            format!("{f}.approach.person"),
+            "a standing person (approach targets do not move)",
+            format!("{:?}, a {:?}", a.person, person.behaviour),
+        ));
+    }
+    let [front, rear, right, left] = prox.sigmas;
+    let base = Asymmetric { front, rear, right, left };
+    let [fi, ri, rti, li] = prox.influence.clone();
+    let sides = if prox.features.is_empty() {
+        base
+    } else {
+        adapt(base, &person.features, &SideInfluences { front: fi, rear: ri, right: rti, left: li })?
+    };
+    // The personal zone's edge in value terms (see crate::socialmap::SpaceFunction).
+    let zone_scale = match prox.space.as_str() {
+        "calderita" => right,
+        "daza2021" => front,
+        _ => (front * rear * right * left).powf(0.25),
+    };
+    let default_level = (-(prox.zones[1] * prox.zones[1]) / (2.0 * zone_scale * zone_scale)).exp();
+    let level = a.level.unwrap_or(default_level);
+    ck.range(&format!("{f}.approach.level"), level, 0.0, 1.0, true)?;
+    let space = PersonalSpace::Asymmetric(sides);
+    let extent = |bearing: f64| space.extent(bearing, level).unwrap_or(f64::INFINITY);
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let (side, bearing) = match a.side.as_str() {
+        "front" => ("front", 0.0),
+        "left" => ("left", half_pi),
+        "right" => ("right", -half_pi),
+        "auto" => [("front", 0.0), ("left", half_pi), ("right", -half_pi)]
+            .into_iter()
+            .min_by(|x, y| extent(x.1).total_cmp(&extent(y.1)))
+            .unwrap_or(("front", 0.0)),
+        other => {
+            return Err(err(
+                file,
+                format!("{f}.approach.side"),
+                "\"front\", \"left\", \"right\" or \"auto\"",
+                format!("{other:?}"),
+            ));
+        }
+    };
+    let d = extent(bearing) + robot_radius;
+    let dir = person.pose[2] + bearing;
+    let goal = [person.pose[0] + d * dir.cos(), person.pose[1] + d * dir.sin()];
+    let face = [person.pose[0], person.pose[1]];
+    Ok((goal, Approach { person: k, side: side.to_string(), level, face }))
 }
 
 /// Re-labels a core input error as a scenario error under `field`.
@@ -2047,5 +2169,64 @@ name = "guided talk"
         let (_, f, e, _) = scenario_err(&no_space);
         assert_eq!(f, "activity[0].object");
         assert!(e.contains("interaction space"));
+    }
+
+    /// Sousa 2022 Table 2: a waiter robot serves food from the person's left and drinks from
+    /// their right. With `auto`, the side the person's needs make most welcoming is chosen.
+    fn waiter(food: f64, drink: f64, side: &str) -> Scenario {
+        let text = format!(
+            r#"
+[scene]
+name = "dinner"
+bounds = [0, 0, 10, 10]
+[proxemics]
+space = "sousa2022"
+features = ["food_need", "beverage_need"]
+[proxemics.influence]
+left = [0.5, 0.0]
+right = [0.0, 0.5]
+[[person]]
+name = "guest"
+behaviour = "standing"
+pose = [5, 5, 1.5707963267948966]
+features = [{food}, {drink}]
+[[robot]]
+start = [1, 1, 0]
+approach = {{ person = "guest", side = "{side}" }}
+"#
+        );
+        parse(&text).expect("valid waiter scene")
+    }
+
+    #[test]
+    fn approach_goals_follow_the_person_s_needs() {
+        // The guest faces +y: their left is -x, their right +x.
+        let food = waiter(0.9, 0.1, "auto");
+        let a = food.robots[0].approach.as_ref().expect("approach");
+        assert_eq!(a.side, "left");
+        assert!(food.robots[0].goal[0] < 5.0 && (food.robots[0].goal[1] - 5.0).abs() < 1e-9);
+        let drink = waiter(0.1, 0.9, "auto");
+        assert_eq!(drink.robots[0].approach.as_ref().expect("approach").side, "right");
+        assert!(drink.robots[0].goal[0] > 5.0);
+        // The needed side lets the robot come closer than the side without need.
+        let near = 5.0 - food.robots[0].goal[0];
+        let far = 5.0 - waiter(0.1, 0.9, "left").robots[0].goal[0];
+        assert!(near < far, "{near} vs {far}");
+        assert_eq!(food.robots[0].approach.as_ref().expect("approach").face, [5.0, 5.0]);
+    }
+
+    #[test]
+    fn approach_bad_input() {
+        let text = MINIMAL.replace("goal = [9, 4]", "approach = { person = \"nobody\" }");
+        assert_eq!(scenario_err(&text).1, "robot[0].approach.person");
+        let text = MINIMAL.replace("goal = [9, 4]", "approach = { person = \"person_0\" }");
+        let (_, f, e, _) = scenario_err(&text);
+        assert_eq!(f, "robot[0].approach.person");
+        assert!(e.contains("standing"));
+        let text =
+            MINIMAL.replace("goal = [9, 4]", "approach = { person = \"person_1\", side = \"behind\" }");
+        assert_eq!(scenario_err(&text).1, "robot[0].approach.side");
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\napproach = { person = \"person_1\" }");
+        assert_eq!(scenario_err(&text).1, "robot[0].approach");
     }
 }

@@ -113,6 +113,8 @@ impl Layout {
 /// Per-robot state that does not change between episodes.
 struct RobotStatic {
     planner: PlannerKind,
+    /// For approach tasks, the point to face near the goal (the person approached).
+    face: Option<Vec2>,
     limits: Limits,
     radius: f64,
     goal: Vec2,
@@ -147,6 +149,9 @@ struct RobotRuntime {
     band: Option<ElasticBand>,
     mode: Mode,
 }
+
+/// On an approach task the robot turns to face the person within this distance of the goal (m).
+const APPROACH_FACING_DISTANCE: f64 = 1.0;
 
 /// Added to every radius ORCA sees (metres): ORCA lets bodies touch, the physics counts a touch.
 const ORCA_MARGIN: f64 = 0.08;
@@ -274,6 +279,7 @@ impl World {
             };
             statics.push(RobotStatic {
                 planner: r.planner,
+                face: r.approach.as_ref().map(|a| v2(a.face)),
                 limits,
                 radius: r.radius,
                 goal,
@@ -1060,12 +1066,20 @@ impl World {
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
             let (v, w) = if rb.outcome == Outcome::Running {
-                // Heading policy: face the direction of motion.
+                // Heading policy: face the direction of motion; on an approach task, face the
+                // person over the last metre.
                 let d = desired[i];
-                let wz = if d.norm() > FollowerParams::default().min_turn_speed {
-                    FollowerParams::default().heading_gain * wrap_angle(d.y.atan2(d.x) - rb.pose[2])
-                } else {
-                    0.0
+                let p = Vec2::new(rb.pose[0], rb.pose[1]);
+                let gain = FollowerParams::default().heading_gain;
+                let wz = match st.face {
+                    Some(q) if (st.goal - p).norm() < APPROACH_FACING_DISTANCE => {
+                        let to = q - p;
+                        gain * wrap_angle(to.y.atan2(to.x) - rb.pose[2])
+                    }
+                    _ if d.norm() > FollowerParams::default().min_turn_speed => {
+                        gain * wrap_angle(d.y.atan2(d.x) - rb.pose[2])
+                    }
+                    _ => 0.0,
                 };
                 st.limits.apply(d, wz, rb.exec_v, rb.exec_wz, dt)
             } else {

@@ -18,6 +18,7 @@ struct Run {
     success: Vec<bool>,
     robot_radius: Vec<f64>,
     static_hits: usize,
+    headings: Vec<f64>,
 }
 
 fn simulate(scenario: Scenario, seed: u64) -> Run {
@@ -40,7 +41,7 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
         })
         .collect();
     let mut run =
-        Run { robots: vec![], people: vec![], success: vec![false; n], robot_radius, static_hits: 0 };
+        Run { robots: vec![], people: vec![], success: vec![false; n], robot_radius, static_hits: 0, headings: vec![] };
     let record = |world: &World, state: &[f64], run: &mut Run| {
         run.robots.push((0..n).map(|i| Vec2::new(state[6 * i], state[6 * i + 1])).collect());
         run.people.push(world.crowd().pos.clone());
@@ -90,6 +91,7 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
             break;
         }
     }
+    run.headings = (0..n).map(|i| state[6 * i + 2]).collect();
     run
 }
 
@@ -264,5 +266,56 @@ fn named_planners_all_drive_the_museum_without_touching_walls() {
         assert_eq!(run.static_hits, 0, "{planner} touched the walls or furniture");
         let moved = (run.robots.last().expect("steps")[0] - run.robots[0][0]).norm();
         assert!(moved > 5.0, "{planner} barely moved ({moved:.2} m)");
+    }
+}
+
+#[test]
+fn a_waiter_robot_serves_from_the_needed_side_and_faces_the_guest() {
+    for (food, drink, side_sign) in [(0.9, 0.1, -1.0), (0.1, 0.9, 1.0)] {
+        let text = format!(
+            r#"
+[scene]
+name = "dinner"
+bounds = [0, 0, 10, 10]
+[[wall]]
+from = [0, 0]
+to = [10, 0]
+[[wall]]
+from = [10, 0]
+to = [10, 10]
+[[wall]]
+from = [10, 10]
+to = [0, 10]
+[[wall]]
+from = [0, 10]
+to = [0, 0]
+[proxemics]
+space = "sousa2022"
+features = ["food_need", "beverage_need"]
+[proxemics.influence]
+left = [0.5, 0.0]
+right = [0.0, 0.5]
+[[person]]
+name = "guest"
+behaviour = "standing"
+pose = [5, 6, 1.5707963267948966]
+features = [{food}, {drink}]
+[[robot]]
+start = [5, 1.5, 1.5707963267948966]
+planner = "social"
+approach = {{ person = "guest" }}
+"#
+        );
+        let scenario = Scenario::from_toml_str(&text, "dinner").expect("valid");
+        let goal = scenario.robots[0].goal;
+        let run = simulate(scenario, 0);
+        assert!(run.success[0], "food {food}: the waiter did not arrive");
+        let end = *run.robots.last().expect("steps").first().expect("robot");
+        // on the guest's left (x < 5) for food, right (x > 5) for drinks
+        assert!((end.x - 5.0) * side_sign > 0.5, "food {food}: ended at {end:?}, goal {goal:?}");
+        assert!(min_person_distance(&run, 0) >= 0.45);
+        let to_guest = (Vec2::new(5.0, 6.0) - end).y.atan2((Vec2::new(5.0, 6.0) - end).x);
+        let err = proxemic_core::math::wrap_angle(run.headings[0] - to_guest).abs();
+        assert!(err < 0.35, "food {food}: facing error {err:.2} rad");
     }
 }
