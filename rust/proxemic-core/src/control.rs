@@ -311,6 +311,20 @@ mod tests {
     }
 
     #[test]
+    fn follower_with_an_empty_or_one_point_path_is_defined() {
+        let mut empty = PathFollower::new(vec![], FollowerParams::default());
+        let o = empty.step(Vec2::new(1.0, 1.0), 0.0, 0.55, 0.55, 0.1);
+        assert!(o.velocity.x.is_finite() && o.velocity.y.is_finite() && o.wz.is_finite());
+        let mut single = PathFollower::new(vec![Vec2::new(3.0, 0.0)], FollowerParams::default());
+        let o = single.step(Vec2::zeros(), 0.0, 0.55, 0.55, 0.1);
+        assert!(o.velocity.x > 0.0 && o.velocity.y.abs() < 1e-12, "{o:?}");
+        let mut nan = PathFollower::new(vec![Vec2::zeros(), Vec2::new(2.0, 0.0)], FollowerParams::default());
+        let o = nan.step(Vec2::new(f64::NAN, 0.0), 0.0, 0.55, 0.55, 0.1);
+        let (v, w) = Limits::PEPPER.apply(o.velocity, o.wz, Vec2::zeros(), 0.0, 0.1);
+        assert!(v.x.is_finite() && v.y.is_finite() && w.is_finite());
+    }
+
+    #[test]
     fn follower_does_not_aim_across_obstacles() {
         // An L-shaped path around a corner at (2, 0): the look-ahead point beyond the corner is
         // hidden behind the block x > 1.8, y < -0.2, so the follower aims at the corner instead.

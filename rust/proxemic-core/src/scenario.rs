@@ -290,7 +290,8 @@ struct RawRobot {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawApproach {
-    person: String,
+    person: Option<String>,
+    group: Option<u32>,
     #[serde(default = "d_side")]
     side: String,
     level: Option<f64>,
@@ -651,8 +652,8 @@ pub struct Robot {
 /// Calderita's robot coming to face a person to take their attention).
 #[derive(Clone, Debug, Serialize)]
 pub struct Approach {
-    /// Index of the (standing) person approached.
-    pub person: usize,
+    /// Indices of the (standing) people approached: one person, or the members of a group.
+    pub people: Vec<usize>,
     /// The side approached: `front`, `left`, `right` (the person's), or as chosen by `auto`.
     pub side: String,
     /// Personal-space value at which the robot's body stops (default: the personal zone's edge).
@@ -1656,26 +1657,77 @@ fn build_approach(
 ) -> Result<([f64; 2], Approach)> {
     use crate::proxemics::{Asymmetric, PersonalSpace, SideInfluences, adapt};
     let file = ck.file;
-    let k = persons.iter().position(|p| p.name == a.person).ok_or_else(|| {
-        err(file, format!("{f}.approach.person"), "the name of a [[person]]", format!("{:?}", a.person))
-    })?;
-    let person = &persons[k];
-    if person.behaviour != Behaviour::Standing {
-        return Err(err(
-            file,
-            format!("{f}.approach.person"),
-            "a standing person (approach targets do not move)",
-            format!("{:?}, a {:?}", a.person, person.behaviour),
-        ));
+    let members: Vec<usize> = match (&a.person, a.group) {
+        (Some(name), None) => {
+            let k = persons.iter().position(|p| &p.name == name).ok_or_else(|| {
+                err(file, format!("{f}.approach.person"), "the name of a [[person]]", format!("{name:?}"))
+            })?;
+            vec![k]
+        }
+        (None, Some(g)) => {
+            let m: Vec<usize> = (0..persons.len()).filter(|&k| persons[k].group == Some(g)).collect();
+            if m.len() < 2 {
+                return Err(err(
+                    file,
+                    format!("{f}.approach.group"),
+                    "the id of a group with at least 2 people",
+                    format!("group {g} with {} member(s)", m.len()),
+                ));
+            }
+            m
+        }
+        _ => {
+            return Err(err(
+                file,
+                format!("{f}.approach"),
+                "exactly one of person = \"name\" or group = id",
+                "neither or both",
+            ));
+        }
+    };
+    for &k in &members {
+        if persons[k].behaviour != Behaviour::Standing {
+            let field = if a.group.is_some() { "group" } else { "person" };
+            return Err(err(
+                file,
+                format!("{f}.approach.{field}"),
+                "standing people (approach targets do not move)",
+                format!("{:?}, a {:?}", persons[k].name, persons[k].behaviour),
+            ));
+        }
     }
     let [front, rear, right, left] = prox.sigmas;
     let base = Asymmetric { front, rear, right, left };
     let [fi, ri, rti, li] = prox.influence.clone();
-    let sides = if prox.features.is_empty() {
-        base
+    let influence = SideInfluences { front: fi, rear: ri, right: rti, left: li };
+    // One person, or the group as one individual (Sousa 2022 §3.3.4): its centre, orientation and
+    // extents grow the base function; its features are the members' mean.
+    let (centre, heading, grown, fv) = if members.len() == 1 {
+        let p = &persons[members[0]];
+        ([p.pose[0], p.pose[1]], p.pose[2], base, p.features.clone())
     } else {
-        adapt(base, &person.features, &SideInfluences { front: fi, rear: ri, right: rti, left: li })?
+        use crate::groups::{FeatureAggregate, PersonState, group_as_individual};
+        use crate::math::Vec2;
+        let states: Vec<PersonState> = members
+            .iter()
+            .map(|&k| {
+                PersonState::standing(Vec2::new(persons[k].pose[0], persons[k].pose[1]), persons[k].pose[2])
+            })
+            .collect();
+        let gi = group_as_individual(&states, &vec![1.0; states.len()], FeatureAggregate::Mean)?;
+        let nf = prox.features.len();
+        let fv: Vec<f64> = (0..nf)
+            .map(|j| members.iter().map(|&k| persons[k].features[j]).sum::<f64>() / members.len() as f64)
+            .collect();
+        let grown = Asymmetric {
+            front: front + gi.front,
+            rear: rear + gi.rear,
+            right: right + gi.right,
+            left: left + gi.left,
+        };
+        ([gi.centre.x, gi.centre.y], gi.heading, grown, fv)
     };
+    let sides = if prox.features.is_empty() { grown } else { adapt(grown, &fv, &influence)? };
     // The personal zone's edge in value terms (see crate::socialmap::SpaceFunction).
     let zone_scale = match prox.space.as_str() {
         "calderita" => right,
@@ -1706,10 +1758,9 @@ fn build_approach(
         }
     };
     let d = extent(bearing) + robot_radius;
-    let dir = person.pose[2] + bearing;
-    let goal = [person.pose[0] + d * dir.cos(), person.pose[1] + d * dir.sin()];
-    let face = [person.pose[0], person.pose[1]];
-    Ok((goal, Approach { person: k, side: side.to_string(), level, face }))
+    let dir = heading + bearing;
+    let goal = [centre[0] + d * dir.cos(), centre[1] + d * dir.sin()];
+    Ok((goal, Approach { people: members, side: side.to_string(), level, face: centre }))
 }
 
 /// Re-labels a core input error as a scenario error under `field`.

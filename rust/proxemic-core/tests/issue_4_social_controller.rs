@@ -40,8 +40,14 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
             [r[0], r[1], r[2], 0.0, 0.0, 0.0]
         })
         .collect();
-    let mut run =
-        Run { robots: vec![], people: vec![], success: vec![false; n], robot_radius, static_hits: 0, headings: vec![] };
+    let mut run = Run {
+        robots: vec![],
+        people: vec![],
+        success: vec![false; n],
+        robot_radius,
+        static_hits: 0,
+        headings: vec![],
+    };
     let record = |world: &World, state: &[f64], run: &mut Run| {
         run.robots.push((0..n).map(|i| Vec2::new(state[6 * i], state[6 * i + 1])).collect());
         run.people.push(world.crowd().pos.clone());
@@ -318,4 +324,51 @@ approach = {{ person = "guest" }}
         let err = proxemic_core::math::wrap_angle(run.headings[0] - to_guest).abs();
         assert!(err < 0.35, "food {food}: facing error {err:.2} rad");
     }
+}
+
+#[test]
+fn a_robot_approaching_a_conversation_stops_at_its_edge_facing_it() {
+    let text = r#"
+[scene]
+name = "lobby"
+bounds = [0, 0, 12, 10]
+[[wall]]
+from = [0, 0]
+to = [12, 0]
+[[wall]]
+from = [12, 0]
+to = [12, 10]
+[[wall]]
+from = [12, 10]
+to = [0, 10]
+[[wall]]
+from = [0, 10]
+to = [0, 0]
+[[person]]
+behaviour = "standing"
+pose = [6.0, 6.6, -1.5708]
+group = 1
+[[person]]
+behaviour = "standing"
+pose = [5.45, 5.7, 0.5236]
+group = 1
+[[person]]
+behaviour = "standing"
+pose = [6.55, 5.7, 2.618]
+group = 1
+[[robot]]
+start = [6, 1.5, 1.5708]
+planner = "social"
+approach = { group = 1, side = "front" }
+"#;
+    let scenario = Scenario::from_toml_str(text, "lobby").expect("valid");
+    let run = simulate(scenario, 0);
+    assert!(run.success[0], "did not reach the group's edge");
+    assert!(min_person_distance(&run, 0) >= 0.45);
+    let end = *run.robots.last().expect("steps").first().expect("robot");
+    let centre = Vec2::new(6.0, 6.0);
+    assert!((end - centre).norm() > 1.2, "inside the group at {end:?}");
+    let to = centre - end;
+    let err = proxemic_core::math::wrap_angle(run.headings[0] - to.y.atan2(to.x)).abs();
+    assert!(err < 0.35, "facing error {err:.2} rad");
 }
