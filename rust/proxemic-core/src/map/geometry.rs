@@ -271,6 +271,13 @@ impl StaticGeometry {
         }
     }
 
+    /// Distance from `p` to the nearest polygon boundary, but only looking within `max` metres
+    /// (returns `max` when no boundary is that close; 0 for a non-finite `p`). Unlike
+    /// [`Self::distance`] it does not test containment, and it is much cheaper for small `max`.
+    pub fn boundary_distance_within(&self, p: Vec2, max: f64) -> f64 {
+        self.rays.distance_within(p, max)
+    }
+
     /// The nearest point of any polygon boundary to `p` and its distance (metres), or `None`
     /// without polygons or for a non-finite `p`. Unlike [`Self::distance`] this does not test
     /// containment: for a point inside a polygon it returns the nearest boundary point.

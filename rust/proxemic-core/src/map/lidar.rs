@@ -77,9 +77,17 @@ pub fn scan(
         out.fill(0.0);
         return Ok(());
     }
+    // Ray directions by exact rotation of the first one (two trig calls per scan, not per ray);
+    // re-anchored every 16 rays so rounding cannot accumulate.
+    let (rs, rc) = step.sin_cos();
+    let mut dir = Vec2::new(heading.cos(), heading.sin());
     for (k, slot) in out.iter_mut().enumerate() {
-        let a = heading + k as f64 * step;
-        *slot = geom.cast_ray_from_outside(origin, Vec2::new(a.cos(), a.sin()), max_range);
+        if k % 16 == 0 {
+            let a = heading + k as f64 * step;
+            dir = Vec2::new(a.cos(), a.sin());
+        }
+        *slot = geom.cast_ray_from_outside(origin, dir, max_range);
+        dir = Vec2::new(rc * dir.x - rs * dir.y, rs * dir.x + rc * dir.y);
     }
     // Discs: each only touches the rays inside its angular extent asin(r / d) around its bearing
     // (one extra ray on each side absorbs rounding); those are intersected exactly.

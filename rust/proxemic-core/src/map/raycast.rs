@@ -83,6 +83,31 @@ impl EdgeGrid {
         }
     }
 
+    /// Distance from `p` to the nearest edge, looking only at the buckets within `max` metres of
+    /// `p` (so at most `max`; `max` when no edge is that close).
+    pub fn distance_within(&self, p: Vec2, max: f64) -> f64 {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return 0.0;
+        }
+        let span = (max / BUCKET).ceil() as isize;
+        let cx = ((p.x - self.min.x) / BUCKET).floor() as isize;
+        let cy = ((p.y - self.min.y) / BUCKET).floor() as isize;
+        let mut best = max;
+        for y in (cy - span).max(0)..=(cy + span).min(self.ny as isize - 1) {
+            for x in (cx - span).max(0)..=(cx + span).min(self.nx as isize - 1) {
+                let c = y as usize * self.nx + x as usize;
+                for &e in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+                    let (a, b) = (self.a[e as usize], self.b[e as usize]);
+                    let ab = b - a;
+                    let len2 = ab.norm_squared();
+                    let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
+                    best = best.min((a + ab * t - p).norm());
+                }
+            }
+        }
+        best
+    }
+
     /// Distance along the unit ray `origin + t * dir` to the first edge, or `max_range`.
     /// The origin must be finite; a ray starting outside the grid is traced from where it
     /// enters it (or misses everything).
@@ -179,6 +204,15 @@ mod tests {
             }
         }
         best
+    }
+
+    #[test]
+    fn local_distance_equals_brute_force_within_range() {
+        let edges = [(Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0)), (Vec2::new(4.0, 0.0), Vec2::new(4.0, 3.0))];
+        let g = EdgeGrid::new(&edges, Vec2::new(-2.0, -2.0), Vec2::new(6.0, 5.0));
+        assert!((g.distance_within(Vec2::new(2.0, 0.3), 1.0) - 0.3).abs() < 1e-12);
+        assert!((g.distance_within(Vec2::new(4.2, 3.1), 1.0) - (0.2f64.hypot(0.1))).abs() < 1e-12);
+        assert_eq!(g.distance_within(Vec2::new(2.0, 1.5), 1.0), 1.0);
     }
 
     #[test]
