@@ -369,4 +369,48 @@ mod tests {
         assert!(differing <= 5, "{differing} cells differ");
         assert!(a.iter().any(|f| f.is_infinite()) && a.contains(&2.0));
     }
+
+    #[test]
+    fn counted_incremental_updates_equal_a_rebuild() {
+        use crate::map::geometry::Bounds;
+        use crate::map::grid::GridSpec;
+        use crate::plan::CostGrid;
+        use crate::socialmap::SocialMap;
+        let cfg = SocialConfig::default();
+        let spec =
+            GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(24.0, 16.0) }, 0.1).expect("grid");
+        let grid = CostGrid { spec, cost: vec![0; spec.len()] };
+        let mut people: Vec<PersonState> = (0..20)
+            .map(|k| {
+                let k = k as f64;
+                PersonState {
+                    pos: Vec2::new(1.0 + (k * 3.7) % 22.0, 1.0 + (k * 2.9) % 14.0),
+                    heading: k,
+                    vel: Vec2::zeros(),
+                }
+            })
+            .collect();
+        let fv = vec![vec![]; people.len()];
+        let mut inc = SocialMap::new(grid.clone(), &[], cfg.costs);
+        for step in 0..6 {
+            for (k, p) in people.iter_mut().enumerate() {
+                if (k + step) % 3 == 0 {
+                    p.pos.x = (p.pos.x + 0.37).min(23.0);
+                    p.heading += 0.4;
+                }
+            }
+            let per = perceive(&cfg, &people, &fv, &[]).expect("valid");
+            inc.update_people(&per.individuals);
+            let mut full = SocialMap::new(grid.clone(), &[], cfg.costs);
+            let generic: Vec<Generic<'_>> = per.individuals.iter().map(Generic).collect();
+            full.update_people(&generic);
+            let differing =
+                inc.people_layer().iter().zip(full.people_layer()).filter(|(a, b)| a != b).count();
+            assert!(differing <= 10, "step {step}: {differing} cells differ");
+        }
+        // an update with nobody moving touches nothing
+        let per = perceive(&cfg, &people, &fv, &[]).expect("valid");
+        inc.update_people(&per.individuals);
+        assert_eq!(inc.cells_touched(), 0);
+    }
 }

@@ -214,6 +214,18 @@ pub struct SocialMap {
     touched: usize,
     /// Scratch: cells being re-evaluated.
     mark: Vec<bool>,
+    /// Zones mode with quadratic individuals: per cell, how many individuals put it in their
+    /// intimate, personal and social zone; and each individual's last contribution.
+    counts: Vec<[u16; 3]>,
+    counted: Vec<Option<Contribution>>,
+}
+
+/// What one individual added to the zone counts: its quadratic form, zone scale and box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Contribution {
+    quad: [f64; 8],
+    zone_scale: f64,
+    rect: Rect,
 }
 
 impl SocialMap {
@@ -235,6 +247,8 @@ impl SocialMap {
             prev: Vec::new(),
             touched: 0,
             mark: Vec::new(),
+            counts: Vec::new(),
+            counted: Vec::new(),
         }
     }
 
@@ -325,6 +339,13 @@ impl SocialMap {
     /// individuals' old and new boxes are cleared and every individual overlapping them is
     /// splatted (max) over the overlap. Individuals with non-finite state are ignored.
     pub fn update_people<S: SpaceFunction>(&mut self, individuals: &[S]) {
+        if self.costs.mode == CostMode::Zones && individuals.iter().all(|s| s.quadratic().is_some()) {
+            self.update_people_counted(individuals);
+            return;
+        }
+        // Leaving the counting path: its counts no longer describe the layer.
+        self.counts.clear();
+        self.counted.clear();
         let rects: Vec<Option<Rect>> = individuals.iter().map(|s| self.rect_of(s)).collect();
         let same_count = self.prev.len() == individuals.len();
         let mut dirty: Vec<Rect> = Vec::new();
@@ -420,6 +441,113 @@ impl SocialMap {
         }
     }
 
+    /// Zones mode, quadratic individuals: the layer is kept as per-cell zone counts, so a moving
+    /// individual only subtracts its old contribution and adds its new one (two sweeps of its
+    /// own box), whoever else overlaps it. The factor of a touched cell is the highest zone with a
+    /// non-zero count.
+    fn update_people_counted<S: SpaceFunction>(&mut self, individuals: &[S]) {
+        let spec = self.static_grid.spec;
+        if self.counts.len() != spec.len() {
+            // (Re)start counting from an empty layer.
+            self.counts = vec![[0; 3]; spec.len()];
+            self.counted.clear();
+            self.people.fill(1.0);
+            for c in 0..spec.len() {
+                self.combine(c);
+            }
+        }
+        self.mark.resize(spec.len(), false);
+        let mut touched: Vec<u32> = Vec::new();
+        let n = individuals.len().max(self.counted.len());
+        for k in 0..n {
+            let new = individuals.get(k).and_then(|s| {
+                let rect = self.rect_of(s)?;
+                Some(Contribution { quad: s.quadratic()?, zone_scale: s.zone_scale(), rect })
+            });
+            let old = self.counted.get(k).copied().flatten();
+            if old == new {
+                continue;
+            }
+            if let Some(c) = old {
+                self.count_zones(&c, -1, &mut touched);
+            }
+            if let Some(c) = new {
+                self.count_zones(&c, 1, &mut touched);
+            }
+            if k < self.counted.len() {
+                self.counted[k] = new;
+            } else {
+                self.counted.push(new);
+            }
+        }
+        self.counted.truncate(individuals.len());
+        let c = self.costs;
+        for &cell in &touched {
+            let i = cell as usize;
+            let [ci, cp, cs] = self.counts[i];
+            self.people[i] = if ci > 0 {
+                f64::INFINITY
+            } else if cp > 0 {
+                c.personal_cost
+            } else if cs > 0 {
+                c.social_cost
+            } else {
+                c.public_cost.max(1.0)
+            };
+            self.combine(i);
+            self.mark[i] = false;
+        }
+        self.touched = touched.len();
+        // Keep the max-path bookkeeping consistent for a later switch to it.
+        self.prev.clear();
+    }
+
+    /// Adds `delta` to the zone counts of the cells of one contribution.
+    fn count_zones(&mut self, c: &Contribution, delta: i32, touched: &mut Vec<u32>) {
+        let [cx, cy, cos, sin, kf, kr, kri, kl] = c.quad;
+        let (a0, b0, a1, b1) = c.rect;
+        let spec = self.static_grid.spec;
+        let costs = &self.costs;
+        let two_z2 = 2.0 * c.zone_scale * c.zone_scale;
+        let (qi, qp, qs) = (
+            costs.intimate * costs.intimate / two_z2,
+            costs.personal * costs.personal / two_z2,
+            costs.social * costs.social / two_z2,
+        );
+        let res = spec.resolution;
+        for iy in b0..=b1 {
+            let row = spec.index(0, iy);
+            let p0 = spec.center(a0, iy);
+            let (dx, dy) = (p0.x - cx, p0.y - cy);
+            let mut sag = cos * dx + sin * dy;
+            let mut fro = sin * dx - cos * dy;
+            let (dsag, dfro) = (cos * res, sin * res);
+            for ix in a0..=a1 {
+                let ks = if sag >= 0.0 { kf } else { kr };
+                let kq = if fro >= 0.0 { kri } else { kl };
+                let e = ks * sag * sag + kq * fro * fro;
+                if e < qs {
+                    let zone = if e < qi {
+                        0
+                    } else if e < qp {
+                        1
+                    } else {
+                        2
+                    };
+                    let idx = row + ix;
+                    let slot = &mut self.counts[idx][zone];
+                    *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
+                    if !self.mark[idx] {
+                        self.mark[idx] = true;
+                        touched.push(idx as u32);
+                    }
+                }
+                sag += dsag;
+                fro += dfro;
+            }
+        }
+    }
+
     /// Zone costs of one quadratic-form individual over a cell box: the axis
     /// distances advance by constant steps along a row, and zones are decided by comparing the
     /// exponent with the zone radii's thresholds (no exp, no sqrt).
@@ -477,6 +605,10 @@ impl SocialMap {
 
     /// Rebuilds every layer from scratch (for tests and benchmarks of the full rebuild).
     pub fn rebuild<S: SpaceFunction>(&mut self, individuals: &[S], object_factors: &[f64]) {
+        // The layer starts empty, so the counting path can start from zero counts directly.
+        self.counts.clear();
+        self.counts.resize(self.static_grid.spec.len(), [0; 3]);
+        self.counted.clear();
         self.people.fill(1.0);
         self.objects.fill(1.0);
         self.object_factor.fill(f64::NAN);
