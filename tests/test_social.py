@@ -86,6 +86,8 @@ def test_the_conversation_is_detected_as_one_group(room):
     assert groups == [[0, 1, 2]]
     (ind,) = [i for i in sm.perception["individuals"] if len(i["members"]) == 3]
     assert np.allclose(ind["centre"], (7.0, 3.8667), atol=1e-3)
+    assert sm.perception["truth"] == [1, 1, 1]
+    assert sm.perception["accuracy"]["f1"] == 1.0
 
 
 def test_object_space_follows_the_agenda(room):

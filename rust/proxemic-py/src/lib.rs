@@ -378,9 +378,10 @@ impl PyWorld {
     }
 
     /// What the robots perceive of the people now: `labels` (group index per person),
-    /// `groups` (member lists), `robot_joins` (group joined per robot, or None), and
-    /// `individuals` (dicts with centre, heading, sides = [front, rear, right, left] sigmas,
-    /// members, robots).
+    /// `groups` (member lists), `robot_joins` (group joined per robot, or None), `individuals`
+    /// (dicts with centre, heading, sides = [front, rear, right, left] sigmas, members, robots),
+    /// `truth` (the scenario's group id per person, or None) and `accuracy` (precision, recall,
+    /// f1 of the detected groups against the truth, threshold 2/3).
     fn perception<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         {
             let w = &mut self.inner;
@@ -402,6 +403,20 @@ impl PyWorld {
             inds.append(e)?;
         }
         d.set_item("individuals", inds)?;
+        // Ground truth beside the detection (the scenario's group ids) and the GCFF-style score
+        // (a detected group matches a true one with >= 2/3 of its members and <= 1/3 outsiders).
+        let truth: Vec<Option<u32>> = self.inner.scenario().persons.iter().map(|p| p.group).collect();
+        d.set_item("truth", truth.clone())?;
+        if let Ok(acc) = proxemic_core::groups::detection_accuracy(&per.groups.labels, &truth, 2.0 / 3.0) {
+            let a = PyDict::new(py);
+            a.set_item("precision", acc.precision)?;
+            a.set_item("recall", acc.recall)?;
+            a.set_item("f1", acc.f1)?;
+            a.set_item("true_positives", acc.true_positives)?;
+            a.set_item("detected", acc.detected)?;
+            a.set_item("truth", acc.truth)?;
+            d.set_item("accuracy", a)?;
+        }
         Ok(d)
     }
 
