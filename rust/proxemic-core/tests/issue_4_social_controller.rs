@@ -160,6 +160,13 @@ fn daza_paths_1_to_5_the_social_robot_keeps_out_of_intimate_zones_and_arrives() 
             assert!(run.success[0], "{name} seed {seed}: the robot did not arrive");
             let d = min_person_distance(&run, 0);
             assert!(d >= zone, "{name} seed {seed}: closest person at {d:.3} m (intimate zone {zone} m)");
+            // Mode switches never break the acceleration limit (0.55 m/s^2 at 10 Hz).
+            let v: Vec<Vec2> = run.robots.windows(2).map(|w| (w[1][0] - w[0][0]) / 0.1).collect();
+            let worst = v.windows(2).map(|w| (w[1] - w[0]).norm()).fold(0.0, f64::max);
+            assert!(
+                worst <= 0.055 + 1e-9,
+                "{name} seed {seed}: velocity jumped by {worst:.4} m/s in one step"
+            );
         }
     }
 }
