@@ -41,8 +41,8 @@ demo: setup ## plain A* in the museum: seeded episodes, metrics table, trajector
 
 test: setup test-rust test-python ## all Rust and Python tests
 
-test-rust: ## Rust unit and integration tests
-	cargo test $(CARGO_FLAGS) --quiet
+test-rust: ## Rust unit and integration tests (property tests with a fixed seed: the same cases every run)
+	PROPTEST_RNG_SEED=$${PROPTEST_RNG_SEED:-20261122} cargo test $(CARGO_FLAGS) --quiet
 
 test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
 	$(PY) -m pytest -q

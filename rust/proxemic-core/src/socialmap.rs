@@ -198,6 +198,54 @@ pub fn polygon_cells(spec: &GridSpec, polygon: &[Vec2]) -> Vec<u32> {
 /// Inclusive cell rectangle `(x0, y0, x1, y1)`.
 type Rect = (usize, usize, usize, usize);
 
+/// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
+/// inside the social zone of a quadratic-form individual (see [`SpaceFunction::quadratic`]).
+/// The axis distances advance by constant steps along a row, and zones are decided by comparing
+/// the exponent with the zone radii's thresholds, without exp or sqrt.
+fn for_each_zone_cell(
+    spec: &GridSpec,
+    costs: &SocialCosts,
+    quad: &[f64; 8],
+    zone_scale: f64,
+    rect: Rect,
+    mut f: impl FnMut(usize, usize),
+) {
+    let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
+    let (a0, b0, a1, b1) = rect;
+    let two_z2 = 2.0 * zone_scale * zone_scale;
+    let (qi, qp, qs) = (
+        costs.intimate * costs.intimate / two_z2,
+        costs.personal * costs.personal / two_z2,
+        costs.social * costs.social / two_z2,
+    );
+    let res = spec.resolution;
+    for iy in b0..=b1 {
+        let row = spec.index(0, iy);
+        let p0 = spec.center(a0, iy);
+        let (dx, dy) = (p0.x - cx, p0.y - cy);
+        let mut sag = cos * dx + sin * dy;
+        let mut fro = sin * dx - cos * dy;
+        let (dsag, dfro) = (cos * res, sin * res);
+        for ix in a0..=a1 {
+            let ks = if sag >= 0.0 { kf } else { kr };
+            let kq = if fro >= 0.0 { kri } else { kl };
+            let e = ks * sag * sag + kq * fro * fro;
+            if e < qs {
+                let zone = if e < qi {
+                    0
+                } else if e < qp {
+                    1
+                } else {
+                    2
+                };
+                f(row + ix, zone);
+            }
+            sag += dsag;
+            fro += dfro;
+        }
+    }
+}
+
 /// The layered social cost map of one robot footprint.
 #[derive(Clone, Debug)]
 pub struct SocialMap {
@@ -504,93 +552,29 @@ impl SocialMap {
 
     /// Adds `delta` to the zone counts of the cells of one contribution.
     fn count_zones(&mut self, c: &Contribution, delta: i32, touched: &mut Vec<u32>) {
-        let [cx, cy, cos, sin, kf, kr, kri, kl] = c.quad;
-        let (a0, b0, a1, b1) = c.rect;
         let spec = self.static_grid.spec;
-        let costs = &self.costs;
-        let two_z2 = 2.0 * c.zone_scale * c.zone_scale;
-        let (qi, qp, qs) = (
-            costs.intimate * costs.intimate / two_z2,
-            costs.personal * costs.personal / two_z2,
-            costs.social * costs.social / two_z2,
-        );
-        let res = spec.resolution;
-        for iy in b0..=b1 {
-            let row = spec.index(0, iy);
-            let p0 = spec.center(a0, iy);
-            let (dx, dy) = (p0.x - cx, p0.y - cy);
-            let mut sag = cos * dx + sin * dy;
-            let mut fro = sin * dx - cos * dy;
-            let (dsag, dfro) = (cos * res, sin * res);
-            for ix in a0..=a1 {
-                let ks = if sag >= 0.0 { kf } else { kr };
-                let kq = if fro >= 0.0 { kri } else { kl };
-                let e = ks * sag * sag + kq * fro * fro;
-                if e < qs {
-                    let zone = if e < qi {
-                        0
-                    } else if e < qp {
-                        1
-                    } else {
-                        2
-                    };
-                    let idx = row + ix;
-                    let slot = &mut self.counts[idx][zone];
-                    *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
-                    if !self.mark[idx] {
-                        self.mark[idx] = true;
-                        touched.push(idx as u32);
-                    }
-                }
-                sag += dsag;
-                fro += dfro;
+        let (counts, mark) = (&mut self.counts, &mut self.mark);
+        for_each_zone_cell(&spec, &self.costs, &c.quad, c.zone_scale, c.rect, |idx, zone| {
+            let slot = &mut counts[idx][zone];
+            *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
+            if !mark[idx] {
+                mark[idx] = true;
+                touched.push(idx as u32);
             }
-        }
+        });
     }
 
-    /// Zone costs of one quadratic-form individual over a cell box: the axis
-    /// distances advance by constant steps along a row, and zones are decided by comparing the
-    /// exponent with the zone radii's thresholds (no exp, no sqrt).
+    /// Zone costs of one quadratic-form individual over a cell box (max with what is there).
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, rect: Rect) {
-        let [cx, cy, cos, sin, kf, kr, kri, kl] = *q;
-        let (a0, b0, a1, b1) = rect;
         let spec = self.static_grid.spec;
-        let c = &self.costs;
-        let two_z2 = 2.0 * zone_scale * zone_scale;
-        let (qi, qp, qs) = (
-            c.intimate * c.intimate / two_z2,
-            c.personal * c.personal / two_z2,
-            c.social * c.social / two_z2,
-        );
-        let (fp, fs) = (c.personal_cost, c.social_cost);
-        let res = spec.resolution;
-        for iy in b0..=b1 {
-            let row = spec.index(0, iy);
-            let p0 = spec.center(a0, iy);
-            let (dx, dy) = (p0.x - cx, p0.y - cy);
-            let mut sag = cos * dx + sin * dy;
-            let mut fro = sin * dx - cos * dy;
-            let (dsag, dfro) = (cos * res, sin * res);
-            for cell in &mut self.people[row + a0..=row + a1] {
-                let ks = if sag >= 0.0 { kf } else { kr };
-                let kq = if fro >= 0.0 { kri } else { kl };
-                let e = ks * sag * sag + kq * fro * fro;
-                if e < qs {
-                    let f = if e < qi {
-                        f64::INFINITY
-                    } else if e < qp {
-                        fp
-                    } else {
-                        fs
-                    };
-                    if f > *cell {
-                        *cell = f;
-                    }
-                }
-                sag += dsag;
-                fro += dfro;
+        let c = self.costs;
+        let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
+        let people = &mut self.people;
+        for_each_zone_cell(&spec, &c, q, zone_scale, rect, |idx, zone| {
+            if factors[zone] > people[idx] {
+                people[idx] = factors[zone];
             }
-        }
+        });
     }
 
     fn combine(&mut self, idx: usize) {

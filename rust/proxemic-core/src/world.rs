@@ -798,16 +798,16 @@ impl World {
         &self.social
     }
 
+    /// The index of robot `i`'s inflated grid (and social map), or an input error.
+    fn grid_of(&self, i: usize) -> Result<usize> {
+        self.statics.get(i).map(|st| st.grid_index).ok_or_else(|| {
+            CoreError::input("robot", format!("an index below {}", self.statics.len()), i.to_string())
+        })
+    }
+
     /// Updates robot `i`'s social map for the current people and the agenda at `time_of_day`.
     pub fn update_social_map(&mut self, i: usize, time_of_day: f64) -> Result<()> {
-        let Some(st) = self.statics.get(i) else {
-            return Err(CoreError::input(
-                "robot",
-                format!("an index below {}", self.statics.len()),
-                i.to_string(),
-            ));
-        };
-        let k = st.grid_index;
+        let k = self.grid_of(i)?;
         if self.social.perception().is_none() {
             self.perceive()?;
         }
@@ -824,14 +824,7 @@ impl World {
         goal: Vec2,
         time_of_day: f64,
     ) -> Result<Option<Vec<Vec2>>> {
-        let Some(st) = self.statics.get(i) else {
-            return Err(CoreError::input(
-                "robot",
-                format!("an index below {}", self.statics.len()),
-                i.to_string(),
-            ));
-        };
-        let k = st.grid_index;
+        let k = self.grid_of(i)?;
         self.perceive()?;
         Ok(self.social.plan(&mut self.planner, k, start, goal, time_of_day).map(|p| p.points))
     }

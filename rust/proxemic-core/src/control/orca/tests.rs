@@ -164,7 +164,8 @@ proptest! {
             if let Some(b) = brute {
                 // Dense sampling resolution is about 2.5e-3 at the rim.
                 prop_assert!((x - opt).norm() <= b + 1e-9, "lp {} brute {}", (x - opt).norm(), b);
-                prop_assert!((x - opt).norm() >= b - 1e-2, "lp {} brute {}", (x - opt).norm(), b);
+                // The sampler only approximates the optimum from above (coarse inside the disc).
+                prop_assert!((x - opt).norm() >= b - 3e-2, "lp {} brute {}", (x - opt).norm(), b);
             }
         } else {
             // Infeasible: the sampler must not find a clearly feasible point either.
