@@ -140,57 +140,89 @@ fn open_index(e: Open) -> usize {
     (e as u64 & ((1u64 << IDX_BITS) - 1)) as usize
 }
 
-/// Most buckets the open list keeps; entries beyond share the last bucket (still exact, only
-/// slower).
-const MAX_BUCKETS: usize = 1 << 16;
+/// Buckets in the open list's ring (a power of two).
+const RING: usize = 256;
+/// Buckets spanned by the largest possible step in `f` between a popped entry and one it pushes;
+/// half the ring, so rounding can never wrap an entry onto a bucket still in use.
+const REACH: f64 = 128.0;
 
-/// The open list: a bucket queue on `f` with an exact 4-ary min-heap for the current bucket.
+/// The open list: a ring of [`RING`] buckets on `f` with an exact 4-ary min-heap for the current
+/// bucket.
 ///
-/// Entries whose `f` falls in a later bucket (width `res`) are appended unsorted to that bucket;
-/// when the heap runs dry the next non-empty bucket is heapified. With a consistent heuristic the
-/// popped `f` never decreases, and an entry that lands in (or, by rounding, below) the current
-/// bucket goes straight into the heap, so pops come out in exactly the order of the keys — the same
-/// order as one global heap — while most pushes are O(1) and the heap stays small.
-#[derive(Debug, Default)]
+/// The bucket width is `max_step / REACH`, with `max_step` a bound on how much `f` can grow from
+/// a popped entry to an entry it pushes (the largest move cost plus the largest change of the
+/// heuristic over one move), so every pending entry lies less than `REACH + 2` buckets ahead of
+/// the current one and the ring never wraps onto itself: its few buckets stay in cache, and a
+/// push beyond the current bucket is an O(1) append. When the heap runs dry the next non-empty
+/// bucket is heapified. With a consistent heuristic the popped `f` never decreases, and an entry
+/// that lands in (or, by rounding, below) the current bucket goes straight into the heap, so pops
+/// come out in exactly the order of the keys — the same order as one global heap.
+#[derive(Debug)]
 struct OpenList {
     heap: Vec<Open>,
     buckets: Vec<Vec<Open>>,
-    /// Current bucket number.
+    /// Current bucket number (not reduced modulo the ring).
     cur: usize,
-    /// Highest bucket used since the last reset.
-    hi: usize,
     /// Entries waiting in future buckets.
     pending: usize,
     /// 1 / bucket width (per metre).
     inv_width: f64,
+    /// Farthest any push landed ahead of the current bucket since the last reset (tests check it
+    /// stays below `REACH + 2`).
+    #[cfg(test)]
+    max_ahead: usize,
+}
+
+impl Default for OpenList {
+    fn default() -> Self {
+        Self {
+            heap: Vec::new(),
+            buckets: vec![Vec::new(); RING],
+            cur: 0,
+            pending: 0,
+            inv_width: 1.0,
+            #[cfg(test)]
+            max_ahead: 0,
+        }
+    }
 }
 
 impl OpenList {
-    fn reset(&mut self, width: f64) {
+    /// Empties the list for a search whose `f` grows by at most `max_step` (metres, finite and
+    /// `> 0`) per push and whose first entry has key `f0`.
+    fn reset(&mut self, max_step: f64, f0: f64) {
         self.heap.clear();
-        let used = (self.hi + 1).min(self.buckets.len());
-        for b in &mut self.buckets[..used] {
+        for b in &mut self.buckets {
             b.clear();
         }
-        self.cur = 0;
-        self.hi = 0;
         self.pending = 0;
-        self.inv_width = 1.0 / width;
+        self.inv_width = REACH / max_step;
+        self.cur = self.bucket(f0);
+        #[cfg(test)]
+        {
+            self.max_ahead = 0;
+        }
+    }
+
+    /// The bucket number of `f` (finite and `>= 0`; the float-to-int cast saturates).
+    #[inline]
+    fn bucket(&self, f: f64) -> usize {
+        (f * self.inv_width) as usize
     }
 
     #[inline]
     fn push(&mut self, e: Open, f: f64) {
-        // f is finite and >= 0; the float-to-int cast saturates.
-        let b = ((f * self.inv_width) as usize).min(MAX_BUCKETS - 1);
+        let b = self.bucket(f);
         if b <= self.cur {
             self.heap_push(e);
         } else {
-            if b >= self.buckets.len() {
-                self.buckets.resize_with(b + 1, Vec::new);
+            debug_assert!(b - self.cur < RING, "f step beyond the ring: {} buckets", b - self.cur);
+            #[cfg(test)]
+            {
+                self.max_ahead = self.max_ahead.max(b - self.cur);
             }
-            self.buckets[b].push(e);
+            self.buckets[b % RING].push(e);
             self.pending += 1;
-            self.hi = self.hi.max(b);
         }
     }
 
@@ -203,13 +235,13 @@ impl OpenList {
             if self.pending == 0 {
                 return None;
             }
-            // Advance to the next non-empty bucket and heapify it (the heap is empty).
+            // Advance to the next non-empty bucket (one exists within the ring) and heapify it
+            // (the heap is empty).
             self.cur += 1;
-            while self.cur < self.buckets.len() && self.buckets[self.cur].is_empty() {
+            while self.buckets[self.cur % RING].is_empty() {
                 self.cur += 1;
             }
-            let next = self.buckets.get_mut(self.cur)?;
-            std::mem::swap(&mut self.heap, next);
+            std::mem::swap(&mut self.heap, &mut self.buckets[self.cur % RING]);
             self.pending -= self.heap.len();
             let n = self.heap.len();
             for i in (0..n.div_ceil(4)).rev() {
@@ -347,7 +379,6 @@ impl PathPlanner {
             return None;
         }
         self.begin(n);
-        self.heap.reset(spec.resolution);
         let (reached, closed) = (self.base, self.base + 1);
         let (w, h) = (spec.width, spec.height);
         let res = spec.resolution;
@@ -366,6 +397,9 @@ impl PathPlanner {
         let heap = &mut self.heap;
         nodes[s_idx] = Node { g: 0.0, parent: s_idx as u32, stamp: reached };
         let f0 = heur(start.0, start.1);
+        // f grows per push by at most the dearest move plus the heuristic's change over a move
+        // (octile is 1-Lipschitz): sqrt(2) res (1 + w) + sqrt(2) res.
+        heap.reset(std::f64::consts::SQRT_2 * res * (2.0 + mode.weight), f0);
         heap.push(open_entry(f0, 0.0, s_idx as u32), f0);
         let mut expansions = 0usize;
         let cost = &grid.cost[..n];
@@ -754,12 +788,33 @@ mod tests {
     }
 
     #[test]
+    fn open_list_ring_never_wraps() {
+        // Dearest moves (cost 252, diagonal, away from the goal) at a large weight: pushes land at
+        // most REACH + 1 buckets ahead, and the worst case comes close to REACH (the bound is not
+        // loose, so the ring stays small).
+        let mut g = random_grid(5, 40, 40, 0.1);
+        for (i, c) in g.cost.iter_mut().enumerate() {
+            if *c < INSCRIBED {
+                *c = if (i / 40 + i % 40) % 3 == 0 { 0 } else { 252 };
+            }
+        }
+        let mut pl = PathPlanner::new();
+        let mut worst = 0;
+        for mode in [SearchMode::weighted(20.0), SearchMode::dijkstra(20.0), SearchMode::PLAIN] {
+            pl.plan(&g, (39, 39), (0, 0), mode);
+            assert!((pl.heap.max_ahead as f64) < REACH + 2.0, "{} buckets ahead", pl.heap.max_ahead);
+            worst = worst.max(pl.heap.max_ahead);
+        }
+        assert!(worst as f64 > 0.9 * REACH, "{worst}");
+    }
+
+    #[test]
     fn open_list_pops_in_key_order() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
         let mut ol = OpenList::default();
         for round in 0..3 {
-            ol.reset(0.1);
+            ol.reset(3.0, 0.0);
             let mut all = Vec::new();
             let mut floor = 0.0f64;
             // Interleave pushes (never below the last popped f, except by a rounding-sized amount)
@@ -789,8 +844,9 @@ mod tests {
                 assert!(b >= a - 1e-9, "{a} then {b}");
             }
         }
-        // Pure ordering: push everything first, pop all: exactly sorted.
-        ol.reset(0.5);
+        // Pure ordering: push everything first (all within one step of f = 0), pop all: exactly
+        // sorted.
+        ol.reset(11.0, 0.0);
         let mut keys: Vec<Open> = (0..500u32)
             .map(|i| {
                 let f = f64::from(i % 37) * 0.3;
@@ -818,7 +874,9 @@ mod tests {
             let goal = (w - 1, h - 1);
             let mut pl = PathPlanner::new();
             let a = pl.plan(&g, start, goal, SearchMode::weighted(weight));
+            prop_assert!((pl.heap.max_ahead as f64) < REACH + 2.0, "{} buckets ahead", pl.heap.max_ahead);
             let d = pl.plan(&g, start, goal, SearchMode::dijkstra(weight));
+            prop_assert!((pl.heap.max_ahead as f64) < REACH + 2.0, "{} buckets ahead", pl.heap.max_ahead);
             prop_assert_eq!(a.is_some(), d.is_some());
             if let (Some(a), Some(d)) = (a, d) {
                 prop_assert!((a.cost - d.cost).abs() < 1e-9, "{} vs {}", a.cost, d.cost);
