@@ -308,7 +308,7 @@ impl OpenList {
 }
 
 /// Per-cell search state. `stamp == base` means reached in the current search (`g` and `parent`
-/// valid), `stamp == base + 1` means closed; anything else is stale from an earlier search.
+/// valid); anything else is stale from an earlier search. Closed cells are kept in a bitset.
 #[derive(Clone, Copy, Debug, Default)]
 struct Node {
     g: f64,
@@ -333,13 +333,17 @@ pub(crate) fn step_cost(len: f64, res: f64, weight: f64, c_to: u8) -> f64 {
 
 /// The grid search, with its per-cell buffers kept across calls.
 ///
-/// The per-cell `g`, parent and visit/closed stamps are sized to the largest grid seen and never
+/// The per-cell `g`, parent and visit stamps are sized to the largest grid seen and never
 /// cleared: each call advances a generation counter, and a cell's entries are valid only if its
 /// stamp belongs to the current generation (the buffer is reset only when the counter wraps).
+/// The closed set is a bitset (one bit a cell, small enough to stay in cache), cleared per call:
+/// stale open-list entries and closed neighbours are rejected without touching the nodes.
 #[derive(Debug, Default)]
 pub struct PathPlanner {
     nodes: Vec<Node>,
-    /// Stamp of "reached" in the current search; `base + 1` is "closed". Always even.
+    /// Closed cells of the current search, bit `i % 64` of word `i / 64`.
+    closed: Vec<u64>,
+    /// Stamp of "reached" in the current search.
     base: u32,
     heap: OpenList,
 }
@@ -379,7 +383,7 @@ impl PathPlanner {
             return None;
         }
         self.begin(n);
-        let (reached, closed) = (self.base, self.base + 1);
+        let reached = self.base;
         let (w, h) = (spec.width, spec.height);
         let res = spec.resolution;
         // Per-move cost: len * factor[c] with factor[c] = res * (1 + weight * c / 252).
@@ -394,6 +398,7 @@ impl PathPlanner {
         let heur = |ix: usize, iy: usize| -> f64 { if use_h { octile(ix, iy, gx, gy) * res } else { 0.0 } };
 
         let nodes = &mut self.nodes[..n];
+        let closed = &mut self.closed[..n.div_ceil(64)];
         let heap = &mut self.heap;
         nodes[s_idx] = Node { g: 0.0, parent: s_idx as u32, stamp: reached };
         let f0 = heur(start.0, start.1);
@@ -407,15 +412,15 @@ impl PathPlanner {
 
         while let Some(entry) = heap.pop() {
             let cur = open_index(entry);
-            let node = nodes[cur];
             // An entry is stale (lazy deletion) if its cell is closed; otherwise the cell's current
             // g is the one its freshest entry was pushed with, and any older entry for the same
             // cell carries a larger f and pops after it, finding the cell closed.
-            if node.stamp == closed {
+            let (word, bit) = (cur / 64, 1u64 << (cur % 64));
+            if closed[word] & bit != 0 {
                 continue;
             }
-            let g = node.g;
-            nodes[cur].stamp = closed;
+            closed[word] |= bit;
+            let g = nodes[cur].g;
             expansions += 1;
             if cur == goal_idx {
                 return Some(Self::reconstruct(nodes, &spec, s_idx, goal_idx, g, expansions));
@@ -432,8 +437,8 @@ impl PathPlanner {
             macro_rules! relax {
                 ($ni:expr, $nx:expr, $ny:expr, $len:expr) => {{
                     let ni: usize = $ni;
-                    let nd = nodes[ni];
-                    if nd.stamp != closed {
+                    if closed[ni / 64] & (1u64 << (ni % 64)) == 0 {
+                        let nd = nodes[ni];
                         let ng = g + $len * factor[usize::from(cost[ni])];
                         if nd.stamp != reached || ng < nd.g {
                             nodes[ni] = Node { g: ng, parent: cur as u32, stamp: reached };
@@ -478,11 +483,16 @@ impl PathPlanner {
         if self.nodes.len() < n {
             self.nodes.resize(n, Node::default());
         }
-        if self.base >= u32::MAX - 3 {
+        if self.base == u32::MAX {
             self.nodes.fill(Node::default());
             self.base = 0;
         }
-        self.base += 2;
+        self.base += 1;
+        let words = n.div_ceil(64);
+        if self.closed.len() < words {
+            self.closed.resize(words, 0);
+        }
+        self.closed[..words].fill(0);
     }
 
     fn reconstruct(
@@ -659,8 +669,7 @@ mod tests {
     fn expansions_when_unreachable(g: &CostGrid, start: (usize, usize), goal: (usize, usize)) -> usize {
         let mut pl = PathPlanner::new();
         assert!(pl.plan(g, start, goal, SearchMode::dijkstra(1.0)).is_none());
-        let closed = pl.base + 1;
-        pl.nodes.iter().take(g.spec.len()).filter(|n| n.stamp == closed).count()
+        pl.closed.iter().map(|w| w.count_ones() as usize).sum()
     }
 
     #[test]
@@ -747,7 +756,7 @@ mod tests {
         let c = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
         assert_eq!(a, c);
         assert!((b.cost - 3.0 * S2).abs() < 1e-12);
-        pl.base = u32::MAX - 3; // force the wrap-around reset
+        pl.base = u32::MAX; // force the wrap-around reset
         let d = pl.plan(&big, (0, 0), (29, 29), SearchMode::PLAIN).expect("ok");
         assert_eq!(a, d);
     }
