@@ -141,10 +141,10 @@ fn open_index(e: Open) -> usize {
 }
 
 /// Buckets in the open list's ring (a power of two).
-const RING: usize = 256;
+const RING: usize = 1024;
 /// Buckets spanned by the largest possible step in `f` between a popped entry and one it pushes;
 /// half the ring, so rounding can never wrap an entry onto a bucket still in use.
-const REACH: f64 = 128.0;
+const REACH: f64 = 512.0;
 
 /// The open list: a ring of [`RING`] buckets on `f` with an exact 4-ary min-heap for the current
 /// bucket.
