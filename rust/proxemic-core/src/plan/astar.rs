@@ -10,8 +10,9 @@
 //! - neighbours are generated in the fixed order E, W, N, S, NE, NW, SE, SW (`+x` is east, `+y`
 //!   north), and the open list breaks ties in `f` on the larger `g` (compared to 25 mantissa bits),
 //!   then on the smaller cell index, so a search is a pure function of its inputs;
-//! - the open list is a bucket queue over `f` (bucket width `res`) whose current bucket is an exact
-//!   4-ary heap, with lazy deletion: a popped entry whose cell is already closed is skipped.
+//! - the open list is a ring of buckets over `f` (width: 1/512 of the largest step of `f` per
+//!   move) whose current bucket is an exact 4-ary heap, with lazy deletion: a popped entry whose
+//!   cell is already closed (a bitset) is skipped.
 
 use crate::map::grid::{DistanceField, GridSpec};
 
