@@ -32,10 +32,11 @@ use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar;
 use crate::math::{Vec2, wrap_angle};
 use crate::metrics::{EpisodeMetrics, MetricsAccumulator, Outcome, StepSample};
+use crate::pedestrians::scripts::{Script, plan_scripts};
 use crate::pedestrians::{Crowd, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
-use crate::scenario::{PlannerKind, Scenario};
+use crate::scenario::{Behaviour, PlannerKind, Scenario};
 
 /// Contact flag bit: the robot touched a person during the physics step.
 pub const CONTACT_PERSON: u8 = 1;
@@ -183,6 +184,8 @@ pub struct World {
     statics: Vec<RobotStatic>,
     robots: Vec<RobotRuntime>,
     crowd: Crowd,
+    /// Each person's behaviour script, planned once on the static map.
+    scripts: Vec<Script>,
     planner: PathPlanner,
     layout: Layout,
     rng: ChaCha8Rng,
@@ -215,6 +218,7 @@ impl World {
         let field = DistanceField::from_occupancy(&occupancy);
 
         check_people(&scenario, &geometry)?;
+        let scripts = plan_scripts(&scenario, &geometry, &field)?;
 
         let mut grids: Vec<InflatedGrid> = Vec::new();
         let mut planner = PathPlanner::new();
@@ -305,6 +309,7 @@ impl World {
             statics,
             robots: Vec::new(),
             crowd: Crowd::default(),
+            scripts,
             planner,
             layout,
             rng: ChaCha8Rng::seed_from_u64(0),
@@ -314,8 +319,9 @@ impl World {
             scratch_discs: Vec::new(),
             scenario,
         };
-        world.crowd = Crowd::spawn(
+        world.crowd = Crowd::spawn_scripted(
             &world.scenario.persons,
+            &world.scripts,
             &world.scenario.episode.randomize,
             SocialForceParams::default(),
             &mut world.rng,
@@ -420,8 +426,9 @@ impl World {
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
-        self.crowd = Crowd::spawn(
+        self.crowd = Crowd::spawn_scripted(
             &self.scenario.persons,
+            &self.scripts,
             &self.scenario.episode.randomize,
             SocialForceParams::default(),
             &mut self.rng,
@@ -1193,14 +1200,19 @@ fn plan_path(planner: &mut PathPlanner, grid: &CostGrid, start: Vec2, goal: Vec2
     Some(pts)
 }
 
-/// People must start clear of the static geometry and walk routes that do not cross it.
+/// People must start clear of the static geometry (seated people excepted: they sit on it),
+/// wait at homes clear of it, and walk routes that do not cross it.
 fn check_people(s: &Scenario, geometry: &StaticGeometry) -> Result<()> {
     for (i, p) in s.persons.iter().enumerate() {
-        let pos = Vec2::new(p.pose[0], p.pose[1]);
-        if p.route.is_empty() && (geometry.contains(pos) || geometry.distance(pos) < p.radius) {
+        let (field, pos) = match (p.behaviour, p.home) {
+            (Behaviour::Standing, _) => ("pose", Vec2::new(p.pose[0], p.pose[1])),
+            (_, Some(h)) => ("home", v2(h)),
+            _ => ("", Vec2::zeros()),
+        };
+        if !field.is_empty() && (geometry.contains(pos) || geometry.distance(pos) < p.radius) {
             return Err(scenario_err(
                 s,
-                format!("person[{i}].pose"),
+                format!("person[{i}].{field}"),
                 format!(
                     "a position at least {:.2} m (the person's radius) from walls and furniture",
                     p.radius
