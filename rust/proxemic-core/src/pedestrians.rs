@@ -189,7 +189,6 @@ pub struct Crowd {
     moving: Vec<bool>,
     desired: Vec<Vec2>,
     face_want: Vec<Option<f64>>,
-    group_moving: Vec<bool>,
     /// Seconds since the spawn.
     time: f64,
     /// Members of each walking group (index lists), and each person's group slot.
@@ -378,10 +377,10 @@ impl Crowd {
         c.desired = vec![Vec2::zeros(); n];
         c.face_want = vec![None; n];
         for id in ids {
-            // Walking groups: walkers, and conversations (while all their members walk).
-            let conversation = |k: usize| persons[k].behaviour == Behaviour::Conversation;
-            let members: Vec<usize> =
-                (0..n).filter(|&k| c.group[k] == Some(id) && (c.walker[k] || conversation(k))).collect();
+            // Walking groups: walkers. (Conversation members walk to their places at the same
+            // time but without the group terms, whose coherence would pull them into the
+            // o-space.)
+            let members: Vec<usize> = (0..n).filter(|&k| c.group[k] == Some(id) && c.walker[k]).collect();
             if members.len() >= 2 {
                 for &k in &members {
                     c.group_slot[k] = Some(c.groups.len());
@@ -389,7 +388,6 @@ impl Crowd {
                 c.groups.push(members);
             }
         }
-        c.group_moving = vec![false; c.groups.len()];
         c
     }
 
@@ -423,9 +421,6 @@ impl Crowd {
         // 1. Scripts: waypoints, dwelling, programs (from the snapshot, in index order).
         for i in 0..n {
             self.plan_step(i, h);
-        }
-        for (slot, members) in self.groups.iter().enumerate() {
-            self.group_moving[slot] = members.iter().all(|&k| self.moving[k]);
         }
         self.time += h;
         // 2. Forces from the snapshot (Jacobi).
@@ -470,7 +465,7 @@ impl Crowd {
                     f += g * (p.wall_strength * (-gap.max(0.0) / p.wall_range).exp() / gn);
                 }
             }
-            if let Some(slot) = self.group_slot[i].filter(|&g| self.group_moving[g]) {
+            if let Some(slot) = self.group_slot[i] {
                 f += self.group_force(i, slot);
             }
             self.scratch[i] = f;

@@ -271,6 +271,14 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
                     }
                 }
                 acts.sort_by(|x, y| s.activities[x.0].start.total_cmp(&s.activities[y.0].start));
+                let path_length = |from: Vec2, path: &[Vec2]| -> f64 {
+                    let mut last = from;
+                    path.iter().map(|&q| ((q - last).norm(), last = q).0).sum()
+                };
+                // Leave early enough to arrive `lead` before the start: the path at 80 % of the
+                // preferred speed (people slow down to pass others), plus 5 s.
+                let depart_for = |t0: f64, length: f64| t0 - p.lead - length / (0.8 * p.speed) - 5.0;
+                let mut prev_end = f64::NEG_INFINITY;
                 for (a, k) in acts {
                     let act = &s.activities[a];
                     let (t0, t1) = (act.start - s.scene.start_time, act.end - s.scene.start_time);
@@ -279,16 +287,15 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
                     }
                     let field = format!("{f}.attends[{k}]");
                     let (place, facing) = activity_place(s, geometry, &field, p.attends[k], i)?;
-                    let there = walk(field.clone(), here, place)?;
-                    let length: f64 = std::iter::once(here)
-                        .chain(there.iter().copied())
-                        .collect::<Vec<_>>()
-                        .windows(2)
-                        .map(|w| (w[1] - w[0]).norm())
-                        .sum();
-                    // Leave early enough to arrive `lead` before the start: the path at 80 % of the
-                    // preferred speed (people slow down to pass others), plus 5 s.
-                    let depart = t0 - p.lead - length / (0.8 * p.speed) - 5.0;
+                    let mut there = walk(field.clone(), here, place)?;
+                    let mut depart = depart_for(t0, path_length(here, &there));
+                    if here != home && depart - prev_end >= 60.0 {
+                        // A minute or more between two activities: go home in between.
+                        tasks.push(Task::Walk(walk(format!("{f}.home"), here, home)?));
+                        here = home;
+                        there = walk(field.clone(), here, place)?;
+                        depart = depart_for(t0, path_length(here, &there));
+                    }
                     if depart <= 0.0 && start.is_none() && tasks.is_empty() {
                         start = Some((0, place)); // already there when the episode starts
                     } else {
@@ -297,9 +304,10 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
                     }
                     tasks.push(Task::Stay { face: Face::Point(facing), until: Until::At(t1) });
                     here = place;
-                    let back = walk(format!("{f}.home"), here, home)?;
-                    tasks.push(Task::Walk(back));
-                    here = home;
+                    prev_end = t1;
+                }
+                if here != home {
+                    tasks.push(Task::Walk(walk(format!("{f}.home"), here, home)?));
                 }
                 tasks.push(Task::Stay { face: Face::Keep, until: Until::Forever });
                 let start = start.unwrap_or((0, home));
