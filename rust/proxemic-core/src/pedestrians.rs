@@ -39,7 +39,7 @@ use self::scripts::{Face, Script, Task, Until};
 use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::math::{Vec2, wrap_angle};
-use crate::scenario::{Behaviour, Person, Randomize};
+use crate::scenario::{Person, Randomize};
 
 /// Surface gap (metres) below which an aware person does not step toward a robot.
 pub const YIELD_GAP: f64 = 0.1;
@@ -739,6 +739,7 @@ mod tests {
     use super::*;
     use crate::map::geometry::Bounds;
     use crate::map::grid::{GridSpec, OccupancyGrid};
+    use crate::scenario::Behaviour;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
