@@ -131,6 +131,6 @@ def test_bad_people_name_the_field(write_scenario, small_room):
     activity = '[[activity]]\nobject = "stretcher"\nstart = "09:00"\nend = "10:00"\n\n[[robot]]'
     err = _scenario_error(small_room.replace("[[robot]]", activity), write_scenario)
     assert err.field == "activity[0].object" and err.found == '"stretcher"'
-    inside = small_room.replace('route = [[2, 2], [8, 2]]', 'behaviour = "standing"\npose = [5, 6, 0]')
+    inside = small_room.replace("route = [[2, 2], [8, 2]]", 'behaviour = "standing"\npose = [5, 6, 0]')
     err = _scenario_error(inside, write_scenario)
     assert err.field == "person[0].pose" and "furniture" in err.expected

@@ -24,12 +24,6 @@ struct Trace {
     heading: Vec<Vec<f64>>,
 }
 
-impl Trace {
-    fn time(&self, step: usize) -> f64 {
-        (step + 1) as f64 * self.dt
-    }
-}
-
 fn run(s: &Scenario, seed: u64, steps: usize, mut check: impl FnMut(&World, usize)) -> Trace {
     let dt = s.control_dt();
     let mut world = World::new(s.clone()).expect("valid world");
