@@ -663,8 +663,11 @@ pub struct Person {
     pub name: String,
     /// Behaviour.
     pub behaviour: Behaviour,
-    /// Initial pose `[x, y, theta]` (a walker starts at its first waypoint facing the second
-    /// unless the episode randomises the phase).
+    /// Initial pose `[x, y, theta]` (a walker or guide starts at its first waypoint facing the
+    /// second unless the episode randomises the phase; a seated person's pose is its seat; for
+    /// conversations, residents and staff it is `home`; for visitors and followers it is only
+    /// a reference point, the first exhibit's centre or the guide's first waypoint: their
+    /// places are planned when the world is built).
     pub pose: [f64; 3],
     /// Closed route of waypoints (walkers; empty for standing people).
     pub route: Vec<[f64; 2]>,

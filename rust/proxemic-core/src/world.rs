@@ -206,7 +206,9 @@ fn scenario_err(s: &Scenario, field: String, expected: String, found: String) ->
 impl World {
     /// Builds the world: static geometry, inflated grids, goal fields and the plain A* paths
     /// from the nominal starts. Fails if a robot's start or goal is inside or too close to the
-    /// static geometry, if a goal is unreachable, or if a person starts or walks through it.
+    /// static geometry, if a goal is unreachable, if a person starts or walks through it, or if
+    /// a person's behaviour finds no room (a viewing place, a place at an activity or in a
+    /// conversation, a tour's gathering arc) or no path ([`plan_scripts`]).
     pub fn new(scenario: Scenario) -> Result<Self> {
         let b = scenario.scene.bounds;
         let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
