@@ -118,3 +118,19 @@ def test_core_checks_buffer_sizes_and_state():
 def test_bad_render_mode():
     with pytest.raises(InputError):
         ProxemicEnv("museum", render_mode="holographic")
+
+
+def test_bad_people_name_the_field(write_scenario, small_room):
+    """The people's bad input of the living scenes: a route through a wall, a group of one, an
+    activity on a missing object, a person inside furniture."""
+    walled = small_room.replace("[[object]]", "[[wall]]\nfrom = [5, 0]\nto = [5, 3]\n\n[[object]]", 1)
+    err = _scenario_error(walled.replace("route = [[2, 2], [8, 2]]", "route = [[2, 1], [8, 1]]"), write_scenario)
+    assert err.field == "person[0].route[0]" and "through static geometry" in err.found
+    err = _scenario_error(small_room.replace("speed = 1.0", "speed = 1.0\ngroup = 3"), write_scenario)
+    assert err.field == "person[0].group" and err.found == "group 3 with 1 member"
+    activity = '[[activity]]\nobject = "stretcher"\nstart = "09:00"\nend = "10:00"\n\n[[robot]]'
+    err = _scenario_error(small_room.replace("[[robot]]", activity), write_scenario)
+    assert err.field == "activity[0].object" and err.found == '"stretcher"'
+    inside = small_room.replace("route = [[2, 2], [8, 2]]", 'behaviour = "standing"\npose = [5, 6, 0]')
+    err = _scenario_error(inside, write_scenario)
+    assert err.field == "person[0].pose" and "furniture" in err.expected

@@ -28,6 +28,18 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     the metrics, the reward and the observations is computed in the Rust core in one call.
     The robot is the scenario's first robot.
 
+    The people follow scripted behaviours (``person.behaviour`` in the scenario, driven by a
+    social force model, never through walls or furniture, aware of the robot or oblivious to
+    it): walkers on routes with pauses, standing people, exhibit visitors who dwell facing each
+    exhibit of a list, standing conversations (F-formations) that form and break up on a
+    schedule, a tour guide whose followers gather on an arc facing it at every stop (Daza 2021
+    Fig. 11), people seated on benches and sofas, slow walkers (speed presets such as
+    ``"elderly"``), and care-center residents and staff who follow the agenda (arriving before
+    each activity, staying for it with the therapist facing the residents, leaving after). The
+    museum (``proxemic/Museum-v0``) has 50 people with all of these but residents; the care center
+    (``proxemic/CareCenter-v0``) runs a morning agenda whose activities end and start during the
+    episode.
+
     ## Action Space
 
     ``Box(-1, 1, (3,), float32)``: the robot-frame command (vx, vy, wz), normalised by the robot's
@@ -64,7 +76,9 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ## Starting State
 
     The robot at the scenario's start pose (optionally jittered), at rest; walkers at random points
-    of their routes with jittered speeds; all drawn from the seed given to ``reset``.
+    of their routes, visitors at a random exhibit part-way through their dwell, everyone who walks
+    with a jittered speed; people with a schedule where the episode's start time puts them; all
+    drawn from the seed given to ``reset``.
 
     ## Episode End
 
@@ -85,7 +99,8 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     ## Version History
 
-    * v0: first release: plain A* planner, route-walking people, first-cut metrics.
+    * v0: first release: plain A* planner, route-walking people, first-cut metrics; living
+      scenes (visitors, conversations, tours, seated people, agenda-driven residents and staff).
     """
 
     metadata = {"render_modes": ["rgb_array", "topdown", "human"], "render_fps": 10}  # noqa: RUF012

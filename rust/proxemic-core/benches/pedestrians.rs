@@ -52,6 +52,7 @@ fn crowd(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
                 group: if k % 10 < 2 { Some((k / 10) as u32) } else { None },
                 aware: true,
                 features: vec![],
+                ..Person::default()
             }
         })
         .collect()

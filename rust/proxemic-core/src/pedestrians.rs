@@ -17,6 +17,13 @@
 //! - **walking groups** (people with the same group id): gaze, coherence and repulsion terms
 //!   of Moussaid et al. 2010.
 //!
+//! Other behaviours ([`Behaviour`]: exhibit visitors, conversations, tour guides and followers,
+//! seated people, care-center residents and staff) run [`scripts::Script`]s planned once when
+//! the world is built ([`scripts::plan_scripts`]): they walk with the same forces and hard
+//! constraints, and while they stay somewhere (dwelling at an exhibit, talking, sitting, taking
+//! part in an activity, gathered at a tour stop) they stand still like standing people, turned
+//! toward what they attend to.
+//!
 //! Standing people stay where they are (other people and the robot go around them). Aware
 //! people additionally never step to within [`YIELD_GAP`] of a robot's body: such a step is
 //! cancelled and they wait.
@@ -24,12 +31,15 @@
 //! Every random draw (initial route phase, speed jitter) comes from the episode's seeded
 //! generator; the force sums run over neighbours in index order, so runs are bit-identical.
 
+pub mod scripts;
+
 use rand::Rng;
 
+use self::scripts::{Face, Script, Task, Until};
 use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::math::{Vec2, wrap_angle};
-use crate::scenario::{Behaviour, Person, Randomize};
+use crate::scenario::{Person, Randomize};
 
 /// Surface gap (metres) below which an aware person does not step toward a robot.
 pub const YIELD_GAP: f64 = 0.1;
@@ -166,6 +176,21 @@ pub struct Crowd {
     aware: Vec<bool>,
     params: SocialForceParams,
     scratch: Vec<Vec2>,
+    /// Each person's script, and its program state: task, waypoint within a walk, time in the
+    /// current stay, time stuck near a destination; for followers, the stop last gathered at.
+    script: Vec<Script>,
+    task: Vec<usize>,
+    leg: Vec<usize>,
+    clock: Vec<f64>,
+    stuck: Vec<f64>,
+    gathered: Vec<Option<usize>>,
+    /// Per substep: whether the person moves (else it stands still, not pushable), its desired
+    /// velocity, and the heading it turns to when not walking.
+    moving: Vec<bool>,
+    desired: Vec<Vec2>,
+    face_want: Vec<Option<f64>>,
+    /// Seconds since the spawn.
+    time: f64,
     /// Members of each walking group (index lists), and each person's group slot.
     groups: Vec<Vec<usize>>,
     group_slot: Vec<Option<usize>>,
@@ -257,34 +282,79 @@ impl Crowd {
         &self.params
     }
 
-    /// Builds the crowd for a new episode, drawing the randomised parts from `rng`.
+    /// Builds a crowd of walkers and standing people for a new episode, drawing the randomised
+    /// parts from `rng`; people of other behaviours stand still at their pose (use
+    /// [`Crowd::spawn_scripted`] with [`scripts::plan_scripts`] for them).
     pub fn spawn<R: Rng>(
         persons: &[Person],
         randomize: &Randomize,
         params: SocialForceParams,
         rng: &mut R,
     ) -> Self {
+        let scripts: Vec<Script> = persons.iter().map(Script::basic).collect();
+        Self::spawn_scripted(persons, &scripts, randomize, params, rng)
+    }
+
+    /// Builds the crowd for a new episode with one planned script per person, drawing the
+    /// randomised parts (walkers' route phase, visitors' first exhibit and dwell phase, speed
+    /// jitter of everyone who walks) from `rng`.
+    pub fn spawn_scripted<R: Rng>(
+        persons: &[Person],
+        scripts: &[Script],
+        randomize: &Randomize,
+        params: SocialForceParams,
+        rng: &mut R,
+    ) -> Self {
         let mut c = Crowd { params, ..Crowd::default() };
-        for p in persons {
+        for (p, script) in persons.iter().zip(scripts) {
             let route: Vec<Vec2> = p.route.iter().map(|w| Vec2::new(w[0], w[1])).collect();
-            let walker = p.behaviour == Behaviour::Walker;
+            let walker = *script == Script::Walker;
             let jitter = randomize.speed_jitter;
-            let speed = if walker && jitter > 0.0 {
+            let speed = if *script != Script::Still && jitter > 0.0 {
                 p.speed * rng.random_range(1.0 - jitter..=1.0 + jitter)
             } else {
                 p.speed
             };
-            let (pos, target, heading) = if walker {
-                if randomize.person_phase {
+            let (mut task, mut clock) = (0, 0.0);
+            let (pos, target, heading) = match script {
+                Script::Walker if randomize.person_phase => {
                     let (pos, target) = point_at_fraction(&route, rng.random::<f64>());
                     let d = route[target] - pos;
                     (pos, target, d.y.atan2(d.x))
-                } else {
-                    (route[0], 1, p.pose[2])
                 }
-            } else {
-                (Vec2::new(p.pose[0], p.pose[1]), 0, p.pose[2])
+                Script::Walker => (route[0], 1, p.pose[2]),
+                Script::Program(prog) => {
+                    let k = if randomize.person_phase && prog.starts.len() > 1 {
+                        rng.random_range(0..prog.starts.len())
+                    } else {
+                        0
+                    };
+                    let (t, at) = prog.starts[k];
+                    task = t;
+                    let mut heading = p.pose[2];
+                    if let Some(Task::Stay { face, until }) = prog.tasks.get(t) {
+                        if let (Until::For(d), true) = (until, randomize.person_phase) {
+                            clock = rng.random::<f64>() * d;
+                        }
+                        if let Face::Point(q) = face {
+                            heading = (q.y - at.y).atan2(q.x - at.x);
+                        }
+                    }
+                    (at, 0, heading)
+                }
+                Script::Follower { slots, .. } => {
+                    let at = slots.first().copied().flatten().unwrap_or(Vec2::new(p.pose[0], p.pose[1]));
+                    (at, 0, p.pose[2])
+                }
+                Script::Guide { .. } => (route[0], 0, p.pose[2]),
+                Script::Still => (Vec2::new(p.pose[0], p.pose[1]), 0, p.pose[2]),
             };
+            c.script.push(script.clone());
+            c.task.push(task);
+            c.leg.push(0);
+            c.clock.push(clock);
+            c.stuck.push(0.0);
+            c.gathered.push(None);
             c.pos.push(pos);
             c.vel.push(Vec2::zeros());
             c.heading.push(heading);
@@ -302,9 +372,15 @@ impl Crowd {
         ids.sort_unstable();
         ids.dedup();
         c.group_slot = vec![None; c.len()];
+        let n = c.len();
+        c.moving = vec![false; n];
+        c.desired = vec![Vec2::zeros(); n];
+        c.face_want = vec![None; n];
         for id in ids {
-            let members: Vec<usize> =
-                (0..c.len()).filter(|&k| c.group[k] == Some(id) && c.walker[k]).collect();
+            // Walking groups: walkers. (Conversation members walk to their places at the same
+            // time but without the group terms, whose coherence would pull them into the
+            // o-space.)
+            let members: Vec<usize> = (0..n).filter(|&k| c.group[k] == Some(id) && c.walker[k]).collect();
             if members.len() >= 2 {
                 for &k in &members {
                     c.group_slot[k] = Some(c.groups.len());
@@ -342,18 +418,11 @@ impl Crowd {
     ) {
         let n = self.len();
         let p = self.params;
-        // 1. Waypoints and dwelling (state machine), from the snapshot.
+        // 1. Scripts: waypoints, dwelling, programs (from the snapshot, in index order).
         for i in 0..n {
-            if !self.walker[i] {
-                continue;
-            }
-            if self.dwell_left[i] > 0.0 {
-                self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
-            } else if (self.routes[i][self.target[i]] - self.pos[i]).norm() <= p.arrival {
-                self.target[i] = (self.target[i] + 1) % self.routes[i].len();
-                self.dwell_left[i] = self.dwell[i];
-            }
+            self.plan_step(i, h);
         }
+        self.time += h;
         // 2. Forces from the snapshot (Jacobi).
         self.scratch.clear();
         self.scratch.resize(n, Vec2::zeros());
@@ -362,17 +431,11 @@ impl Crowd {
             self.bins.rebuild(&self.pos, p.cutoff);
         }
         for i in 0..n {
-            if !self.walker[i] {
+            if !self.moving[i] {
                 continue;
             }
             let (pi, vi) = (self.pos[i], self.vel[i]);
-            let desired = if self.dwell_left[i] > 0.0 {
-                Vec2::zeros()
-            } else {
-                let to = self.routes[i][self.target[i]] - pi;
-                let d = to.norm();
-                if d > 1e-9 { to * (self.speed[i] / d) } else { Vec2::zeros() }
-            };
+            let desired = self.desired[i];
             let mut f = (desired - vi) / p.tau;
             if binned {
                 let mut acc = Vec2::zeros();
@@ -409,8 +472,12 @@ impl Crowd {
         }
         // 3. Integrate (semi-implicit Euler), with the hard constraints.
         for i in 0..n {
-            if !self.walker[i] {
+            if !self.moving[i] {
                 self.vel[i] = Vec2::zeros();
+                if let Some(want) = self.face_want[i] {
+                    let turn = wrap_angle(want - self.heading[i]).clamp(-TURN_RATE * h, TURN_RATE * h);
+                    self.heading[i] = wrap_angle(self.heading[i] + turn);
+                }
                 continue;
             }
             let vmax = self.speed[i] * p.max_speed_factor;
@@ -419,7 +486,7 @@ impl Crowd {
             if s > vmax {
                 v *= vmax / s;
             }
-            if self.dwell_left[i] > 0.0 && v.norm() < 0.05 {
+            if self.desired[i] == Vec2::zeros() && v.norm() < 0.05 {
                 v = Vec2::zeros();
             }
             let next = self.pos[i] + v * h;
@@ -443,20 +510,173 @@ impl Crowd {
                 self.vel[i] = v;
                 self.pos[i] = next;
             }
-            // Facing: the walking direction, or while dwelling the next leg's direction.
+            // Facing: the walking direction, else what the script attends to (for a dwelling
+            // walker, the next leg's direction).
             let facing = if self.vel[i].norm() > 0.1 {
                 Some(self.vel[i].y.atan2(self.vel[i].x))
-            } else if self.dwell_left[i] > 0.0 {
-                let d = self.routes[i][self.target[i]] - self.pos[i];
-                (d.norm() > 1e-6).then(|| d.y.atan2(d.x))
             } else {
-                None
+                self.face_want[i]
             };
             if let Some(want) = facing {
                 let turn = wrap_angle(want - self.heading[i]).clamp(-TURN_RATE * h, TURN_RATE * h);
                 self.heading[i] = wrap_angle(self.heading[i] + turn);
             }
         }
+    }
+
+    /// Advances person `i`'s script by `h` seconds and sets its motion for this substep:
+    /// `moving`, `desired` (velocity) and `face_want`.
+    fn plan_step(&mut self, i: usize, h: f64) {
+        let arrival = self.params.arrival;
+        let pos = self.pos[i];
+        let toward = |q: Vec2, speed: f64| {
+            let d = q - pos;
+            let n = d.norm();
+            if n > 1e-9 { d * (speed / n) } else { Vec2::zeros() }
+        };
+        let bearing = |q: Vec2| {
+            let d = q - pos;
+            (d.norm() > 1e-6).then(|| d.y.atan2(d.x))
+        };
+        self.moving[i] = true;
+        self.face_want[i] = None;
+        self.desired[i] = Vec2::zeros();
+        // Taken out for the match (the arms update the other per-person arrays), put back below.
+        let script = std::mem::replace(&mut self.script[i], Script::Still);
+        match &script {
+            Script::Still => self.moving[i] = false,
+            Script::Walker => {
+                if self.dwell_left[i] > 0.0 {
+                    self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
+                } else if (self.routes[i][self.target[i]] - pos).norm() <= arrival {
+                    self.target[i] = (self.target[i] + 1) % self.routes[i].len();
+                    self.dwell_left[i] = self.dwell[i];
+                }
+                let next = self.routes[i][self.target[i]];
+                if self.dwell_left[i] > 0.0 {
+                    self.face_want[i] = bearing(next);
+                } else {
+                    self.desired[i] = toward(next, self.speed[i]);
+                }
+            }
+            Script::Guide { stops, followers } => {
+                if self.dwell_left[i] > 0.0 {
+                    self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
+                } else if (self.routes[i][self.target[i]] - pos).norm() <= arrival {
+                    let k = self.target[i];
+                    self.target[i] = (k + 1) % self.routes[i].len();
+                    self.dwell_left[i] = if stops[k] { self.dwell[i].max(h) } else { 0.0 };
+                }
+                if self.dwell_left[i] > 0.0 {
+                    // At a stop: stand facing the followers.
+                    self.moving[i] = false;
+                    if !followers.is_empty() {
+                        let c = followers.iter().fold(Vec2::zeros(), |a, &k| a + self.pos[k]);
+                        self.face_want[i] = bearing(c / followers.len() as f64);
+                    }
+                } else {
+                    self.desired[i] = toward(self.routes[i][self.target[i]], self.speed[i]);
+                }
+            }
+            Script::Follower { guide, slots } => {
+                let g = *guide;
+                let n = slots.len();
+                // The guide's place in its route: the stop it dwells at, or the waypoint it
+                // walks to.
+                let (at_stop, gk) = if self.dwell_left[g] > 0.0 {
+                    (true, (self.target[g] + n - 1) % n)
+                } else {
+                    (false, self.target[g])
+                };
+                let f = self.target[i];
+                if at_stop && (f == gk || self.gathered[i] == Some(gk)) {
+                    let slot = slots[gk].unwrap_or(self.pos[g]);
+                    if self.gathered[i] == Some(gk) || (slot - pos).norm() <= arrival {
+                        // Gathered: stand facing the guide.
+                        self.gathered[i] = Some(gk);
+                        self.target[i] = (gk + 1) % n;
+                        self.moving[i] = false;
+                        self.face_want[i] = bearing(self.pos[g]);
+                    } else {
+                        self.desired[i] = toward(slot, self.speed[i]);
+                    }
+                } else if f == gk {
+                    // Right behind the guide: follow it, waiting within a metre of it.
+                    if (self.pos[g] - pos).norm() > 1.0 {
+                        self.desired[i] = toward(self.pos[g], self.speed[i]);
+                    }
+                    self.face_want[i] = bearing(self.pos[g]);
+                } else {
+                    // Behind: walk the guide's route (its waypoints are clear of walls).
+                    let q = self.routes[g][f];
+                    if (q - pos).norm() <= 2.0 * arrival {
+                        self.target[i] = (f + 1) % n;
+                    }
+                    self.desired[i] = toward(self.routes[g][self.target[i]], self.speed[i]);
+                }
+            }
+            Script::Program(prog) => {
+                let len = prog.tasks.len();
+                // Finished tasks are skipped within the substep (bounded by one pass).
+                for _ in 0..=len {
+                    match &prog.tasks[self.task[i]] {
+                        Task::Walk(path) => {
+                            let leg = self.leg[i];
+                            let q = path[leg];
+                            let d = (q - pos).norm();
+                            let last = leg + 1 == path.len();
+                            // A destination taken by someone else counts as reached after 2 s
+                            // of standing within a metre of it.
+                            if last && d < 1.0 && self.vel[i].norm() < 0.1 {
+                                self.stuck[i] += h;
+                            } else {
+                                self.stuck[i] = 0.0;
+                            }
+                            if d <= arrival || (last && self.stuck[i] > 2.0) {
+                                self.leg[i] += 1;
+                                if last {
+                                    self.advance(i, len, prog.cyclic);
+                                    continue;
+                                }
+                            }
+                            self.desired[i] = toward(path[self.leg[i]], self.speed[i]);
+                        }
+                        Task::Stay { face, until } => {
+                            let done = match until {
+                                Until::For(d) => self.clock[i] >= *d,
+                                Until::At(t) => self.time >= *t,
+                                Until::Forever => false,
+                            };
+                            if done {
+                                self.advance(i, len, prog.cyclic);
+                                continue;
+                            }
+                            self.clock[i] += h;
+                            self.moving[i] = false;
+                            if let Face::Point(q) = face {
+                                self.face_want[i] = bearing(*q);
+                            }
+                        }
+                    }
+                    break;
+                }
+            }
+        }
+        self.script[i] = script;
+    }
+
+    /// Moves person `i` to the next task of its program (`len` tasks).
+    fn advance(&mut self, i: usize, len: usize, cyclic: bool) {
+        self.leg[i] = 0;
+        self.clock[i] = 0.0;
+        self.stuck[i] = 0.0;
+        self.task[i] = if self.task[i] + 1 < len {
+            self.task[i] + 1
+        } else if cyclic {
+            0
+        } else {
+            self.task[i]
+        };
     }
 
     /// Moussaid et al. 2010 group terms for person `i` of the walking group in `slot`.
@@ -519,6 +739,7 @@ mod tests {
     use super::*;
     use crate::map::geometry::Bounds;
     use crate::map::grid::{GridSpec, OccupancyGrid};
+    use crate::scenario::Behaviour;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
@@ -535,6 +756,7 @@ mod tests {
             group: None,
             aware: true,
             features: vec![],
+            ..Person::default()
         }
     }
 
@@ -755,6 +977,7 @@ mod tests {
             group: None,
             aware: true,
             features: vec![],
+            ..Person::default()
         };
         let mut c = spawn(&[p]);
         room.step(&mut c, 1.0, &[]);

@@ -250,10 +250,27 @@ struct RawPerson {
     pose: Option<[f64; 3]>,
     #[serde(default)]
     route: Vec<[f64; 2]>,
-    #[serde(default = "d_person_speed")]
-    speed: f64,
+    /// Metres per second, or a preset name ([`SPEED_PRESETS`]).
+    speed: Option<toml::Value>,
     #[serde(default)]
     dwell: f64,
+    #[serde(default)]
+    exhibits: Vec<toml::Value>,
+    home: Option<[f64; 2]>,
+    spot: Option<[f64; 2]>,
+    start: Option<toml::Value>,
+    end: Option<toml::Value>,
+    seat: Option<String>,
+    #[serde(default)]
+    place: usize,
+    guide: Option<String>,
+    stops: Option<Vec<usize>>,
+    #[serde(default)]
+    attends: Vec<String>,
+    #[serde(default = "d_lead_minutes")]
+    lead_minutes: f64,
+    #[serde(default = "d_gather_radius")]
+    gather_radius: f64,
     #[serde(default = "d_person_radius")]
     radius: f64,
     #[serde(default = "d_person_height")]
@@ -349,6 +366,20 @@ fn d_behaviour() -> Behaviour {
 fn d_person_speed() -> f64 {
     1.0
 }
+fn d_lead_minutes() -> f64 {
+    2.0
+}
+fn d_gather_radius() -> f64 {
+    1.5
+}
+
+/// Named walking speeds (m/s) accepted by `person.speed`: `normal` is the mean desired speed of
+/// Helbing & Molnar 1995 (1.34 m/s, rounded); `fast`, `slow` and `elderly` (a frail older adult,
+/// as in a care center) are this project's choices, not values from the papers.
+pub const SPEED_PRESETS: [(&str, f64); 4] = [("fast", 1.6), ("normal", 1.3), ("slow", 0.9), ("elderly", 0.6)];
+
+/// Seat spacing along a bench or sofa (metres): one person per 0.6 m of its width.
+pub const SEAT_SPACING: f64 = 0.6;
 fn d_person_radius() -> f64 {
     0.2
 }
@@ -441,14 +472,44 @@ impl ObjectKind {
     }
 }
 
-/// Scripted pedestrian behaviours.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// Scripted pedestrian behaviours (`person.behaviour`). Every moving person walks with the
+/// social force model of [`crate::pedestrians`]; paths between places are planned on the static
+/// map, so only walker and guide routes must be free of walls themselves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Behaviour {
-    /// Walks a closed route of waypoints at `speed`, pausing `dwell` seconds at each.
+    /// Walks a closed `route` of waypoints at `speed`, pausing `dwell` seconds at each.
+    #[default]
     Walker,
     /// Stands still at `pose`.
     Standing,
+    /// Exhibit visitor: walks to the viewing (interaction) space of each object of `exhibits`
+    /// (names or indices into `[[object]]`) in turn, dwells `dwell` seconds there facing the
+    /// object, and moves on (cyclically).
+    Visitor,
+    /// Member of a standing conversation (an F-formation) of the people sharing its `group`
+    /// id: stands at `home` until `start`, walks with the others to its place on a circle around
+    /// the o-space centre `spot`, stands there facing the centre until `end`, then walks home.
+    /// `start` and `end` are seconds into the episode (numbers) or times of day ("HH:MM").
+    Conversation,
+    /// Tour guide: walks its closed `route`, stopping `dwell` seconds at the waypoints listed in
+    /// `stops` (indices; default every waypoint), where it turns to face its followers.
+    Guide,
+    /// Tour follower of the person named `guide`: follows the guide's route; at each stop it
+    /// gathers on an arc of radius `gather_radius` (default 1.5 m) around the guide, facing it
+    /// (Daza 2021 Fig. 11). It starts in its place at the guide's first waypoint.
+    Follower,
+    /// Seated on the bench, sofa or chair named `seat`, at seat `place` (0, 1, ... along its
+    /// width, one per 0.6 m), facing the seat's front; never moves and cannot be pushed.
+    Seated,
+    /// Care-center resident: for every activity of the agenda on the objects named in
+    /// `attends`, walks from `home` to a place in the object's interaction space, arriving
+    /// `lead_minutes` (default 2) before the activity starts, stays facing the object until it
+    /// ends, then walks home.
+    Resident,
+    /// Care-center staff member (a therapist): like a resident, but stands on the far side of
+    /// the object, facing the residents.
+    Staff,
 }
 
 /// Built-in planners a robot can run.
@@ -602,8 +663,11 @@ pub struct Person {
     pub name: String,
     /// Behaviour.
     pub behaviour: Behaviour,
-    /// Initial pose `[x, y, theta]` (a walker starts at its first waypoint facing the second
-    /// unless the episode randomises the phase).
+    /// Initial pose `[x, y, theta]` (a walker or guide starts at its first waypoint facing the
+    /// second unless the episode randomises the phase; a seated person's pose is its seat; for
+    /// conversations, residents and staff it is `home`; for visitors and followers it is only
+    /// a reference point, the first exhibit's centre or the guide's first waypoint: their
+    /// places are planned when the world is built).
     pub pose: [f64; 3],
     /// Closed route of waypoints (walkers; empty for standing people).
     pub route: Vec<[f64; 2]>,
@@ -621,6 +685,52 @@ pub struct Person {
     pub aware: bool,
     /// Socialization feature values in (0, 1], one per `proxemics.features` name.
     pub features: Vec<f64>,
+    /// Visitors: indices of the objects visited, in order.
+    pub exhibits: Vec<usize>,
+    /// Conversation, resident, staff: where the person is when not busy.
+    pub home: Option<[f64; 2]>,
+    /// Conversation: the o-space centre.
+    pub spot: Option<[f64; 2]>,
+    /// Conversation: when it forms and breaks up (seconds after the episode start; may be
+    /// negative for a conversation already under way).
+    pub schedule: Option<[f64; 2]>,
+    /// Guide: whether each route waypoint is a stop.
+    pub stops: Vec<bool>,
+    /// Follower: index of the guide.
+    pub guide: Option<usize>,
+    /// Follower: arc radius around the guide at stops (metres, default 1.5).
+    pub gather_radius: f64,
+    /// Resident, staff: indices of the objects whose activities the person attends.
+    pub attends: Vec<usize>,
+    /// Resident, staff: arrival lead before an activity starts (seconds; default 120).
+    pub lead: f64,
+}
+
+impl Default for Person {
+    fn default() -> Self {
+        Person {
+            name: String::new(),
+            behaviour: Behaviour::Walker,
+            pose: [0.0; 3],
+            route: Vec::new(),
+            speed: d_person_speed(),
+            dwell: 0.0,
+            radius: d_person_radius(),
+            height: d_person_height(),
+            group: None,
+            aware: true,
+            features: Vec::new(),
+            exhibits: Vec::new(),
+            home: None,
+            spot: None,
+            schedule: None,
+            stops: Vec::new(),
+            guide: None,
+            gather_radius: d_gather_radius(),
+            attends: Vec::new(),
+            lead: d_lead_minutes() * 60.0,
+        }
+    }
 }
 
 /// A robot.
@@ -1306,80 +1416,10 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
     // ---- persons
     let mut persons = Vec::with_capacity(raw.person.len());
     for (i, p) in raw.person.iter().enumerate() {
-        let f = format!("person[{i}]");
-        let name = p.name.clone().unwrap_or_else(|| format!("person_{i}"));
-        ck.range(&format!("{f}.radius"), p.radius, 0.0, 0.5, true)?;
-        ck.range(&format!("{f}.height"), p.height, 0.3, 2.5, false)?;
-        ck.range(&format!("{f}.speed"), p.speed, 0.0, 2.5, true)?;
-        ck.range(&format!("{f}.dwell"), p.dwell, 0.0, 3600.0, false)?;
-        for (k, w) in p.route.iter().enumerate() {
-            ck.inside(&format!("{f}.route[{k}]"), *w, b)?;
-        }
-        let pose = match p.behaviour {
-            Behaviour::Walker => {
-                if p.route.len() < 2 {
-                    return Err(err(
-                        file,
-                        format!("{f}.route"),
-                        "at least 2 waypoints for a walker",
-                        format!("{} waypoint(s)", p.route.len()),
-                    ));
-                }
-                for k in 0..p.route.len() {
-                    let a = p.route[k];
-                    let c = p.route[(k + 1) % p.route.len()];
-                    if (a[0] - c[0]).hypot(a[1] - c[1]) < 1e-6 {
-                        return Err(err(
-                            file,
-                            format!("{f}.route[{}]", (k + 1) % p.route.len()),
-                            "a waypoint different from the previous one",
-                            format!("{c:?}"),
-                        ));
-                    }
-                }
-                if let Some(pose) = p.pose {
-                    return Err(err(
-                        file,
-                        format!("{f}.pose"),
-                        "no pose for a walker (it starts on its route)",
-                        format!("{pose:?}"),
-                    ));
-                }
-                let (a, c) = (p.route[0], p.route[1]);
-                [a[0], a[1], (c[1] - a[1]).atan2(c[0] - a[0])]
-            }
-            Behaviour::Standing => {
-                let pose = p.pose.ok_or_else(|| {
-                    err(file, format!("{f}.pose"), "pose = [x, y, theta] for a standing person", "nothing")
-                })?;
-                ck.finite(&format!("{f}.pose"), &pose)?;
-                ck.inside(&format!("{f}.pose"), [pose[0], pose[1]], b)?;
-                if !p.route.is_empty() {
-                    return Err(err(
-                        file,
-                        format!("{f}.route"),
-                        "no route for a standing person",
-                        format!("{} waypoint(s)", p.route.len()),
-                    ));
-                }
-                pose
-            }
-        };
-        persons.push(Person {
-            name,
-            behaviour: p.behaviour,
-            pose,
-            route: p.route.clone(),
-            speed: p.speed,
-            dwell: p.dwell,
-            radius: p.radius,
-            height: p.height,
-            group: p.group,
-            aware: p.aware,
-            features: Vec::new(),
-        });
+        persons.push(build_person(&ck, i, p, &objects, start_time, b)?);
     }
     check_unique(file, "person", persons.iter().map(|p| p.name.as_str()))?;
+    link_people(&ck, &raw.person, &mut persons)?;
 
     // ---- proxemics, features, agenda
     let proxemics = build_proxemics(&ck, &raw.proxemics)?;
@@ -1482,6 +1522,367 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
         agenda,
         activities,
     })
+}
+
+/// Which per-behaviour fields a person may carry; any other one set is an error.
+fn behaviour_fields(b: Behaviour) -> &'static [&'static str] {
+    match b {
+        Behaviour::Walker => &["route", "dwell"],
+        Behaviour::Standing => &["pose"],
+        Behaviour::Visitor => &["exhibits", "dwell"],
+        Behaviour::Conversation => &["home", "spot", "start", "end"],
+        Behaviour::Guide => &["route", "dwell", "stops"],
+        Behaviour::Follower => &["guide", "gather_radius"],
+        Behaviour::Seated => &["seat", "place"],
+        Behaviour::Resident | Behaviour::Staff => &["home", "attends", "lead_minutes"],
+    }
+}
+
+/// A speed in m/s or a preset name.
+fn parse_speed(ck: &Checker<'_>, field: &str, v: Option<&toml::Value>) -> Result<f64> {
+    let names: Vec<&str> = SPEED_PRESETS.iter().map(|(n, _)| *n).collect();
+    let expected = format!("a number in (0, 2.5] (m/s) or one of the presets {names:?}");
+    let speed = match v {
+        None => d_person_speed(),
+        Some(toml::Value::Float(x)) => *x,
+        Some(toml::Value::Integer(x)) => *x as f64,
+        Some(toml::Value::String(name)) => SPEED_PRESETS
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, s)| *s)
+            .ok_or_else(|| err(ck.file, field, expected.clone(), format!("{name:?}")))?,
+        Some(other) => return Err(err(ck.file, field, expected, other.to_string())),
+    };
+    ck.range(field, speed, 0.0, 2.5, true)?;
+    Ok(speed)
+}
+
+/// A time as seconds into the episode (a number) or a time of day ("HH:MM"), to seconds after
+/// the episode start.
+fn parse_episode_time(ck: &Checker<'_>, field: &str, v: &toml::Value, start_time: f64) -> Result<f64> {
+    let expected = "seconds into the episode (a number) or a time of day \"HH:MM\"";
+    match v {
+        toml::Value::Float(x) if x.is_finite() => Ok(*x),
+        toml::Value::Integer(x) => Ok(*x as f64),
+        toml::Value::String(s) => parse_time_of_day(s)
+            .map(|t| t - start_time)
+            .ok_or_else(|| err(ck.file, field, expected, format!("{s:?}"))),
+        other => Err(err(ck.file, field, expected, other.to_string())),
+    }
+}
+
+/// An object named (string) or indexed (integer) by `v`.
+fn object_ref(ck: &Checker<'_>, field: &str, v: &toml::Value, objects: &[Object]) -> Result<usize> {
+    let expected = format!("the name or index of an [[object]] ({} defined)", objects.len());
+    match v {
+        toml::Value::String(name) => objects
+            .iter()
+            .position(|o| &o.name == name)
+            .ok_or_else(|| err(ck.file, field, expected, format!("{name:?}"))),
+        toml::Value::Integer(k) if *k >= 0 && (*k as usize) < objects.len() => Ok(*k as usize),
+        other => Err(err(ck.file, field, expected, other.to_string())),
+    }
+}
+
+fn build_person(
+    ck: &Checker<'_>,
+    i: usize,
+    p: &RawPerson,
+    objects: &[Object],
+    start_time: f64,
+    b: [f64; 4],
+) -> Result<Person> {
+    let file = ck.file;
+    let f = format!("person[{i}]");
+    let name = p.name.clone().unwrap_or_else(|| format!("person_{i}"));
+    ck.range(&format!("{f}.radius"), p.radius, 0.0, 0.5, true)?;
+    ck.range(&format!("{f}.height"), p.height, 0.3, 2.5, false)?;
+    let speed = parse_speed(ck, &format!("{f}.speed"), p.speed.as_ref())?;
+    ck.range(&format!("{f}.dwell"), p.dwell, 0.0, 3600.0, false)?;
+    ck.range(&format!("{f}.lead_minutes"), p.lead_minutes, 0.0, 120.0, false)?;
+    ck.range(&format!("{f}.gather_radius"), p.gather_radius, 0.5, 5.0, false)?;
+    // Fields that do not belong to the behaviour are errors (a typo would otherwise be ignored).
+    let set: [(&str, bool); 12] = [
+        ("route", !p.route.is_empty()),
+        ("pose", p.pose.is_some()),
+        ("exhibits", !p.exhibits.is_empty()),
+        ("home", p.home.is_some()),
+        ("spot", p.spot.is_some()),
+        ("start", p.start.is_some()),
+        ("end", p.end.is_some()),
+        ("seat", p.seat.is_some()),
+        ("guide", p.guide.is_some()),
+        ("stops", p.stops.is_some()),
+        ("attends", !p.attends.is_empty()),
+        ("place", p.place != 0),
+    ];
+    let allowed = behaviour_fields(p.behaviour);
+    if let Some((field, _)) = set.iter().find(|(n, on)| *on && !allowed.contains(n)) {
+        let what = match *field {
+            "pose" if p.behaviour == Behaviour::Walker => {
+                "no pose for a walker (it starts on its route)".into()
+            }
+            "route" if p.behaviour == Behaviour::Standing => "no route for a standing person".into(),
+            _ => format!("no {field} for a {:?} (its fields: {allowed:?})", p.behaviour),
+        };
+        return Err(err(file, format!("{f}.{field}"), what, "a value"));
+    }
+    for (k, w) in p.route.iter().enumerate() {
+        ck.inside(&format!("{f}.route[{k}]"), *w, b)?;
+    }
+    let need = |field: &str, v: Option<[f64; 2]>| -> Result<[f64; 2]> {
+        let v = v.ok_or_else(|| {
+            err(file, format!("{f}.{field}"), format!("{field} = [x, y] for a {:?}", p.behaviour), "nothing")
+        })?;
+        ck.inside(&format!("{f}.{field}"), v, b)?;
+        Ok(v)
+    };
+    let mut person = Person {
+        name,
+        behaviour: p.behaviour,
+        speed,
+        dwell: p.dwell,
+        radius: p.radius,
+        height: p.height,
+        group: p.group,
+        aware: p.aware,
+        gather_radius: p.gather_radius,
+        lead: p.lead_minutes * 60.0,
+        ..Person::default()
+    };
+    let pose = match p.behaviour {
+        Behaviour::Walker | Behaviour::Guide => {
+            if p.route.len() < 2 {
+                return Err(err(
+                    file,
+                    format!("{f}.route"),
+                    format!("at least 2 waypoints for a {:?}", p.behaviour),
+                    format!("{} waypoint(s)", p.route.len()),
+                ));
+            }
+            for k in 0..p.route.len() {
+                let a = p.route[k];
+                let c = p.route[(k + 1) % p.route.len()];
+                if (a[0] - c[0]).hypot(a[1] - c[1]) < 1e-6 {
+                    return Err(err(
+                        file,
+                        format!("{f}.route[{}]", (k + 1) % p.route.len()),
+                        "a waypoint different from the previous one",
+                        format!("{c:?}"),
+                    ));
+                }
+            }
+            if p.behaviour == Behaviour::Guide {
+                let n = p.route.len();
+                let stops = p.stops.clone().unwrap_or_else(|| (0..n).collect());
+                person.stops = vec![false; n];
+                for (k, &s) in stops.iter().enumerate() {
+                    if s >= n {
+                        return Err(err(
+                            file,
+                            format!("{f}.stops[{k}]"),
+                            format!("a waypoint index below {n} (the route's length)"),
+                            s.to_string(),
+                        ));
+                    }
+                    person.stops[s] = true;
+                }
+                if !person.stops[0] {
+                    return Err(err(
+                        file,
+                        format!("{f}.stops"),
+                        "a list that includes waypoint 0 (the tour starts with a stop there)",
+                        format!("{stops:?}"),
+                    ));
+                }
+            }
+            let (a, c) = (p.route[0], p.route[1]);
+            [a[0], a[1], (c[1] - a[1]).atan2(c[0] - a[0])]
+        }
+        Behaviour::Standing => {
+            let pose = p.pose.ok_or_else(|| {
+                err(file, format!("{f}.pose"), "pose = [x, y, theta] for a standing person", "nothing")
+            })?;
+            ck.finite(&format!("{f}.pose"), &pose)?;
+            ck.inside(&format!("{f}.pose"), [pose[0], pose[1]], b)?;
+            pose
+        }
+        Behaviour::Visitor => {
+            if p.exhibits.is_empty() {
+                return Err(err(file, format!("{f}.exhibits"), "at least one exhibit for a visitor", "none"));
+            }
+            for (k, v) in p.exhibits.iter().enumerate() {
+                let field = format!("{f}.exhibits[{k}]");
+                let o = object_ref(ck, &field, v, objects)?;
+                if objects[o].interaction.is_none() {
+                    return Err(err(
+                        file,
+                        field,
+                        "an object with an interaction (viewing) space",
+                        format!("{:?} (has none)", objects[o].name),
+                    ));
+                }
+                person.exhibits.push(o);
+            }
+            let o = &objects[person.exhibits[0]];
+            [o.pose[0], o.pose[1], 0.0] // replaced by the viewing spot when the world is built
+        }
+        Behaviour::Conversation => {
+            let home = need("home", p.home)?;
+            person.home = Some(home);
+            person.spot = Some(need("spot", p.spot)?);
+            let time = |field: &str, v: &Option<toml::Value>| -> Result<f64> {
+                let v = v.as_ref().ok_or_else(|| {
+                    err(file, format!("{f}.{field}"), "a time for a conversation", "nothing")
+                })?;
+                parse_episode_time(ck, &format!("{f}.{field}"), v, start_time)
+            };
+            let (t0, t1) = (time("start", &p.start)?, time("end", &p.end)?);
+            if t1 <= t0 {
+                return Err(err(
+                    file,
+                    format!("{f}.end"),
+                    format!("a time after start ({t0} s)"),
+                    format!("{t1} s"),
+                ));
+            }
+            person.schedule = Some([t0, t1]);
+            if p.group.is_none() {
+                return Err(err(file, format!("{f}.group"), "the conversation's group id", "nothing"));
+            }
+            [home[0], home[1], 0.0]
+        }
+        Behaviour::Follower => {
+            if p.guide.is_none() {
+                return Err(err(file, format!("{f}.guide"), "the name of a guide [[person]]", "nothing"));
+            }
+            [0.0; 3] // placed at the guide's first stop by link_people
+        }
+        Behaviour::Seated => {
+            let seat = p.seat.as_ref().ok_or_else(|| {
+                err(file, format!("{f}.seat"), "the name of a bench, sofa or chair [[object]]", "nothing")
+            })?;
+            let o = objects.iter().find(|o| &o.name == seat).ok_or_else(|| {
+                err(
+                    file,
+                    format!("{f}.seat"),
+                    "the name of a bench, sofa or chair [[object]]",
+                    format!("{seat:?}"),
+                )
+            })?;
+            if !matches!(o.kind, ObjectKind::Bench | ObjectKind::Sofa | ObjectKind::Chair) {
+                return Err(err(
+                    file,
+                    format!("{f}.seat"),
+                    "a bench, sofa or chair",
+                    format!("{seat:?}, a {:?}", o.kind),
+                ));
+            }
+            let places = ((o.size[1] / SEAT_SPACING).floor() as usize).max(1);
+            if p.place >= places {
+                return Err(err(
+                    file,
+                    format!("{f}.place"),
+                    format!("a seat index below {places} ({seat:?} seats {places})"),
+                    p.place.to_string(),
+                ));
+            }
+            let along = (p.place as f64 - (places as f64 - 1.0) * 0.5) * SEAT_SPACING;
+            let (s, c) = o.pose[2].sin_cos();
+            [o.pose[0] - s * along, o.pose[1] + c * along, o.pose[2]]
+        }
+        Behaviour::Resident | Behaviour::Staff => {
+            let home = need("home", p.home)?;
+            person.home = Some(home);
+            if p.attends.is_empty() {
+                return Err(err(
+                    file,
+                    format!("{f}.attends"),
+                    format!("the names of the objects whose activities the {:?} attends", p.behaviour),
+                    "none",
+                ));
+            }
+            for (k, name) in p.attends.iter().enumerate() {
+                let field = format!("{f}.attends[{k}]");
+                let o = object_ref(ck, &field, &toml::Value::String(name.clone()), objects)?;
+                if objects[o].interaction.is_none() {
+                    return Err(err(
+                        file,
+                        field,
+                        "an object with an interaction space (where its activities take place)",
+                        format!("{name:?} (has none)"),
+                    ));
+                }
+                person.attends.push(o);
+            }
+            [home[0], home[1], 0.0]
+        }
+    };
+    person.pose = pose;
+    person.route.clone_from(&p.route);
+    Ok(person)
+}
+
+/// Cross-person checks: followers' guides, conversations' shared spot and schedule, and groups
+/// of at least two people.
+fn link_people(ck: &Checker<'_>, raw: &[RawPerson], persons: &mut [Person]) -> Result<()> {
+    let file = ck.file;
+    for i in 0..persons.len() {
+        let f = format!("person[{i}]");
+        if let Some(name) = &raw[i].guide {
+            let g = persons.iter().position(|q| &q.name == name && q.behaviour == Behaviour::Guide);
+            let g = g.ok_or_else(|| {
+                err(
+                    file,
+                    format!("{f}.guide"),
+                    "the name of a person with behaviour = \"guide\"",
+                    format!("{name:?}"),
+                )
+            })?;
+            persons[i].guide = Some(g);
+            let r = persons[g].route[0];
+            persons[i].pose = [r[0], r[1], 0.0]; // the slot is computed when the world is built
+        }
+        if let Some(g) = persons[i].group {
+            let members: Vec<usize> = (0..persons.len()).filter(|&k| persons[k].group == Some(g)).collect();
+            if members.len() < 2 {
+                return Err(err(
+                    file,
+                    format!("{f}.group"),
+                    "a group id shared by at least 2 people",
+                    format!("group {g} with 1 member"),
+                ));
+            }
+            if persons[i].behaviour == Behaviour::Conversation {
+                let first = members[0];
+                for &k in &members {
+                    if persons[k].behaviour != Behaviour::Conversation {
+                        return Err(err(
+                            file,
+                            format!("person[{k}].behaviour"),
+                            format!("\"conversation\" like the rest of group {g}"),
+                            format!("{:?}", persons[k].behaviour),
+                        ));
+                    }
+                }
+                for (field, same) in [
+                    ("spot", persons[i].spot == persons[first].spot),
+                    ("start", persons[i].schedule.map(|s| s[0]) == persons[first].schedule.map(|s| s[0])),
+                    ("end", persons[i].schedule.map(|s| s[1]) == persons[first].schedule.map(|s| s[1])),
+                ] {
+                    if !same {
+                        return Err(err(
+                            file,
+                            format!("{f}.{field}"),
+                            format!("the same {field} as person[{first}] (the same conversation, group {g})"),
+                            "a different value",
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Validates `[proxemics]` by building the social model it describes.
@@ -2033,14 +2434,14 @@ goal = [9, 4]
 
     #[test]
     fn wrong_type_is_named() {
-        let text = MINIMAL.replace("speed = 1.2", "speed = \"fast\"");
+        let text = MINIMAL.replace("speed = 1.2", "speed = \"sprint\"");
         let (_, field, expected, found) = scenario_err(&text);
         assert!(field.starts_with("person[0].speed"), "{field}");
-        assert!(
-            expected.contains("f64") || expected.contains("float") || expected.contains("number"),
-            "{expected}"
-        );
-        assert!(found.contains("fast"), "{found}");
+        assert!(expected.contains("number") && expected.contains("elderly"), "{expected}");
+        assert!(found.contains("sprint"), "{found}");
+        // a preset name is a speed
+        let s = parse(&MINIMAL.replace("speed = 1.2", "speed = \"elderly\"")).expect("valid");
+        assert_eq!(s.persons[0].speed, 0.6);
     }
 
     #[test]

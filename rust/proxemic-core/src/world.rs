@@ -32,10 +32,11 @@ use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar;
 use crate::math::{Vec2, wrap_angle};
 use crate::metrics::{EpisodeMetrics, MetricsAccumulator, Outcome, StepSample};
+use crate::pedestrians::scripts::{Script, plan_scripts};
 use crate::pedestrians::{Crowd, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
-use crate::scenario::{PlannerKind, Scenario};
+use crate::scenario::{Behaviour, PlannerKind, Scenario};
 
 /// Contact flag bit: the robot touched a person during the physics step.
 pub const CONTACT_PERSON: u8 = 1;
@@ -183,6 +184,8 @@ pub struct World {
     statics: Vec<RobotStatic>,
     robots: Vec<RobotRuntime>,
     crowd: Crowd,
+    /// Each person's behaviour script, planned once on the static map.
+    scripts: Vec<Script>,
     planner: PathPlanner,
     layout: Layout,
     rng: ChaCha8Rng,
@@ -203,7 +206,9 @@ fn scenario_err(s: &Scenario, field: String, expected: String, found: String) ->
 impl World {
     /// Builds the world: static geometry, inflated grids, goal fields and the plain A* paths
     /// from the nominal starts. Fails if a robot's start or goal is inside or too close to the
-    /// static geometry, if a goal is unreachable, or if a person starts or walks through it.
+    /// static geometry, if a goal is unreachable, if a person starts or walks through it, or if
+    /// a person's behaviour finds no room (a viewing place, a place at an activity or in a
+    /// conversation, a tour's gathering arc) or no path ([`plan_scripts`]).
     pub fn new(scenario: Scenario) -> Result<Self> {
         let b = scenario.scene.bounds;
         let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
@@ -215,6 +220,7 @@ impl World {
         let field = DistanceField::from_occupancy(&occupancy);
 
         check_people(&scenario, &geometry)?;
+        let scripts = plan_scripts(&scenario, &geometry, &field)?;
 
         let mut grids: Vec<InflatedGrid> = Vec::new();
         let mut planner = PathPlanner::new();
@@ -305,6 +311,7 @@ impl World {
             statics,
             robots: Vec::new(),
             crowd: Crowd::default(),
+            scripts,
             planner,
             layout,
             rng: ChaCha8Rng::seed_from_u64(0),
@@ -314,8 +321,9 @@ impl World {
             scratch_discs: Vec::new(),
             scenario,
         };
-        world.crowd = Crowd::spawn(
+        world.crowd = Crowd::spawn_scripted(
             &world.scenario.persons,
+            &world.scripts,
             &world.scenario.episode.randomize,
             SocialForceParams::default(),
             &mut world.rng,
@@ -420,8 +428,9 @@ impl World {
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
-        self.crowd = Crowd::spawn(
+        self.crowd = Crowd::spawn_scripted(
             &self.scenario.persons,
+            &self.scripts,
             &self.scenario.episode.randomize,
             SocialForceParams::default(),
             &mut self.rng,
@@ -1193,14 +1202,19 @@ fn plan_path(planner: &mut PathPlanner, grid: &CostGrid, start: Vec2, goal: Vec2
     Some(pts)
 }
 
-/// People must start clear of the static geometry and walk routes that do not cross it.
+/// People must start clear of the static geometry (seated people excepted: they sit on it),
+/// wait at homes clear of it, and walk routes that do not cross it.
 fn check_people(s: &Scenario, geometry: &StaticGeometry) -> Result<()> {
     for (i, p) in s.persons.iter().enumerate() {
-        let pos = Vec2::new(p.pose[0], p.pose[1]);
-        if p.route.is_empty() && (geometry.contains(pos) || geometry.distance(pos) < p.radius) {
+        let (field, pos) = match (p.behaviour, p.home) {
+            (Behaviour::Standing, _) => ("pose", Vec2::new(p.pose[0], p.pose[1])),
+            (_, Some(h)) => ("home", v2(h)),
+            _ => ("", Vec2::zeros()),
+        };
+        if !field.is_empty() && (geometry.contains(pos) || geometry.distance(pos) < p.radius) {
             return Err(scenario_err(
                 s,
-                format!("person[{i}].pose"),
+                format!("person[{i}].{field}"),
                 format!(
                     "a position at least {:.2} m (the person's radius) from walls and furniture",
                     p.radius
