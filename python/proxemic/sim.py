@@ -15,6 +15,11 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+# MuJoCo chooses its OpenGL backend when it is imported: pick an offscreen one first when there is
+# no display (see `ensure_gl_backend`), or rendering fails with "no OpenGL platform library".
+if "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY"):
+    os.environ["MUJOCO_GL"] = "egl"
+
 import mujoco
 import numpy as np
 
