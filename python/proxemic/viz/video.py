@@ -144,7 +144,8 @@ def write_video(
                     expected=f"{shape} uint8",
                     found=f"{a.shape} {a.dtype}",
                 )
-            writer.append_data(a)
+            if writer is not None:
+                writer.append_data(a)
             count += 1
     finally:
         if writer is not None:
@@ -238,7 +239,7 @@ def record_episode(
                 expected="an even number >= 2",
                 found=str(value),
             )
-    name = ENV_IDS.get(str(scenario), scenario)
+    name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
     env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays)
     try:
         episode_steps = int(env.core_scenario.max_steps)
