@@ -67,11 +67,12 @@ format: $(VENV)/.deps ## apply rustfmt and ruff format
 
 BENCHES := planning pedestrians proxemics groups socialmap controllers orca
 
-bench: setup ## criterion benches of the core (medians), the env throughput bench, ORCA vs navground
+bench: setup ## criterion benches of the core (medians), env steps and rendering, ORCA and pedestrians vs navground
 	for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \
-	  | grep -E '^[a-z_/0-9]+|time:|thrpt:' || exit 1; done
+	  | grep -E '^[a-z_/0-9.]+|time:|thrpt:' || exit 1; done
 	$(PY) benches/env_bench.py
 	$(PY) benches/orca_vs_navground.py
+	$(PY) benches/pedestrians_vs_navground.py
 
 clean: ## remove build products and the venv
 	rm -rf target $(VENV) $(OUT) python/proxemic/_core*.so

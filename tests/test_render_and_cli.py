@@ -8,9 +8,11 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from proxemic.cli import main
 from proxemic.env import ProxemicEnv
+from proxemic.errors import InputError
 
 
 def test_rgb_array_renders_offscreen_from_both_cameras():
@@ -35,6 +37,29 @@ def test_topdown_render_shows_the_robot():
     disc = frame[row - 2 : row + 3, col - 2 : col + 3]
     assert (disc == np.asarray(r.robot_color(0), np.uint8)).all(axis=-1).sum() >= 5
     env.close()
+
+
+def test_topdown_overlays_are_switchable_and_leave_the_episode_unchanged():
+    every = ("zones", "groups", "object_spaces", "path")
+    drawn = ProxemicEnv("care_center", render_mode="topdown", autopilot=True, planner="social_astar", overlays=every)
+    silent = ProxemicEnv("care_center", autopilot=True, planner="social_astar")
+    frames = []
+    for env in (drawn, silent):
+        env.reset(seed=3)
+    for _ in range(15):
+        a = drawn.step(np.zeros(3))
+        b = silent.step(np.zeros(3))
+        frames.append(drawn.render())
+        for key in a[0]:
+            np.testing.assert_array_equal(a[0][key], b[0][key])
+    bare = drawn.render_topdown(overlays=())
+    assert drawn.overlays == every  # a per-call choice does not change the env's
+    assert np.any(frames[-1] != bare)
+    assert not np.array_equal(frames[0], frames[-1])
+    with pytest.raises(InputError, match="overlays"):
+        drawn.set_overlays(["zones", "halo"])
+    drawn.close()
+    silent.close()
 
 
 def test_demo_writes_tables_and_plots(tmp_path, capsys):

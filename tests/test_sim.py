@@ -64,3 +64,40 @@ def test_people_face_their_heading(small_room):
     mujoco.mj_forward(sim.model, sim.data)
     nose = sim.data.geom_xpos[sim.model.geom("person_0/nose").id]
     assert nose[1] > 2.05 and abs(nose[0] - 4.0) < 1e-6
+
+
+def test_every_object_kind_has_a_model_and_keeps_its_collision_footprint():
+    from proxemic.furniture import COLLISION_GROUP
+
+    kinds = set()
+    for name in ("museum", "care_center"):
+        _, desc = scenarios.load(name)
+        m = Simulation(desc).model
+        for o in desc["objects"]:
+            kinds.add(o["kind"])
+            g = m.geom(f"object/{o['name']}")
+            # the collision geom is the footprint the core plans with, hidden from the cameras
+            assert g.group[0] == COLLISION_GROUP
+            assert g.contype[0] == (1 if o["solid"] else 0)
+            assert abs(g.size[2 if o["radius"] is None else 1] * 2.0 - o["height"]) < 1e-9
+            parts = [k for k in range(m.ngeom) if m.geom(k).name.startswith(f"object/{o['name']}/")]
+            assert parts, f"{o['kind']} {o['name']} has no visual model"
+            assert all(m.geom_contype[k] == 0 and m.geom_conaffinity[k] == 0 for k in parts)
+            # every part stays within the object's height (a bed's pillow may sit 7 cm on top)
+            half = {int(mujoco.mjtGeom.mjGEOM_BOX): 2, int(mujoco.mjtGeom.mjGEOM_CYLINDER): 1}
+            top = max(m.geom_pos[k][2] + m.geom_size[k][half.get(int(m.geom_type[k]), 0)] for k in parts)
+            assert top <= o["height"] + 0.07 + 1e-9, (o["kind"], top)
+    assert {"painting", "table", "round_table", "tv", "stretcher", "bench", "exhibit"} <= kinds
+
+
+def test_robots_are_colour_coded_like_the_top_down_view():
+    from proxemic.viz.topdown import ROBOT_PALETTE
+
+    _, desc = scenarios.load("daza2021_fig15")
+    m = Simulation(desc).model
+    assert len(desc["robots"]) == 4
+    for i in range(4):
+        rgba = m.geom(f"robot_{i}/shell").rgba
+        np.testing.assert_allclose(rgba[:3] * 255.0, ROBOT_PALETTE[i], atol=1e-6)
+    colours = {tuple(m.geom(f"robot_{i}/shell").rgba) for i in range(4)}
+    assert len(colours) == 4

@@ -22,6 +22,7 @@ from proxemic.viz.topdown import (
     PERSON_TICK,
     ROBOT_PALETTE,
     WALL_COLOR,
+    ZONE_COLORS,
 )
 
 W, H = 640, 480
@@ -357,6 +358,58 @@ def test_scenario_without_precomputed_polygons() -> None:
     # the rebuilt trapezoid covers the same region as the precomputed one
     assert pix(r, r.background, 3.0, 6.0) == pix(ref, ref.background, 3.0, 6.0)
     assert pix(r, r.background, 2.0, 7.5) == FLOOR_COLOR
+
+
+# ----------------------------------------------------------------------------------------------
+# Overlays
+# ----------------------------------------------------------------------------------------------
+
+
+def test_object_spaces_coloured_by_cost(renderer: TopDownRenderer) -> None:
+    robots = np.zeros((0, 3))
+    bare = renderer.render(robots, no_people())
+    idle = renderer.render(robots, no_people(), object_costs={"painting_1": 1.5, "table_1": 1.5})
+    busy = renderer.render(robots, no_people(), object_costs={"painting_1": 3.5, "table_1": 1.5})
+    inside = (3.0, 6.2)  # in the painting's trapezoid
+    assert pix(renderer, busy, *inside) != pix(renderer, idle, *inside) != pix(renderer, bare, *inside)
+    # higher R(t) is redder: more red than green, and less green than at the idle cost
+    r, g, _ = pix(renderer, busy, *inside)
+    assert r > g + 60 and g < pix(renderer, idle, *inside)[1]
+    # the table's space keeps its colour when only the painting's cost changes
+    assert pix(renderer, busy, 8.0, 3.0) == pix(renderer, idle, 8.0, 3.0)
+    # objects drawn on top of their spaces and the plain floor are untouched
+    assert pix(renderer, busy, 8.0, 2.0) == pix(renderer, bare, 8.0, 2.0)
+    assert pix(renderer, busy, 5.0, 5.0) == FLOOR_COLOR
+    # an object missing from the mapping is drawn at the idle cost
+    missing = renderer.render(robots, no_people(), object_costs={"table_1": 1.5})
+    np.testing.assert_array_equal(missing, idle)
+
+
+def test_zone_rings_at_the_given_radii(renderer: TopDownRenderer) -> None:
+    person = np.array([[2.0, 4.0, 0.0, 0.2]])
+    radii = (0.45, 1.2, 2.0)
+    frame = renderer.render(np.zeros((0, 3)), person, zones=radii)
+    plain = renderer.render(np.zeros((0, 3)), person)
+    for k, rad in enumerate(radii):
+        for ang in (0.0, 1.3, math.pi):
+            x, y = 2.0 + rad * math.cos(ang), 4.0 + rad * math.sin(ang)
+            near = (-0.04, -0.02, 0.0, 0.02, 0.04)  # within two pixels (53 px/m)
+            found = {pix(renderer, frame, x + dx, y + dy) for dx in near for dy in near}
+            assert ZONE_COLORS[k] in found, (rad, ang)
+    # between the rings the floor shows
+    assert pix(renderer, frame, 2.0 + 1.6, 4.0) == FLOOR_COLOR == pix(renderer, plain, 2.0 + 1.6, 4.0)
+
+
+def test_groups_fill_the_o_space_and_skip_singletons(renderer: TopDownRenderer) -> None:
+    people = np.array([[3.0, 3.0, 0.0, 0.2], [4.4, 3.0, math.pi, 0.2], [8.0, 6.0, 0.0, 0.2]])
+    plain = renderer.render(np.zeros((0, 3)), people)
+    grouped = renderer.render(np.zeros((0, 3)), people, groups=[[0, 1], [2]])
+    centre = (3.7, 3.0)  # between the two members: the o-space
+    c = pix(renderer, grouped, *centre)
+    assert pix(renderer, plain, *centre) == FLOOR_COLOR and c != FLOOR_COLOR
+    assert c[2] > c[1]  # tinted towards the group colour (purple: blue above green)
+    # a one-member group draws nothing around its member
+    assert pix(renderer, grouped, 8.0, 6.6) == pix(renderer, plain, 8.0, 6.6)
 
 
 # ----------------------------------------------------------------------------------------------

@@ -90,7 +90,52 @@ def cmd_eval(args: argparse.Namespace) -> int:
         f"{len(cfg.tasks())} episodes in {time.perf_counter() - t0:.1f} s; wrote {cfg.out}/episodes.csv, "
         f"episodes.parquet, summary.md and plots"
     )
+    if args.video:
+        from proxemic.viz.video import record_episode
+
+        # The same (planner, seed) episodes again, deterministic: the videos show what was measured.
+        for planner in cfg.planners:
+            for seed in range(cfg.seed, cfg.seed + min(args.video, cfg.episodes)):
+                mp4 = cfg.out / "videos" / f"{planner}_seed{seed}.mp4"
+                record_episode(
+                    cfg.scenario, planner, seed, mp4, view=args.view, overlays=args.overlay or ("path",), progress=True
+                )
+                print(f"wrote {mp4}")
     return 0
+
+
+def cmd_video(args: argparse.Namespace) -> int:
+    """Records one seeded episode as an mp4."""
+    from proxemic.viz.video import record_episode
+
+    out = record_episode(
+        args.scenario,
+        args.planner,
+        args.seed,
+        args.out,
+        view=args.view,
+        fps=args.fps,
+        max_steps=args.max_steps,
+        width=args.width,
+        height=args.height,
+        overlays=args.overlay or ("path",),
+        progress=True,
+    )
+    print(f"wrote {out}")
+    return 0
+
+
+def _add_video_view_args(p: argparse.ArgumentParser) -> None:
+    from proxemic.viz.topdown import OVERLAYS
+    from proxemic.viz.video import VIEWS
+
+    p.add_argument("--view", choices=VIEWS, default="topdown", help="camera of the video (default: topdown)")
+    p.add_argument(
+        "--overlay",
+        action="append",
+        choices=OVERLAYS,
+        help="top-down overlay; repeat for several (default: path)",
+    )
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
@@ -130,7 +175,22 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     e.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
     e.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
+    e.add_argument(
+        "--video", type=int, default=0, metavar="N", help="record the first N episodes per planner into OUT/videos/"
+    )
+    _add_video_view_args(e)
     e.set_defaults(func=cmd_eval)
+    v = sub.add_parser("video", help="record one seeded episode as an mp4")
+    v.add_argument("--scenario", default="museum", help="scenario name, TOML path or env id (default: museum)")
+    v.add_argument("--planner", default=None, help="the robot's built-in planner (default: the scenario's)")
+    v.add_argument("--seed", type=int, default=0, help="episode seed (default: 0)")
+    v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
+    v.add_argument("--fps", type=float, default=None, help="frames per second (default: the control rate)")
+    v.add_argument("--max-steps", type=int, default=None, help="stop after this many steps (default: episode end)")
+    v.add_argument("--width", type=int, default=640, help="frame width, even (default: 640)")
+    v.add_argument("--height", type=int, default=480, help="frame height, even (default: 480)")
+    _add_video_view_args(v)
+    v.set_defaults(func=cmd_video)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
     return p
@@ -142,12 +202,15 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "episodes", 1) < 1:
         print("proxemic: error: --episodes must be at least 1", file=sys.stderr)
         return 2
+    if getattr(args, "video", 0) < 0:
+        print("proxemic: error: --video must be at least 0", file=sys.stderr)
+        return 2
     try:
         return int(args.func(args))
     except ProxemicError as e:
         print(f"proxemic: error: {e}", file=sys.stderr)
         return 2
-    except OSError as e:
+    except (OSError, ImportError) as e:
         print(f"proxemic: error: {e}", file=sys.stderr)
         return 2
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -96,6 +97,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
     | ``width``, ``height`` | 640, 480 | frame size |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
+    | ``overlays`` | ``("path",)`` | what the ``"topdown"`` view draws over the scene: any of ``"zones"``, ``"groups"``, ``"object_spaces"``, ``"path"`` (see :meth:`set_overlays`) |
 
     ## Version History
 
@@ -115,6 +117,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         width: int = 640,
         height: int = 480,
         camera: str = "top",
+        overlays: Iterable[str] = ("path",),
     ) -> None:
         """Builds the environment. See the class docstring for the arguments."""
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -132,6 +135,8 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 found=repr(camera),
             )
         self.render_mode = render_mode
+        self.overlays: tuple[str, ...] = ()
+        self.set_overlays(overlays)
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
         self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner)
@@ -271,24 +276,71 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             gym.logger.warn("render() called without a render_mode; pass render_mode= to the constructor")
             return None
         if self.render_mode == "topdown":
-            return self._render_topdown()
+            return self.render_topdown()
         if self.render_mode == "human":
             return self._render_human()
         ensure_gl_backend()
         camera = "top" if self.camera == "top" else "robot_0/follow"
         return self.sim.render(self.width, self.height, camera)
 
-    def _render_topdown(self) -> np.ndarray:
+    def set_overlays(self, overlays: Iterable[str]) -> None:
+        """Chooses what the top-down view draws over the scene.
+
+        Args:
+            overlays: Any of ``"zones"`` (Hall's intimate, personal and social rings around each
+                person, radii from the scenario's ``[proxemics]``), ``"groups"`` (the groups the
+                robot perceives: o-space and outline), ``"object_spaces"`` (interaction spaces
+                coloured by R(t) at the current time of day) and ``"path"`` (the robot's global
+                path). An empty iterable draws the bare scene.
+
+        Raises:
+            InputError: An unknown overlay name.
+        """
+        from proxemic.viz.topdown import OVERLAYS
+
+        chosen = (overlays,) if isinstance(overlays, str) else tuple(overlays)
+        bad = [o for o in chosen if o not in OVERLAYS]
+        if bad:
+            raise InputError(
+                f"overlays: expected names among {list(OVERLAYS)}, got {bad[0]!r}",
+                field="overlays",
+                expected=str(list(OVERLAYS)),
+                found=repr(bad[0]),
+            )
+        self.overlays = chosen
+
+    def render_topdown(self, overlays: Iterable[str] | None = None) -> np.ndarray:
+        """The fast 2D top-down frame (numpy only), whatever the ``render_mode``.
+
+        Args:
+            overlays: Overlays for this frame (see :meth:`set_overlays`); default the env's.
+
+        Returns:
+            A ``(height, width, 3)`` uint8 RGB image.
+        """
         from proxemic.viz.topdown import TopDownRenderer
 
+        if overlays is not None:
+            previous = self.overlays
+            self.set_overlays(overlays)
+            chosen, self.overlays = self.overlays, previous
+        else:
+            chosen = self.overlays
         if self._topdown is None:
             self._topdown = TopDownRenderer(self.scenario, self.width, self.height)
         people = self.people()
         robots = self._out.reshape(self.world.num_robots, -1)[:, self.world.layout["pose"][0] :][:, :3]
         goals = np.array([r["goal"] for r in self.scenario["robots"]], dtype=np.float64)
-        frame: np.ndarray = self._topdown.render(
-            robots, people[:, [0, 1, 2, 5]], goals=goals, paths=[self.planned_path()]
-        )
+        extra: dict[str, Any] = {}
+        if "path" in chosen:
+            extra["paths"] = [self.world.path(i) for i in range(self.world.num_robots)]
+        if "zones" in chosen:
+            extra["zones"] = self.scenario["proxemics"]["zones"]
+        if "groups" in chosen and len(people):
+            extra["groups"] = self.world.perception()["groups"]
+        if "object_spaces" in chosen:
+            extra["object_costs"] = self.world.object_costs()
+        frame: np.ndarray = self._topdown.render(robots, people[:, [0, 1, 2, 5]], goals=goals, **extra)
         return frame
 
     def _render_human(self) -> None:

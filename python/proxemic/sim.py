@@ -15,40 +15,23 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+# MuJoCo chooses its OpenGL backend when it is imported: pick an offscreen one first when there is
+# no display (see `ensure_gl_backend`), or rendering fails with "no OpenGL platform library".
+if "MUJOCO_GL" not in os.environ and not os.environ.get("DISPLAY"):
+    os.environ["MUJOCO_GL"] = "egl"
+
 import mujoco
 import numpy as np
 
 from proxemic import _core
+from proxemic.furniture import add_object
+from proxemic.viz.topdown import ROBOT_PALETTE
 
-#: Colours of robots by index (RGBA), cycled.
-ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = (
-    (0.12, 0.47, 0.71, 1.0),
-    (1.0, 0.5, 0.05, 1.0),
-    (0.17, 0.63, 0.17, 1.0),
-    (0.84, 0.15, 0.16, 1.0),
-    (0.58, 0.4, 0.74, 1.0),
-    (0.55, 0.34, 0.29, 1.0),
-    (0.89, 0.47, 0.76, 1.0),
-    (0.5, 0.5, 0.5, 1.0),
+#: Colours of robots by index (RGBA), cycled: the top-down view's palette, so a robot has the same
+#: colour in both views.
+ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(
+    (r / 255.0, g / 255.0, b / 255.0, 1.0) for r, g, b in ROBOT_PALETTE
 )
-
-#: Colours of static objects by kind (RGBA).
-OBJECT_COLOURS: dict[str, tuple[float, float, float, float]] = {
-    "exhibit": (0.75, 0.6, 0.25, 1.0),
-    "painting": (0.55, 0.2, 0.2, 1.0),
-    "poster": (0.3, 0.45, 0.6, 1.0),
-    "tv": (0.1, 0.1, 0.1, 1.0),
-    "table": (0.6, 0.45, 0.3, 1.0),
-    "round_table": (0.6, 0.45, 0.3, 1.0),
-    "bed": (0.85, 0.85, 0.95, 1.0),
-    "stretcher": (0.7, 0.85, 0.85, 1.0),
-    "sofa": (0.45, 0.3, 0.5, 1.0),
-    "bench": (0.45, 0.32, 0.2, 1.0),
-    "plinth": (0.85, 0.85, 0.82, 1.0),
-    "pillar": (0.8, 0.8, 0.78, 1.0),
-    "cabinet": (0.5, 0.4, 0.3, 1.0),
-    "chair": (0.5, 0.35, 0.25, 1.0),
-}
 
 #: Owner codes of geoms in contact classification.
 OWNER_STATIC = -1
@@ -129,30 +112,7 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
             rgba=[0.72, 0.72, 0.7, 1.0],
         )
     for o in scenario["objects"]:
-        x, y, th = o["pose"]
-        rgba = list(OBJECT_COLOURS.get(o["kind"], (0.6, 0.6, 0.6, 1.0)))
-        collide = 1 if o["solid"] else 0
-        if o["radius"] is not None:
-            wb.add_geom(
-                name=f"object/{o['name']}",
-                type=mujoco.mjtGeom.mjGEOM_CYLINDER,
-                size=[o["radius"], o["height"] / 2.0, 0.0],
-                pos=[x, y, o["height"] / 2.0],
-                rgba=rgba,
-                contype=collide,
-                conaffinity=collide,
-            )
-        else:
-            wb.add_geom(
-                name=f"object/{o['name']}",
-                type=mujoco.mjtGeom.mjGEOM_BOX,
-                size=[o["size"][0] / 2.0, o["size"][1] / 2.0, o["height"] / 2.0],
-                pos=[x, y, o["height"] / 2.0],
-                quat=_yaw_quat(th),
-                rgba=rgba,
-                contype=collide,
-                conaffinity=collide,
-            )
+        add_object(wb, o)
 
     assets = models_dir()
     robot_model = mujoco.MjSpec.from_file(str(assets / "pepper.xml"))

@@ -4,7 +4,8 @@ Everything here works on the plain scenario dict (the JSON the Rust core produce
 arrays; nothing imports ``proxemic._core``. :class:`TopDownRenderer` needs only numpy; the plotting
 functions (:func:`plot_episodes`, :func:`plot_metrics_bars`, :func:`format_table`) live in
 :mod:`proxemic.viz.plots` and are imported lazily so that rendering frames never pulls in
-matplotlib.
+matplotlib. Video export (:func:`record_episode`, :func:`write_video`, :func:`render_frame` of an
+env from any view) lives in :mod:`proxemic.viz.video`, also imported lazily.
 """
 
 from __future__ import annotations
@@ -16,14 +17,30 @@ from .topdown import TopDownRenderer
 
 if TYPE_CHECKING:
     from .plots import format_table, plot_episodes, plot_metrics_bars
+    from .video import record_episode, render_frame, write_video
 
-__all__ = ["TopDownRenderer", "format_table", "plot_episodes", "plot_metrics_bars"]
+__all__ = [
+    "TopDownRenderer",
+    "format_table",
+    "plot_episodes",
+    "plot_metrics_bars",
+    "record_episode",
+    "render_frame",
+    "write_video",
+]
 
-_LAZY = frozenset({"format_table", "plot_episodes", "plot_metrics_bars"})
+_LAZY = {
+    "format_table": ".plots",
+    "plot_episodes": ".plots",
+    "plot_metrics_bars": ".plots",
+    "record_episode": ".video",
+    "render_frame": ".video",
+    "write_video": ".video",
+}
 
 
 def __getattr__(name: str) -> Any:
-    """Import the matplotlib-based helpers from :mod:`proxemic.viz.plots` on first access.
+    """Import the plotting and video helpers on first access.
 
     Args:
         name: The attribute requested from the package.
@@ -36,5 +53,5 @@ def __getattr__(name: str) -> Any:
 
     """
     if name in _LAZY:
-        return getattr(importlib.import_module(".plots", __name__), name)
+        return getattr(importlib.import_module(_LAZY[name], __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

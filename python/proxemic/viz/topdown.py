@@ -26,12 +26,15 @@ import numpy as np
 
 __all__ = [
     "FLOOR_COLOR",
+    "GROUP_COLOR",
     "INTERACTION_COLOR",
     "OBJECT_COLORS",
     "OUTSIDE_COLOR",
+    "OVERLAYS",
     "PERSON_COLOR",
     "ROBOT_PALETTE",
     "WALL_COLOR",
+    "ZONE_COLORS",
     "TopDownRenderer",
     "interaction_polygon",
     "object_polygon",
@@ -90,6 +93,22 @@ OBJECT_COLORS: Mapping[str, RGB] = types.MappingProxyType(
         "chair": (172, 132, 90),
     }
 )
+#: The switchable top-down overlays: ``zones`` (Hall's intimate, personal and social rings around
+#: each person), ``groups`` (detected groups: their o-space filled, the group outlined),
+#: ``object_spaces`` (interaction spaces coloured by the agenda's R(t) now) and ``path`` (the
+#: robots' global paths).
+OVERLAYS: tuple[str, ...] = ("zones", "groups", "object_spaces", "path")
+#: Ring colours of the intimate, personal and social zones.
+ZONE_COLORS: tuple[RGB, RGB, RGB] = ((200, 30, 30), (235, 140, 20), (70, 130, 200))
+#: Colour of group outlines and o-space fills.
+GROUP_COLOR: RGB = (128, 50, 170)
+#: Alpha of the o-space fill.
+OSPACE_ALPHA: float = 0.35
+#: Interaction-space colours at the agenda's idle cost and at its active cost (R(t) in between is
+#: interpolated linearly).
+OBJECT_COST_COLORS: tuple[RGB, RGB] = ((255, 226, 120), (215, 35, 25))
+#: Alpha of the R(t) colour over the floor.
+OBJECT_COST_ALPHA: float = 0.55
 #: Fill colour of objects of an unknown kind.
 DEFAULT_OBJECT_COLOR: RGB = (150, 150, 150)
 
@@ -426,6 +445,40 @@ def _draw_discs(
     _pixel_view(img)[flat[inside]] = table[colour_index[inside]]
 
 
+def _blend_discs(img: np.ndarray, centres: np.ndarray, radii: np.ndarray, color: RGB, alpha: float) -> None:
+    """Alpha-blend ``color`` over the union of discs (a pixel covered twice is blended once).
+
+    ``centres`` is ``(N, 2)`` pixel coordinates and ``radii`` ``(N,)`` pixels; a pixel belongs to a
+    disc when its centre is within the radius.
+    """
+    height, width = img.shape[:2]
+    ok = np.all(np.isfinite(centres), axis=1) & np.isfinite(radii) & (radii > 0.0)
+    centres, radii = centres[ok], np.minimum(radii[ok], float(max(height, width)))
+    if len(centres) == 0:
+        return
+    k = math.ceil(float(radii.max())) + 1
+    off = np.arange(-k, k + 1)
+    cols = np.floor(centres[:, 0]).astype(np.intp)[:, None] + off
+    rows = np.floor(centres[:, 1]).astype(np.intp)[:, None] + off
+    dc2 = (cols + 0.5 - centres[:, 0, None]) ** 2
+    dr2 = (rows + 0.5 - centres[:, 1, None]) ** 2
+    dc2[(cols < 0) | (cols >= width)] = np.inf
+    dr2[(rows < 0) | (rows >= height)] = np.inf
+    inside = (dr2[:, :, None] + dc2[:, None, :]) <= (radii * radii)[:, None, None]
+    flat = np.unique((rows[:, :, None] * width + cols[:, None, :])[inside])
+    pix = img.reshape(-1, 3)
+    blended = pix[flat].astype(np.float32) * (1.0 - alpha) + np.asarray(color, np.float32) * alpha
+    pix[flat] = np.rint(blended).astype(np.uint8)
+
+
+def _ring_segments(centres: np.ndarray, radius: float, segments: int) -> tuple[np.ndarray, np.ndarray]:
+    """Start and end points of ``segments``-gon approximations of circles (world frame, metres)."""
+    ang = np.linspace(0.0, 2.0 * math.pi, segments + 1)
+    ring = np.stack([np.cos(ang), np.sin(ang)], axis=1) * radius  # (S + 1, 2)
+    pts = centres[:, None, :2] + ring[None, :, :]  # (N, S + 1, 2)
+    return pts[:, :-1].reshape(-1, 2), pts[:, 1:].reshape(-1, 2)
+
+
 # ----------------------------------------------------------------------------------------------
 # Renderer
 # ----------------------------------------------------------------------------------------------
@@ -482,6 +535,7 @@ class TopDownRenderer:
         )
         self._palette = np.array(ROBOT_PALETTE, dtype=np.uint8)
         self._trail_palette = np.array([_mix(c, (255, 255, 255), 0.5) for c in ROBOT_PALETTE], dtype=np.uint8)
+        self._stencils: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self._background = self._rasterise_background(scenario)
         self._background.flags.writeable = False
 
@@ -560,17 +614,30 @@ class TopDownRenderer:
         _draw_segments(img, px, p1, np.tile(np.asarray(color, np.uint8), (len(px), 1)))
 
     def _rasterise_background(self, scenario: Mapping[str, Any]) -> np.ndarray:
-        """Rasterise floor, interaction spaces, objects and walls into a new image."""
+        """Rasterise floor, interaction spaces, objects and walls into a new image.
+
+        Also records, for the ``object_spaces`` overlay, which visible floor pixels lie in which
+        object's interaction space (the later object wins where spaces overlap) and their floor
+        colour before tinting.
+        """
         img = np.empty((self.height, self.width, 3), dtype=np.uint8)
         img[:] = OUTSIDE_COLOR
         xmin, ymin, xmax, ymax = self.bounds
         floor = np.array([[xmin, ymin], [xmax, ymin], [xmax, ymax], [xmin, ymax]])
         self._fill_polygon(img, floor, FLOOR_COLOR)
+        untinted = img.copy()
+        label = np.full((self.height, self.width), -1, dtype=np.int32)
         objects = list(scenario.get("objects", []))
+        names: list[str] = []
         for obj in objects:
             space = interaction_polygon(obj)
             if space is not None:
                 self._fill_polygon(img, space, INTERACTION_COLOR, INTERACTION_ALPHA)
+                res = _polygon_mask(self.world_to_pixel(space), self.height, self.width)
+                if res is not None:
+                    label[res[0], res[1]][res[2]] = len(names)
+                names.append(str(obj.get("name", len(names))))
+        tinted = img.copy()
         for obj in objects:
             poly = object_polygon(obj)
             color = OBJECT_COLORS.get(str(obj.get("kind")), DEFAULT_OBJECT_COLOR)
@@ -580,6 +647,15 @@ class TopDownRenderer:
             self._outline_polygon(img, poly, _mix(color, (0, 0, 0), 0.45))
         for wall in scenario.get("walls", []):
             self._fill_polygon(img, wall_polygon(wall), WALL_COLOR)
+        label[np.any(img != tinted, axis=2)] = -1  # covered by an object, its outline or a wall
+        self._space_names = tuple(names)
+        flat = np.flatnonzero(label.reshape(-1) >= 0)
+        self._space_pixels = flat
+        self._space_label = label.reshape(-1)[flat]
+        self._space_floor = untinted.reshape(-1, 3)[flat].astype(np.float32)
+        agenda = scenario.get("agenda") or {}
+        self._cost_range = (float(agenda.get("idle", 1.5)), float(agenda.get("active", 3.5)))
+        self._space_cache: tuple[tuple[float, ...], np.ndarray] | None = None
         return img
 
     # -- frames ----------------------------------------------------------------------------------
@@ -592,12 +668,16 @@ class TopDownRenderer:
         goals: np.ndarray | None = None,
         paths: Sequence[np.ndarray] | None = None,
         trails: Sequence[np.ndarray] | None = None,
+        zones: Sequence[float] | None = None,
+        groups: Sequence[Sequence[int]] | None = None,
+        object_costs: Mapping[str, float] | None = None,
     ) -> np.ndarray:
         """Render one frame.
 
-        Draw order: background, trails, planned paths (dashed), goals (crosses), people, robots.
-        Goals, paths and trails are matched to robots by index and share the robot's palette colour
-        (trails lightened).
+        Draw order: background, object spaces by R(t), group o-spaces, zone rings, trails, planned
+        paths (dashed), goals (crosses), group outlines, people, robots. Goals, paths and trails are
+        matched to robots by index and share the robot's palette colour (trails lightened). The
+        overlays (see :data:`OVERLAYS`) are drawn only when their argument is given.
 
         Args:
             robots: ``(R, 3)`` robot poses ``x, y, theta`` (R may be 0). Robot ``i`` is drawn with the
@@ -607,6 +687,15 @@ class TopDownRenderer:
             goals: Optional ``(R, 2)`` goal positions.
             paths: Optional list of ``(K, 2)`` planned paths (world frame), one per robot.
             trails: Optional list of ``(K, 2)`` past positions, one per robot.
+            zones: Optional radii in metres (e.g. Hall's intimate, personal and social: 0.45, 1.2,
+                3.6) of rings drawn around every person, in :data:`ZONE_COLORS` order.
+            groups: Optional member index lists (into ``people``) of detected groups; groups of two
+                or more get their o-space filled and an outline around the members. The o-space is
+                drawn as the circle centred at the members' mean position whose radius is their
+                mean distance to it minus their mean body radius (at least 0.2 m).
+            object_costs: Optional R(t) per object name (``World.object_costs``): interaction
+                spaces are coloured from the agenda's idle cost (pale) to its active cost (red).
+                Objects missing from the mapping are drawn at the idle cost.
 
         Returns:
             A new ``(height, width, 3)`` uint8 RGB image.
@@ -618,6 +707,14 @@ class TopDownRenderer:
         robots_a = _rows(robots, 3, "robots")
         people_a = _rows(people, 4, "people")
         frame = self._background.copy()
+        if object_costs is not None:
+            self._draw_object_costs(frame, object_costs)
+        outlines = None
+        if groups:
+            outlines = self._draw_groups(frame, people_a, groups)
+
+        if zones is not None and len(people_a):
+            self._draw_zone_rings(frame, people_a, zones)
 
         overlay = [
             self._polyline_batch(trails, self._trail_palette, dashed=False),
@@ -625,6 +722,8 @@ class TopDownRenderer:
         ]
         if goals is not None:
             overlay.append(self._cross_batch(_rows(goals, 2, "goals")))
+        if outlines is not None:
+            overlay.append(outlines)
         overlay = [b for b in overlay if len(b[0])]
         if overlay:
             p0, p1, colors, dashed = (np.concatenate(parts) for parts in zip(*overlay, strict=True))
@@ -653,6 +752,82 @@ class TopDownRenderer:
                 np.tile(np.asarray(ROBOT_TICK, np.uint8), (n, 1)),
             )
         return frame
+
+    def _draw_object_costs(self, frame: np.ndarray, costs: Mapping[str, float]) -> None:
+        """Colour the visible interaction-space pixels by their object's R(t) (cached per cost set)."""
+        if len(self._space_pixels) == 0:
+            return
+        lo, hi = self._cost_range
+        values = tuple(float(costs.get(name, lo)) for name in self._space_names)
+        if self._space_cache is None or self._space_cache[0] != values:
+            t = np.clip((np.asarray(values) - lo) / max(hi - lo, 1e-9), 0.0, 1.0)
+            t = np.nan_to_num(t, nan=0.0)
+            c0, c1 = (np.asarray(c, np.float32) for c in OBJECT_COST_COLORS)
+            lut = c0[None, :] * (1.0 - t[:, None]) + c1[None, :] * t[:, None]  # (objects, 3)
+            a = OBJECT_COST_ALPHA
+            colours = self._space_floor * (1.0 - a) + lut[self._space_label] * a
+            self._space_cache = (values, np.rint(colours).astype(np.uint8))
+        _pixel_view(frame)[self._space_pixels] = _pixels(self._space_cache[1])
+
+    def _draw_groups(
+        self, frame: np.ndarray, people: np.ndarray, groups: Sequence[Sequence[int]]
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Blend the groups' o-spaces into ``frame``; return their outlines as dashed segments."""
+        centres, ospace, outline = [], [], []
+        n = len(people)
+        for members in groups:
+            idx = np.asarray([int(m) for m in members if 0 <= int(m) < n], dtype=np.intp)
+            if len(idx) < 2:
+                continue
+            pts = people[idx, :2]
+            c = pts.mean(axis=0)
+            d = np.linalg.norm(pts - c, axis=1)
+            centres.append(c)
+            ospace.append(max(float(d.mean() - people[idx, 3].mean()), 0.2))
+            outline.append(float(d.max() + people[idx, 3].max() + 0.15))
+        empty = (np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, 3), np.uint8), np.zeros(0, bool))
+        if not centres:
+            return empty
+        cpx = self.world_to_pixel(np.asarray(centres))
+        _blend_discs(frame, cpx, np.asarray(ospace) * self.scale, GROUP_COLOR, OSPACE_ALPHA)
+        starts, ends = [], []
+        for c, r in zip(centres, outline, strict=True):
+            a, b = _ring_segments(c[None, :], r, 40)
+            starts.append(a)
+            ends.append(b)
+        p0 = self.world_to_pixel(np.concatenate(starts))
+        p1 = self.world_to_pixel(np.concatenate(ends))
+        colors = np.broadcast_to(np.asarray(GROUP_COLOR, np.uint8), (len(p0), 3))
+        return p0, p1, colors, np.ones(len(p0), dtype=bool)
+
+    def _draw_zone_rings(self, frame: np.ndarray, people: np.ndarray, radii: Sequence[float]) -> None:
+        """One-pixel rings of the given radii (metres) around every person, from cached stencils."""
+        ok = people[np.all(np.isfinite(people[:, :2]), axis=1)]
+        if len(ok) == 0:
+            return
+        centres = self.world_to_pixel(ok[:, :2])
+        rows0 = np.floor(centres[:, 1]).astype(np.intp)
+        cols0 = np.floor(centres[:, 0]).astype(np.intp)
+        view = _pixel_view(frame)
+        for k, r in enumerate(radii):
+            dr, dc = self._ring_stencil(float(r) * self.scale)
+            rows = rows0[:, None] + dr[None, :]
+            cols = cols0[:, None] + dc[None, :]
+            inside = (rows >= 0) & (rows < self.height) & (cols >= 0) & (cols < self.width)
+            view[(rows * self.width + cols)[inside]] = _pixels(np.asarray(ZONE_COLORS[k % len(ZONE_COLORS)]))[0]
+
+    def _ring_stencil(self, radius_px: float) -> tuple[np.ndarray, np.ndarray]:
+        """Row and column offsets of the pixels whose centres lie within half a pixel of a circle."""
+        key = round(radius_px, 3)
+        cached = self._stencils.get(key)
+        if cached is None:
+            k = math.ceil(radius_px) + 1
+            off = np.arange(-k, k + 1)
+            dist = np.hypot(off[:, None], off[None, :])
+            dr, dc = np.nonzero(np.abs(dist - radius_px) < 0.5)
+            cached = (off[dr], off[dc])
+            self._stencils[key] = cached
+        return cached
 
     def _draw_bodies(
         self,

@@ -420,6 +420,20 @@ impl PyWorld {
         Ok(d)
     }
 
+    /// R(t) of every object with an interaction space at `time_of_day` (seconds after midnight,
+    /// default the current time of day), as a dict name -> cost: the agenda's idle cost outside
+    /// activities, up to its active cost during one (Calderita: 1.5 and 3.5).
+    #[pyo3(signature = (time_of_day = None))]
+    fn object_costs<'py>(&self, py: Python<'py>, time_of_day: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
+        let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+        let social = self.inner.social();
+        let d = PyDict::new(py);
+        for (name, cost) in social.object_names().iter().zip(social.object_factors(tod)) {
+            d.set_item(name, cost)?;
+        }
+        Ok(d)
+    }
+
     /// How many times robot `robot`'s social path was (re-)planned this episode.
     fn replans(&self, robot: usize) -> usize {
         self.inner.replans(robot)

@@ -1,0 +1,158 @@
+"""Pedestrian update cost per person-step: proxemic's Rust social force against navground 0.7.0's HL
+and SocialForce behaviours, measured in the same run.
+
+Ours runs the criterion bench's world in the Rust example ``pedestrian_crowd`` (N walkers on routes
+in a walled hall with pillars at the museum's density, 864 m^2 for 29 people, social force with
+groups, walls and one robot; the pyo3 layer is not involved). navground runs its ``Cross`` scenario
+(as in ``shared/design/peers.md``) at the same density: N agents of radius 0.2 m shuttling across a
+square of side ``sqrt(N * 864 / 29)`` m, holonomic, optimal speed 1.2 m/s, neighbours within 5 m
+(``Bounded`` state estimation), with its C++ ``HL`` behaviour and its Python ``SocialForce``
+behaviour. Both step at dt = 0.1 s after 20 warm-up steps. navground's world step also does its own
+perception and collision bookkeeping, which is part of what a pedestrian step costs there.
+
+Repetitions alternate between the implementations (seed by seed) so they see the same machine
+load; medians over repetitions of wall time and thread CPU time per person-step are printed side by
+side with the ratios navground / ours (> 1 means ours is faster). The issue's target for ours is at
+most 2 microseconds per person-step.
+
+navground runs in its own virtual env, created on first use (see ``orca_vs_navground.py``).
+
+Run: ``python benches/pedestrians_vs_navground.py [N ...] [--reps R]`` (defaults: N = 50 200 1000,
+R = 3). ``CARGO_TARGET_DIR`` is honoured.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from orca_vs_navground import ensure_navground
+
+ROOT = Path(__file__).resolve().parent.parent
+#: Timed person-steps per repetition: ours and HL (C++), navground's Python social force.
+PERSON_STEPS = {"ours": 100_000, "HL": 40_000, "SocialForce": 2_000}
+
+# Runs one navground repetition and prints one JSON line (executed by the venv's interpreter).
+NAVGROUND_WORKER = r'''
+import json, math, statistics, sys, time
+from navground import sim
+n, steps, seed, behavior = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+side = math.sqrt(n * 864.0 / 29.0)
+scenario = sim.load_scenario(f"""
+type: Cross
+side: {side}
+agent_margin: 0.1
+target_margin: 0.5
+tolerance: 0.5
+groups:
+  - type: person
+    number: {n}
+    radius: 0.2
+    control_period: 0.0
+    kinematics:
+      type: Omni
+      max_speed: 1.5
+      max_angular_speed: 3.0
+    behavior:
+      type: {behavior}
+      optimal_speed: 1.2
+      horizon: 5.0
+      safety_margin: 0.1
+    state_estimation:
+      type: Bounded
+      range: 5.0
+""")
+world = scenario.make_world(seed=seed)
+world.run(20, 0.1)
+c0, t0 = time.thread_time_ns(), time.perf_counter_ns()
+world.run(steps, 0.1)
+t1, c1 = time.perf_counter_ns(), time.thread_time_ns()
+nn = statistics.mean(len(getattr(a.behavior.environment_state, "neighbors", [])) for a in world.agents)
+print(json.dumps(dict(wall=(t1 - t0) / (steps * n) / 1e3, cpu=(c1 - c0) / (steps * n) / 1e3, neighbors=nn,
+                      behavior=type(world.agents[0].behavior).__name__)))
+'''
+
+
+def build_ours() -> Path:
+    """Builds the Rust example and returns the binary's path."""
+    subprocess.run(
+        ["cargo", "build", "--release", "-q", "-p", "proxemic-core", "--example", "pedestrian_crowd"],
+        cwd=ROOT,
+        check=True,
+    )
+    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+    return target / "release" / "examples" / "pedestrian_crowd"
+
+
+def run_navground(py: Path, n: int, behavior: str, seed: int) -> dict[str, float]:
+    """One navground repetition of `behavior`."""
+    steps = max(3, PERSON_STEPS[behavior] // n)
+    out = subprocess.run(
+        [str(py), "-c", NAVGROUND_WORKER, str(n), str(steps), str(seed), behavior],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    row = json.loads(out.stdout.strip().splitlines()[-1])
+    expected = f"{behavior}Behavior"
+    if row["behavior"] != expected:
+        raise RuntimeError(f"navground ran {row['behavior']}, expected {expected}")
+    return row
+
+
+def run_ours(binary: Path, n: int, seed: int) -> dict[str, float]:
+    """One repetition of ours."""
+    steps = max(5, PERSON_STEPS["ours"] // n)
+    out = subprocess.run([str(binary), str(n), str(steps), "1", str(seed)], capture_output=True, text=True, check=True)
+    row = json.loads(out.stdout.strip().splitlines()[-1])
+    return dict(wall=row["us_per_person_step_median"], cpu=row["cpu_us_per_person_step_median"])
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("ns", nargs="*", type=int, default=[50, 200, 1000])
+    p.add_argument("--reps", type=int, default=3)
+    a = p.parse_args()
+    py = ensure_navground()
+    binary = build_ours()
+    rows = []
+    for n in a.ns:
+        res: dict[str, list[dict[str, float]]] = {"ours": [], "HL": [], "SocialForce": []}
+        for seed in range(a.reps):
+            res["ours"].append(run_ours(binary, n, seed))
+            res["HL"].append(run_navground(py, n, "HL", seed))
+            res["SocialForce"].append(run_navground(py, n, "SocialForce", seed))
+        row: dict[str, float] = {"n": n, "reps": a.reps}
+        for k, rs in res.items():
+            row[f"{k}_wall_us"] = statistics.median(r["wall"] for r in rs)
+            row[f"{k}_cpu_us"] = statistics.median(r["cpu"] for r in rs)
+        row["navground_neighbors"] = statistics.mean(r["neighbors"] for r in res["HL"])
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+
+    print()
+    print("Pedestrian update per person-step (microseconds, medians; ratio = navground / ours)")
+    head = f"{'N':>5} | {'clock':>5} | {'ours':>7} | {'navground HL':>12} | {'ratio':>6} | "
+    head += f"{'navground SocialForce':>21} | {'ratio':>7}"
+    print(head)
+    print("-" * len(head))
+    for r in rows:
+        for clock in ("cpu", "wall"):
+            ours = r[f"ours_{clock}_us"]
+            hl, sf = r[f"HL_{clock}_us"], r[f"SocialForce_{clock}_us"]
+            print(
+                f"{int(r['n']):>5} | {clock:>5} | {ours:>7.2f} | {hl:>12.2f} | {hl / ours:>6.1f} | "
+                f"{sf:>21.1f} | {sf / ours:>7.0f}"
+            )
+    over = [int(r["n"]) for r in rows if r["ours_cpu_us"] > 2.0]
+    print("target (ours at most 2 us per person-step, CPU time):", f"MISSED at N = {over}" if over else "met")
+
+
+if __name__ == "__main__":
+    main()

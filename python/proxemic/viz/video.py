@@ -1,0 +1,251 @@
+"""Video export (mp4) of proxemic episodes: frames from any view, written with imageio + ffmpeg.
+
+Example::
+
+    from proxemic.viz.video import record_episode
+
+    record_episode("museum", "social_astar", seed=0, path="museum.mp4", view="topdown",
+                   overlays=("zones", "groups", "object_spaces", "path"))
+
+Frames come from :func:`render_frame`: the numpy top-down view (``"topdown"``, with the chosen
+overlays) or MuJoCo offscreen from the top camera (``"top"``) or the camera following the robot
+(``"follow"``). The episode is the one ``proxemic eval`` runs for the same scenario, planner and
+seed (the robot's built-in planner drives; the same seed gives the same episode, bit for bit).
+Writing needs ``imageio`` and ``imageio-ffmpeg`` (``pip install "proxemic[video]"``).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Iterator
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from proxemic.errors import InputError
+
+if TYPE_CHECKING:
+    from proxemic.env import ProxemicEnv
+
+__all__ = ["VIEWS", "record_episode", "render_frame", "write_video"]
+
+#: The views a frame can be rendered from.
+VIEWS: tuple[str, ...] = ("topdown", "top", "follow")
+
+
+def _imageio() -> Any:
+    """Import ``imageio`` with its ffmpeg plugin, or raise a clear ImportError."""
+    try:
+        import imageio.v2 as iio
+        import imageio_ffmpeg  # noqa: F401  (the ffmpeg binary imageio's writer uses)
+    except ImportError as e:  # pragma: no cover - depends on the installation
+        raise ImportError(
+            f"video export needs imageio and imageio-ffmpeg ({e.name} is missing): "
+            'pip install "proxemic[video]" (or pip install imageio imageio-ffmpeg)'
+        ) from e
+    return iio
+
+
+def _check_view(view: str) -> None:
+    if view not in VIEWS:
+        raise InputError(
+            f"view: expected one of {list(VIEWS)}, got {view!r}",
+            field="view",
+            expected=str(list(VIEWS)),
+            found=repr(view),
+        )
+
+
+def render_frame(env: Any, view: str = "topdown", overlays: Iterable[str] | None = None) -> np.ndarray:
+    """Render the current state of a proxemic env from `view`, whatever its ``render_mode``.
+
+    Args:
+        env: A :class:`proxemic.env.ProxemicEnv` (or a gymnasium wrapper of one) after ``reset``.
+        view: ``"topdown"`` (numpy 2D view), ``"top"`` (MuJoCo top camera) or ``"follow"``
+            (MuJoCo camera following the robot).
+        overlays: For the top-down view: overlays to draw (see
+            :meth:`proxemic.env.ProxemicEnv.set_overlays`); default the env's.
+
+    Returns:
+        A ``(env.height, env.width, 3)`` uint8 RGB image.
+
+    Raises:
+        InputError: An unknown view.
+    """
+    _check_view(view)
+    base: ProxemicEnv = env.unwrapped
+    if view == "topdown":
+        return base.render_topdown(overlays)
+    from proxemic.sim import ensure_gl_backend
+
+    ensure_gl_backend()
+    camera = "top" if view == "top" else "robot_0/follow"
+    return base.sim.render(base.width, base.height, camera)
+
+
+def write_video(
+    frames: Iterable[np.ndarray],
+    path: str | os.PathLike[str],
+    fps: float = 10.0,
+    *,
+    total: int | None = None,
+    progress: bool = False,
+) -> Path:
+    """Write RGB frames to an H.264 mp4 file, streaming (frames are not kept in memory).
+
+    Args:
+        frames: ``(H, W, 3)`` uint8 images, all the same size; H and W must be even (yuv420p).
+        path: The output file (``.mp4``); parent folders are created.
+        fps: Frames per second of the video (> 0).
+        total: The number of frames, if known (for the progress bar).
+        progress: Show a tqdm progress bar on stderr.
+
+    Returns:
+        The path written.
+
+    Raises:
+        InputError: A non-positive fps, no frames, or a frame of the wrong shape, dtype or size.
+        ImportError: imageio or imageio-ffmpeg is not installed.
+    """
+    if not (fps > 0 and np.isfinite(fps)):
+        raise InputError(f"fps: expected a positive number, got {fps}", field="fps", expected="> 0", found=str(fps))
+    iio = _imageio()
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    it: Iterable[np.ndarray] = frames
+    if progress:
+        from tqdm import tqdm
+
+        it = tqdm(frames, total=total, desc=out.name, unit="frame", leave=False)
+    writer = None
+    shape: tuple[int, ...] | None = None
+    count = 0
+    try:
+        for frame in it:
+            a = np.asarray(frame)
+            if shape is None:
+                if a.ndim != 3 or a.shape[2] != 3 or a.dtype != np.uint8 or a.shape[0] % 2 or a.shape[1] % 2:
+                    raise InputError(
+                        f"frames[0]: expected an (H, W, 3) uint8 image with even H and W, "
+                        f"got shape {a.shape} dtype {a.dtype}",
+                        field="frames",
+                        expected="(H, W, 3) uint8, H and W even",
+                        found=f"{a.shape} {a.dtype}",
+                    )
+                shape = a.shape
+                writer = iio.get_writer(
+                    str(out), format="FFMPEG", mode="I", fps=fps, codec="libx264", macro_block_size=1, quality=7
+                )
+            elif a.shape != shape or a.dtype != np.uint8:
+                raise InputError(
+                    f"frames[{count}]: expected {shape} uint8 like the first frame, got {a.shape} {a.dtype}",
+                    field="frames",
+                    expected=f"{shape} uint8",
+                    found=f"{a.shape} {a.dtype}",
+                )
+            if writer is not None:
+                writer.append_data(a)
+            count += 1
+    finally:
+        if writer is not None:
+            writer.close()
+    if count == 0:
+        raise InputError("frames: expected at least one frame, got none", field="frames", expected=">= 1", found="0")
+    return out
+
+
+def episode_frames(
+    env: Any,
+    seed: int,
+    *,
+    view: str = "topdown",
+    max_steps: int | None = None,
+    overlays: Iterable[str] | None = None,
+) -> Iterator[np.ndarray]:
+    """Yield the frames of one autopilot episode: after ``reset(seed)``, then after every step.
+
+    The episode runs until it terminates, is truncated, or `max_steps` steps were taken, so it
+    yields at most ``max_steps + 1`` frames.
+    """
+    _check_view(view)
+    base: ProxemicEnv = env.unwrapped
+    base.reset(seed=seed)
+    yield render_frame(base, view, overlays)
+    action = np.zeros(3, dtype=np.float32)
+    steps = 0
+    while max_steps is None or steps < max_steps:
+        _, _, terminated, truncated, _ = base.step(action)
+        steps += 1
+        yield render_frame(base, view, overlays)
+        if terminated or truncated:
+            break
+
+
+def record_episode(
+    scenario: str | os.PathLike[str],
+    planner: str | None = None,
+    seed: int = 0,
+    path: str | os.PathLike[str] = "episode.mp4",
+    *,
+    view: str = "topdown",
+    fps: float | None = None,
+    max_steps: int | None = None,
+    width: int = 640,
+    height: int = 480,
+    overlays: Iterable[str] = ("path",),
+    progress: bool = False,
+) -> Path:
+    """Record one seeded episode with the robot's built-in planner driving, as an mp4.
+
+    Args:
+        scenario: A bundled scenario name, a scenario TOML path or a registered env id
+            (``"proxemic/Museum-v0"``).
+        planner: The robot's planner (one of ``proxemic._core.PLANNERS``); default the scenario's.
+        seed: The episode seed (the same episode as ``proxemic eval`` runs with this seed).
+        path: The output file.
+        view: ``"topdown"``, ``"top"`` or ``"follow"`` (see :func:`render_frame`).
+        fps: Frames per second; default the control rate (real time).
+        max_steps: Stop after this many steps (default: the end of the episode).
+        width: Frame width in pixels (even).
+        height: Frame height in pixels (even).
+        overlays: Overlays of the top-down view (see :meth:`proxemic.env.ProxemicEnv.set_overlays`).
+        progress: Show a progress bar.
+
+    Returns:
+        The path written. The video has one frame per control step plus the starting frame.
+
+    Raises:
+        InputError: A bad view, size, fps or max_steps; ScenarioError / UnknownNameError for a bad
+            scenario or planner.
+        ImportError: imageio or imageio-ffmpeg is not installed.
+    """
+    from proxemic.env import ProxemicEnv
+    from proxemic.registration import ENV_IDS
+
+    _check_view(view)
+    if max_steps is not None and max_steps < 0:
+        raise InputError(
+            f"max_steps: expected a number >= 0, got {max_steps}",
+            field="max_steps",
+            expected=">= 0",
+            found=str(max_steps),
+        )
+    for field, value in (("width", width), ("height", height)):
+        if value < 2 or value % 2:
+            raise InputError(
+                f"{field}: expected an even number of pixels >= 2 (H.264 in yuv420p), got {value}",
+                field=field,
+                expected="an even number >= 2",
+                found=str(value),
+            )
+    name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
+    env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays)
+    try:
+        episode_steps = int(env.core_scenario.max_steps)
+        steps = episode_steps if max_steps is None else min(max_steps, episode_steps)
+        frames = episode_frames(env, seed, view=view, max_steps=max_steps)
+        rate = float(env.metadata["render_fps"]) if fps is None else fps
+        return write_video(frames, path, rate, total=steps + 1, progress=progress)
+    finally:
+        env.close()

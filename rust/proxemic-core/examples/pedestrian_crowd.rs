@@ -1,0 +1,143 @@
+//! Pedestrian update cost per person-step, for `benches/pedestrians_vs_navground.py`.
+//!
+//! usage: `cargo run --release --example pedestrian_crowd -- N STEPS [REPS [SEED0]]`
+//!
+//! The world is the criterion bench's (`benches/pedestrians.rs`): N walkers at the museum's density
+//! (864 m^2 for 29 people) in a square hall with walls and a pillar every 8 m, each walking a route
+//! through three random points at 1.2 m/s, one in five in a group of two, one robot standing in the
+//! middle; the social force model with its default parameters, one 0.1 s step per control step.
+//!
+//! Per repetition (seeds `SEED0..SEED0 + REPS`, default 0): 20 warm-up steps, then `STEPS` timed
+//! steps. Prints one JSON line with the median wall and thread-CPU microseconds per person-step.
+#![allow(missing_docs)]
+
+use proxemic_core::map::geometry::{Bounds, StaticGeometry};
+use proxemic_core::map::grid::{DistanceField, GridSpec, OccupancyGrid};
+use proxemic_core::math::Vec2;
+use proxemic_core::pedestrians::{Crowd, SocialForceParams};
+use proxemic_core::scenario::{Behaviour, Person, Randomize};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+
+const DT: f64 = 0.1;
+const WARMUP: usize = 20;
+
+/// Square metres per person in the museum (864 m^2, 29 people).
+const AREA_PER_PERSON: f64 = 864.0 / 29.0;
+
+fn hall(side: f64) -> Result<StaticGeometry, String> {
+    let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)]
+    };
+    let mut polys = vec![
+        rect(-0.2, -0.2, side + 0.2, 0.0),
+        rect(-0.2, side, side + 0.2, side + 0.2),
+        rect(-0.2, 0.0, 0.0, side),
+        rect(side, 0.0, side + 0.2, side),
+    ];
+    let mut x = 8.0;
+    while x < side - 4.0 {
+        let mut y = 8.0;
+        while y < side - 4.0 {
+            polys.push(rect(x - 0.3, y - 0.3, x + 0.3, y + 0.3));
+            y += 8.0;
+        }
+        x += 8.0;
+    }
+    StaticGeometry::new(polys, Bounds { min: Vec2::new(-1.0, -1.0), max: Vec2::new(side + 1.0, side + 1.0) })
+        .map_err(|e| e.to_string())
+}
+
+fn persons(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
+    let mut pt = || Vec2::new(rng.random_range(1.0..side - 1.0), rng.random_range(1.0..side - 1.0));
+    (0..n)
+        .map(|k| {
+            let (a, b, c) = (pt(), pt(), pt());
+            Person {
+                name: format!("p{k}"),
+                behaviour: Behaviour::Walker,
+                pose: [a.x, a.y, 0.0],
+                route: vec![[a.x, a.y], [b.x, b.y], [c.x, c.y]],
+                speed: 1.2,
+                dwell: 2.0,
+                radius: 0.2,
+                height: 1.7,
+                group: if k % 10 < 2 { Some((k / 10) as u32) } else { None },
+                aware: true,
+                features: vec![],
+            }
+        })
+        .collect()
+}
+
+/// Nanoseconds this thread has spent on a CPU (Linux `schedstat`), if available.
+fn thread_cpu_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    if v.is_empty() {
+        f64::NAN
+    } else if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let parse = |i: usize, default: usize| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(default);
+    let n = parse(1, 200).max(1);
+    let steps = parse(2, 100).max(1);
+    let reps = parse(3, 5).max(1);
+    let seed0 = parse(4, 0) as u64;
+    let side = (n as f64 * AREA_PER_PERSON).sqrt();
+    let geom = match hall(side) {
+        Ok(g) => g,
+        Err(e) => {
+            eprintln!("pedestrian_crowd: hall: {e}");
+            std::process::exit(1);
+        }
+    };
+    let Ok(spec) = GridSpec::covering(geom.bounds(), 0.1) else {
+        eprintln!("pedestrian_crowd: the hall's grid is too large");
+        std::process::exit(1);
+    };
+    let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geom, spec));
+    let robots = [(Vec2::new(side / 2.0, side / 2.0), 0.24, Vec2::zeros())];
+    let (mut wall, mut cpu) = (Vec::new(), Vec::new());
+    let mut speed = 0.0;
+    for seed in seed0..seed0 + reps as u64 {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let people = persons(n, side, &mut rng);
+        let mut crowd = Crowd::spawn(&people, &Randomize::default(), SocialForceParams::default(), &mut rng);
+        for _ in 0..WARMUP {
+            crowd.step(DT, &robots, &geom, &field);
+        }
+        let c0 = thread_cpu_ns();
+        let t0 = Instant::now();
+        for _ in 0..steps {
+            crowd.step(DT, &robots, &geom, &field);
+        }
+        let el = t0.elapsed().as_secs_f64();
+        let c1 = thread_cpu_ns();
+        let per = (steps * n) as f64;
+        wall.push(el / per * 1e6);
+        if let (Some(a), Some(b)) = (c0, c1) {
+            cpu.push((b - a) as f64 / per * 1e-3);
+        }
+        speed += crowd.vel.iter().map(|v| v.norm()).sum::<f64>() / n as f64 / reps as f64;
+    }
+    println!(
+        "{{\"impl\": \"proxemic\", \"n\": {n}, \"steps\": {steps}, \"reps\": {reps}, \"side_m\": {side:.2}, \
+         \"us_per_person_step_median\": {:.4}, \"cpu_us_per_person_step_median\": {:.4}, \
+         \"mean_speed\": {speed:.3}}}",
+        median(wall),
+        median(cpu),
+    );
+}
