@@ -28,7 +28,7 @@ def test_topdown_render_shows_the_robot():
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape == (240, 320, 3)
-    r = env._topdown
+    r = env.ws.topdown
     col, row = r.world_to_pixel(env.robot_pose()[None, :2])[0].astype(int)
     assert tuple(frame[row, col]) == tuple(r.robot_color(0))
     env.close()

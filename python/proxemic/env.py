@@ -8,16 +8,14 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from gymnasium import spaces
 
 from proxemic import _core, scenarios
 from proxemic.errors import InputError
-from proxemic.sim import Simulation, ensure_gl_backend
+from proxemic.world import PLANNER_MODES, RENDER_MODES, WorldSim, action_space, check_render_mode, warn_no_render_mode
 
 OUTCOMES = ("running", "success", "collision", "timeout")
 
-#: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
-PLANNER_MODES = ("follow_path", "orca", "social_momentum", "wait")
+__all__ = ["OUTCOMES", "PLANNER_MODES", "ProxemicEnv"]
 
 
 class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -88,11 +86,11 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     * v0: first release: plain A* planner, route-walking people, first-cut metrics.
     """
 
-    metadata = {"render_modes": ["rgb_array", "topdown", "human"], "render_fps": 10}  # noqa: RUF012
+    metadata = {"render_modes": list(RENDER_MODES), "render_fps": 10}  # noqa: RUF012
 
     def __init__(
         self,
-        scenario: str | Path = "museum",
+        scenario: str | Path | _core.Scenario = "museum",
         *,
         render_mode: str | None = None,
         autopilot: bool = False,
@@ -102,13 +100,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         camera: str = "top",
     ) -> None:
         """Builds the environment. See the class docstring for the arguments."""
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise InputError(
-                f"render_mode: expected one of {self.metadata['render_modes']} or None, got {render_mode!r}",
-                field="render_mode",
-                expected=str(self.metadata["render_modes"]),
-                found=repr(render_mode),
-            )
+        check_render_mode(render_mode)
         if camera not in ("top", "follow"):
             raise InputError(
                 f"camera: expected 'top' or 'follow', got {camera!r}",
@@ -120,47 +112,13 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
         self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner)
-        self.world = _core.World(self.core_scenario)
-        self.sim = Simulation(self.scenario)
+        self.ws = WorldSim(self.core_scenario, self.scenario)
+        self.world, self.sim = self.ws.world, self.ws.sim
         self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}
-
-        sensors = self.scenario["sensors"]
-        k, rays, rng = sensors["k_nearest"], sensors["lidar_rays"], float(sensors["lidar_range"])
-        d = float(self.world.obs_position_bound)
-        vmax, wmax = float(_core.OBS_MAX_SPEED), float(_core.OBS_MAX_ANGULAR)
-        f32 = np.float32
-        self.observation_space = spaces.Dict(
-            {
-                "robot": spaces.Box(
-                    np.array([-d, -d, -vmax, -vmax, -wmax], f32), np.array([d, d, vmax, vmax, wmax], f32), dtype=f32
-                ),
-                "people": spaces.Box(
-                    np.tile(np.array([-rng, -rng, -vmax, -vmax, 0.0], f32), (k, 1)),
-                    np.tile(np.array([rng, rng, vmax, vmax, 0.5], f32), (k, 1)),
-                    dtype=f32,
-                ),
-                "people_mask": spaces.Box(0.0, 1.0, (k,), dtype=f32),
-                "lidar": spaces.Box(0.0, rng, (rays,), dtype=f32),
-            }
-        )
-        self.action_space = spaces.Box(-1.0, 1.0, (3,), dtype=np.float32)
-
-        # Output buffers written in place by the core; the views below are created once.
-        self._out = np.zeros(self.world.num_robots * self.world.stride)
-        self._people = np.zeros(self.world.num_people * 3)
-        self._people2d = self._people.reshape(-1, 3)
-        row = self._out[: self.world.stride]
-        lay = self.world.layout
-        self._views = {name: row[off : off + n] for name, (off, n) in lay.items()}
-        self._obs_people_view = self._views["obs_people"].reshape(k, _core.PERSON_FEATURES)
-        off = lay["command"][0]
-        # Every robot's command (the others keep their built-in planners).
-        self._commands = self._out.reshape(self.world.num_robots, self.world.stride)[:, off : off + 3]
-        self._action = np.zeros(3 * self.world.num_robots)
-        self._action[3:] = np.nan  # other robots (if any) keep their built-in planners
-        self._terms = [f"reward_{t}" for t in _core.REWARD_TERMS]
-        self._topdown: Any = None
-        self._viewer: Any = None
+        self.observation_space = self.ws.observation_space(robots=False)
+        self.action_space = action_space()
+        # The core's buffers (written in place; other robots, if any, keep their built-in planners).
+        self._out, self._people = self.ws.out, self.ws.people
         self._done = True
 
     # ------------------------------------------------------------------ gymnasium API
@@ -169,10 +127,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
         """Starts an episode; the same seed gives the same episode, bit for bit."""
         super().reset(seed=seed)
-        core_seed = int(self.np_random.integers(0, 2**63 - 1))
-        self.world.reset(core_seed, self._out, self._people)
-        poses = self._out.reshape(self.world.num_robots, -1)[:, self.world.layout["pose"][0] :][:, :3]
-        self.sim.reset(poses, self._people2d)
+        self.ws.reset(int(self.np_random.integers(0, 2**63 - 1)))
         self._done = False
         if self.render_mode == "human":
             self.render()
@@ -180,54 +135,29 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def step(self, action: np.ndarray) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """Advances one control step (``1 / control_hz`` seconds; ``frame_skip`` physics steps)."""
-        if not self.autopilot:
-            a = self._action
-            a[:3] = action
-            if not np.isfinite(a[:3]).all():
-                raise InputError(
-                    f"action: expected 3 finite numbers in [-1, 1], got {a[:3].tolist()}",
-                    field="action",
-                    expected="3 finite numbers in [-1, 1]",
-                    found=str(a[:3].tolist()),
-                )
-            self.world.command(a, self._out)
-        sim = self.sim
-        sim.write_people(self._people2d)
-        sim.step(self._commands)
-        sim.read()
-        self.world.step(sim.state, sim.contacts, self._out, self._people)
-        flags = self._views["flags"]
+        if self.autopilot:
+            self.ws.step()
+        else:
+            self.ws.act(0, action, "action")
+            self.ws.step_actions()
+        flags = self.ws.sections["flags"][0]
         terminated, truncated = bool(flags[0]), bool(flags[1])
         self._done = terminated or truncated
         if self.render_mode == "human":
             self.render()
         return (
             self._observation(),
-            float(self._views["reward"][0]),
+            float(self.ws.sections["reward"][0, 0]),
             terminated,
             truncated,
             self._info(final=self._done),
         )
 
     def _observation(self) -> dict[str, np.ndarray]:
-        v = self._views
-        return {
-            "robot": v["obs_robot"].astype(np.float32),
-            "people": self._obs_people_view.astype(np.float32),
-            "people_mask": v["obs_people_mask"].astype(np.float32),
-            "lidar": v["obs_lidar"].astype(np.float32),
-        }
+        return self.ws.observations(robots=False)[0]
 
     def _info(self, *, final: bool) -> dict[str, Any]:
-        v = self._views
-        terms = v["reward_terms"]
-        info: dict[str, Any] = dict(zip(self._terms, terms.tolist(), strict=True))
-        flags = v["flags"]
-        info["is_success"] = bool(flags[2])
-        info["collision"] = bool(flags[3])
-        info["planner_action"] = v["planner_action"].astype(np.float32)
-        info["planner_mode"] = PLANNER_MODES[int(v["mode"][0])]
-        info["time_of_day"] = self.world.time_of_day
+        info = self.ws.info(0)
         if final:
             info["metrics"] = self.metrics()
         return info
@@ -244,7 +174,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def robot_pose(self) -> np.ndarray:
         """The robot's (x, y, theta) after the last step."""
-        return np.array(self._views["pose"])
+        return self.ws.poses()[0]
 
     def people(self) -> np.ndarray:
         """The people now: (P, 6) x, y, heading, vx, vy, radius."""
@@ -253,40 +183,11 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def render(self) -> np.ndarray | None:
         """Renders according to ``render_mode`` (``None`` returns nothing)."""
         if self.render_mode is None:
-            gym.logger.warn("render() called without a render_mode; pass render_mode= to the constructor")
+            warn_no_render_mode()
             return None
-        if self.render_mode == "topdown":
-            return self._render_topdown()
-        if self.render_mode == "human":
-            return self._render_human()
-        ensure_gl_backend()
         camera = "top" if self.camera == "top" else "robot_0/follow"
-        return self.sim.render(self.width, self.height, camera)
-
-    def _render_topdown(self) -> np.ndarray:
-        from proxemic.viz.topdown import TopDownRenderer
-
-        if self._topdown is None:
-            self._topdown = TopDownRenderer(self.scenario, self.width, self.height)
-        people = self.people()
-        robots = self._out.reshape(self.world.num_robots, -1)[:, self.world.layout["pose"][0] :][:, :3]
-        goals = np.array([r["goal"] for r in self.scenario["robots"]], dtype=np.float64)
-        frame: np.ndarray = self._topdown.render(
-            robots, people[:, [0, 1, 2, 5]], goals=goals, paths=[self.planned_path()]
-        )
-        return frame
-
-    def _render_human(self) -> None:
-        import mujoco.viewer
-
-        if self._viewer is None:
-            self._viewer = mujoco.viewer.launch_passive(self.sim.model, self.sim.data)
-        self._viewer.sync()
-        return None
+        return self.ws.render(self.render_mode, self.width, self.height, camera)
 
     def close(self) -> None:
         """Releases rendering resources."""
-        self.sim.close()
-        if self._viewer is not None:
-            self._viewer.close()
-            self._viewer = None
+        self.ws.close()

@@ -884,6 +884,28 @@ fn err(
     }
 }
 
+/// Robots must not start overlapping: every pair of start discs at least touching-free.
+fn check_robot_starts(file: &str, robots: &[Robot]) -> Result<()> {
+    for (j, b) in robots.iter().enumerate() {
+        for (i, a) in robots[..j].iter().enumerate() {
+            let d = (a.start[0] - b.start[0]).hypot(a.start[1] - b.start[1]);
+            let need = a.radius + b.radius;
+            if d < need {
+                return Err(err(
+                    file,
+                    format!("robot[{j}].start"),
+                    format!(
+                        "a start at least {need:.2} m (the sum of the radii) from robot[{i}]'s start {:?}",
+                        [a.start[0], a.start[1]]
+                    ),
+                    format!("{:?}, {d:.2} m away (overlapping)", [b.start[0], b.start[1]]),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Renders a serde path (`person.3.route`) the way the file is written (`person[3].route`).
 fn dotted_path(path: &serde_path_to_error::Path) -> String {
     use serde_path_to_error::Segment;
@@ -1029,6 +1051,43 @@ impl Scenario {
         for r in &mut s.robots {
             r.planner = kind;
         }
+        Ok(s)
+    }
+
+    /// A copy with robot `index`'s planner replaced by `name` (one of [`PlannerKind::NAMES`]).
+    pub fn with_robot_planner(&self, index: usize, name: &str) -> Result<Self> {
+        let field = format!("robot[{index}].planner");
+        if index >= self.robots.len() {
+            return Err(err(
+                &self.source,
+                format!("robot[{index}]"),
+                format!("a robot index below {}", self.robots.len()),
+                index.to_string(),
+            ));
+        }
+        let kind = PlannerKind::parse(name).ok_or_else(|| {
+            err(&self.source, field, format!("one of {:?}", PlannerKind::NAMES), format!("{name:?}"))
+        })?;
+        let mut s = self.clone();
+        s.robots[index].planner = kind;
+        Ok(s)
+    }
+
+    /// A copy with only the first `n` robots (1 <= `n` <= the number of `[[robot]]` entries).
+    pub fn with_robots(&self, n: usize) -> Result<Self> {
+        if n == 0 || n > self.robots.len() {
+            return Err(err(
+                &self.source,
+                "robots",
+                format!(
+                    "a number of robots in [1, {}] (the [[robot]] entries of the file)",
+                    self.robots.len()
+                ),
+                n.to_string(),
+            ));
+        }
+        let mut s = self.clone();
+        s.robots.truncate(n);
         Ok(s)
     }
 
@@ -1438,6 +1497,7 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
         });
     }
     check_unique(file, "robot", robots.iter().map(|r| r.name.as_str()))?;
+    check_robot_starts(file, &robots)?;
 
     // ---- episode, sensors, reward
     let e = &raw.episode;
@@ -2060,6 +2120,48 @@ goal = [9, 4]
         let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, nan]");
         let (_, field, _, _) = scenario_err(&text);
         assert_eq!(field, "robot[0].goal");
+    }
+
+    #[test]
+    fn overlapping_robot_starts_are_rejected() {
+        let two = format!("{MINIMAL}\n[[robot]]\nstart = [1.3, 4.1, 0]\ngoal = [9, 6]\n");
+        let (file, field, expected, found) = scenario_err(&two);
+        assert_eq!(file, "test.toml");
+        assert_eq!(field, "robot[1].start");
+        assert!(expected.contains("0.48 m") && expected.contains("robot[0]"), "{expected}");
+        assert!(found.contains("overlapping"), "{found}");
+        // Just clear of each other: accepted.
+        let ok = two.replace("start = [1.3, 4.1, 0]", "start = [1.5, 4, 0]");
+        assert_eq!(parse(&ok).expect("valid").robots.len(), 2);
+    }
+
+    #[test]
+    fn robot_subsets_and_per_robot_planners() {
+        let two = format!("{MINIMAL}\n[[robot]]\nstart = [1, 6, 0]\ngoal = [9, 6]\n");
+        let s = parse(&two).expect("valid");
+        assert_eq!(s.with_robots(1).expect("one").robots.len(), 1);
+        assert_eq!(s.with_robots(2).expect("two").robots.len(), 2);
+        for bad in [0, 3] {
+            match s.with_robots(bad) {
+                Err(CoreError::Scenario { field, expected, found, .. }) => {
+                    assert_eq!(field, "robots");
+                    assert!(expected.contains("[1, 2]"), "{expected}");
+                    assert_eq!(found, bad.to_string());
+                }
+                other => panic!("expected a scenario error, got {other:?}"),
+            }
+        }
+        let m = s.with_robot_planner(1, "orca").expect("known planner");
+        assert_eq!(m.robots[1].planner, PlannerKind::Orca);
+        assert_eq!(m.robots[0].planner, s.robots[0].planner);
+        match s.with_robot_planner(1, "teleport") {
+            Err(CoreError::Scenario { field, found, .. }) => {
+                assert_eq!(field, "robot[1].planner");
+                assert_eq!(found, "\"teleport\"");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+        assert!(s.with_robot_planner(2, "orca").is_err());
     }
 
     #[test]

@@ -48,6 +48,10 @@ pub const CONTACT_ROBOT: u8 = 4;
 pub const PERSON_FEATURES: usize = 5;
 /// Number of values in the robot observation.
 pub const ROBOT_FEATURES: usize = 5;
+/// Number of values per other robot in the robots observation: id (the robot's index), position
+/// (x, y) and velocity (vx, vy) in the observer's frame, radius, and 1 while that robot's episode
+/// is running (0 once it has ended: it then stands still).
+pub const PEER_FEATURES: usize = 7;
 /// Names of the reward terms, in the order they are summed.
 pub const REWARD_TERMS: [&str; 5] = ["progress", "success", "collision", "time", "personal_space"];
 /// Radius of the personal zone used by the personal-space reward term (metres, centre distance;
@@ -74,21 +78,26 @@ pub struct Layout {
     pub stride: usize,
     /// Named sections: `command` (3: vx, vy, wz, robot frame, to execute), `planner_action` (3:
     /// the built-in planner's command as a normalised action), `obs_robot` (5), `obs_people`
-    /// (k * 5), `obs_people_mask` (k), `obs_lidar` (rays), `reward_terms` (5), `reward` (1),
+    /// (k * 5), `obs_people_mask` (k), `obs_lidar` (rays), `obs_robots` ((n - 1) * 7, the other
+    /// robots within sensor range, nearest first, see [`PEER_FEATURES`]), `obs_robots_mask`
+    /// (n - 1), `reward_terms` (5), `reward` (1),
     /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta), `mode`
     /// (1: the local planner's mode, see [`Mode::code`]).
     pub sections: Vec<(&'static str, Section)>,
 }
 
 impl Layout {
-    fn new(k: usize, rays: usize) -> Self {
-        let sizes: [(&'static str, usize); 11] = [
+    fn new(k: usize, rays: usize, robots: usize) -> Self {
+        let others = robots.saturating_sub(1);
+        let sizes: [(&'static str, usize); 13] = [
             ("command", 3),
             ("planner_action", 3),
             ("obs_robot", ROBOT_FEATURES),
             ("obs_people", k * PERSON_FEATURES),
             ("obs_people_mask", k),
             ("obs_lidar", rays),
+            ("obs_robots", others * PEER_FEATURES),
+            ("obs_robots_mask", others),
             ("reward_terms", REWARD_TERMS.len()),
             ("reward", 1),
             ("flags", 4),
@@ -289,7 +298,8 @@ impl World {
                 nominal_path,
             });
         }
-        let layout = Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays);
+        let layout =
+            Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays, scenario.robots.len());
         let grid_refs: Vec<&CostGrid> = grids.iter().map(|g| &g.grid).collect();
         let social = SocialPlanning::new(&scenario, &grid_refs)?;
         let obstacles = ObstacleSet::from_geometry(&geometry)?;
@@ -631,6 +641,7 @@ impl World {
             let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
             let radius = self.statics[i].radius;
             let (d, gap) = self.closest_person(p, radius);
+            let robot_gap = self.closest_robot_gap(i);
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
             let row = &mut out[i * stride..(i + 1) * stride];
@@ -646,6 +657,8 @@ impl World {
                 person_gap: gap,
                 hit_person: contacts[i] & CONTACT_PERSON != 0 || gap < 0.0,
                 hit_static: contacts[i] & CONTACT_STATIC != 0,
+                robot_gap,
+                hit_robot: contacts[i] & CONTACT_ROBOT != 0 || robot_gap < 0.0,
                 at_goal: (p - st.goal).norm() <= success_radius,
                 out_of_time,
             };
@@ -695,6 +708,19 @@ impl World {
         best
     }
 
+    /// Closest surface gap from robot `i` to any other robot (+inf alone).
+    fn closest_robot_gap(&self, i: usize) -> f64 {
+        let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+        let r = self.statics[i].radius;
+        let mut best = f64::INFINITY;
+        for (j, (o, st)) in self.robots.iter().zip(&self.statics).enumerate() {
+            if j != i {
+                best = best.min((Vec2::new(o.pose[0], o.pose[1]) - p).norm() - r - st.radius);
+            }
+        }
+        best
+    }
+
     fn write_people(&self, people_out: &mut [f64]) {
         for (k, chunk) in people_out.chunks_exact_mut(3).enumerate() {
             chunk[0] = self.crowd.pos[k].x;
@@ -709,6 +735,8 @@ impl World {
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
         let (o_robot, o_people, o_mask, o_lidar, o_pose) =
             (sec("obs_robot"), sec("obs_people"), sec("obs_people_mask"), sec("obs_lidar"), sec("pose"));
+        let (o_peers, o_peer_mask) = (sec("obs_robots"), sec("obs_robots_mask"));
+        let others = self.robots.len().saturating_sub(1);
         let k = self.scenario.sensors.k_nearest;
         let rays = self.scenario.sensors.lidar_rays;
         let range = self.scenario.sensors.lidar_range;
@@ -752,6 +780,34 @@ impl World {
                 mask[slot] = 1.0;
             }
             row[o_mask..o_mask + k].copy_from_slice(&mask[..k]);
+            // The other robots within sensor range, nearest first (ties by index), with their ids.
+            self.scratch_people.clear();
+            for (j, o) in self.robots.iter().enumerate() {
+                let d = (Vec2::new(o.pose[0], o.pose[1]) - p).norm();
+                if j != i && d <= range {
+                    self.scratch_people.push((d, j));
+                }
+            }
+            self.scratch_people.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let peers = &mut row[o_peers..o_peers + others * PEER_FEATURES];
+            peers.fill(0.0);
+            for (slot, &(_, j)) in self.scratch_people.iter().enumerate() {
+                let o = &self.robots[j];
+                let rel = world_to_body(Vec2::new(o.pose[0], o.pose[1]) - p, th);
+                let vel = world_to_body(o.velocity, th);
+                let f = &mut peers[slot * PEER_FEATURES..(slot + 1) * PEER_FEATURES];
+                f[0] = j as f64;
+                f[1] = rel.x.clamp(-range, range);
+                f[2] = rel.y.clamp(-range, range);
+                f[3] = vel.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+                f[4] = vel.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+                f[5] = self.statics[j].radius;
+                f[6] = f64::from(u8::from(o.outcome == Outcome::Running));
+            }
+            let seen = self.scratch_people.len();
+            let peer_mask = &mut row[o_peer_mask..o_peer_mask + others];
+            peer_mask.fill(0.0);
+            peer_mask[..seen].fill(1.0);
             // Lidar sees the static world, the people and the other robots.
             self.scratch_discs.clear();
             for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {

@@ -103,6 +103,24 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose robot `index` uses the built-in planner `name` (see `PLANNERS`).
+    fn with_robot_planner(&self, py: Python<'_>, index: usize, name: &str) -> PyResult<Self> {
+        let inner = self.inner.with_robot_planner(index, name).map_err(|e| to_py_err(py, e))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy with only the first `n` robots (1 <= n <= the file's `[[robot]]` entries).
+    fn with_robots(&self, py: Python<'_>, n: usize) -> PyResult<Self> {
+        let inner = self.inner.with_robots(n).map_err(|e| to_py_err(py, e))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// Number of robots.
+    #[getter]
+    fn num_robots(&self) -> usize {
+        self.inner.robots.len()
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
     fn to_json(&self) -> String {
         self.inner.to_json()
@@ -480,6 +498,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("REWARD_TERMS", world::REWARD_TERMS.to_vec())?;
     m.add("PERSON_FEATURES", world::PERSON_FEATURES)?;
     m.add("ROBOT_FEATURES", world::ROBOT_FEATURES)?;
+    m.add("PEER_FEATURES", world::PEER_FEATURES)?;
     m.add("OBS_MAX_SPEED", world::OBS_MAX_SPEED)?;
     m.add("OBS_MAX_ANGULAR", world::OBS_MAX_ANGULAR)?;
     m.add("PLANNERS", proxemic_core::scenario::PlannerKind::NAMES.to_vec())?;
