@@ -37,6 +37,7 @@ def parallel_env(*args: Any, **kwargs: Any) -> ProxemicParallelEnv:
 
     return make(*args, **kwargs)
 
+
 __all__ = [
     "ENV_IDS",
     "InputError",

@@ -83,6 +83,15 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             UnknownNameError: an unknown scenario or planner name.
         """
         check_render_mode(render_mode)
+        self._args: dict[str, Any] = {
+            "scenario": scenario,
+            "robots": robots,
+            "planners": planners,
+            "autopilot": autopilot,
+            "render_mode": render_mode,
+            "width": width,
+            "height": height,
+        }
         self.render_mode = render_mode
         self.width, self.height = width, height
         core, _ = scenarios.load(scenario)
@@ -122,7 +131,11 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.observation_spaces: dict[AgentID, spaces.Space[Any]] = {a: obs_space for a in names}
         self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
         self._np_random: np.random.Generator | None = None
-        self._infos: dict[AgentID, dict[str, Any]] = {}
+        self._live: frozenset[str] = frozenset()
+
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        """Pickles as the constructor's arguments: a copy is a new env (episode state not carried)."""
+        return _rebuild, (self._args,)
 
     def observation_space(self, agent: AgentID) -> spaces.Space[Any]:
         """The observation space of `agent` (the same for every agent)."""
@@ -141,13 +154,16 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             self._np_random, _ = seeding.np_random(seed)
         self.ws.reset(int(self._np_random.integers(0, 2**63 - 1)))
         self.agents = list(self.possible_agents)
+        self._live = frozenset(self.agents)
         obs = self.ws.observations(robots=True)
-        infos = {a: self.ws.info(i) for i, a in enumerate(self.agents)}
+        infos = dict(zip(self.agents, self.ws.infos(list(range(len(self.agents)))), strict=True))
         if self.render_mode == "human":
             self.render()
         return {a: obs[i] for i, a in enumerate(self.agents)}, infos
 
-    def step(self, actions: Mapping[AgentID, Any]) -> tuple[
+    def step(
+        self, actions: Mapping[AgentID, Any]
+    ) -> tuple[
         dict[AgentID, ObsDict],
         dict[AgentID, float],
         dict[AgentID, bool],
@@ -160,18 +176,18 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             InputError: an action for an agent that is not live, a missing action for a live
                 agent not on autopilot, or an action that is not 3 finite numbers.
         """
-        ws, index = self.ws, self._index
-        for agent, action in actions.items():
-            if agent not in index or agent not in self.agents:
-                raise InputError(
-                    f"actions: expected actions for live agents {self.agents}, got one for {agent!r}",
-                    field="actions",
-                    expected=f"keys among {self.agents}",
-                    found=repr(agent),
-                )
-            if agent not in self.autopilot:
-                ws.act(index[agent], action, f"actions[{agent!r}]")
-        missing = [a for a in self.agents if a not in actions and a not in self.autopilot]
+        ws, index, live = self.ws, self._index, self.agents
+        if len(actions) > len(live) or not all(a in self._live for a in actions):
+            extra = next(a for a in actions if a not in self._live)
+            raise InputError(
+                f"actions: expected actions for live agents {live}, got one for {extra!r}",
+                field="actions",
+                expected=f"keys among {live}",
+                found=repr(extra),
+            )
+        acting = [a for a in actions if a not in self.autopilot]
+        ws.act_many([index[a] for a in acting], [actions[a] for a in acting], [f"actions[{a!r}]" for a in acting])
+        missing = [a for a in live if a not in actions and a not in self.autopilot]
         if missing:
             raise InputError(
                 f"actions: expected an action for every live agent not on autopilot, missing {missing}",
@@ -182,17 +198,17 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         ws.step_actions()
         obs_all = ws.observations(robots=True)
         reward = ws.sections["reward"][:, 0].tolist()
-        flags = ws.sections["flags"]
-        live = self.agents
-        obs, rewards, terms, truncs, infos = {}, {}, {}, {}, {}
-        for a in live:
-            i = index[a]
+        flags = ws.sections["flags"][:, :2].tolist()
+        rows = [index[a] for a in live]
+        obs, rewards, terms, truncs = {}, {}, {}, {}
+        for a, i in zip(live, rows, strict=True):
             obs[a] = obs_all[i]
             rewards[a] = reward[i]
-            terms[a] = bool(flags[i, 0])
-            truncs[a] = bool(flags[i, 1])
-            infos[a] = ws.info(i)
+            terms[a] = flags[i][0] != 0.0
+            truncs[a] = flags[i][1] != 0.0
+        infos = dict(zip(live, ws.infos(rows), strict=True))
         self.agents = [a for a in live if not (terms[a] or truncs[a])]
+        self._live = frozenset(self.agents)
         finished = [a for a in live if terms[a] or truncs[a]]
         if finished:
             metrics = json.loads(self.world.metrics_json())
@@ -270,6 +286,10 @@ def parallel_env(
     return ProxemicParallelEnv(
         scenario, robots=robots, planners=planners, autopilot=autopilot, render_mode=render_mode, **kwargs
     )
+
+
+def _rebuild(args: dict[str, Any]) -> ProxemicParallelEnv:
+    return ProxemicParallelEnv(**args)
 
 
 def _check_planner(name: str, field: str) -> str:

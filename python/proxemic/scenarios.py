@@ -63,9 +63,7 @@ def check_planner(planner: str) -> str:
     return planner
 
 
-def load(
-    scenario: str | Path | _core.Scenario, *, planner: str | None = None
-) -> tuple[_core.Scenario, dict[str, Any]]:
+def load(scenario: str | Path | _core.Scenario, *, planner: str | None = None) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
     Args:

@@ -146,6 +146,21 @@ class WorldSim:
             )
         self._actions[3 * robot : 3 * robot + 3] = a
 
+    def act_many(self, robots: list[int], actions: list[Any], fields: list[str]) -> None:
+        """:meth:`act` for several robots at once (one array conversion; errors name the culprit)."""
+        if not robots:
+            return
+        try:
+            a = np.asarray(actions, dtype=np.float64)
+        except (ValueError, TypeError):
+            a = np.empty(0)
+        if a.shape != (len(robots), 3) or not np.isfinite(a).all():
+            for r, action, field in zip(robots, actions, fields, strict=True):
+                self.act(r, action, field)
+            return
+        idx = np.asarray(robots)
+        self._actions.reshape(-1, 3)[idx] = a
+
     def step_actions(self) -> None:
         """Steps with the actions stored by :meth:`act` (others keep their planners), then clears them."""
         self.step(self._actions)
@@ -175,15 +190,26 @@ class WorldSim:
 
     def info(self, robot: int) -> dict[str, Any]:
         """Robot `robot`'s step info: reward terms, success and collision flags, planner command and mode."""
+        return self.infos([robot])[0]
+
+    def infos(self, robots: list[int]) -> list[dict[str, Any]]:
+        """:meth:`info` of several robots (the buffer is read once)."""
         s = self.sections
-        info: dict[str, Any] = dict(zip(REWARD_KEYS, s["reward_terms"][robot].tolist(), strict=True))
-        flags = s["flags"][robot]
-        info["is_success"] = bool(flags[2])
-        info["collision"] = bool(flags[3])
-        info["planner_action"] = s["planner_action"][robot].astype(np.float32)
-        info["planner_mode"] = PLANNER_MODES[int(s["mode"][robot, 0])]
-        info["time_of_day"] = self.world.time_of_day
-        return info
+        terms = s["reward_terms"].tolist()
+        flags = s["flags"].tolist()
+        modes = s["mode"][:, 0].tolist()
+        actions = s["planner_action"].astype(np.float32)
+        tod = self.world.time_of_day
+        out = []
+        for r in robots:
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, terms[r], strict=True))
+            info["is_success"] = bool(flags[r][2])
+            info["collision"] = bool(flags[r][3])
+            info["planner_action"] = actions[r]
+            info["planner_mode"] = PLANNER_MODES[int(modes[r])]
+            info["time_of_day"] = tod
+            out.append(info)
+        return out
 
     def poses(self) -> np.ndarray:
         """The robots' (x, y, theta) after the last step, (N, 3) (a copy)."""
