@@ -162,6 +162,20 @@ def test_mixed_planners_and_autopilot_sets():
         env.step({"robot_0": zero})
 
 
+def test_without_planner_actions_policy_agents_skip_their_planners():
+    env = proxemic.parallel_env("daza2021_fig15", autopilot={"robot_3"}, planner_actions=False)
+    _, infos = env.reset(seed=0)
+    assert "planner_action" not in infos["robot_0"] and "planner_mode" not in infos["robot_0"]
+    assert "planner_action" in infos["robot_3"]  # on autopilot: its planner drives it
+    forward = np.array([1.0, 0.0, 0.0], np.float32)
+    for _ in range(20):
+        _, _, _, _, infos = env.step({a: forward for a in ("robot_0", "robot_1", "robot_2")})
+    assert "planner_action" not in infos["robot_1"]
+    # The policies drove robots 0-2 forward; robot 3 followed its own planner toward its goal.
+    moved = env.state()[:, :2] - np.array([[2, 6], [10, 6], [6, 2], [6, 10]], np.float32)
+    assert np.linalg.norm(moved, axis=1).min() > 0.5
+
+
 def _intrusions(poses: list[np.ndarray], people: list[np.ndarray], robots: list[int], zone: float) -> int:
     """Steps where a robot came within `zone` of a person by its own motion (toward that person)."""
     count = 0
@@ -228,6 +242,9 @@ def test_bad_input_is_a_clear_error(write_scenario):
     assert e.value.field == "actions['robot_0']"
     with pytest.raises(InputError, match="robot_7"):
         env.step({"robot_0": [0, 0, 0], "robot_1": [0, 0, 0], "robot_7": [0, 0, 0]})
+    with pytest.raises(InputError) as e:
+        env.world.set_planning([True])
+    assert e.value.field == "planning" and "2 flags" in e.value.expected
 
 
 def test_example_with_a_standard_multi_agent_wrapper_runs():

@@ -61,6 +61,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         robots: int | None = None,
         planners: str | Mapping[str, str] | None = None,
         autopilot: bool | Collection[str] = False,
+        planner_actions: bool = True,
         render_mode: str | None = None,
         width: int = 640,
         height: int = 480,
@@ -73,6 +74,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``) or
                 per agent (``{"robot_1": "orca"}``; the others keep the scenario's).
             autopilot: True, or the agents driven by their built-in planner (actions ignored).
+            planner_actions: Run the built-in planners of the agents not on autopilot too, for
+                ``info["planner_action"]`` and ``info["planner_mode"]``. False skips their cost
+                (their infos then lack both keys).
             render_mode: ``"rgb_array"``, ``"topdown"``, ``"human"`` or None.
             width: Frame width (pixels).
             height: Frame height (pixels).
@@ -88,6 +92,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             "robots": robots,
             "planners": planners,
             "autopilot": autopilot,
+            "planner_actions": planner_actions,
             "render_mode": render_mode,
             "width": width,
             "height": height,
@@ -127,6 +132,8 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             self.autopilot = frozenset()
         else:
             self.autopilot = frozenset(names[_agent_index(a, names, "autopilot")] for a in autopilot)
+        if not planner_actions:
+            self.ws.set_planning([a in self.autopilot for a in names])
         obs_space = self.ws.observation_space(robots=True)
         self.observation_spaces: dict[AgentID, spaces.Space[Any]] = {a: obs_space for a in names}
         self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
@@ -279,12 +286,19 @@ def parallel_env(
     robots: int | None = None,
     planners: str | Mapping[str, str] | None = None,
     autopilot: bool | Collection[str] = False,
+    planner_actions: bool = True,
     render_mode: str | None = None,
     **kwargs: Any,
 ) -> ProxemicParallelEnv:
     """A PettingZoo ``ParallelEnv`` of the scenario's robots (see :class:`ProxemicParallelEnv`)."""
     return ProxemicParallelEnv(
-        scenario, robots=robots, planners=planners, autopilot=autopilot, render_mode=render_mode, **kwargs
+        scenario,
+        robots=robots,
+        planners=planners,
+        autopilot=autopilot,
+        planner_actions=planner_actions,
+        render_mode=render_mode,
+        **kwargs,
     )
 
 

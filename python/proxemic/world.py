@@ -74,6 +74,7 @@ class WorldSim:
         self.layout: dict[str, tuple[int, int]] = dict(w.layout)
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
         self._actions = np.full(3 * w.num_robots, np.nan)
+        self.planning = [True] * w.num_robots
         sensors = scenario["sensors"]
         self.k_nearest: int = sensors["k_nearest"]
         self.lidar_rays: int = sensors["lidar_rays"]
@@ -113,6 +114,14 @@ class WorldSim:
             entries["robots"] = spaces.Box(np.tile(lo, (m, 1)), np.tile(hi, (m, 1)), dtype=f32)
             entries["robots_mask"] = spaces.Box(0.0, 1.0, (m,), dtype=f32)
         return spaces.Dict(entries)
+
+    def set_planning(self, planning: list[bool]) -> None:
+        """Which robots' built-in planners run (see ``World.set_planning``).
+
+        Infos of the robots whose planner is off have no ``planner_action`` and ``planner_mode``.
+        """
+        self.world.set_planning(planning)
+        self.planning = list(planning)
 
     # ------------------------------------------------------------------ stepping
     def reset(self, seed: int) -> None:
@@ -205,8 +214,9 @@ class WorldSim:
             info: dict[str, Any] = dict(zip(REWARD_KEYS, terms[r], strict=True))
             info["is_success"] = bool(flags[r][2])
             info["collision"] = bool(flags[r][3])
-            info["planner_action"] = actions[r]
-            info["planner_mode"] = PLANNER_MODES[int(modes[r])]
+            if self.planning[r]:
+                info["planner_action"] = actions[r]
+                info["planner_mode"] = PLANNER_MODES[int(modes[r])]
             info["time_of_day"] = tod
             out.append(info)
         return out

@@ -199,6 +199,8 @@ pub struct World {
     started: bool,
     scratch_people: Vec<(f64, usize)>,
     scratch_discs: Vec<(Vec2, f64)>,
+    /// Per robot: whether its built-in planner runs (see [`World::set_planning`]).
+    planning: Vec<bool>,
 }
 
 fn v2(p: [f64; 2]) -> Vec2 {
@@ -322,6 +324,7 @@ impl World {
             started: false,
             scratch_people: Vec::new(),
             scratch_discs: Vec::new(),
+            planning: vec![true; scenario.robots.len()],
             scenario,
         };
         world.crowd = Crowd::spawn(
@@ -392,6 +395,23 @@ impl World {
     pub fn plan(&mut self, i: usize, start: Vec2, goal: Vec2) -> Option<Vec<Vec2>> {
         let grid = &self.grids[self.statics.get(i)?.grid_index].grid;
         plan_path(&mut self.planner, grid, start, goal)
+    }
+
+    /// Chooses which robots' built-in planners run (one flag per robot; all run by default).
+    /// A robot whose planner is off is driven only by [`World::command`]: it computes no path
+    /// updates, local planner or re-plans (saving their cost when a policy drives it), its
+    /// `planner_action` is a stop command and its `mode` follow_path. It stays an obstacle, and
+    /// the other robots' planners still see it. Kept across resets.
+    pub fn set_planning(&mut self, planning: &[bool]) -> Result<()> {
+        if planning.len() != self.num_robots() {
+            return Err(CoreError::input(
+                "planning",
+                format!("{} flags (one per robot)", self.num_robots()),
+                format!("{} flags", planning.len()),
+            ));
+        }
+        self.planning = planning.to_vec();
+        Ok(())
     }
 
     /// Episode metrics of every robot so far.
@@ -495,11 +515,11 @@ impl World {
                     ElasticBand::new(self.robots[i].follower.path(), EbandParams::default()).ok();
             }
         }
-        if self.statics.iter().any(|s| s.planner.social_global()) {
+        if (0..self.robots.len()).any(|i| self.planning[i] && self.statics[i].planner.social_global()) {
             self.perceive()?;
             let tod = self.time_of_day();
             for i in 0..self.robots.len() {
-                if self.statics[i].planner.social_global() {
+                if self.planning[i] && self.statics[i].planner.social_global() {
                     let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
                     self.social_plan(i, p, tod);
                     self.robots[i].replans = 0;
@@ -926,6 +946,7 @@ impl World {
             .filter(|&i| {
                 let rb = &self.robots[i];
                 self.statics[i].planner.social_global()
+                    && self.planning[i]
                     && rb.outcome == Outcome::Running
                     && self.steps > 0
                     && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
@@ -1013,7 +1034,10 @@ impl World {
         let local = |k: PlannerKind| {
             matches!(k, PlannerKind::Social | PlannerKind::SocialMomentum | PlannerKind::Orca)
         };
-        if self.statics.iter().any(|s| local(s.planner) || s.planner == PlannerKind::Eband) {
+        if (0..n).any(|i| {
+            let k = self.statics[i].planner;
+            self.planning[i] && (local(k) || k == PlannerKind::Eband)
+        }) {
             // Groups and robots joining them, as perceived now (the social planners' perception).
             let _ = self.perceive();
         }
@@ -1021,7 +1045,7 @@ impl World {
         let mut orca_active: Vec<usize> = Vec::new();
         let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
         for i in 0..n {
-            if self.robots[i].outcome != Outcome::Running {
+            if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
                 self.robots[i].mode = Mode::FollowPath;
                 continue;
             }

@@ -304,6 +304,13 @@ impl PyWorld {
         enter_core(py, move || w.step(s, c, o, p))
     }
 
+    /// Chooses which robots' built-in planners run (one bool per robot; all by default). A
+    /// robot whose planner is off is driven only by `command` (its `planner_action` is a stop
+    /// command); it saves the planner's cost when a policy drives it. Kept across resets.
+    fn set_planning(&mut self, py: Python<'_>, planning: Vec<bool>) -> PyResult<()> {
+        self.inner.set_planning(&planning).map_err(|e| to_py_err(py, e))
+    }
+
     /// Episode metrics of every robot so far, as JSON (a list of objects; infinities as null).
     fn metrics_json(&self) -> String {
         serde_json_string(&self.inner.metrics())
