@@ -176,6 +176,51 @@ def test_without_planner_actions_policy_agents_skip_their_planners():
     assert np.linalg.norm(moved, axis=1).min() > 0.5
 
 
+JOIN_ROOM = """
+[scene]
+name = "join"
+bounds = [0, 0, 10, 10]
+
+[[wall]]
+from = [0, 0]
+to = [10, 0]
+
+[[person]]
+behaviour = "standing"
+pose = [3, {y}, 0]
+group = 1
+
+[[person]]
+behaviour = "standing"
+pose = [4, {y}, 3.14159]
+group = 1
+
+[[robot]]
+start = [3.5, 5.0, -1.5708]
+goal = [8.5, 5.0]
+planner = "social"
+
+[[robot]]
+start = [3.5, 7.5, -1.5708]
+goal = [8.5, 8.5]
+planner = "social"
+"""
+
+
+def test_a_robot_in_a_conversation_is_a_person_to_the_other_robots():
+    # robot_1 stands 2.5 m from robot_0 and over 3 m (the controller's people range) from both
+    # people. With the conversation at y = 4, robot_0 is inside it (1.1 m from both, at rest):
+    # robot_1's social planner handles robot_0 as a person (Social Momentum). With the
+    # conversation moved away (y = 1), robot_0 is just a robot: robot_1 follows its path.
+    modes = {}
+    for y in (4, 1):
+        env = proxemic.parallel_env(proxemic._core.Scenario.from_toml(JOIN_ROOM.format(y=y), "join.toml"))
+        _, infos = env.reset(seed=0)
+        joins = env.world.perception()["robot_joins"]
+        modes[y] = (joins[0] is not None, infos["robot_1"]["planner_mode"])
+    assert modes == {4: (True, "social_momentum"), 1: (False, "follow_path")}
+
+
 def _intrusions(poses: list[np.ndarray], people: list[np.ndarray], robots: list[int], zone: float) -> int:
     """Steps where a robot came within `zone` of a person by its own motion (toward that person)."""
     count = 0

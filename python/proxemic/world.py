@@ -179,23 +179,23 @@ class WorldSim:
     def observations(self, robots: bool) -> list[dict[str, np.ndarray]]:
         """Every robot's observation (float32 views of one fresh copy of the buffer)."""
         rows = self.rows.astype(np.float32)
-        lay = self.layout
-        k, pf = self.k_nearest, _core.PERSON_FEATURES
-        keys = [("robot", "obs_robot"), ("people_mask", "obs_people_mask"), ("lidar", "obs_lidar")]
+        n, lay = self.num_robots, self.layout
+
+        def part(name: str, *shape: int) -> np.ndarray:
+            off, length = lay[name]
+            return rows[:, off : off + length].reshape(n, *shape)
+
+        parts = {
+            "robot": part("obs_robot", -1),
+            "people": part("obs_people", self.k_nearest, _core.PERSON_FEATURES),
+            "people_mask": part("obs_people_mask", -1),
+            "lidar": part("obs_lidar", -1),
+        }
         if robots:
-            keys.append(("robots_mask", "obs_robots_mask"))
-        sl = {key: slice(lay[name][0], lay[name][0] + lay[name][1]) for key, name in keys}
-        po, pn = lay["obs_people"]
-        ro, rn = lay["obs_robots"]
-        out = []
-        for i in range(self.num_robots):
-            row = rows[i]
-            obs = {key: row[s] for key, s in sl.items()}
-            obs["people"] = row[po : po + pn].reshape(k, pf)
-            if robots:
-                obs["robots"] = row[ro : ro + rn].reshape(-1, _core.PEER_FEATURES)
-            out.append(obs)
-        return out
+            parts["robots"] = part("obs_robots", n - 1, _core.PEER_FEATURES)
+            parts["robots_mask"] = part("obs_robots_mask", n - 1)
+        items = list(parts.items())
+        return [{key: arr[i] for key, arr in items} for i in range(n)]
 
     def info(self, robot: int) -> dict[str, Any]:
         """Robot `robot`'s step info: reward terms, success and collision flags, planner command and mode."""
