@@ -135,6 +135,18 @@ def test_four_robots_cross_without_robot_collision_and_all_arrive():
         assert 0.0 < team["team_time"] <= team["total_time"]
 
 
+def test_care_center_delivery_robots_meet_in_the_corridor_and_all_deliver():
+    env = proxemic.parallel_env("care_center_multi", autopilot=True)
+    assert len(env.possible_agents) == 3
+    env.reset(seed=0)
+    while env.agents:
+        env.step({})
+    team = env.episode_metrics()
+    assert [m["outcome"] for m in team["robots"]] == ["success"] * 3
+    assert team["agent_collisions"] == 0 and team["person_collisions"] == 0
+    assert team["min_robot_gap"] < 1.0  # they did meet (and passed each other)
+
+
 def test_plain_astar_robots_collide_at_the_crossing_and_it_is_counted():
     # The same crossing with plain A* (no robot avoidance): the collision check can fail.
     env = proxemic.parallel_env("daza2021_fig15", autopilot=True, planners="astar")

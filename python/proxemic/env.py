@@ -67,14 +67,16 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ## Episode End
 
     Terminated on success (robot centre within ``episode.success_radius`` of the goal) or on a
-    collision with a person or with walls and furniture; truncated when ``episode.max_time`` is
-    reached. ``info["metrics"]`` holds the episode's metrics at the end.
+    collision with a person, with walls and furniture, or with another robot (scenarios with
+    several robots: the others keep their built-in planners; see :mod:`proxemic.parallel` for
+    all of them as agents); truncated when ``episode.max_time`` is reached. ``info["metrics"]``
+    holds the episode's metrics at the end.
 
     ## Arguments
 
     | argument | default | meaning |
     |---|---|---|
-    | ``scenario`` | ``"museum"`` | bundled scenario name or path to a scenario TOML file |
+    | ``scenario`` | ``"museum"`` | bundled scenario name, path to a scenario TOML file, or a ``proxemic._core.Scenario`` |
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
