@@ -27,7 +27,7 @@ $(VENV)/.deps: pyproject.toml
 	@test -x $(PY) || python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
 	$(PIP) install -q maturin "numpy>=1.26" "gymnasium>=1.0" "mujoco>=3.3" "matplotlib>=3.7" "tqdm>=4.60" "pyarrow>=14" \
-	    "pytest>=8" "ruff>=0.6" "mypy>=1.10" "imageio>=2.30" "imageio-ffmpeg>=0.5"
+	    "pytest>=8" "ruff>=0.6" "mypy>=1.10" "imageio>=2.30" "imageio-ffmpeg>=0.5" "pettingzoo>=1.24" "supersuit>=3.9"
 	@touch $@
 
 build: $(VENV)/.deps ## compile the Rust core and install the package into the venv (maturin, release)
@@ -57,20 +57,21 @@ install-check: system-deps ## `pip install .` into a fresh venv, then gym.make f
 lint: $(VENV)/.deps ## rustfmt, clippy (warnings as errors), ruff
 	cargo fmt --all --check
 	cargo clippy --workspace --all-targets -- -D warnings
-	$(VENV)/bin/ruff check python tests benches
-	$(VENV)/bin/ruff format --check python tests benches
+	$(VENV)/bin/ruff check python tests benches examples
+	$(VENV)/bin/ruff format --check python tests benches examples
 
 format: $(VENV)/.deps ## apply rustfmt and ruff format
 	cargo fmt --all
-	$(VENV)/bin/ruff format python tests benches
-	$(VENV)/bin/ruff check --fix python tests benches
+	$(VENV)/bin/ruff format python tests benches examples
+	$(VENV)/bin/ruff check --fix python tests benches examples
 
 BENCHES := planning pedestrians proxemics groups socialmap controllers orca
 
-bench: setup ## criterion benches of the core (medians), env steps and rendering, ORCA and pedestrians vs navground
+bench: setup ## criterion benches of the core (medians), env, parallel env and rendering throughput, ORCA and pedestrians vs navground
 	for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \
 	  | grep -E '^[a-z_/0-9.]+|time:|thrpt:' || exit 1; done
 	$(PY) benches/env_bench.py
+	$(PY) benches/parallel_bench.py
 	$(PY) benches/orca_vs_navground.py
 	$(PY) benches/pedestrians_vs_navground.py
 

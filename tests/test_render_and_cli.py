@@ -30,7 +30,7 @@ def test_topdown_render_shows_the_robot():
     env.reset(seed=0)
     frame = env.render()
     assert frame.shape == (240, 320, 3)
-    r = env._topdown
+    r = env.ws.topdown
     col, row = r.world_to_pixel(env.robot_pose()[None, :2])[0].astype(int)
     # the robot's colour fills its disc around the centre (the white heading tick starts at the
     # centre, so the centre pixel itself may be part of the tick, depending on the pose)

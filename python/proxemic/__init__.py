@@ -14,13 +14,29 @@ Usage::
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from proxemic import _core
 from proxemic.errors import InputError, PlanningError, ProxemicError, ScenarioError, UnknownNameError
 from proxemic.registration import ENV_IDS, register_envs
 
+if TYPE_CHECKING:
+    from proxemic.parallel import ProxemicParallelEnv
+
 __version__: str = _core.__version__
 
 register_envs()
+
+
+def parallel_env(*args: Any, **kwargs: Any) -> ProxemicParallelEnv:
+    """A PettingZoo ``ParallelEnv`` of a scenario's robots; see :func:`proxemic.parallel.parallel_env`.
+
+    PettingZoo is imported on first use (the ``multi`` extra).
+    """
+    from proxemic.parallel import parallel_env as make
+
+    return make(*args, **kwargs)
+
 
 __all__ = [
     "ENV_IDS",
@@ -30,4 +46,5 @@ __all__ = [
     "ScenarioError",
     "UnknownNameError",
     "__version__",
+    "parallel_env",
 ]

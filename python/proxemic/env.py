@@ -9,16 +9,22 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from gymnasium import spaces
 
 from proxemic import _core, scenarios
 from proxemic.errors import InputError
-from proxemic.sim import Simulation, ensure_gl_backend
+from proxemic.world import (
+    PLANNER_MODES,
+    RENDER_MODES,
+    WorldSim,
+    action_space,
+    check_overlays,
+    check_render_mode,
+    warn_no_render_mode,
+)
 
 OUTCOMES = ("running", "success", "collision", "timeout")
 
-#: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
-PLANNER_MODES = ("follow_path", "orca", "social_momentum", "wait")
+__all__ = ["OUTCOMES", "PLANNER_MODES", "ProxemicEnv"]
 
 
 class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -84,14 +90,16 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ## Episode End
 
     Terminated on success (robot centre within ``episode.success_radius`` of the goal) or on a
-    collision with a person or with walls and furniture; truncated when ``episode.max_time`` is
-    reached. ``info["metrics"]`` holds the episode's metrics at the end.
+    collision with a person, with walls and furniture, or with another robot (scenarios with
+    several robots: the others keep their built-in planners; see :mod:`proxemic.parallel` for
+    all of them as agents); truncated when ``episode.max_time`` is reached. ``info["metrics"]``
+    holds the episode's metrics at the end.
 
     ## Arguments
 
     | argument | default | meaning |
     |---|---|---|
-    | ``scenario`` | ``"museum"`` | bundled scenario name or path to a scenario TOML file |
+    | ``scenario`` | ``"museum"`` | bundled scenario name, path to a scenario TOML file, or a ``proxemic._core.Scenario`` |
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
@@ -105,11 +113,11 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
       scenes (visitors, conversations, tours, seated people, agenda-driven residents and staff).
     """
 
-    metadata = {"render_modes": ["rgb_array", "topdown", "human"], "render_fps": 10}  # noqa: RUF012
+    metadata = {"render_modes": list(RENDER_MODES), "render_fps": 10}  # noqa: RUF012
 
     def __init__(
         self,
-        scenario: str | Path = "museum",
+        scenario: str | Path | _core.Scenario = "museum",
         *,
         render_mode: str | None = None,
         autopilot: bool = False,
@@ -120,13 +128,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         overlays: Iterable[str] = ("path",),
     ) -> None:
         """Builds the environment. See the class docstring for the arguments."""
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise InputError(
-                f"render_mode: expected one of {self.metadata['render_modes']} or None, got {render_mode!r}",
-                field="render_mode",
-                expected=str(self.metadata["render_modes"]),
-                found=repr(render_mode),
-            )
+        check_render_mode(render_mode)
         if camera not in ("top", "follow"):
             raise InputError(
                 f"camera: expected 'top' or 'follow', got {camera!r}",
@@ -140,47 +142,13 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
         self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner)
-        self.world = _core.World(self.core_scenario)
-        self.sim = Simulation(self.scenario)
+        self.ws = WorldSim(self.core_scenario, self.scenario)
+        self.world, self.sim = self.ws.world, self.ws.sim
         self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}
-
-        sensors = self.scenario["sensors"]
-        k, rays, rng = sensors["k_nearest"], sensors["lidar_rays"], float(sensors["lidar_range"])
-        d = float(self.world.obs_position_bound)
-        vmax, wmax = float(_core.OBS_MAX_SPEED), float(_core.OBS_MAX_ANGULAR)
-        f32 = np.float32
-        self.observation_space = spaces.Dict(
-            {
-                "robot": spaces.Box(
-                    np.array([-d, -d, -vmax, -vmax, -wmax], f32), np.array([d, d, vmax, vmax, wmax], f32), dtype=f32
-                ),
-                "people": spaces.Box(
-                    np.tile(np.array([-rng, -rng, -vmax, -vmax, 0.0], f32), (k, 1)),
-                    np.tile(np.array([rng, rng, vmax, vmax, 0.5], f32), (k, 1)),
-                    dtype=f32,
-                ),
-                "people_mask": spaces.Box(0.0, 1.0, (k,), dtype=f32),
-                "lidar": spaces.Box(0.0, rng, (rays,), dtype=f32),
-            }
-        )
-        self.action_space = spaces.Box(-1.0, 1.0, (3,), dtype=np.float32)
-
-        # Output buffers written in place by the core; the views below are created once.
-        self._out = np.zeros(self.world.num_robots * self.world.stride)
-        self._people = np.zeros(self.world.num_people * 3)
-        self._people2d = self._people.reshape(-1, 3)
-        row = self._out[: self.world.stride]
-        lay = self.world.layout
-        self._views = {name: row[off : off + n] for name, (off, n) in lay.items()}
-        self._obs_people_view = self._views["obs_people"].reshape(k, _core.PERSON_FEATURES)
-        off = lay["command"][0]
-        # Every robot's command (the others keep their built-in planners).
-        self._commands = self._out.reshape(self.world.num_robots, self.world.stride)[:, off : off + 3]
-        self._action = np.zeros(3 * self.world.num_robots)
-        self._action[3:] = np.nan  # other robots (if any) keep their built-in planners
-        self._terms = [f"reward_{t}" for t in _core.REWARD_TERMS]
-        self._topdown: Any = None
-        self._viewer: Any = None
+        self.observation_space = self.ws.observation_space(robots=False)
+        self.action_space = action_space()
+        # The core's buffers (written in place; other robots, if any, keep their built-in planners).
+        self._out, self._people = self.ws.out, self.ws.people
         self._done = True
 
     # ------------------------------------------------------------------ gymnasium API
@@ -189,10 +157,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
         """Starts an episode; the same seed gives the same episode, bit for bit."""
         super().reset(seed=seed)
-        core_seed = int(self.np_random.integers(0, 2**63 - 1))
-        self.world.reset(core_seed, self._out, self._people)
-        poses = self._out.reshape(self.world.num_robots, -1)[:, self.world.layout["pose"][0] :][:, :3]
-        self.sim.reset(poses, self._people2d)
+        self.ws.reset(int(self.np_random.integers(0, 2**63 - 1)))
         self._done = False
         if self.render_mode == "human":
             self.render()
@@ -200,54 +165,29 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def step(self, action: np.ndarray) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """Advances one control step (``1 / control_hz`` seconds; ``frame_skip`` physics steps)."""
-        if not self.autopilot:
-            a = self._action
-            a[:3] = action
-            if not np.isfinite(a[:3]).all():
-                raise InputError(
-                    f"action: expected 3 finite numbers in [-1, 1], got {a[:3].tolist()}",
-                    field="action",
-                    expected="3 finite numbers in [-1, 1]",
-                    found=str(a[:3].tolist()),
-                )
-            self.world.command(a, self._out)
-        sim = self.sim
-        sim.write_people(self._people2d)
-        sim.step(self._commands)
-        sim.read()
-        self.world.step(sim.state, sim.contacts, self._out, self._people)
-        flags = self._views["flags"]
+        if self.autopilot:
+            self.ws.step()
+        else:
+            self.ws.act(0, action, "action")
+            self.ws.step_actions()
+        flags = self.ws.sections["flags"][0]
         terminated, truncated = bool(flags[0]), bool(flags[1])
         self._done = terminated or truncated
         if self.render_mode == "human":
             self.render()
         return (
             self._observation(),
-            float(self._views["reward"][0]),
+            float(self.ws.sections["reward"][0, 0]),
             terminated,
             truncated,
             self._info(final=self._done),
         )
 
     def _observation(self) -> dict[str, np.ndarray]:
-        v = self._views
-        return {
-            "robot": v["obs_robot"].astype(np.float32),
-            "people": self._obs_people_view.astype(np.float32),
-            "people_mask": v["obs_people_mask"].astype(np.float32),
-            "lidar": v["obs_lidar"].astype(np.float32),
-        }
+        return self.ws.observations(robots=False)[0]
 
     def _info(self, *, final: bool) -> dict[str, Any]:
-        v = self._views
-        terms = v["reward_terms"]
-        info: dict[str, Any] = dict(zip(self._terms, terms.tolist(), strict=True))
-        flags = v["flags"]
-        info["is_success"] = bool(flags[2])
-        info["collision"] = bool(flags[3])
-        info["planner_action"] = v["planner_action"].astype(np.float32)
-        info["planner_mode"] = PLANNER_MODES[int(v["mode"][0])]
-        info["time_of_day"] = self.world.time_of_day
+        info = self.ws.info(0)
         if final:
             info["metrics"] = self.metrics()
         return info
@@ -264,7 +204,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def robot_pose(self) -> np.ndarray:
         """The robot's (x, y, theta) after the last step."""
-        return np.array(self._views["pose"])
+        return self.ws.poses()[0]
 
     def people(self) -> np.ndarray:
         """The people now: (P, 6) x, y, heading, vx, vy, radius."""
@@ -273,15 +213,10 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def render(self) -> np.ndarray | None:
         """Renders according to ``render_mode`` (``None`` returns nothing)."""
         if self.render_mode is None:
-            gym.logger.warn("render() called without a render_mode; pass render_mode= to the constructor")
+            warn_no_render_mode()
             return None
-        if self.render_mode == "topdown":
-            return self.render_topdown()
-        if self.render_mode == "human":
-            return self._render_human()
-        ensure_gl_backend()
         camera = "top" if self.camera == "top" else "robot_0/follow"
-        return self.sim.render(self.width, self.height, camera)
+        return self.ws.render(self.render_mode, self.width, self.height, camera, self.overlays)
 
     def set_overlays(self, overlays: Iterable[str]) -> None:
         """Chooses what the top-down view draws over the scene.
@@ -296,18 +231,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         Raises:
             InputError: An unknown overlay name.
         """
-        from proxemic.viz.topdown import OVERLAYS
-
-        chosen = (overlays,) if isinstance(overlays, str) else tuple(overlays)
-        bad = [o for o in chosen if o not in OVERLAYS]
-        if bad:
-            raise InputError(
-                f"overlays: expected names among {list(OVERLAYS)}, got {bad[0]!r}",
-                field="overlays",
-                expected=str(list(OVERLAYS)),
-                found=repr(bad[0]),
-            )
-        self.overlays = chosen
+        self.overlays = check_overlays(overlays)
 
     def render_topdown(self, overlays: Iterable[str] | None = None) -> np.ndarray:
         """The fast 2D top-down frame (numpy only), whatever the ``render_mode``.
@@ -318,42 +242,9 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         Returns:
             A ``(height, width, 3)`` uint8 RGB image.
         """
-        from proxemic.viz.topdown import TopDownRenderer
-
-        if overlays is not None:
-            previous = self.overlays
-            self.set_overlays(overlays)
-            chosen, self.overlays = self.overlays, previous
-        else:
-            chosen = self.overlays
-        if self._topdown is None:
-            self._topdown = TopDownRenderer(self.scenario, self.width, self.height)
-        people = self.people()
-        robots = self._out.reshape(self.world.num_robots, -1)[:, self.world.layout["pose"][0] :][:, :3]
-        goals = np.array([r["goal"] for r in self.scenario["robots"]], dtype=np.float64)
-        extra: dict[str, Any] = {}
-        if "path" in chosen:
-            extra["paths"] = [self.world.path(i) for i in range(self.world.num_robots)]
-        if "zones" in chosen:
-            extra["zones"] = self.scenario["proxemics"]["zones"]
-        if "groups" in chosen and len(people):
-            extra["groups"] = self.world.perception()["groups"]
-        if "object_spaces" in chosen:
-            extra["object_costs"] = self.world.object_costs()
-        frame: np.ndarray = self._topdown.render(robots, people[:, [0, 1, 2, 5]], goals=goals, **extra)
-        return frame
-
-    def _render_human(self) -> None:
-        import mujoco.viewer
-
-        if self._viewer is None:
-            self._viewer = mujoco.viewer.launch_passive(self.sim.model, self.sim.data)
-        self._viewer.sync()
-        return None
+        chosen = self.overlays if overlays is None else check_overlays(overlays)
+        return self.ws.render_topdown(self.width, self.height, chosen)
 
     def close(self) -> None:
         """Releases rendering resources."""
-        self.sim.close()
-        if self._viewer is not None:
-            self._viewer.close()
-            self._viewer = None
+        self.ws.close()

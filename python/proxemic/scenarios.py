@@ -63,14 +63,17 @@ def check_planner(planner: str) -> str:
     return planner
 
 
-def load(scenario: str | Path, *, planner: str | None = None) -> tuple[_core.Scenario, dict[str, Any]]:
+def load(scenario: str | Path | _core.Scenario, *, planner: str | None = None) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
     Args:
-        scenario: Bundled name or path of a scenario file.
+        scenario: Bundled name or path of a scenario file, or an already validated scenario.
         planner: If given, every robot uses this built-in planner instead of the file's.
     """
-    core = _core.Scenario.from_file(str(resolve(scenario)))
+    if isinstance(scenario, _core.Scenario):
+        core = scenario
+    else:
+        core = _core.Scenario.from_file(str(resolve(scenario)))
     if planner is not None:
         core = core.with_planner(check_planner(planner))
     return core, json.loads(core.to_json())

@@ -7,6 +7,9 @@
 //! - **collision with people (HC)** / **with static geometry (WC)**: a contact reported by the
 //!   physics between the robot and a person's or the static world's geometry, or (people) a
 //!   surface gap below zero measured geometrically at a control instant.
+//! - **collision with another robot (AC, Francis et al.'s agent collisions)**: a contact reported
+//!   by the physics between two robots, or a surface gap below zero between them at a control
+//!   instant; it ends the episode like the other collisions.
 //! - **time to goal**: control steps until success times the control period (s); only on success.
 //! - **path length**: sum of the distances between consecutive control-instant positions (m).
 //! - **minimum distance to people**: over all control instants and people, the centre-to-centre
@@ -26,7 +29,7 @@ pub enum Outcome {
     Running,
     /// Reached the goal.
     Success,
-    /// Collided with a person or the static geometry.
+    /// Collided with a person, another robot or the static geometry.
     Collision,
     /// Ran out of time.
     Timeout,
@@ -47,6 +50,12 @@ pub struct EpisodeMetrics {
     pub collision_person_steps: usize,
     /// Number of control steps with a collision with static geometry.
     pub collision_static_steps: usize,
+    /// Any collision with another robot.
+    pub collision_robot: bool,
+    /// Number of control steps with a collision with another robot.
+    pub collision_robot_steps: usize,
+    /// Minimum surface gap to any other robot (metres; negative means overlap; +inf alone).
+    pub min_robot_gap: f64,
     /// Seconds from the start to success (None unless successful).
     pub time_to_goal: Option<f64>,
     /// Path length (metres).
@@ -70,6 +79,9 @@ impl Default for EpisodeMetrics {
             collision_static: false,
             collision_person_steps: 0,
             collision_static_steps: 0,
+            collision_robot: false,
+            collision_robot_steps: 0,
+            min_robot_gap: f64::INFINITY,
             time_to_goal: None,
             path_length: 0.0,
             min_person_distance: f64::INFINITY,
@@ -93,6 +105,10 @@ pub struct StepSample {
     pub hit_person: bool,
     /// A collision with static geometry happened during the step.
     pub hit_static: bool,
+    /// Closest surface gap to another robot at this instant (+inf without other robots).
+    pub robot_gap: f64,
+    /// A collision with another robot happened during the step.
+    pub hit_robot: bool,
     /// The goal is reached at this instant.
     pub at_goal: bool,
     /// The time limit is reached at this instant.
@@ -141,7 +157,12 @@ impl MetricsAccumulator {
             m.collision_static = true;
             m.collision_static_steps += 1;
         }
-        m.outcome = if s.hit_person || s.hit_static {
+        m.min_robot_gap = m.min_robot_gap.min(s.robot_gap);
+        if s.hit_robot {
+            m.collision_robot = true;
+            m.collision_robot_steps += 1;
+        }
+        m.outcome = if s.hit_person || s.hit_static || s.hit_robot {
             Outcome::Collision
         } else if s.at_goal {
             m.success = true;
@@ -172,6 +193,8 @@ mod tests {
             person_gap: d - 0.44,
             hit_person: false,
             hit_static: false,
+            robot_gap: f64::INFINITY,
+            hit_robot: false,
             at_goal: false,
             out_of_time: false,
         }
@@ -209,6 +232,21 @@ mod tests {
         assert_eq!(acc.record(&sample(5.0, 0.0, 3.0), 0.1), Outcome::Collision);
         assert!((acc.metrics().path_length - 1.0).abs() < 1e-12);
         assert_eq!(acc.metrics().time_to_goal, None);
+    }
+
+    #[test]
+    fn robot_collision_ends_the_episode_and_is_counted() {
+        let mut acc = MetricsAccumulator::new(Vec2::zeros());
+        let mut s = sample(0.5, 0.0, 5.0);
+        s.robot_gap = 0.2;
+        assert_eq!(acc.record(&s, 0.1), Outcome::Running);
+        s.robot_gap = -0.01;
+        s.hit_robot = true;
+        assert_eq!(acc.record(&s, 0.1), Outcome::Collision);
+        let m = acc.metrics();
+        assert!(m.collision_robot && !m.collision_person && !m.collision_static);
+        assert_eq!(m.collision_robot_steps, 1);
+        assert!((m.min_robot_gap + 0.01).abs() < 1e-12);
     }
 
     #[test]

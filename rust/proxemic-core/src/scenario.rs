@@ -994,6 +994,92 @@ fn err(
     }
 }
 
+/// Robots must not start overlapping: every pair of start discs at least touching-free.
+fn check_robot_starts(file: &str, robots: &[Robot]) -> Result<()> {
+    for (j, b) in robots.iter().enumerate() {
+        for (i, a) in robots[..j].iter().enumerate() {
+            let d = (a.start[0] - b.start[0]).hypot(a.start[1] - b.start[1]);
+            let need = a.radius + b.radius;
+            if d < need {
+                return Err(err(
+                    file,
+                    format!("robot[{j}].start"),
+                    format!(
+                        "a start at least {need:.2} m (the sum of the radii) from robot[{i}]'s start {:?}",
+                        [a.start[0], a.start[1]]
+                    ),
+                    format!("{:?}, {d:.2} m away (overlapping)", [b.start[0], b.start[1]]),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// How many `extends` links a scenario file may chain.
+pub const MAX_EXTENDS: usize = 4;
+
+fn read_text(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path)
+        .map_err(|e| err(&path.display().to_string(), "<file>", "a readable UTF-8 TOML file", e.to_string()))
+}
+
+/// The merged table of a file that `extends` another (None if it does not).
+fn extended_table(path: &Path, text: &str, depth: usize) -> Result<Option<toml::Table>> {
+    if !text.contains("extends") {
+        return Ok(None);
+    }
+    let file = path.display().to_string();
+    let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        let (line, col) = e.span().map_or((0, 0), |s| line_col(text, s.start));
+        err(&file, format!("<toml line {line}, column {col}>"), "valid TOML", e.message().trim().to_string())
+    })?;
+    let Some(link) = table.remove("extends") else {
+        return Ok(None);
+    };
+    let Some(name) = link.as_str() else {
+        return Err(err(
+            &file,
+            "extends",
+            "a path to a base scenario file (relative to this one)",
+            link.to_string(),
+        ));
+    };
+    if depth >= MAX_EXTENDS {
+        return Err(err(
+            &file,
+            "extends",
+            format!("at most {MAX_EXTENDS} chained extends"),
+            format!("{name:?} at depth {}", depth + 1),
+        ));
+    }
+    let base_path = path.parent().unwrap_or(Path::new(".")).join(name);
+    if !base_path.is_file() {
+        return Err(err(
+            &file,
+            "extends",
+            "a path to an existing base scenario file (relative to this one)",
+            format!("{name:?} ({} does not exist)", base_path.display()),
+        ));
+    }
+    let base_text = read_text(&base_path)?;
+    let mut base = match extended_table(&base_path, &base_text, depth + 1)? {
+        Some(t) => t,
+        None => base_text.parse().map_err(|e: toml::de::Error| {
+            err(&base_path.display().to_string(), "<toml>", "valid TOML", e.message().trim().to_string())
+        })?,
+    };
+    for (key, value) in table {
+        match (key.as_str(), base.get_mut(&key), value) {
+            ("scene", Some(toml::Value::Table(b)), toml::Value::Table(t)) => b.extend(t),
+            (_, _, v) => {
+                base.insert(key, v);
+            }
+        }
+    }
+    Ok(Some(base))
+}
+
 /// Renders a serde path (`person.3.route`) the way the file is written (`person[3].route`).
 fn dotted_path(path: &serde_path_to_error::Path) -> String {
     use serde_path_to_error::Segment;
@@ -1022,13 +1108,27 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
 }
 
 impl Scenario {
-    /// Reads and validates a scenario file.
+    /// Reads and validates a scenario file. A file with a top-level `extends = "base.toml"`
+    /// (a path relative to it) starts from the base file: its `[scene]` keys override the
+    /// base's one by one, and every other table or array it has (`[[robot]]`, `[episode]`,
+    /// ...) replaces the base's whole. Bases may extend others, up to [`MAX_EXTENDS`] deep.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| err(&file, "<file>", "a readable UTF-8 TOML file", e.to_string()))?;
-        Self::from_toml_str(&text, &file)
+        let text = read_text(path)?;
+        match extended_table(path, &text, 0)? {
+            None => Self::from_toml_str(&text, &file),
+            Some(table) => {
+                let raw: RawScenario =
+                    serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+                        let field = dotted_path(e.path());
+                        let msg = e.into_inner().message().trim().to_string();
+                        let (expected, found) = split_serde_message(&msg);
+                        err(&file, field, expected, found)
+                    })?;
+                build(raw, &file)
+            }
+        }
     }
 
     /// Parses and validates scenario text; `source` names it in error messages.
@@ -1139,6 +1239,43 @@ impl Scenario {
         for r in &mut s.robots {
             r.planner = kind;
         }
+        Ok(s)
+    }
+
+    /// A copy with robot `index`'s planner replaced by `name` (one of [`PlannerKind::NAMES`]).
+    pub fn with_robot_planner(&self, index: usize, name: &str) -> Result<Self> {
+        let field = format!("robot[{index}].planner");
+        if index >= self.robots.len() {
+            return Err(err(
+                &self.source,
+                format!("robot[{index}]"),
+                format!("a robot index below {}", self.robots.len()),
+                index.to_string(),
+            ));
+        }
+        let kind = PlannerKind::parse(name).ok_or_else(|| {
+            err(&self.source, field, format!("one of {:?}", PlannerKind::NAMES), format!("{name:?}"))
+        })?;
+        let mut s = self.clone();
+        s.robots[index].planner = kind;
+        Ok(s)
+    }
+
+    /// A copy with only the first `n` robots (1 <= `n` <= the number of `[[robot]]` entries).
+    pub fn with_robots(&self, n: usize) -> Result<Self> {
+        if n == 0 || n > self.robots.len() {
+            return Err(err(
+                &self.source,
+                "robots",
+                format!(
+                    "a number of robots in [1, {}] (the [[robot]] entries of the file)",
+                    self.robots.len()
+                ),
+                n.to_string(),
+            ));
+        }
+        let mut s = self.clone();
+        s.robots.truncate(n);
         Ok(s)
     }
 
@@ -1478,6 +1615,7 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
         });
     }
     check_unique(file, "robot", robots.iter().map(|r| r.name.as_str()))?;
+    check_robot_starts(file, &robots)?;
 
     // ---- episode, sensors, reward
     let e = &raw.episode;
@@ -2461,6 +2599,81 @@ goal = [9, 4]
         let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, nan]");
         let (_, field, _, _) = scenario_err(&text);
         assert_eq!(field, "robot[0].goal");
+    }
+
+    #[test]
+    fn overlapping_robot_starts_are_rejected() {
+        let two = format!("{MINIMAL}\n[[robot]]\nstart = [1.3, 4.1, 0]\ngoal = [9, 6]\n");
+        let (file, field, expected, found) = scenario_err(&two);
+        assert_eq!(file, "test.toml");
+        assert_eq!(field, "robot[1].start");
+        assert!(expected.contains("0.48 m") && expected.contains("robot[0]"), "{expected}");
+        assert!(found.contains("overlapping"), "{found}");
+        // Just clear of each other: accepted.
+        let ok = two.replace("start = [1.3, 4.1, 0]", "start = [1.5, 4, 0]");
+        assert_eq!(parse(&ok).expect("valid").robots.len(), 2);
+    }
+
+    #[test]
+    fn extends_overrides_scene_keys_and_replaces_tables() {
+        let dir = std::env::temp_dir().join(format!("proxemic-extends-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        std::fs::write(dir.join("base.toml"), MINIMAL).expect("write base");
+        let child = "extends = \"base.toml\"\n[scene]\nname = \"two\"\n\n\
+                     [[robot]]\nstart = [1, 4, 0]\ngoal = [9, 4]\n[[robot]]\nstart = [1, 6, 0]\ngoal = [9, 6]\n";
+        std::fs::write(dir.join("child.toml"), child).expect("write child");
+        let s = Scenario::from_file(dir.join("child.toml")).expect("valid");
+        assert_eq!(s.scene.name, "two");
+        assert_eq!(s.scene.bounds, [0.0, 0.0, 10.0, 8.0]); // kept from the base
+        assert_eq!(s.persons.len(), 2); // the base's people
+        assert_eq!(s.robots.len(), 2); // the child's robots replace the base's
+        std::fs::write(dir.join("bad.toml"), "extends = \"nowhere.toml\"\n").expect("write bad");
+        match Scenario::from_file(dir.join("bad.toml")) {
+            Err(CoreError::Scenario { file, field, found, .. }) => {
+                assert!(file.ends_with("bad.toml"), "{file}");
+                assert_eq!(field, "extends");
+                assert!(found.contains("nowhere.toml"), "{found}");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+        std::fs::write(dir.join("loop.toml"), "extends = \"loop.toml\"\n").expect("write loop");
+        match Scenario::from_file(dir.join("loop.toml")) {
+            Err(CoreError::Scenario { field, expected, .. }) => {
+                assert_eq!(field, "extends");
+                assert!(expected.contains("chained"), "{expected}");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn robot_subsets_and_per_robot_planners() {
+        let two = format!("{MINIMAL}\n[[robot]]\nstart = [1, 6, 0]\ngoal = [9, 6]\n");
+        let s = parse(&two).expect("valid");
+        assert_eq!(s.with_robots(1).expect("one").robots.len(), 1);
+        assert_eq!(s.with_robots(2).expect("two").robots.len(), 2);
+        for bad in [0, 3] {
+            match s.with_robots(bad) {
+                Err(CoreError::Scenario { field, expected, found, .. }) => {
+                    assert_eq!(field, "robots");
+                    assert!(expected.contains("[1, 2]"), "{expected}");
+                    assert_eq!(found, bad.to_string());
+                }
+                other => panic!("expected a scenario error, got {other:?}"),
+            }
+        }
+        let m = s.with_robot_planner(1, "orca").expect("known planner");
+        assert_eq!(m.robots[1].planner, PlannerKind::Orca);
+        assert_eq!(m.robots[0].planner, s.robots[0].planner);
+        match s.with_robot_planner(1, "teleport") {
+            Err(CoreError::Scenario { field, found, .. }) => {
+                assert_eq!(field, "robot[1].planner");
+                assert_eq!(found, "\"teleport\"");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+        assert!(s.with_robot_planner(2, "orca").is_err());
     }
 
     #[test]

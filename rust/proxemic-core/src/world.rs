@@ -49,6 +49,10 @@ pub const CONTACT_ROBOT: u8 = 4;
 pub const PERSON_FEATURES: usize = 5;
 /// Number of values in the robot observation.
 pub const ROBOT_FEATURES: usize = 5;
+/// Number of values per other robot in the robots observation: id (the robot's index), position
+/// (x, y) and velocity (vx, vy) in the observer's frame, radius, and 1 while that robot's episode
+/// is running (0 once it has ended: it then stands still).
+pub const PEER_FEATURES: usize = 7;
 /// Names of the reward terms, in the order they are summed.
 pub const REWARD_TERMS: [&str; 5] = ["progress", "success", "collision", "time", "personal_space"];
 /// Radius of the personal zone used by the personal-space reward term (metres, centre distance;
@@ -75,21 +79,26 @@ pub struct Layout {
     pub stride: usize,
     /// Named sections: `command` (3: vx, vy, wz, robot frame, to execute), `planner_action` (3:
     /// the built-in planner's command as a normalised action), `obs_robot` (5), `obs_people`
-    /// (k * 5), `obs_people_mask` (k), `obs_lidar` (rays), `reward_terms` (5), `reward` (1),
+    /// (k * 5), `obs_people_mask` (k), `obs_lidar` (rays), `obs_robots` ((n - 1) * 7, the other
+    /// robots within sensor range, nearest first, see [`PEER_FEATURES`]), `obs_robots_mask`
+    /// (n - 1), `reward_terms` (5), `reward` (1),
     /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta), `mode`
     /// (1: the local planner's mode, see [`Mode::code`]).
     pub sections: Vec<(&'static str, Section)>,
 }
 
 impl Layout {
-    fn new(k: usize, rays: usize) -> Self {
-        let sizes: [(&'static str, usize); 11] = [
+    fn new(k: usize, rays: usize, robots: usize) -> Self {
+        let others = robots.saturating_sub(1);
+        let sizes: [(&'static str, usize); 13] = [
             ("command", 3),
             ("planner_action", 3),
             ("obs_robot", ROBOT_FEATURES),
             ("obs_people", k * PERSON_FEATURES),
             ("obs_people_mask", k),
             ("obs_lidar", rays),
+            ("obs_robots", others * PEER_FEATURES),
+            ("obs_robots_mask", others),
             ("reward_terms", REWARD_TERMS.len()),
             ("reward", 1),
             ("flags", 4),
@@ -193,6 +202,8 @@ pub struct World {
     started: bool,
     scratch_people: Vec<(f64, usize)>,
     scratch_discs: Vec<(Vec2, f64)>,
+    /// Per robot: whether its built-in planner runs (see [`World::set_planning`]).
+    planning: Vec<bool>,
 }
 
 fn v2(p: [f64; 2]) -> Vec2 {
@@ -295,7 +306,8 @@ impl World {
                 nominal_path,
             });
         }
-        let layout = Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays);
+        let layout =
+            Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays, scenario.robots.len());
         let grid_refs: Vec<&CostGrid> = grids.iter().map(|g| &g.grid).collect();
         let social = SocialPlanning::new(&scenario, &grid_refs)?;
         let obstacles = ObstacleSet::from_geometry(&geometry)?;
@@ -319,6 +331,7 @@ impl World {
             started: false,
             scratch_people: Vec::new(),
             scratch_discs: Vec::new(),
+            planning: vec![true; scenario.robots.len()],
             scenario,
         };
         world.crowd = Crowd::spawn_scripted(
@@ -390,6 +403,23 @@ impl World {
     pub fn plan(&mut self, i: usize, start: Vec2, goal: Vec2) -> Option<Vec<Vec2>> {
         let grid = &self.grids[self.statics.get(i)?.grid_index].grid;
         plan_path(&mut self.planner, grid, start, goal)
+    }
+
+    /// Chooses which robots' built-in planners run (one flag per robot; all run by default).
+    /// A robot whose planner is off is driven only by [`World::command`]: it computes no path
+    /// updates, local planner or re-plans (saving their cost when a policy drives it), its
+    /// `planner_action` is a stop command and its `mode` follow_path. It stays an obstacle, and
+    /// the other robots' planners still see it. Kept across resets.
+    pub fn set_planning(&mut self, planning: &[bool]) -> Result<()> {
+        if planning.len() != self.num_robots() {
+            return Err(CoreError::input(
+                "planning",
+                format!("{} flags (one per robot)", self.num_robots()),
+                format!("{} flags", planning.len()),
+            ));
+        }
+        self.planning = planning.to_vec();
+        Ok(())
     }
 
     /// Episode metrics of every robot so far.
@@ -494,11 +524,11 @@ impl World {
                     ElasticBand::new(self.robots[i].follower.path(), EbandParams::default()).ok();
             }
         }
-        if self.statics.iter().any(|s| s.planner.social_global()) {
+        if (0..self.robots.len()).any(|i| self.planning[i] && self.statics[i].planner.social_global()) {
             self.perceive()?;
             let tod = self.time_of_day();
             for i in 0..self.robots.len() {
-                if self.statics[i].planner.social_global() {
+                if self.planning[i] && self.statics[i].planner.social_global() {
                     let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
                     self.social_plan(i, p, tod);
                     self.robots[i].replans = 0;
@@ -640,6 +670,7 @@ impl World {
             let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
             let radius = self.statics[i].radius;
             let (d, gap) = self.closest_person(p, radius);
+            let robot_gap = self.closest_robot_gap(i);
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
             let row = &mut out[i * stride..(i + 1) * stride];
@@ -655,6 +686,8 @@ impl World {
                 person_gap: gap,
                 hit_person: contacts[i] & CONTACT_PERSON != 0 || gap < 0.0,
                 hit_static: contacts[i] & CONTACT_STATIC != 0,
+                robot_gap,
+                hit_robot: contacts[i] & CONTACT_ROBOT != 0 || robot_gap < 0.0,
                 at_goal: (p - st.goal).norm() <= success_radius,
                 out_of_time,
             };
@@ -704,6 +737,19 @@ impl World {
         best
     }
 
+    /// Closest surface gap from robot `i` to any other robot (+inf alone).
+    fn closest_robot_gap(&self, i: usize) -> f64 {
+        let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+        let r = self.statics[i].radius;
+        let mut best = f64::INFINITY;
+        for (j, (o, st)) in self.robots.iter().zip(&self.statics).enumerate() {
+            if j != i {
+                best = best.min((Vec2::new(o.pose[0], o.pose[1]) - p).norm() - r - st.radius);
+            }
+        }
+        best
+    }
+
     fn write_people(&self, people_out: &mut [f64]) {
         for (k, chunk) in people_out.chunks_exact_mut(3).enumerate() {
             chunk[0] = self.crowd.pos[k].x;
@@ -718,6 +764,8 @@ impl World {
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
         let (o_robot, o_people, o_mask, o_lidar, o_pose) =
             (sec("obs_robot"), sec("obs_people"), sec("obs_people_mask"), sec("obs_lidar"), sec("pose"));
+        let (o_peers, o_peer_mask) = (sec("obs_robots"), sec("obs_robots_mask"));
+        let others = self.robots.len().saturating_sub(1);
         let k = self.scenario.sensors.k_nearest;
         let rays = self.scenario.sensors.lidar_rays;
         let range = self.scenario.sensors.lidar_range;
@@ -761,6 +809,34 @@ impl World {
                 mask[slot] = 1.0;
             }
             row[o_mask..o_mask + k].copy_from_slice(&mask[..k]);
+            // The other robots within sensor range, nearest first (ties by index), with their ids.
+            self.scratch_people.clear();
+            for (j, o) in self.robots.iter().enumerate() {
+                let d = (Vec2::new(o.pose[0], o.pose[1]) - p).norm();
+                if j != i && d <= range {
+                    self.scratch_people.push((d, j));
+                }
+            }
+            self.scratch_people.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let peers = &mut row[o_peers..o_peers + others * PEER_FEATURES];
+            peers.fill(0.0);
+            for (slot, &(_, j)) in self.scratch_people.iter().enumerate() {
+                let o = &self.robots[j];
+                let rel = world_to_body(Vec2::new(o.pose[0], o.pose[1]) - p, th);
+                let vel = world_to_body(o.velocity, th);
+                let f = &mut peers[slot * PEER_FEATURES..(slot + 1) * PEER_FEATURES];
+                f[0] = j as f64;
+                f[1] = rel.x.clamp(-range, range);
+                f[2] = rel.y.clamp(-range, range);
+                f[3] = vel.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+                f[4] = vel.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+                f[5] = self.statics[j].radius;
+                f[6] = f64::from(u8::from(o.outcome == Outcome::Running));
+            }
+            let seen = self.scratch_people.len();
+            let peer_mask = &mut row[o_peer_mask..o_peer_mask + others];
+            peer_mask.fill(0.0);
+            peer_mask[..seen].fill(1.0);
             // Lidar sees the static world, the people and the other robots.
             self.scratch_discs.clear();
             for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
@@ -879,6 +955,7 @@ impl World {
             .filter(|&i| {
                 let rb = &self.robots[i];
                 self.statics[i].planner.social_global()
+                    && self.planning[i]
                     && rb.outcome == Outcome::Running
                     && self.steps > 0
                     && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
@@ -966,7 +1043,10 @@ impl World {
         let local = |k: PlannerKind| {
             matches!(k, PlannerKind::Social | PlannerKind::SocialMomentum | PlannerKind::Orca)
         };
-        if self.statics.iter().any(|s| local(s.planner) || s.planner == PlannerKind::Eband) {
+        if (0..n).any(|i| {
+            let k = self.statics[i].planner;
+            self.planning[i] && (local(k) || k == PlannerKind::Eband)
+        }) {
             // Groups and robots joining them, as perceived now (the social planners' perception).
             let _ = self.perceive();
         }
@@ -974,7 +1054,7 @@ impl World {
         let mut orca_active: Vec<usize> = Vec::new();
         let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
         for i in 0..n {
-            if self.robots[i].outcome != Outcome::Running {
+            if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
                 self.robots[i].mode = Mode::FollowPath;
                 continue;
             }

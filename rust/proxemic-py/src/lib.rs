@@ -103,6 +103,24 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose robot `index` uses the built-in planner `name` (see `PLANNERS`).
+    fn with_robot_planner(&self, py: Python<'_>, index: usize, name: &str) -> PyResult<Self> {
+        let inner = self.inner.with_robot_planner(index, name).map_err(|e| to_py_err(py, e))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy with only the first `n` robots (1 <= n <= the file's `[[robot]]` entries).
+    fn with_robots(&self, py: Python<'_>, n: usize) -> PyResult<Self> {
+        let inner = self.inner.with_robots(n).map_err(|e| to_py_err(py, e))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// Number of robots.
+    #[getter]
+    fn num_robots(&self) -> usize {
+        self.inner.robots.len()
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
     fn to_json(&self) -> String {
         self.inner.to_json()
@@ -284,6 +302,13 @@ impl PyWorld {
         let p = flat_mut(py, "people_out", &mut people_out)?;
         let w = &mut self.inner;
         enter_core(py, move || w.step(s, c, o, p))
+    }
+
+    /// Chooses which robots' built-in planners run (one bool per robot; all by default). A
+    /// robot whose planner is off is driven only by `command` (its `planner_action` is a stop
+    /// command); it saves the planner's cost when a policy drives it. Kept across resets.
+    fn set_planning(&mut self, py: Python<'_>, planning: Vec<bool>) -> PyResult<()> {
+        self.inner.set_planning(&planning).map_err(|e| to_py_err(py, e))
     }
 
     /// Episode metrics of every robot so far, as JSON (a list of objects; infinities as null).
@@ -494,6 +519,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("REWARD_TERMS", world::REWARD_TERMS.to_vec())?;
     m.add("PERSON_FEATURES", world::PERSON_FEATURES)?;
     m.add("ROBOT_FEATURES", world::ROBOT_FEATURES)?;
+    m.add("PEER_FEATURES", world::PEER_FEATURES)?;
     m.add("OBS_MAX_SPEED", world::OBS_MAX_SPEED)?;
     m.add("OBS_MAX_ANGULAR", world::OBS_MAX_ANGULAR)?;
     m.add("PLANNERS", proxemic_core::scenario::PlannerKind::NAMES.to_vec())?;

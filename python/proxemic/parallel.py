@@ -1,0 +1,328 @@
+"""The PettingZoo parallel environment: several robots, each an agent, among scripted people."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Collection, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from pettingzoo import ParallelEnv
+
+from proxemic import _core, scenarios
+from proxemic.errors import InputError, UnknownNameError
+from proxemic.world import RENDER_MODES, WorldSim, action_space, check_render_mode, warn_no_render_mode
+
+AgentID = str
+ObsDict = dict[str, np.ndarray]
+
+
+class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
+    """Several Pepper-like robots, agents ``robot_0 ... robot_{N-1}``, in a scene shared with people.
+
+    Every agent is one of the scenario's ``[[robot]]`` entries, in file order. An agent sees what
+    the single-robot :class:`proxemic.env.ProxemicEnv` sees (``robot``, ``people``,
+    ``people_mask``, ``lidar``) plus the other robots within sensor range, nearest first, with
+    their identities: ``robots`` (N - 1, 7) rows of id (the robot's index), position (x, y) and
+    velocity (vx, vy) in the agent's frame, radius, and 1 while that robot's episode runs; and
+    ``robots_mask`` (N - 1). Actions are the single env's ``Box(-1, 1, (3,))``.
+
+    Robots whose names are in ``autopilot`` are driven by their built-in planner (their actions
+    may be omitted and are ignored); every robot's built-in planner is the scenario's unless
+    ``planners`` names another (one name for all, or ``{"robot_1": "astar", ...}``), so planners
+    mix freely. The ``social`` planner avoids other robots reciprocally with ORCA (Daza 2021
+    Algorithm 1) and treats a robot that joined a human group as a person.
+
+    An agent terminates on success or on a collision (with a person, the static geometry or
+    another robot: Francis et al.'s HC, WC and AC), and is truncated at ``episode.max_time``; it
+    is then removed from ``agents`` (its body stays, braking to a stop). Each info holds the
+    reward terms (``reward_*``, summing to the reward), ``is_success``, ``collision``,
+    ``planner_action``, ``planner_mode``, and, at the agent's last step, its ``metrics``; once the
+    last agent is done every final info also has ``team`` (see :meth:`episode_metrics`).
+
+    One control step is one Rust call for all robots (plus one when policies act), the GIL
+    released, whole arrays; the same seed gives the same episode bit for bit.
+    """
+
+    metadata = {  # noqa: RUF012
+        "render_modes": list(RENDER_MODES),
+        "name": "proxemic_parallel_v0",
+        "is_parallelizable": True,
+        "render_fps": 10,
+    }
+
+    def __init__(
+        self,
+        scenario: str | Path | _core.Scenario = "museum",
+        *,
+        robots: int | None = None,
+        planners: str | Mapping[str, str] | None = None,
+        autopilot: bool | Collection[str] = False,
+        planner_actions: bool = True,
+        render_mode: str | None = None,
+        width: int = 640,
+        height: int = 480,
+    ) -> None:
+        """Builds the environment.
+
+        Args:
+            scenario: Bundled scenario name, path of a scenario file, or a ``proxemic._core.Scenario``.
+            robots: Use the first `robots` robot definitions of the scenario (default: all).
+            planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``) or
+                per agent (``{"robot_1": "orca"}``; the others keep the scenario's).
+            autopilot: True, or the agents driven by their built-in planner (actions ignored).
+            planner_actions: Run the built-in planners of the agents not on autopilot too, for
+                ``info["planner_action"]`` and ``info["planner_mode"]``. False skips their cost
+                (their infos then lack both keys).
+            render_mode: ``"rgb_array"``, ``"topdown"``, ``"human"`` or None.
+            width: Frame width (pixels).
+            height: Frame height (pixels).
+
+        Raises:
+            InputError: `robots` below 1, an unknown agent in `planners` or `autopilot`, a bad render mode.
+            ScenarioError: more robots than the scenario defines; robots starting overlapping.
+            UnknownNameError: an unknown scenario or planner name.
+        """
+        check_render_mode(render_mode)
+        self._args: dict[str, Any] = {
+            "scenario": scenario,
+            "robots": robots,
+            "planners": planners,
+            "autopilot": autopilot,
+            "planner_actions": planner_actions,
+            "render_mode": render_mode,
+            "width": width,
+            "height": height,
+        }
+        self.render_mode = render_mode
+        self.width, self.height = width, height
+        core, _ = scenarios.load(scenario)
+        if robots is not None:
+            if isinstance(robots, bool) or not isinstance(robots, int) or robots < 1:
+                raise InputError(
+                    f"robots: expected a number of robots of at least 1 (and at most the scenario's "
+                    f"{core.num_robots}), got {robots!r}",
+                    field="robots",
+                    expected=f"an integer in [1, {core.num_robots}]",
+                    found=repr(robots),
+                )
+            core = core.with_robots(robots)
+        names = [f"robot_{i}" for i in range(core.num_robots)]
+        if isinstance(planners, str):
+            core = core.with_planner(_check_planner(planners, "planners"))
+        elif planners is not None:
+            for agent, name in planners.items():
+                index = _agent_index(agent, names, "planners")
+                core = core.with_robot_planner(index, _check_planner(name, f"planners[{agent!r}]"))
+        self.core_scenario = core
+        self.scenario: dict[str, Any] = json.loads(core.to_json())
+        self.ws = WorldSim(core, self.scenario)
+        self.world, self.sim = self.ws.world, self.ws.sim
+        self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}
+
+        self.possible_agents: list[AgentID] = names
+        self.agents: list[AgentID] = []
+        self._index = {a: i for i, a in enumerate(names)}
+        if autopilot is True:
+            self.autopilot: frozenset[str] = frozenset(names)
+        elif autopilot is False:
+            self.autopilot = frozenset()
+        else:
+            self.autopilot = frozenset(names[_agent_index(a, names, "autopilot")] for a in autopilot)
+        if not planner_actions:
+            self.ws.set_planning([a in self.autopilot for a in names])
+        obs_space = self.ws.observation_space(robots=True)
+        self.observation_spaces: dict[AgentID, spaces.Space[Any]] = {a: obs_space for a in names}
+        self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
+        self._np_random: np.random.Generator | None = None
+        self._live: frozenset[str] = frozenset()
+
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        """Pickles as the constructor's arguments: a copy is a new env (episode state not carried)."""
+        return _rebuild, (self._args,)
+
+    def observation_space(self, agent: AgentID) -> spaces.Space[Any]:
+        """The observation space of `agent` (the same for every agent)."""
+        return self.observation_spaces[agent]
+
+    def action_space(self, agent: AgentID) -> spaces.Space[Any]:
+        """The action space of `agent`: ``Box(-1, 1, (3,), float32)``."""
+        return self.action_spaces[agent]
+
+    # ------------------------------------------------------------------ PettingZoo API
+    def reset(
+        self, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[AgentID, ObsDict], dict[AgentID, dict[str, Any]]]:
+        """Starts an episode; the same seed gives the same episode, bit for bit."""
+        if seed is not None or self._np_random is None:
+            self._np_random, _ = seeding.np_random(seed)
+        self.ws.reset(int(self._np_random.integers(0, 2**63 - 1)))
+        self.agents = list(self.possible_agents)
+        self._live = frozenset(self.agents)
+        obs = self.ws.observations(robots=True)
+        infos = dict(zip(self.agents, self.ws.infos(list(range(len(self.agents)))), strict=True))
+        if self.render_mode == "human":
+            self.render()
+        return {a: obs[i] for i, a in enumerate(self.agents)}, infos
+
+    def step(
+        self, actions: Mapping[AgentID, Any]
+    ) -> tuple[
+        dict[AgentID, ObsDict],
+        dict[AgentID, float],
+        dict[AgentID, bool],
+        dict[AgentID, bool],
+        dict[AgentID, dict[str, Any]],
+    ]:
+        """Advances one control step for every live agent.
+
+        Raises:
+            InputError: an action for an agent that is not live, a missing action for a live
+                agent not on autopilot, or an action that is not 3 finite numbers.
+        """
+        ws, index, live = self.ws, self._index, self.agents
+        if len(actions) > len(live) or not all(a in self._live for a in actions):
+            extra = next(a for a in actions if a not in self._live)
+            raise InputError(
+                f"actions: expected actions for live agents {live}, got one for {extra!r}",
+                field="actions",
+                expected=f"keys among {live}",
+                found=repr(extra),
+            )
+        acting = [a for a in actions if a not in self.autopilot]
+        ws.act_many([index[a] for a in acting], [actions[a] for a in acting], [f"actions[{a!r}]" for a in acting])
+        missing = [a for a in live if a not in actions and a not in self.autopilot]
+        if missing:
+            raise InputError(
+                f"actions: expected an action for every live agent not on autopilot, missing {missing}",
+                field="actions",
+                expected=f"keys {[a for a in self.agents if a not in self.autopilot]}",
+                found=f"keys {list(actions)}",
+            )
+        ws.step_actions()
+        obs_all = ws.observations(robots=True)
+        reward = ws.sections["reward"][:, 0].tolist()
+        flags = ws.sections["flags"][:, :2].tolist()
+        rows = [index[a] for a in live]
+        obs, rewards, terms, truncs = {}, {}, {}, {}
+        for a, i in zip(live, rows, strict=True):
+            obs[a] = obs_all[i]
+            rewards[a] = reward[i]
+            terms[a] = flags[i][0] != 0.0
+            truncs[a] = flags[i][1] != 0.0
+        infos = dict(zip(live, ws.infos(rows), strict=True))
+        self.agents = [a for a in live if not (terms[a] or truncs[a])]
+        self._live = frozenset(self.agents)
+        finished = [a for a in live if terms[a] or truncs[a]]
+        if finished:
+            metrics = json.loads(self.world.metrics_json())
+            for a in finished:
+                infos[a]["metrics"] = metrics[index[a]]
+            if not self.agents:
+                team = self.episode_metrics()
+                for a in finished:
+                    infos[a]["team"] = team
+        if self.render_mode == "human":
+            self.render()
+        return obs, rewards, terms, truncs, infos
+
+    def render(self) -> np.ndarray | None:
+        """Renders according to ``render_mode`` (``None`` returns nothing)."""
+        if self.render_mode is None:
+            warn_no_render_mode()
+            return None
+        return self.ws.render(self.render_mode, self.width, self.height)
+
+    def close(self) -> None:
+        """Releases rendering resources."""
+        self.ws.close()
+
+    def state(self) -> np.ndarray:
+        """The global state: every robot's (x, y, theta), (N, 3) float32."""
+        return self.ws.poses().astype(np.float32)
+
+    # ------------------------------------------------------------------ extras
+    def metrics(self) -> list[dict[str, Any]]:
+        """Every robot's episode metrics so far, by robot index (see ``design/metrics.md``)."""
+        metrics: list[dict[str, Any]] = json.loads(self.world.metrics_json())
+        return metrics
+
+    def episode_metrics(self) -> dict[str, Any]:
+        """The team's metrics so far.
+
+        ``robots`` (per-robot metrics), ``success_rate`` (fraction of robots at their goal),
+        ``agent_collisions`` (robots that touched another robot: Francis et al.'s AC),
+        ``robot_collision_steps`` (control steps with a robot-robot contact, summed over robots),
+        ``person_collisions`` and ``static_collisions`` (robots that touched a person or the
+        static geometry), ``min_robot_gap`` (smallest surface gap between two robots, m),
+        ``team_time`` (s until the last robot's episode ended: the team's makespan) and
+        ``total_time`` (s, the robots' episode durations summed).
+        """
+        ms = self.metrics()
+        n = max(len(ms), 1)
+        return {
+            "robots": ms,
+            "success_rate": sum(bool(m["success"]) for m in ms) / n,
+            "agent_collisions": sum(bool(m["collision_robot"]) for m in ms),
+            "robot_collision_steps": sum(int(m["collision_robot_steps"]) for m in ms),
+            "person_collisions": sum(bool(m["collision_person"]) for m in ms),
+            "static_collisions": sum(bool(m["collision_static"]) for m in ms),
+            "min_robot_gap": min((m["min_robot_gap"] for m in ms if m["min_robot_gap"] is not None), default=None),
+            "team_time": max((float(m["duration"]) for m in ms), default=0.0),
+            "total_time": sum(float(m["duration"]) for m in ms),
+        }
+
+    def people(self) -> np.ndarray:
+        """The people now: (P, 6) x, y, heading, vx, vy, radius."""
+        return np.asarray(self.world.people())
+
+
+def parallel_env(
+    scenario: str | Path | _core.Scenario = "museum",
+    *,
+    robots: int | None = None,
+    planners: str | Mapping[str, str] | None = None,
+    autopilot: bool | Collection[str] = False,
+    planner_actions: bool = True,
+    render_mode: str | None = None,
+    **kwargs: Any,
+) -> ProxemicParallelEnv:
+    """A PettingZoo ``ParallelEnv`` of the scenario's robots (see :class:`ProxemicParallelEnv`)."""
+    return ProxemicParallelEnv(
+        scenario,
+        robots=robots,
+        planners=planners,
+        autopilot=autopilot,
+        planner_actions=planner_actions,
+        render_mode=render_mode,
+        **kwargs,
+    )
+
+
+def _rebuild(args: dict[str, Any]) -> ProxemicParallelEnv:
+    return ProxemicParallelEnv(**args)
+
+
+def _check_planner(name: str, field: str) -> str:
+    if name not in _core.PLANNERS:
+        raise UnknownNameError(
+            f"{field}: unknown planner {name!r}: expected one of {', '.join(_core.PLANNERS)}",
+            field=field,
+            expected=f"one of {_core.PLANNERS}",
+            found=repr(name),
+        )
+    return name
+
+
+def _agent_index(agent: str, names: list[str], field: str) -> int:
+    if agent not in names:
+        raise InputError(
+            f"{field}: unknown agent {agent!r}: expected one of {names}",
+            field=field,
+            expected=f"one of {names}",
+            found=repr(agent),
+        )
+    return names.index(agent)

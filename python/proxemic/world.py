@@ -1,0 +1,301 @@
+"""The Rust world and the MuJoCo simulation of one scenario, stepped together.
+
+Both front ends drive a :class:`WorldSim`: the gymnasium env (:mod:`proxemic.env`, one robot
+acting) and the PettingZoo parallel env (:mod:`proxemic.parallel`, every robot an agent). A
+control step is at most one ``World.command`` (when policies act), the physics, and one
+``World.step`` for all robots (GIL released in both calls); every output lands in one float64
+buffer of ``num_robots`` rows sliced by the core's layout. The observation and action spaces
+and the rendering live here too, so both front ends describe a robot the same way.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from proxemic import _core
+from proxemic.errors import InputError
+from proxemic.sim import Simulation, ensure_gl_backend
+
+#: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
+PLANNER_MODES = ("follow_path", "orca", "social_momentum", "wait")
+
+#: Reward term names in ``info`` (``reward_<term>``), in the order the core sums them.
+REWARD_KEYS = tuple(f"reward_{t}" for t in _core.REWARD_TERMS)
+
+#: Render modes both front ends support.
+RENDER_MODES = ("rgb_array", "topdown", "human")
+
+
+def action_space() -> spaces.Box:
+    """A robot's action space: the normalised robot-frame command (vx, vy, wz) in [-1, 1]."""
+    return spaces.Box(-1.0, 1.0, (3,), dtype=np.float32)
+
+
+def check_render_mode(render_mode: str | None) -> None:
+    """Raises :class:`InputError` unless `render_mode` is None or one of :data:`RENDER_MODES`."""
+    if render_mode is not None and render_mode not in RENDER_MODES:
+        raise InputError(
+            f"render_mode: expected one of {list(RENDER_MODES)} or None, got {render_mode!r}",
+            field="render_mode",
+            expected=str(list(RENDER_MODES)),
+            found=repr(render_mode),
+        )
+
+
+class WorldSim:
+    """The core ``World`` and the MuJoCo ``Simulation`` of a scenario with their shared buffers.
+
+    Attributes:
+        world: The Rust world (people, planners, metrics, observations, rewards).
+        sim: The MuJoCo simulation (robots' bodies, contacts, rendering).
+        scenario: The validated scenario dict.
+        out: The core's output buffer, ``num_robots * stride`` float64 values.
+        rows: ``out`` as (num_robots, stride).
+        sections: ``{name: (num_robots, len) view of rows}`` for every layout section.
+        people: The people's poses buffer (P * 3: x, y, heading).
+        topdown: The 2D renderer, once a ``"topdown"`` frame was drawn.
+    """
+
+    def __init__(self, core_scenario: _core.Scenario, scenario: dict[str, Any]) -> None:
+        """Builds the world and compiles the MuJoCo model of `scenario`."""
+        self.scenario = scenario
+        self.world = _core.World(core_scenario)
+        self.sim = Simulation(scenario)
+        w = self.world
+        self.num_robots: int = w.num_robots
+        self.out = np.zeros(w.num_robots * w.stride)
+        self.rows = self.out.reshape(w.num_robots, w.stride)
+        self.people = np.zeros(w.num_people * 3)
+        self._people2d = self.people.reshape(-1, 3)
+        self.layout: dict[str, tuple[int, int]] = dict(w.layout)
+        self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
+        self._actions = np.full(3 * w.num_robots, np.nan)
+        self.planning = [True] * w.num_robots
+        sensors = scenario["sensors"]
+        self.k_nearest: int = sensors["k_nearest"]
+        self.lidar_rays: int = sensors["lidar_rays"]
+        self.lidar_range = float(sensors["lidar_range"])
+        self.topdown: Any = None
+        self._viewer: Any = None
+
+    # ------------------------------------------------------------------ spaces
+    def observation_space(self, *, robots: bool) -> spaces.Dict:
+        """A robot's observation space; with `robots`, also the other robots it perceives.
+
+        Keys ``robot`` (5), ``people`` (k, 5), ``people_mask`` (k), ``lidar`` (rays) and, with
+        `robots`, ``robots`` (n - 1, 7: id, x, y, vx, vy, radius, running) and ``robots_mask``
+        (n - 1). Bounds as documented in :class:`proxemic.env.ProxemicEnv`.
+        """
+        k, rays, rng = self.k_nearest, self.lidar_rays, self.lidar_range
+        d = float(self.world.obs_position_bound)
+        vmax, wmax = float(_core.OBS_MAX_SPEED), float(_core.OBS_MAX_ANGULAR)
+        f32 = np.float32
+        entries: dict[str, spaces.Space[Any]] = {
+            "robot": spaces.Box(
+                np.array([-d, -d, -vmax, -vmax, -wmax], f32), np.array([d, d, vmax, vmax, wmax], f32), dtype=f32
+            ),
+            "people": spaces.Box(
+                np.tile(np.array([-rng, -rng, -vmax, -vmax, 0.0], f32), (k, 1)),
+                np.tile(np.array([rng, rng, vmax, vmax, 0.5], f32), (k, 1)),
+                dtype=f32,
+            ),
+            "people_mask": spaces.Box(0.0, 1.0, (k,), dtype=f32),
+            "lidar": spaces.Box(0.0, rng, (rays,), dtype=f32),
+        }
+        if robots:
+            m = self.num_robots - 1
+            rmax = max((float(r["radius"]) for r in self.scenario["robots"]), default=1.0)
+            lo = np.array([0.0, -rng, -rng, -vmax, -vmax, 0.0, 0.0], f32)
+            hi = np.array([max(m, 0), rng, rng, vmax, vmax, rmax, 1.0], f32)
+            entries["robots"] = spaces.Box(np.tile(lo, (m, 1)), np.tile(hi, (m, 1)), dtype=f32)
+            entries["robots_mask"] = spaces.Box(0.0, 1.0, (m,), dtype=f32)
+        return spaces.Dict(entries)
+
+    def set_planning(self, planning: list[bool]) -> None:
+        """Which robots' built-in planners run (see ``World.set_planning``).
+
+        Infos of the robots whose planner is off have no ``planner_action`` and ``planner_mode``.
+        """
+        self.world.set_planning(planning)
+        self.planning = list(planning)
+
+    # ------------------------------------------------------------------ stepping
+    def reset(self, seed: int) -> None:
+        """Starts an episode from the core seed `seed` and places the bodies."""
+        self.world.reset(seed, self.out, self.people)
+        self.sim.reset(self.sections["pose"], self._people2d)
+
+    def step(self, actions: np.ndarray | None = None) -> None:
+        """One control step: optional normalised actions (3 per robot, NaN rows keep the planner)."""
+        if actions is not None:
+            self.world.command(actions, self.out)
+        sim = self.sim
+        sim.write_people(self._people2d)
+        sim.step(self.sections["command"])
+        sim.read()
+        self.world.step(sim.state, sim.contacts, self.out, self.people)
+
+    def act(self, robot: int, action: Any, field: str) -> None:
+        """Stores `action` for `robot` in the actions of the next :meth:`step_actions` call.
+
+        Raises:
+            InputError: not 3 finite numbers (`field` names the argument in the message).
+        """
+        a = np.asarray(action, dtype=np.float64).reshape(-1)
+        if a.shape != (3,) or not np.isfinite(a).all():
+            raise InputError(
+                f"{field}: expected 3 finite numbers in [-1, 1], got {a.tolist()}",
+                field=field,
+                expected="3 finite numbers in [-1, 1]",
+                found=str(a.tolist()),
+            )
+        self._actions[3 * robot : 3 * robot + 3] = a
+
+    def act_many(self, robots: list[int], actions: list[Any], fields: list[str]) -> None:
+        """:meth:`act` for several robots at once (one array conversion; errors name the culprit)."""
+        if not robots:
+            return
+        try:
+            a = np.asarray(actions, dtype=np.float64)
+        except (ValueError, TypeError):
+            a = np.empty(0)
+        if a.shape != (len(robots), 3) or not np.isfinite(a).all():
+            for r, action, field in zip(robots, actions, fields, strict=True):
+                self.act(r, action, field)
+            return
+        idx = np.asarray(robots)
+        self._actions.reshape(-1, 3)[idx] = a
+
+    def step_actions(self) -> None:
+        """Steps with the actions stored by :meth:`act` (others keep their planners), then clears them."""
+        self.step(self._actions)
+        self._actions.fill(np.nan)
+
+    # ------------------------------------------------------------------ outputs
+    def observations(self, robots: bool) -> list[dict[str, np.ndarray]]:
+        """Every robot's observation (float32 views of one fresh copy of the buffer)."""
+        rows = self.rows.astype(np.float32)
+        n, lay = self.num_robots, self.layout
+
+        def part(name: str, *shape: int) -> np.ndarray:
+            off, length = lay[name]
+            return rows[:, off : off + length].reshape(n, *shape)
+
+        parts = {
+            "robot": part("obs_robot", -1),
+            "people": part("obs_people", self.k_nearest, _core.PERSON_FEATURES),
+            "people_mask": part("obs_people_mask", -1),
+            "lidar": part("obs_lidar", -1),
+        }
+        if robots:
+            parts["robots"] = part("obs_robots", n - 1, _core.PEER_FEATURES)
+            parts["robots_mask"] = part("obs_robots_mask", n - 1)
+        items = list(parts.items())
+        return [{key: arr[i] for key, arr in items} for i in range(n)]
+
+    def info(self, robot: int) -> dict[str, Any]:
+        """Robot `robot`'s step info: reward terms, success and collision flags, planner command and mode."""
+        return self.infos([robot])[0]
+
+    def infos(self, robots: list[int]) -> list[dict[str, Any]]:
+        """:meth:`info` of several robots (the buffer is read once)."""
+        s = self.sections
+        terms = s["reward_terms"].tolist()
+        flags = s["flags"].tolist()
+        modes = s["mode"][:, 0].tolist()
+        actions = s["planner_action"].astype(np.float32)
+        tod = self.world.time_of_day
+        out = []
+        for r in robots:
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, terms[r], strict=True))
+            info["is_success"] = bool(flags[r][2])
+            info["collision"] = bool(flags[r][3])
+            if self.planning[r]:
+                info["planner_action"] = actions[r]
+                info["planner_mode"] = PLANNER_MODES[int(modes[r])]
+            info["time_of_day"] = tod
+            out.append(info)
+        return out
+
+    def poses(self) -> np.ndarray:
+        """The robots' (x, y, theta) after the last step, (N, 3) (a copy)."""
+        return np.array(self.sections["pose"])
+
+    # ------------------------------------------------------------------ rendering
+    def render(
+        self, mode: str, width: int, height: int, camera: str = "top", overlays: tuple[str, ...] = ("path",)
+    ) -> np.ndarray | None:
+        """A frame in `mode` (``"rgb_array"``, ``"topdown"``; ``"human"`` opens a viewer, returns None).
+
+        `overlays` (see :func:`check_overlays`) only apply to the ``"topdown"`` view.
+        """
+        if mode == "topdown":
+            return self.render_topdown(width, height, overlays)
+        if mode == "human":
+            import mujoco.viewer
+
+            if self._viewer is None:
+                self._viewer = mujoco.viewer.launch_passive(self.sim.model, self.sim.data)
+            self._viewer.sync()
+            return None
+        ensure_gl_backend()
+        return self.sim.render(width, height, camera)
+
+    def render_topdown(self, width: int, height: int, overlays: tuple[str, ...] = ("path",)) -> np.ndarray:
+        """The fast 2D top-down frame (numpy only) with the chosen overlays, (height, width, 3) uint8."""
+        from proxemic.viz.topdown import TopDownRenderer
+
+        if self.topdown is None or (self.topdown.width, self.topdown.height) != (width, height):
+            self.topdown = TopDownRenderer(self.scenario, width, height)
+        people = np.asarray(self.world.people())
+        goals = np.array([r["goal"] for r in self.scenario["robots"]], dtype=np.float64)
+        extra: dict[str, Any] = {}
+        if "path" in overlays:
+            extra["paths"] = [np.asarray(self.world.path(i)) for i in range(self.num_robots)]
+        if "zones" in overlays:
+            extra["zones"] = self.scenario["proxemics"]["zones"]
+        if "groups" in overlays and len(people):
+            extra["groups"] = self.world.perception()["groups"]
+        if "object_spaces" in overlays:
+            extra["object_costs"] = self.world.object_costs()
+        frame: np.ndarray = self.topdown.render(self.poses(), people[:, [0, 1, 2, 5]], goals=goals, **extra)
+        return frame
+
+    def close(self) -> None:
+        """Releases rendering resources."""
+        self.sim.close()
+        if self._viewer is not None:
+            self._viewer.close()
+            self._viewer = None
+
+
+def check_overlays(overlays: Iterable[str] | str) -> tuple[str, ...]:
+    """The overlay names as a tuple; raises :class:`InputError` on an unknown one.
+
+    Names: ``"zones"`` (Hall's intimate, personal and social rings around each person, radii from
+    the scenario's ``[proxemics]``), ``"groups"`` (the groups the robot perceives: o-space and
+    outline), ``"object_spaces"`` (interaction spaces coloured by R(t) at the current time of day)
+    and ``"path"`` (the robots' global paths). An empty iterable draws the bare scene.
+    """
+    from proxemic.viz.topdown import OVERLAYS
+
+    chosen = (overlays,) if isinstance(overlays, str) else tuple(overlays)
+    bad = [o for o in chosen if o not in OVERLAYS]
+    if bad:
+        raise InputError(
+            f"overlays: expected names among {list(OVERLAYS)}, got {bad[0]!r}",
+            field="overlays",
+            expected=str(list(OVERLAYS)),
+            found=repr(bad[0]),
+        )
+    return chosen
+
+
+def warn_no_render_mode() -> None:
+    """The gymnasium warning for ``render()`` without a render mode."""
+    gym.logger.warn("render() called without a render_mode; pass render_mode= to the constructor")

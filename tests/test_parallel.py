@@ -1,0 +1,322 @@
+"""The PettingZoo parallel env: API conformance, determinism, multi-robot behaviour, bad input."""
+
+from __future__ import annotations
+
+import runpy
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pettingzoo.test import api_test, parallel_api_test
+from pettingzoo.utils.conversions import parallel_to_aec
+
+import proxemic
+from proxemic import InputError, ScenarioError, UnknownNameError
+
+ROOT = Path(__file__).resolve().parent.parent
+
+TWO_ROBOTS = """
+[scene]
+name = "two_robots"
+bounds = [0, 0, 10, 8]
+
+[[wall]]
+from = [0, 0]
+to = [10, 0]
+
+[[person]]
+route = [[2, 2], [8, 2]]
+speed = 1.0
+
+[[robot]]
+start = [1.5, 4, 0]
+goal = [8.5, 4]
+
+[[robot]]
+start = [8.5, 4.0, 3.14159]
+goal = [1.5, 4]
+
+[episode]
+max_time = 20
+"""
+
+
+def test_parallel_api_test_passes():
+    env = proxemic.parallel_env("daza2021_fig15")
+    parallel_api_test(env, num_cycles=150)
+
+
+def test_aec_conversion_passes_the_api_test():
+    env = parallel_to_aec(proxemic.parallel_env("daza2021_fig15", robots=3))
+    api_test(env, num_cycles=40)
+
+
+def test_agents_spaces_and_what_each_robot_sees_of_the_others():
+    env = proxemic.parallel_env("daza2021_fig15", robots=3)
+    assert env.possible_agents == ["robot_0", "robot_1", "robot_2"]
+    obs, infos = env.reset(seed=3)
+    space = env.observation_space("robot_0")
+    assert space["robots"].shape == (2, proxemic._core.PEER_FEATURES)
+    assert space["robots_mask"].shape == (2,)
+    assert env.action_space("robot_1").shape == (3,)
+    # robot_0 at (2, 6) facing east; robot_1 at (10, 6) facing west (8 m: at the sensor range),
+    # robot_2 at (6, 2) facing north. Nearest first: robot_2 (5.66 m), then robot_1 (8 m).
+    rows = obs["robot_0"]["robots"]
+    np.testing.assert_array_equal(obs["robot_0"]["robots_mask"], [1.0, 1.0])
+    np.testing.assert_array_equal(rows[:, 0], [2.0, 1.0])  # identities
+    np.testing.assert_allclose(rows[0, 1:3], [4.0, -4.0], atol=1e-6)  # robot frame of robot_0
+    np.testing.assert_allclose(rows[1, 1:3], [8.0, 0.0], atol=1e-6)
+    np.testing.assert_allclose(rows[:, 5], 0.24)
+    np.testing.assert_array_equal(rows[:, 6], [1.0, 1.0])  # both running
+    # robot_1 sees robot_0 straight ahead in its own (westward) frame.
+    r1 = obs["robot_1"]["robots"]
+    assert r1[1, 0] == 0.0
+    np.testing.assert_allclose(r1[1, 1:3], [8.0, 0.0], atol=1e-6)
+    for a in env.agents:
+        assert space.contains(obs[a]), a
+        assert set(infos[a]) >= {"reward_progress", "planner_action", "planner_mode", "is_success"}
+
+
+def _episode(env, seed: int, policy_seed: int = 0) -> list:
+    """Every output of a whole episode, with random actions from a seeded generator."""
+    rng = np.random.default_rng(policy_seed)
+    trace = [env.reset(seed=seed)]
+    while env.agents:
+        actions = {a: rng.uniform(-1, 1, 3).astype(np.float32) for a in env.agents}
+        trace.append(env.step(actions))
+    return trace
+
+
+def _assert_same(a, b, where: str = "") -> None:
+    if isinstance(a, dict):
+        assert a.keys() == b.keys(), where
+        for k in a:
+            _assert_same(a[k], b[k], f"{where}.{k}")
+    elif isinstance(a, list | tuple):
+        assert len(a) == len(b), where
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            _assert_same(x, y, f"{where}[{i}]")
+    elif isinstance(a, np.ndarray):
+        assert a.dtype == b.dtype and a.shape == b.shape, where
+        assert a.tobytes() == b.tobytes(), where
+    elif isinstance(a, float) and np.isnan(a):
+        assert isinstance(b, float) and np.isnan(b), where
+    else:
+        assert a == b, where
+
+
+def test_same_seed_same_episode_for_every_agent_bit_for_bit(write_scenario):
+    path = write_scenario(TWO_ROBOTS)
+    first = _episode(proxemic.parallel_env(path), seed=11)
+    again = _episode(proxemic.parallel_env(path), seed=11)
+    assert len(first) > 10
+    _assert_same(first, again, "episode")
+    # A different seed changes the episode (the person's phase and speed are drawn from it).
+    other = _episode(proxemic.parallel_env(path), seed=12)
+    with pytest.raises(AssertionError):
+        _assert_same(first, other, "episode")
+
+
+def test_four_robots_cross_without_robot_collision_and_all_arrive():
+    for seed in (0, 1):
+        env = proxemic.parallel_env("daza2021_fig15", autopilot=True, planners="social")
+        env.reset(seed=seed)
+        outcomes = {}
+        while env.agents:
+            _, _, term, trunc, infos = env.step({})
+            for a in term:
+                if term[a] or trunc[a]:
+                    outcomes[a] = infos[a]["metrics"]["outcome"]
+                    team = infos[a].get("team")
+        assert outcomes == {a: "success" for a in env.possible_agents}, (seed, outcomes)
+        assert team["agent_collisions"] == 0 and team["robot_collision_steps"] == 0
+        assert team["min_robot_gap"] > 0.0
+        assert team["success_rate"] == 1.0
+        assert 0.0 < team["team_time"] <= team["total_time"]
+
+
+def test_care_center_delivery_robots_meet_in_the_corridor_and_all_deliver():
+    env = proxemic.parallel_env("care_center_multi", autopilot=True)
+    assert len(env.possible_agents) == 3
+    env.reset(seed=0)
+    while env.agents:
+        env.step({})
+    team = env.episode_metrics()
+    assert [m["outcome"] for m in team["robots"]] == ["success"] * 3
+    assert team["agent_collisions"] == 0 and team["person_collisions"] == 0
+    assert team["min_robot_gap"] < 1.0  # they did meet (and passed each other)
+
+
+def test_plain_astar_robots_collide_at_the_crossing_and_it_is_counted():
+    # The same crossing with plain A* (no robot avoidance): the collision check can fail.
+    env = proxemic.parallel_env("daza2021_fig15", autopilot=True, planners="astar")
+    env.reset(seed=0)
+    while env.agents:
+        env.step({})
+    team = env.episode_metrics()
+    assert team["agent_collisions"] >= 2
+    assert team["min_robot_gap"] < 0.05
+    assert [m["outcome"] for m in team["robots"]].count("collision") == team["agent_collisions"]
+
+
+def test_mixed_planners_and_autopilot_sets():
+    env = proxemic.parallel_env(
+        "daza2021_fig15", planners={"robot_1": "astar", "robot_2": "orca"}, autopilot={"robot_3"}
+    )
+    planners = [r["planner"] for r in env.scenario["robots"]]
+    assert planners[1:3] == ["astar", "orca"]
+    env.reset(seed=0)
+    # robot_3 is on autopilot: its action may be left out; the others must act.
+    zero = np.zeros(3, np.float32)
+    _, _, _, _, infos = env.step({"robot_0": zero, "robot_1": zero, "robot_2": zero})
+    assert infos["robot_2"]["planner_mode"] == "orca"
+    with pytest.raises(InputError, match="missing"):
+        env.step({"robot_0": zero})
+
+
+def test_without_planner_actions_policy_agents_skip_their_planners():
+    env = proxemic.parallel_env("daza2021_fig15", autopilot={"robot_3"}, planner_actions=False)
+    _, infos = env.reset(seed=0)
+    assert "planner_action" not in infos["robot_0"] and "planner_mode" not in infos["robot_0"]
+    assert "planner_action" in infos["robot_3"]  # on autopilot: its planner drives it
+    forward = np.array([1.0, 0.0, 0.0], np.float32)
+    for _ in range(20):
+        _, _, _, _, infos = env.step({a: forward for a in ("robot_0", "robot_1", "robot_2")})
+    assert "planner_action" not in infos["robot_1"]
+    # The policies drove robots 0-2 forward; robot 3 followed its own planner toward its goal.
+    moved = env.state()[:, :2] - np.array([[2, 6], [10, 6], [6, 2], [6, 10]], np.float32)
+    assert np.linalg.norm(moved, axis=1).min() > 0.5
+
+
+JOIN_ROOM = """
+[scene]
+name = "join"
+bounds = [0, 0, 10, 10]
+
+[[wall]]
+from = [0, 0]
+to = [10, 0]
+
+[[person]]
+behaviour = "standing"
+pose = [3, {y}, 0]
+group = 1
+
+[[person]]
+behaviour = "standing"
+pose = [4, {y}, 3.14159]
+group = 1
+
+[[robot]]
+start = [3.5, 5.0, -1.5708]
+goal = [8.5, 5.0]
+planner = "social"
+
+[[robot]]
+start = [3.5, 7.5, -1.5708]
+goal = [8.5, 8.5]
+planner = "social"
+"""
+
+
+def test_a_robot_in_a_conversation_is_a_person_to_the_other_robots():
+    # robot_1 stands 2.5 m from robot_0 and over 3 m (the controller's people range) from both
+    # people. With the conversation at y = 4, robot_0 is inside it (1.1 m from both, at rest):
+    # robot_1's social planner handles robot_0 as a person (Social Momentum). With the
+    # conversation moved away (y = 1), robot_0 is just a robot: robot_1 follows its path.
+    modes = {}
+    for y in (4, 1):
+        env = proxemic.parallel_env(proxemic._core.Scenario.from_toml(JOIN_ROOM.format(y=y), "join.toml"))
+        _, infos = env.reset(seed=0)
+        joins = env.world.perception()["robot_joins"]
+        modes[y] = (joins[0] is not None, infos["robot_1"]["planner_mode"])
+    assert modes == {4: (True, "social_momentum"), 1: (False, "follow_path")}
+
+
+def _intrusions(poses: list[np.ndarray], people: list[np.ndarray], robots: list[int], zone: float) -> int:
+    """Steps where a robot came within `zone` of a person by its own motion (toward that person)."""
+    count = 0
+    for t in range(1, len(poses)):
+        for i in robots:
+            p0, p1 = poses[t - 1][i, :2], poses[t][i, :2]
+            q = people[t][:, :2]
+            d = np.linalg.norm(q - p1, axis=1)
+            toward = (q - p0) @ (p1 - p0) > 1e-9
+            count += int(np.sum((d < zone) & toward))
+    return count
+
+
+def _museum_run(planners: str | None, seed: int, steps: int = 400):
+    env = proxemic.parallel_env("museum_multi", robots=4, autopilot=True, planners=planners)
+    env.reset(seed=seed)
+    poses, people = [env.ws.poses()], [env.people()]
+    while env.agents and len(poses) < steps:
+        env.step({})
+        poses.append(env.ws.poses())
+        people.append(env.people())
+    return env, poses, people
+
+
+def test_museum_robots_keep_out_of_intimate_zones_while_they_have_room():
+    zone = None
+    for seed in (0, 1):
+        env, poses, people = _museum_run(None, seed)  # the scene's planner: social, for all four
+        zone = env.scenario["proxemics"]["zones"][0]  # Hall's intimate zone radius (m)
+        assert {r["planner"] for r in env.scenario["robots"]} == {"social"}
+        assert _intrusions(poses, people, [0, 1, 2, 3], zone) == 0, seed
+        team = env.episode_metrics()
+        assert team["agent_collisions"] == 0 and team["person_collisions"] == 0
+        # The robots made real progress (not a test that passes by standing still).
+        assert min(np.linalg.norm(poses[-1][:, :2] - poses[0][:, :2], axis=1)) > 5.0
+    # The same measure catches plain A* walking into people (seed 1: it does).
+    _, poses, people = _museum_run("astar", 1)
+    assert _intrusions(poses, people, [0, 1, 2, 3], zone) > 0
+
+
+def test_bad_input_is_a_clear_error(write_scenario):
+    with pytest.raises(InputError, match="robots") as e:
+        proxemic.parallel_env("daza2021_fig15", robots=0)
+    assert e.value.field == "robots"
+    with pytest.raises(ScenarioError) as e:
+        proxemic.parallel_env("daza2021_fig15", robots=5)
+    assert e.value.field == "robots" and "[1, 4]" in e.value.expected and e.value.found == "5"
+    overlapping = TWO_ROBOTS.replace("start = [8.5, 4.0, 3.14159]", "start = [1.8, 4.1, 3.14159]")
+    with pytest.raises(ScenarioError) as e:
+        proxemic.parallel_env(write_scenario(overlapping))
+    assert e.value.field == "robot[1].start" and "overlapping" in str(e.value)
+    assert str(e.value).startswith(str(e.value.file))
+    with pytest.raises(UnknownNameError) as e:
+        proxemic.parallel_env("daza2021_fig15", planners={"robot_1": "teleport"})
+    assert e.value.field == "planners['robot_1']" and "teleport" in str(e.value)
+    with pytest.raises(UnknownNameError, match="teleport"):
+        proxemic.parallel_env("daza2021_fig15", planners="teleport")
+    with pytest.raises(InputError, match="robot_9"):
+        proxemic.parallel_env("daza2021_fig15", planners={"robot_9": "astar"})
+    env = proxemic.parallel_env("daza2021_fig15", robots=2)
+    env.reset(seed=0)
+    with pytest.raises(InputError) as e:
+        env.step({"robot_0": [np.nan, 0, 0], "robot_1": [0, 0, 0]})
+    assert e.value.field == "actions['robot_0']"
+    with pytest.raises(InputError, match="robot_7"):
+        env.step({"robot_0": [0, 0, 0], "robot_1": [0, 0, 0], "robot_7": [0, 0, 0]})
+    with pytest.raises(InputError) as e:
+        env.world.set_planning([True])
+    assert e.value.field == "planning" and "2 flags" in e.value.expected
+
+
+def test_example_with_a_standard_multi_agent_wrapper_runs():
+    ns = runpy.run_path(str(ROOT / "examples" / "parallel_vec_env.py"), run_name="example")
+    result = ns["main"](steps=30)
+    assert result["num_envs"] == 4 * 2  # 4 robots x 2 copies of the env
+    assert result["obs_shape"][0] == 8
+    assert result["steps"] == 30
+
+
+def test_readme_parallel_example_runs(capsys):
+    import re
+
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), flags=re.S)
+    block = next(b for b in blocks if "parallel_env" in b)
+    exec(compile(block, "README.md", "exec"), {})
+    rate, collisions, team_time = capsys.readouterr().out.split()
+    assert 0.0 <= float(rate) <= 1.0 and int(collisions) >= 0 and float(team_time) > 0.0
