@@ -103,6 +103,21 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose robots' elastic-band gains (dimensionless, each in [0, 100]; used by the
+    /// `eband` planner) are replaced where given. Raises `ScenarioError` naming the gain.
+    #[pyo3(signature = (contraction_gain = None, repulsion_gain = None, social_gain = None))]
+    fn with_eband_gains(
+        &self,
+        py: Python<'_>,
+        contraction_gain: Option<f64>,
+        repulsion_gain: Option<f64>,
+        social_gain: Option<f64>,
+    ) -> PyResult<Self> {
+        let inner =
+            enter_core(py, || self.inner.with_eband_gains(contraction_gain, repulsion_gain, social_gain))?;
+        Ok(PyScenario { inner })
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
     fn to_json(&self) -> String {
         self.inner.to_json()
