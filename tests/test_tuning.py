@@ -87,11 +87,18 @@ def test_tune_writes_every_point_and_g_comes_from_the_trajectories(tmp_path):
 
 
 def test_gains_change_the_trajectory():
-    a = run_tune_task((0, TARGET, "eband", 1, (("repulsion_gain", 0.0),)))
-    b = run_tune_task((1, TARGET, "eband", 1, (("repulsion_gain", 2.0),)))
+    a = run_tune_task((0, (TARGET, None), "eband", 1, (("repulsion_gain", 0.0),)))
+    b = run_tune_task((1, (TARGET, None), "eband", 1, (("repulsion_gain", 2.0),)))
     assert a["success"] and b["success"]
     assert (a["H"], a["D"]) != (b["H"], b["D"])
     assert CostWeights().cost(a) != CostWeights().cost(b)
+
+
+def test_targets_send_the_robot_to_other_goals():
+    own = run_tune_task((0, (TARGET, None), "eband", 0, ()))
+    near = run_tune_task((0, (TARGET, (4.0, 8.0)), "eband", 0, ()))
+    assert (own["goal_x"], own["goal_y"]) == (14.0, 7.8) and (near["goal_x"], near["goal_y"]) == (4.0, 8.0)
+    assert near["success"] and near["D"] < own["D"] - 3.0
 
 
 def test_bad_gains_name_the_field():
@@ -105,6 +112,10 @@ def test_tune_cli_bad_input_exits_non_zero(tmp_path, capsys):
     base = ["tune", "--trials", "1", "--episodes", "1", "--out", str(tmp_path / "t")]
     assert main([*base, "--scenario", "atlantis"]) == 2
     assert "unknown scenario 'atlantis'" in capsys.readouterr().err
+    assert main([*base, "--scenario", TARGET, "--target", "0.15,5"]) == 2
+    assert "robot[0].goal: expected a position at least 0.24 m" in capsys.readouterr().err
+    assert main([*base, "--scenario", TARGET, "--target", "100,5"]) == 2
+    assert "robot[0].goal: expected a point inside scene.bounds" in capsys.readouterr().err
     assert main([*base, "--planner", "teleport"]) == 2
     assert "unknown planner 'teleport'" in capsys.readouterr().err
     assert main([*base, "--gain", "kc=0:1"]) == 2

@@ -105,6 +105,15 @@ def _parse_range(text: str) -> tuple[str, tuple[float, float]]:
         raise argparse.ArgumentTypeError(f"expected NAME=LOW:HIGH (e.g. repulsion_gain=0:2), got {text!r}") from None
 
 
+def _parse_point(text: str) -> tuple[float, float]:
+    """``x,y`` to a point."""
+    try:
+        x, y = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a point X,Y in metres (e.g. 14,7.8), got {text!r}") from None
+    return x, y
+
+
 def _parse_weights(text: str) -> tuple[float, float, float, float]:
     """``a,b,c,d`` to four floats."""
     try:
@@ -119,8 +128,10 @@ def cmd_tune(args: argparse.Namespace) -> int:
     from proxemic.tuning import DEFAULT_RANGES, DEFAULT_TARGETS, CostWeights, TuneConfig, curve_text, run_tune
 
     a, b, c, d = args.weights
+    scenes = args.scenario or list(DEFAULT_TARGETS)
+    goals = args.target or [None]
     cfg = TuneConfig(
-        targets=args.scenario or list(DEFAULT_TARGETS),
+        targets=[(s, g) for s in scenes for g in goals],
         planner=args.planner,
         trials=args.trials,
         episodes=args.episodes,
@@ -137,7 +148,8 @@ def cmd_tune(args: argparse.Namespace) -> int:
     result = run_tune(cfg)
     best = result["best"]
     print()
-    print(f"## G curve ({', '.join(cfg.targets)}; {cfg.planner}; seeds {result['seeds']})")
+    where = ", ".join(t["scenario"] + (f" to {tuple(t['goal'])}" if t["goal"] else "") for t in result["targets"])
+    print(f"## G curve ({where}; {cfg.planner}; seeds {result['seeds']})")
     print()
     print(curve_text(result))
     print()
@@ -191,6 +203,13 @@ def build_parser() -> argparse.ArgumentParser:
     t = sub.add_parser("tune", help="Calderita's gain search: controller gains minimising G = aH + bD + cQ + dP")
     t.add_argument(
         "--scenario", action="append", help="target scene(s), repeat for several (default: calderita_exp1 and _exp2)"
+    )
+    t.add_argument(
+        "--target",
+        action="append",
+        type=_parse_point,
+        metavar="X,Y",
+        help="a goal for the robot in every scene, repeat for several (default: each scene's own goal)",
     )
     t.add_argument("--planner", default="eband", help="the planner whose gains are tuned (default: eband)")
     t.add_argument("--trials", type=int, default=20, help="gain points evaluated at most (default: 20)")

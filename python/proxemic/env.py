@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -82,6 +82,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
     | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
+    | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
     | ``width``, ``height`` | 640, 480 | frame size |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
 
@@ -100,6 +101,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         autopilot: bool = False,
         planner: str | None = None,
         eband: Mapping[str, float] | None = None,
+        goal: Sequence[float] | None = None,
         width: int = 640,
         height: int = 480,
         camera: str = "top",
@@ -122,7 +124,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.render_mode = render_mode
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
-        self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner, eband=eband)
+        self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)
         self.world = _core.World(self.core_scenario)
         self.sim = Simulation(self.scenario)
         self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}

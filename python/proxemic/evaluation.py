@@ -75,21 +75,26 @@ class EpisodeResult:
     path: np.ndarray | None = field(default=None, repr=False)
 
 
-_ENV_CACHE: dict[tuple[str, str, tuple[tuple[str, float], ...]], Any] = {}
+_ENV_CACHE: dict[tuple[Any, ...], Any] = {}
 #: Envs kept per process (a tune run makes one per gain point: the oldest are closed).
 _ENV_CACHE_SIZE = 8
 
 
-def cached_env(scenario: str, planner: str, eband: Mapping[str, float] | None = None) -> Any:
-    """An autopilot env of (scenario, planner, eband gains), cached per process."""
+def cached_env(
+    scenario: str,
+    planner: str,
+    eband: Mapping[str, float] | None = None,
+    goal: tuple[float, float] | None = None,
+) -> Any:
+    """An autopilot env of (scenario, planner, eband gains, goal), cached per process."""
     from proxemic.env import ProxemicEnv
 
-    key = (scenario, planner, tuple(sorted((eband or {}).items())))
+    key = (scenario, planner, tuple(sorted((eband or {}).items())), goal)
     env = _ENV_CACHE.get(key)
     if env is None:
         while len(_ENV_CACHE) >= _ENV_CACHE_SIZE:
             _ENV_CACHE.pop(next(iter(_ENV_CACHE))).close()
-        env = ProxemicEnv(scenario, autopilot=True, planner=planner, eband=eband)
+        env = ProxemicEnv(scenario, autopilot=True, planner=planner, eband=eband, goal=goal)
         _ENV_CACHE[key] = env
     return env
 

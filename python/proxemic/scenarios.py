@@ -7,7 +7,7 @@ description as a dict (defaults filled in, world polygons computed).
 from __future__ import annotations
 
 import json
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -68,7 +68,11 @@ def check_planner(planner: str) -> str:
 
 
 def load(
-    scenario: str | Path, *, planner: str | None = None, eband: Mapping[str, float] | None = None
+    scenario: str | Path,
+    *,
+    planner: str | None = None,
+    eband: Mapping[str, float] | None = None,
+    goal: Sequence[float] | None = None,
 ) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
@@ -77,6 +81,7 @@ def load(
         planner: If given, every robot uses this built-in planner instead of the file's.
         eband: If given, every robot's elastic-band gains (``contraction_gain``,
             ``repulsion_gain``, ``social_gain``; dimensionless, in [0, 100]) are replaced by these.
+        goal: If given, the first robot's goal (x, y in metres) instead of the file's.
     """
     core = _core.Scenario.from_file(str(resolve(scenario)))
     if planner is not None:
@@ -91,4 +96,6 @@ def load(
                 found=unknown[0],
             )
         core = core.with_eband_gains(**{k: float(v) for k, v in eband.items()})
+    if goal is not None:
+        core = core.with_goal((float(goal[0]), float(goal[1])))
     return core, json.loads(core.to_json())

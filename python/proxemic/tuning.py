@@ -42,10 +42,13 @@ import numpy as np
 
 from proxemic import scenarios
 from proxemic.errors import InputError
-from proxemic.evaluation import Backend, RecordWriter, cached_env, check_out_dir
+from proxemic.evaluation import Backend, RecordWriter, cached_env, check_out_dir, mean_ci
 
 #: The Calderita scenes (the robot's targets when none are given).
 DEFAULT_TARGETS: tuple[str, ...] = ("calderita_exp1", "calderita_exp2")
+
+Target = tuple[str, tuple[float, float] | None]
+"""A scene (bundled name or TOML path) and the robot's goal in it (None: the scene's own goal)."""
 
 #: Search ranges of the gains when none are given: Calderita's two gains (contraction and
 #: repulsion), each around the default (1.0 and 0.5).
@@ -99,8 +102,8 @@ def trajectory_terms(robot: np.ndarray, people: np.ndarray, dt: float) -> dict[s
 class TuneConfig:
     """What to tune, on which targets, and where to write it."""
 
-    targets: Sequence[str] = DEFAULT_TARGETS
-    """Scenes (bundled names or TOML paths); the robot goes to each one's goal."""
+    targets: Sequence[str | Target] = DEFAULT_TARGETS
+    """Scenes (bundled names or TOML paths: the robot goes to the scene's goal) or (scene, goal) pairs."""
     planner: str = "eband"
     trials: int = 20
     """Gain points evaluated at most (the first is the starting gains)."""
@@ -117,11 +120,21 @@ class TuneConfig:
     backend: str = "process"
     ray_address: str | None = None
 
+    def target_list(self) -> list[Target]:
+        """The targets as (scene, goal or None) pairs."""
+        return [(t, None) if isinstance(t, str | Path) else (str(t[0]), t[1]) for t in self.targets]
+
     def check(self) -> None:
-        """Raises a ProxemicError for bad input (names, counts, ranges)."""
-        for t in self.targets:
-            scenarios.resolve(t)
+        """Raises a ProxemicError for bad input (names, goals, counts, ranges)."""
+        from proxemic import _core
+
         scenarios.check_planner(self.planner)
+        if not self.targets:
+            raise InputError("targets: expected at least one", field="targets", expected="a scene", found="none")
+        for scene, goal in self.target_list():
+            core, _ = scenarios.load(scene, goal=goal)
+            if goal is not None:
+                _core.World(core)  # a goal inside a wall or object is rejected here, naming it
         for name, value in (("trials", self.trials), ("episodes", self.episodes), ("samples", self.samples)):
             if value < 1:
                 raise InputError(
@@ -159,6 +172,9 @@ class Trial:
     """The gain sampled in this step ("start" for the starting point)."""
     gains: dict[str, float]
     G: float
+    G_ci: float
+    """95% half-width of G over the seeds (each seed's G averaged over the targets; Student t; NaN
+    for one seed)."""
     H: float
     D: float
     Q: float
@@ -167,21 +183,24 @@ class Trial:
     """Share of its episodes that reached the goal."""
 
 
-TuneTask = tuple[int, str, str, int, tuple[tuple[str, float], ...]]
-"""(trial, scenario, planner, seed, eband gains as sorted (name, value) pairs)."""
+TuneTask = tuple[int, Target, str, int, tuple[tuple[str, float], ...]]
+"""(trial, target, planner, seed, eband gains as sorted (name, value) pairs)."""
 
 
 def run_tune_task(task: TuneTask) -> dict[str, Any]:
     """Runs one episode of a gain point; returns its record with H, D, Q, P (no G: the caller weighs)."""
     from proxemic.runner import run_episode
 
-    trial, scenario, planner, seed, gains = task
-    env = cached_env(scenario, planner, dict(gains))
+    trial, (scenario, goal), planner, seed, gains = task
+    env = cached_env(scenario, planner, dict(gains), goal)
     rec = run_episode(scenario, seed, env=env)
     terms = trajectory_terms(rec.robot, rec.people, float(env.core_scenario.control_dt))
+    gx, gy = env.scenario["robots"][0]["goal"]
     return {
         "trial": trial,
         "scenario": env.scenario["scene"]["name"],
+        "goal_x": gx,
+        "goal_y": gy,
         "seed": seed,
         **dict(gains),
         "outcome": rec.metrics["outcome"],
@@ -192,7 +211,7 @@ def run_tune_task(task: TuneTask) -> dict[str, Any]:
 
 def _start_gains(cfg: TuneConfig) -> dict[str, float]:
     """The first target's gains (file values or defaults), clipped into the ranges."""
-    _, desc = scenarios.load(cfg.targets[0], planner=cfg.planner)
+    _, desc = scenarios.load(cfg.target_list()[0][0], planner=cfg.planner)
     current = desc["robots"][0]["eband"]
     return {k: float(np.clip(current[k], lo, hi)) for k, (lo, hi) in cfg.ranges.items()}
 
@@ -212,7 +231,8 @@ def run_tune(cfg: TuneConfig, *, progress: bool = True) -> dict[str, Any]:
     names = list(cfg.ranges)
     rng = np.random.default_rng(cfg.seed)
     seeds = [cfg.seed + k for k in range(cfg.episodes)]
-    per_point = len(cfg.targets) * len(seeds)
+    targets = cfg.target_list()
+    per_point = len(targets) * len(seeds)
     trials: list[Trial] = []
     bar = tqdm(total=cfg.trials * per_point, desc=f"tune {cfg.planner}", unit="ep", disable=not progress)
 
@@ -221,7 +241,7 @@ def run_tune(cfg: TuneConfig, *, progress: bool = True) -> dict[str, Any]:
         tasks: list[TuneTask] = [
             (first + i, t, cfg.planner, s, tuple(sorted(p.items())))
             for i, p in enumerate(points)
-            for t in cfg.targets
+            for t in targets
             for s in seeds
         ]
         recs: list[dict[str, Any]] = []
@@ -233,6 +253,9 @@ def run_tune(cfg: TuneConfig, *, progress: bool = True) -> dict[str, Any]:
         for i, p in enumerate(points):
             mine = recs[i * per_point : (i + 1) * per_point]
             mean = {k: float(np.mean([r[k] for r in mine])) for k in ("G", "H", "D", "Q", "P", "success")}
+            # the spread over seeds of the seed's G averaged over the targets (targets are a fixed design)
+            by_seed = [np.mean([r["G"] for r in mine if r["seed"] == s]) for s in seeds]
+            mean["G_ci"] = mean_ci(by_seed)[1]
             trials.append(Trial(first + i, step, varied, dict(p), **mean))
             trials_out.write(_trial_row(trials[-1]))
 
@@ -259,7 +282,7 @@ def run_tune(cfg: TuneConfig, *, progress: bool = True) -> dict[str, Any]:
                 stale += 1
     bar.close()
     result = {
-        "targets": list(cfg.targets),
+        "targets": [{"scenario": str(t), "goal": list(g) if g is not None else None} for t, g in targets],
         "planner": cfg.planner,
         "seeds": seeds,
         "search_seed": cfg.seed,
@@ -277,6 +300,8 @@ def run_tune(cfg: TuneConfig, *, progress: bool = True) -> dict[str, Any]:
 
 def _trial_row(t: Trial) -> dict[str, Any]:
     row = asdict(t)
+    if not math.isfinite(row["G_ci"]):
+        row["G_ci"] = None  # one episode: no interval (JSON has no NaN)
     gains = row.pop("gains")
     return {"trial": row.pop("trial"), "step": row.pop("step"), "varied": row.pop("varied"), **gains, **row}
 
@@ -285,12 +310,13 @@ def curve_text(result: Mapping[str, Any]) -> str:
     """The G curve as a markdown table: every trial's gains and G, and the best G so far."""
     trials = result["trials"]
     names = list(result["ranges"])
-    cols = ["trial", "varied", *names, "G", "best G", "success"]
+    cols = ["trial", "varied", *names, "G (95% CI)", "best G", "success"]
     lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
     best = math.inf
     for t in trials:
         best = min(best, t["G"])
         cells = [str(t["trial"]), t["varied"], *(f"{t[n]:.4g}" for n in names)]
-        cells += [f"{t['G']:.3f}", f"{best:.3f}", f"{t['success']:.2f}"]
+        ci = f" ± {t['G_ci']:.3f}" if t["G_ci"] is not None else ""
+        cells += [f"{t['G']:.3f}{ci}", f"{best:.3f}", f"{t['success']:.2f}"]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)

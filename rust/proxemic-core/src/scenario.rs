@@ -1122,6 +1122,26 @@ impl Scenario {
         Ok(s)
     }
 
+    /// A copy whose robot `robot` goes to `goal` (world frame, metres; inside `scene.bounds`)
+    /// instead of its file goal or approach task. Whether the goal is free space is checked when
+    /// a world is built from the scenario.
+    pub fn with_goal(&self, robot: usize, goal: [f64; 2]) -> Result<Self> {
+        let field = format!("robot[{robot}].goal");
+        if robot >= self.robots.len() {
+            return Err(err(
+                &self.source,
+                field,
+                format!("a robot index below {}", self.robots.len()),
+                format!("{robot}"),
+            ));
+        }
+        Checker { file: &self.source }.inside(&field, goal, self.scene.bounds)?;
+        let mut s = self.clone();
+        s.robots[robot].goal = goal;
+        s.robots[robot].approach = None;
+        Ok(s)
+    }
+
     /// JSON of the validated scenario (defaults filled in, world polygons computed).
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
@@ -2237,6 +2257,20 @@ goal = [9, 4]
             }
             other => panic!("expected a scenario error, got {other:?}"),
         }
+    }
+
+    #[test]
+    fn goal_override_is_checked() {
+        let s = parse(MINIMAL).expect("valid");
+        assert_eq!(s.with_goal(0, [5.0, 2.0]).expect("inside").robots[0].goal, [5.0, 2.0]);
+        match s.with_goal(0, [50.0, 2.0]) {
+            Err(CoreError::Scenario { field, expected, .. }) => {
+                assert_eq!(field, "robot[0].goal");
+                assert!(expected.contains("inside scene.bounds"), "{expected}");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+        assert!(matches!(s.with_goal(3, [5.0, 2.0]), Err(CoreError::Scenario { .. })));
     }
 
     #[test]

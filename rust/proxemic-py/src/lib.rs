@@ -118,6 +118,15 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose robot `robot` goes to `goal` (x, y in metres, inside the scene's bounds)
+    /// instead of its file goal. Raises `ScenarioError`; a goal inside a wall or object is
+    /// rejected when a `World` is built.
+    #[pyo3(signature = (goal, robot = 0))]
+    fn with_goal(&self, py: Python<'_>, goal: [f64; 2], robot: usize) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_goal(robot, goal))?;
+        Ok(PyScenario { inner })
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
     fn to_json(&self) -> String {
         self.inner.to_json()
