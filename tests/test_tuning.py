@@ -127,3 +127,22 @@ def test_tune_cli_bad_input_exits_non_zero(tmp_path, capsys):
     assert main(["tune", "--trials", "1", "--episodes", "1", "--out", str(blocked / "sub")]) == 2
     assert "cannot be written" in capsys.readouterr().err
     assert not (tmp_path / "t").exists()
+
+
+def test_tune_on_ray_matches_processes(tmp_path):
+    pytest.importorskip("ray", reason="the ray backend needs ray (pip install 'proxemic[ray]'; make test installs it)")
+    results = {}
+    for backend in ("process", "ray"):
+        cfg = TuneConfig(
+            targets=[(TARGET, (4.0, 8.0))],
+            trials=2,
+            episodes=1,
+            samples=1,
+            ranges={"repulsion_gain": (0.0, 2.0)},
+            out=tmp_path / backend,
+            workers=2,
+            backend=backend,
+        )
+        results[backend] = run_tune(cfg, progress=False)
+    assert results["ray"] == results["process"]
+    assert len(results["ray"]["trials"]) == 2

@@ -315,13 +315,14 @@ class RecordWriter:
 
     Used as a context manager around a run. If the run fails or is interrupted, the records that
     finished stay in the CSV, the Parquet file is written with them, and the error is re-raised as
-    a :class:`ProxemicError` naming the episode that failed (an interrupt stays a
+    an :class:`EpisodeError` naming the episode that failed (an interrupt stays a
     ``KeyboardInterrupt``). `tasks` (in result order) names the failed episode.
     """
 
     def __init__(self, csv_path: Path, parquet_path: Path, tasks: Sequence[Any] = ()) -> None:
-        """Opens the CSV file for writing."""
+        """Opens the CSV file for writing (and removes an earlier run's Parquet file)."""
         self.csv_path, self.parquet_path, self.tasks = csv_path, parquet_path, tasks
+        parquet_path.unlink(missing_ok=True)
         self.rows: list[dict[str, Any]] = []
         self._fh = csv_path.open("w", newline="")
         self._writer: csv.DictWriter[str] | None = None
