@@ -132,3 +132,22 @@ def test_ray_backend_gives_the_same_records_as_processes(tmp_path):
             runs[backend] = list(csv.DictReader(fh))
     assert len(runs["ray"]) == 2
     assert runs["ray"] == runs["process"]
+
+
+def test_an_interrupted_run_keeps_the_finished_records(tmp_path, monkeypatch, capsys):
+    from proxemic import evaluation
+
+    real = evaluation.run_task
+
+    def interrupted_on_seed_1(task, keep=False):
+        if task[2] == 1:
+            raise KeyboardInterrupt
+        return real(task, keep)
+
+    monkeypatch.setattr(evaluation, "run_task", interrupted_on_seed_1)
+    out = tmp_path / "i"
+    assert main(["eval", "--episodes", "3", "--workers", "1", "--out", str(out)]) == 130
+    assert "interrupted; the episodes that finished are kept" in capsys.readouterr().err
+    with (out / "episodes.csv").open() as fh:
+        assert [r["seed"] for r in csv.DictReader(fh)] == ["0"]
+    assert pq.read_table(out / "episodes.parquet").num_rows == 1
