@@ -6,12 +6,12 @@ contraction, and ``k_r``, repulsion) by minimising a cost over the robot's execu
     G = a*H + b*D + c*Q + d*P
 
 - ``H``: the sum of heading changes along the path (Eq. 18), here ``sum |wrap(theta_{k+1} - theta_k)|``
-  over the control instants (rad; the robot's yaw: Pepper is holonomic and turns toward its way);
+  over the control instants (rad; theta is the robot's yaw, the paper's ``H = integral of dtheta``);
 - ``D``: the distance travelled (Eq. 19), the length of the executed polyline (m);
 - ``Q``: the time used to complete the path, ``steps * control_dt`` (s);
 - ``P``: the mean over the control instants of the distance from the robot to the nearest person
-  (Eq. 20, centre to centre, m). The paper takes the people *visible* from the robot; here every
-  person counts (an episode with no people has ``P = 0``).
+  (Eq. 20, printed with ``H`` on its left but defining P; centre to centre, m). The paper takes
+  the people *visible* from the robot; here every person counts (no people: ``P = 0``).
 
 The paper does not give ``a, b, c, d``. H, D and Q are penalties (more is worse); P is a
 distance kept from people, which is better when larger, so its weight is negative for a cost to
