@@ -118,6 +118,8 @@ def test_tune_cli_bad_input_exits_non_zero(tmp_path, capsys):
     assert "robot[0].goal: expected a point inside scene.bounds" in capsys.readouterr().err
     assert main([*base, "--planner", "teleport"]) == 2
     assert "unknown planner 'teleport'" in capsys.readouterr().err
+    assert main([*base, "--planner", "astar"]) == 2
+    assert "planner 'astar': no tunable gains; expected one of eband" in capsys.readouterr().err
     assert main([*base, "--gain", "kc=0:1"]) == 2
     assert "gain 'kc'" in capsys.readouterr().err
     assert main([*base, "--gain", "repulsion_gain=2:1"]) == 2

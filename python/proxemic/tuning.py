@@ -47,6 +47,10 @@ from proxemic.evaluation import Backend, RecordWriter, cached_env, check_out_dir
 #: The Calderita scenes (the robot's targets when none are given).
 DEFAULT_TARGETS: tuple[str, ...] = ("calderita_exp1", "calderita_exp2")
 
+#: Planners whose gains are exposed (the elastic band's ``contraction_gain``, ``repulsion_gain``,
+#: ``social_gain``).
+TUNABLE_PLANNERS: tuple[str, ...] = ("eband",)
+
 Target = tuple[str, tuple[float, float] | None]
 """A scene (bundled name or TOML path) and the robot's goal in it (None: the scene's own goal)."""
 
@@ -129,6 +133,13 @@ class TuneConfig:
         from proxemic import _core
 
         scenarios.check_planner(self.planner)
+        if self.planner not in TUNABLE_PLANNERS:
+            raise InputError(
+                f"planner {self.planner!r}: no tunable gains; expected one of {', '.join(TUNABLE_PLANNERS)}",
+                field="planner",
+                expected=f"one of {TUNABLE_PLANNERS}",
+                found=self.planner,
+            )
         if not self.targets:
             raise InputError("targets: expected at least one", field="targets", expected="a scene", found="none")
         for scene, goal in self.target_list():
