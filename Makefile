@@ -23,11 +23,12 @@ system-deps: ## Debian packages for offscreen rendering (EGL and OSMesa), if mis
 	  echo "installing $$pkgs"; apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$pkgs >/dev/null; \
 	else echo "warning: cannot install $$pkgs (not root or no apt-get); rgb_array rendering may be unavailable"; fi
 
-$(VENV)/.deps: pyproject.toml
+$(VENV)/.deps: pyproject.toml Makefile
 	@test -x $(PY) || python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip
 	$(PIP) install -q maturin "numpy>=1.26" "gymnasium>=1.0" "mujoco>=3.3" "matplotlib>=3.7" "tqdm>=4.60" "pyarrow>=14" \
 	    "pytest>=8" "ruff>=0.6" "mypy>=1.10" "imageio>=2.30" "imageio-ffmpeg>=0.5" "pettingzoo>=1.24" "supersuit>=3.9"
+	$(PIP) install -q "ray>=2.9"  # the `ray` extra: the Ray backend of eval and tune is tested too
 	@touch $@
 
 build: $(VENV)/.deps ## compile the Rust core and install the package into the venv (maturin, release)
@@ -72,6 +73,7 @@ bench: setup ## criterion benches of the core (medians), env, parallel env and r
 	  | grep -E '^[a-z_/0-9.]+|time:|thrpt:' || exit 1; done
 	$(PY) benches/env_bench.py
 	$(PY) benches/parallel_bench.py
+	$(PY) benches/eval_bench.py
 	$(PY) benches/orca_vs_navground.py
 	$(PY) benches/pedestrians_vs_navground.py
 

@@ -80,3 +80,74 @@ def test_ray_backend_without_ray_is_a_clear_error(tmp_path, monkeypatch):
     cfg = EvalConfig(scenario="museum", planners=["astar"], episodes=1, out=tmp_path, backend="ray")
     with pytest.raises(Exception, match="needs the ray package"):
         run_eval(cfg, progress=False)
+
+
+def test_a_failing_episode_keeps_the_finished_records(tmp_path, monkeypatch, capsys):
+    from proxemic import evaluation
+
+    real = evaluation.run_task
+
+    def fails_on_seed_2(task, keep=False):
+        if task[2] == 2:
+            raise RuntimeError("simulated crash")
+        return real(task, keep)
+
+    monkeypatch.setattr(evaluation, "run_task", fails_on_seed_2)
+    out = tmp_path / "e"
+    assert main(["eval", "--episodes", "4", "--workers", "1", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "episode 3 ('museum', 'astar', 2) failed (RuntimeError: simulated crash)" in err
+    assert "the 2 finished episodes are kept" in err and "Traceback" not in err
+    with (out / "episodes.csv").open() as fh:
+        assert [r["seed"] for r in csv.DictReader(fh)] == ["0", "1"]
+    assert pq.read_table(out / "episodes.parquet").num_rows == 2
+
+
+def _closed_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_a_ray_address_that_does_not_answer_is_a_clear_error(tmp_path, capsys):
+    address = f"127.0.0.1:{_closed_port()}"
+    args = ["--backend", "ray", "--ray-address", address, "--episodes", "1", "--out", str(tmp_path)]
+    assert main(["eval", *args]) == 2
+    err = capsys.readouterr().err
+    assert f"--ray-address {address}: no Ray cluster answers there" in err and "Traceback" not in err
+    assert main(["tune", "--trials", "1", *args]) == 2
+    assert "no Ray cluster answers there" in capsys.readouterr().err
+
+
+def test_ray_backend_gives_the_same_records_as_processes(tmp_path):
+    pytest.importorskip("ray", reason="the ray backend needs ray (pip install 'proxemic[ray]'; make test installs it)")
+    runs = {}
+    for backend in ("process", "ray"):
+        out = tmp_path / backend
+        cfg = EvalConfig(scenario="museum", planners=["astar"], episodes=2, seed=4, out=out, workers=2, backend=backend)
+        run_eval(cfg, progress=False)
+        with (out / "episodes.csv").open() as fh:
+            runs[backend] = list(csv.DictReader(fh))
+    assert len(runs["ray"]) == 2
+    assert runs["ray"] == runs["process"]
+
+
+def test_an_interrupted_run_keeps_the_finished_records(tmp_path, monkeypatch, capsys):
+    from proxemic import evaluation
+
+    real = evaluation.run_task
+
+    def interrupted_on_seed_1(task, keep=False):
+        if task[2] == 1:
+            raise KeyboardInterrupt
+        return real(task, keep)
+
+    monkeypatch.setattr(evaluation, "run_task", interrupted_on_seed_1)
+    out = tmp_path / "i"
+    assert main(["eval", "--episodes", "3", "--workers", "1", "--out", str(out)]) == 130
+    assert "interrupted; the episodes that finished are kept" in capsys.readouterr().err
+    with (out / "episodes.csv").open() as fh:
+        assert [r["seed"] for r in csv.DictReader(fh)] == ["0"]
+    assert pq.read_table(out / "episodes.parquet").num_rows == 1

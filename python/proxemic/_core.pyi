@@ -1,5 +1,6 @@
 """Type stubs of the compiled core ``proxemic._core`` (Rust, pyo3)."""
 
+from collections.abc import Sequence
 from os import PathLike
 from typing import Any
 
@@ -30,6 +31,13 @@ class Scenario:
     def with_robots(self, n: int) -> Scenario: ...
     @property
     def num_robots(self) -> int: ...
+    def with_eband_gains(
+        self,
+        contraction_gain: float | None = None,
+        repulsion_gain: float | None = None,
+        social_gain: float | None = None,
+    ) -> Scenario: ...
+    def with_goal(self, goal: tuple[float, float] | Sequence[float], robot: int = 0) -> Scenario: ...
     def to_json(self) -> str: ...
     @property
     def name(self) -> str: ...

@@ -138,6 +138,75 @@ def _add_video_view_args(p: argparse.ArgumentParser) -> None:
     )
 
 
+def _parse_range(text: str) -> tuple[str, tuple[float, float]]:
+    """``name=low:high`` to (name, (low, high))."""
+    name, sep, rng = text.partition("=")
+    lo, sep2, hi = rng.partition(":")
+    try:
+        if not (sep and sep2):
+            raise ValueError
+        return name.strip(), (float(lo), float(hi))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected NAME=LOW:HIGH (e.g. repulsion_gain=0:2), got {text!r}") from None
+
+
+def _parse_point(text: str) -> tuple[float, float]:
+    """``x,y`` to a point."""
+    try:
+        x, y = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a point X,Y in metres (e.g. 14,7.8), got {text!r}") from None
+    return x, y
+
+
+def _parse_weights(text: str) -> tuple[float, float, float, float]:
+    """``a,b,c,d`` to four floats."""
+    try:
+        a, b, c, d = (float(x) for x in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected four numbers a,b,c,d (e.g. 1,1,1,-1), got {text!r}") from None
+    return a, b, c, d
+
+
+def cmd_tune(args: argparse.Namespace) -> int:
+    """Calderita's gain search (§5.4): the controller gains minimising G over seeded episodes."""
+    from proxemic.tuning import DEFAULT_RANGES, DEFAULT_TARGETS, CostWeights, TuneConfig, curve_text, run_tune
+
+    a, b, c, d = args.weights
+    scenes = args.scenario or list(DEFAULT_TARGETS)
+    goals = args.target or [None]
+    cfg = TuneConfig(
+        targets=[(s, g) for s in scenes for g in goals],
+        planner=args.planner,
+        trials=args.trials,
+        episodes=args.episodes,
+        seed=args.seed,
+        samples=args.samples,
+        ranges=dict(args.gain) if args.gain else dict(DEFAULT_RANGES),
+        weights=CostWeights(a, b, c, d, failure_penalty=args.failure_penalty),
+        out=Path(args.out),
+        workers=args.workers,
+        backend=args.backend,
+        ray_address=args.ray_address,
+    )
+    t0 = time.perf_counter()
+    result = run_tune(cfg)
+    best = result["best"]
+    print()
+    where = ", ".join(t["scenario"] + (f" to {tuple(t['goal'])}" if t["goal"] else "") for t in result["targets"])
+    print(f"## G curve ({where}; {cfg.planner}; seeds {result['seeds']})")
+    print()
+    print(curve_text(result))
+    print()
+    gains = ", ".join(f"{k} = {best[k]:.4g}" for k in result["ranges"])
+    print(f"best gains (trial {best['trial']}): {gains}; G = {best['G']:.3f} (success {best['success']:.2f})")
+    print(
+        f"{len(result['trials'])} gain points in {time.perf_counter() - t0:.1f} s; wrote {cfg.out}/trials.csv, "
+        "episodes.csv, episodes.parquet, tune.json and tune.png"
+    )
+    return 0
+
+
 def cmd_scenes(args: argparse.Namespace) -> int:
     """Lists the bundled scenarios and their environment ids."""
     from proxemic.registration import ENV_IDS
@@ -191,6 +260,43 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--height", type=int, default=480, help="frame height, even (default: 480)")
     _add_video_view_args(v)
     v.set_defaults(func=cmd_video)
+    t = sub.add_parser("tune", help="Calderita's gain search: controller gains minimising G = aH + bD + cQ + dP")
+    t.add_argument(
+        "--scenario", action="append", help="target scene(s), repeat for several (default: calderita_exp1 and _exp2)"
+    )
+    t.add_argument(
+        "--target",
+        action="append",
+        type=_parse_point,
+        metavar="X,Y",
+        help="a goal for the robot in every scene, repeat for several (default: each scene's own goal)",
+    )
+    t.add_argument("--planner", default="eband", help="the planner whose gains are tuned (default: eband)")
+    t.add_argument("--trials", type=int, default=20, help="gain points evaluated at most (default: 20)")
+    t.add_argument("--episodes", type=int, default=3, help="seeded episodes per target and gain point (default: 3)")
+    t.add_argument("--seed", type=int, default=0, help="first episode seed and the search's seed (default: 0)")
+    t.add_argument("--samples", type=int, default=4, help="values of one gain tried per search step (default: 4)")
+    t.add_argument(
+        "--gain",
+        action="append",
+        type=_parse_range,
+        metavar="NAME=LOW:HIGH",
+        help="a gain to tune and its range; repeat (default: contraction_gain=0.1:3 repulsion_gain=0:2)",
+    )
+    t.add_argument(
+        "--weights",
+        type=_parse_weights,
+        default=(1.0, 1.0, 1.0, -1.0),
+        metavar="A,B,C,D",
+        help="G's weights on heading change (/rad), distance (/m), time (/s), mean distance to people (/m) "
+        "(default: 1,1,1,-1)",
+    )
+    t.add_argument("--failure-penalty", type=float, default=100.0, help="added to G per failed episode (default: 100)")
+    t.add_argument("--out", default="out/tune", help="output folder (default: out/tune)")
+    t.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    t.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
+    t.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
+    t.set_defaults(func=cmd_tune)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
     return p
@@ -213,6 +319,9 @@ def main(argv: list[str] | None = None) -> int:
     except (OSError, ImportError) as e:
         print(f"proxemic: error: {e}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("proxemic: interrupted; the episodes that finished are kept in the output folder", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":

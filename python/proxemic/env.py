@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -103,6 +103,8 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
+    | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
+    | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
     | ``width``, ``height`` | 640, 480 | frame size |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
     | ``overlays`` | ``("path",)`` | what the ``"topdown"`` view draws over the scene: any of ``"zones"``, ``"groups"``, ``"object_spaces"``, ``"path"`` (see :meth:`set_overlays`) |
@@ -122,6 +124,8 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         render_mode: str | None = None,
         autopilot: bool = False,
         planner: str | None = None,
+        eband: Mapping[str, float] | None = None,
+        goal: Sequence[float] | None = None,
         width: int = 640,
         height: int = 480,
         camera: str = "top",
@@ -141,7 +145,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.set_overlays(overlays)
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
-        self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner)
+        self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)
         self.ws = WorldSim(self.core_scenario, self.scenario)
         self.world, self.sim = self.ws.world, self.ws.sim
         self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}

@@ -52,6 +52,10 @@ class PlanningError(ProxemicError):
     """No path exists (for example, a goal unreachable from the start)."""
 
 
+class EpisodeError(ProxemicError):
+    """An episode of an evaluation or tuning run failed; the finished episodes' records are kept."""
+
+
 class UnknownNameError(ProxemicError, KeyError):
     """An unknown scenario, environment or planner name."""
 
@@ -60,4 +64,4 @@ class UnknownNameError(ProxemicError, KeyError):
         return str(self.args[0]) if self.args else ""
 
 
-__all__ = ["InputError", "PlanningError", "ProxemicError", "ScenarioError", "UnknownNameError"]
+__all__ = ["EpisodeError", "InputError", "PlanningError", "ProxemicError", "ScenarioError", "UnknownNameError"]

@@ -11,15 +11,18 @@ from __future__ import annotations
 import csv
 import math
 import os
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from proxemic import scenarios
-from proxemic.errors import InputError
+from proxemic.errors import EpisodeError, InputError, ProxemicError
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 #: Metrics summarised as rates (0/1 per episode), with Wilson intervals.
 RATE_METRICS = ("success", "collision_person", "collision_static")
@@ -72,19 +75,36 @@ class EpisodeResult:
     path: np.ndarray | None = field(default=None, repr=False)
 
 
-_ENV_CACHE: dict[tuple[str, str], Any] = {}
+_ENV_CACHE: dict[tuple[Any, ...], Any] = {}
+#: Envs kept per process (a tune run makes one per gain point: the oldest are closed).
+_ENV_CACHE_SIZE = 8
+
+
+def cached_env(
+    scenario: str,
+    planner: str,
+    eband: Mapping[str, float] | None = None,
+    goal: tuple[float, float] | None = None,
+) -> Any:
+    """An autopilot env of (scenario, planner, eband gains, goal), cached per process."""
+    from proxemic.env import ProxemicEnv
+
+    key = (scenario, planner, tuple(sorted((eband or {}).items())), goal)
+    env = _ENV_CACHE.get(key)
+    if env is None:
+        while len(_ENV_CACHE) >= _ENV_CACHE_SIZE:
+            _ENV_CACHE.pop(next(iter(_ENV_CACHE))).close()
+        env = ProxemicEnv(scenario, autopilot=True, planner=planner, eband=eband, goal=goal)
+        _ENV_CACHE[key] = env
+    return env
 
 
 def run_task(task: tuple[str, str, int], keep: bool = False) -> EpisodeResult:
     """Runs one (scenario, planner, seed) episode in this process (envs are cached per process)."""
-    from proxemic.env import ProxemicEnv
     from proxemic.runner import run_episode
 
     scenario, planner, seed = task
-    env = _ENV_CACHE.get((scenario, planner))
-    if env is None:
-        env = ProxemicEnv(scenario, autopilot=True, planner=planner)
-        _ENV_CACHE[(scenario, planner)] = env
+    env = cached_env(scenario, planner)
     rec = run_episode(scenario, seed, env=env)
     record = {"scenario": env.scenario["scene"]["name"], "planner": planner, "seed": seed, "reward": rec.total_reward}
     record.update({k: v for k, v in rec.metrics.items() if not isinstance(v, list | dict)})
@@ -97,62 +117,110 @@ def _run_task_kw(args: tuple[tuple[str, str, int], bool]) -> EpisodeResult:
     return run_task(args[0], args[1])
 
 
+def _check_ray_address(address: str) -> None:
+    """Fails fast, with a clear message, when a ``host:port`` Ray address does not answer."""
+    import socket
+
+    hostport = address.removeprefix("ray://")
+    host, sep, port = hostport.rpartition(":")
+    if not sep or not port.isdigit():
+        return  # "auto" and other forms are left to ray.init
+    try:
+        socket.create_connection((host or "127.0.0.1", int(port)), timeout=5.0).close()
+    except OSError as e:
+        raise InputError(
+            f"--ray-address {address}: no Ray cluster answers there ({e.strerror or e})",
+            field="ray_address",
+            expected="the address of a running Ray cluster (host:port)",
+            found=address,
+        ) from e
+
+
+class Backend:
+    """Where episodes run: a process pool or Ray tasks (a local Ray, or a cluster's address).
+
+    Use as a context manager; :meth:`imap` yields results in task order, so the same tasks give
+    the same results on any backend and any number of workers. The pool (or the Ray connection)
+    lives until the ``with`` block ends, so per-process env caches survive between calls.
+    """
+
+    def __init__(self, kind: str = "process", workers: int = 1, ray_address: str | None = None) -> None:
+        """Checks the backend name; nothing starts before ``with``."""
+        if kind not in ("process", "ray"):
+            raise InputError(
+                f"backend: expected 'process' or 'ray', got {kind!r}",
+                field="backend",
+                expected="'process' or 'ray'",
+                found=repr(kind),
+            )
+        self.kind, self.workers, self.ray_address = kind, max(1, workers), ray_address
+        self._pool: Any = None
+        self._ray: Any = None
+
+    def __enter__(self) -> Backend:
+        if self.kind == "ray":
+            self._ray = self._start_ray()
+        elif self.workers > 1:
+            import multiprocessing as mp
+
+            ctx = mp.get_context("fork") if hasattr(os, "fork") else mp.get_context("spawn")
+            self._pool = ctx.Pool(self.workers)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._pool is not None:
+            self._pool.terminate()
+            self._pool.join()
+            self._pool = None
+        if self._ray is not None:
+            self._ray.shutdown()
+            self._ray = None
+
+    def _start_ray(self) -> Any:
+        if self.ray_address:
+            _check_ray_address(self.ray_address)
+        try:
+            import ray
+        except ImportError as e:
+            raise InputError(
+                "backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
+                field="backend",
+                expected="ray installed",
+                found="ray not importable",
+            ) from e
+        try:
+            if self.ray_address:
+                ray.init(address=self.ray_address, ignore_reinit_error=True, log_to_driver=False)
+            else:
+                ray.init(num_cpus=self.workers, ignore_reinit_error=True, log_to_driver=False, include_dashboard=False)
+        except Exception as e:  # ray raises ConnectionError, RuntimeError, ... for a dead address
+            raise InputError(
+                f"ray: could not connect to {self.ray_address or 'a local cluster'}: {e}",
+                field="ray_address",
+                expected="the address of a running Ray cluster",
+                found=str(self.ray_address),
+            ) from e
+        return ray
+
+    def imap(self, fn: Callable[[T], R], items: Sequence[T]) -> Iterator[R]:
+        """``fn`` over `items` (``fn`` a module-level function), results in order."""
+        if self._ray is not None:
+            remote = self._ray.remote(fn)
+            refs = [remote.remote(item) for item in items]
+            for ref in refs:
+                yield self._ray.get(ref)
+        elif self._pool is not None:
+            yield from self._pool.imap(fn, items, chunksize=max(1, len(items) // (8 * self.workers)))
+        else:
+            for item in items:
+                yield fn(item)
+
+
 def iter_results(cfg: EvalConfig) -> Iterator[EpisodeResult]:
     """Runs every episode of `cfg` on its backend, yielding results in task order."""
-    tasks = cfg.tasks()
-    keep = [(t, (t[2] - cfg.seed) < cfg.keep_trajectories) for t in tasks]
-    if cfg.backend == "ray":
-        yield from _iter_ray(cfg, keep)
-    elif cfg.backend == "process":
-        if cfg.workers <= 1:
-            for item in keep:
-                yield _run_task_kw(item)
-            return
-        import multiprocessing as mp
-
-        ctx = mp.get_context("fork") if hasattr(os, "fork") else mp.get_context("spawn")
-        with ctx.Pool(cfg.workers) as pool:
-            yield from pool.imap(_run_task_kw, keep, chunksize=max(1, len(keep) // (8 * cfg.workers)))
-    else:
-        raise InputError(
-            f"backend: expected 'process' or 'ray', got {cfg.backend!r}",
-            field="backend",
-            expected="'process' or 'ray'",
-            found=repr(cfg.backend),
-        )
-
-
-def _iter_ray(cfg: EvalConfig, keep: list[tuple[tuple[str, str, int], bool]]) -> Iterator[EpisodeResult]:
-    try:
-        import ray
-    except ImportError as e:
-        raise InputError(
-            "backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
-            field="backend",
-            expected="ray installed",
-            found="ray not importable",
-        ) from e
-    try:
-        if cfg.ray_address:
-            ray.init(address=cfg.ray_address, ignore_reinit_error=True, log_to_driver=False)
-        else:
-            ray.init(
-                num_cpus=max(1, cfg.workers), ignore_reinit_error=True, log_to_driver=False, include_dashboard=False
-            )
-    except Exception as e:  # ray raises ConnectionError, RuntimeError, ... for a dead address
-        raise InputError(
-            f"ray: could not connect to {cfg.ray_address or 'a local cluster'}: {e}",
-            field="ray_address",
-            expected="the address of a running Ray cluster",
-            found=str(cfg.ray_address),
-        ) from e
-    remote = ray.remote(_run_task_kw)
-    refs = [remote.remote(item) for item in keep]
-    try:
-        for ref in refs:
-            yield ray.get(ref)
-    finally:
-        ray.shutdown()
+    keep = [(t, (t[2] - cfg.seed) < cfg.keep_trajectories) for t in cfg.tasks()]
+    with Backend(cfg.backend, cfg.workers, cfg.ray_address) as backend:
+        yield from backend.imap(_run_task_kw, keep)
 
 
 def t95(n: int) -> float:
@@ -226,7 +294,8 @@ def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def _check_out(out: Path) -> None:
+def check_out_dir(out: Path) -> None:
+    """Creates `out` if needed and checks that it can be written (InputError naming it if not)."""
     try:
         out.mkdir(parents=True, exist_ok=True)
         probe = out / ".write-test"
@@ -239,6 +308,54 @@ def _check_out(out: Path) -> None:
             expected="a writable folder",
             found=str(out),
         ) from e
+
+
+class RecordWriter:
+    """Per-episode records written as they arrive: CSV rows flushed one by one, Parquet at the end.
+
+    Used as a context manager around a run. If the run fails or is interrupted, the records that
+    finished stay in the CSV, the Parquet file is written with them, and the error is re-raised as
+    an :class:`EpisodeError` naming the episode that failed (an interrupt stays a
+    ``KeyboardInterrupt``). `tasks` (in result order) names the failed episode.
+    """
+
+    def __init__(self, csv_path: Path, parquet_path: Path, tasks: Sequence[Any] = ()) -> None:
+        """Opens the CSV file for writing (and removes an earlier run's Parquet file)."""
+        self.csv_path, self.parquet_path, self.tasks = csv_path, parquet_path, tasks
+        parquet_path.unlink(missing_ok=True)
+        self.rows: list[dict[str, Any]] = []
+        self._fh = csv_path.open("w", newline="")
+        self._writer: csv.DictWriter[str] | None = None
+
+    def write(self, record: dict[str, Any]) -> None:
+        """Appends one record (the first fixes the columns) and flushes it to disk."""
+        if self._writer is None:
+            self._writer = csv.DictWriter(self._fh, fieldnames=list(record.keys()))
+            self._writer.writeheader()
+        self._writer.writerow(record)
+        self._fh.flush()
+        self.rows.append(record)
+
+    def __enter__(self) -> RecordWriter:
+        return self
+
+    def __exit__(self, exc_type: type[BaseException] | None, exc: BaseException | None, tb: object) -> None:
+        self._fh.close()
+        if self.rows:
+            _write_parquet(self.rows, self.parquet_path)
+        if not isinstance(exc, Exception) or isinstance(exc, EpisodeError):
+            return  # success, or an interrupt: the records stay, the exception goes on as it is
+        if isinstance(exc, ProxemicError) and exc.field in ("backend", "ray_address"):
+            return  # the backend did not start: no episode ran
+        n = len(self.rows)
+        task = f" {self.tasks[n]}" if n < len(self.tasks) else ""
+        raise EpisodeError(
+            f"episode {n + 1}{task} failed ({type(exc).__name__}: {exc}); the {n} finished episodes are kept "
+            f"in {self.csv_path} and {self.parquet_path.name}",
+            field="episode",
+            expected="an episode that runs to its end",
+            found=f"{type(exc).__name__}: {exc}",
+        ) from exc
 
 
 def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
@@ -258,28 +375,19 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
             found=str(cfg.episodes),
         )
     out = Path(cfg.out)
-    _check_out(out)
+    check_out_dir(out)
     _, scenario = scenarios.load(cfg.scenario)
-    records: list[dict[str, Any]] = []
     kept: dict[str, list[EpisodeResult]] = {p: [] for p in cfg.planners}
-    csv_path = out / "episodes.csv"
-    writer = None
-    with csv_path.open("w", newline="") as fh:
-        bar = tqdm(
-            total=len(cfg.tasks()), desc=f"{cfg.scenario}: {', '.join(cfg.planners)}", unit="ep", disable=not progress
-        )
+    tasks = cfg.tasks()
+    bar = tqdm(total=len(tasks), desc=f"{cfg.scenario}: {', '.join(cfg.planners)}", unit="ep", disable=not progress)
+    with RecordWriter(out / "episodes.csv", out / "episodes.parquet", tasks) as records:
         for res in iter_results(cfg):
-            if writer is None:
-                writer = csv.DictWriter(fh, fieldnames=list(res.record.keys()))
-                writer.writeheader()
-            writer.writerow(res.record)
-            fh.flush()
-            records.append(res.record)
+            records.write(res.record)
             if res.robot is not None:
                 kept[res.record["planner"]].append(res)
             bar.update(1)
-        bar.close()
-    _write_parquet(records, out / "episodes.parquet")
+    bar.close()
+    records = records.rows
     rows = summarise(records)
     (out / "summary.md").write_text(summary_markdown(rows) + "\n")
     plot_metrics_bars(rows, ["success", "path_length", "min_person_distance", "time_to_goal"], out / "metrics.png")

@@ -7,12 +7,16 @@ description as a dict (defaults filled in, world polygons computed).
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from proxemic import _core
 from proxemic.errors import UnknownNameError
+
+#: The elastic band's tunable gains (see ``Scenario.with_eband_gains``), in order.
+EBAND_GAINS = ("contraction_gain", "repulsion_gain", "social_gain")
 
 
 def envs_dir() -> Path:
@@ -63,12 +67,21 @@ def check_planner(planner: str) -> str:
     return planner
 
 
-def load(scenario: str | Path | _core.Scenario, *, planner: str | None = None) -> tuple[_core.Scenario, dict[str, Any]]:
+def load(
+    scenario: str | Path | _core.Scenario,
+    *,
+    planner: str | None = None,
+    eband: Mapping[str, float] | None = None,
+    goal: Sequence[float] | None = None,
+) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
     Args:
         scenario: Bundled name or path of a scenario file, or an already validated scenario.
         planner: If given, every robot uses this built-in planner instead of the file's.
+        eband: If given, every robot's elastic-band gains (``contraction_gain``,
+            ``repulsion_gain``, ``social_gain``; dimensionless, in [0, 100]) are replaced by these.
+        goal: If given, the first robot's goal (x, y in metres) instead of the file's.
     """
     if isinstance(scenario, _core.Scenario):
         core = scenario
@@ -76,4 +89,16 @@ def load(scenario: str | Path | _core.Scenario, *, planner: str | None = None) -
         core = _core.Scenario.from_file(str(resolve(scenario)))
     if planner is not None:
         core = core.with_planner(check_planner(planner))
+    if eband:
+        unknown = sorted(set(eband) - set(EBAND_GAINS))
+        if unknown:
+            raise UnknownNameError(
+                f"unknown elastic-band gain {unknown[0]!r}: expected one of {', '.join(EBAND_GAINS)}",
+                field="eband",
+                expected=f"one of {EBAND_GAINS}",
+                found=unknown[0],
+            )
+        core = core.with_eband_gains(**{k: float(v) for k, v in eband.items()})
+    if goal is not None:
+        core = core.with_goal((float(goal[0]), float(goal[1])))
     return core, json.loads(core.to_json())

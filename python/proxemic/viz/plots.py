@@ -33,7 +33,7 @@ from .topdown import (
     wall_polygon,
 )
 
-__all__ = ["format_table", "plot_episodes", "plot_metrics_bars", "plot_social_map"]
+__all__ = ["format_table", "plot_episodes", "plot_metrics_bars", "plot_social_map", "plot_tune"]
 
 #: End-of-trajectory marker per episode outcome.
 OUTCOME_MARKERS: Mapping[str, str] = {"success": "*", "collision": "X", "timeout": "s"}
@@ -566,4 +566,50 @@ def plot_social_map(
         ax.set_title(title)
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.12, 1.0), fontsize=8, frameon=False)
     fig.savefig(out, dpi=_DPI, bbox_inches="tight")
+    return out
+
+
+def plot_tune(
+    trials: Sequence[Mapping[str, Any]], gains: Sequence[str], out_png: str | os.PathLike[str]
+) -> pathlib.Path:
+    """The gain search of ``proxemic tune``: G per trial with the best so far, and G against each gain.
+
+    Args:
+        trials: One row per evaluated gain point, in order, with ``G``, ``varied`` and every gain.
+        gains: The tuned gains' names (one scatter panel each).
+        out_png: Output PNG path; parent directories are created.
+
+    Returns:
+        The path written.
+
+    """
+    out = pathlib.Path(out_png)
+    g = np.array([_as_float(t.get("G")) for t in trials], dtype=np.float64)
+    fig = Figure(figsize=(4.2 * (1 + len(gains)), 3.6), dpi=_DPI, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, 1 + len(gains), squeeze=False)[0]
+    varied = [str(t.get("varied", "")) for t in trials]
+    kinds = list(dict.fromkeys(varied))
+    colors = dict(zip(kinds, _episode_colors(len(kinds)), strict=True))
+    x = np.arange(len(trials))
+    ax = axes[0]
+    ax.scatter(x, g, c=[colors[v] for v in varied], s=18, edgecolors="black", linewidths=0.4, zorder=3)
+    ax.step(x, np.fmin.accumulate(g) if g.size else g, where="post", color="black", linewidth=1.2, label="best so far")
+    ax.set_xlabel("trial")
+    ax.set_ylabel("G")
+    ax.set_title("G per trial")
+    handles = [Line2D([], [], marker="o", linestyle="", color=colors[k], label=f"varied: {k}") for k in kinds]
+    ax.legend(handles=[*handles, Line2D([], [], color="black", label="best so far")], fontsize=7)
+    best = int(np.nanargmin(g)) if np.isfinite(g).any() else None
+    for axg, name in zip(axes[1:], gains, strict=True):
+        v = np.array([_as_float(t.get(name)) for t in trials], dtype=np.float64)
+        axg.scatter(v, g, c=[colors[k] for k in varied], s=18, edgecolors="black", linewidths=0.4, zorder=3)
+        if best is not None:
+            axg.scatter([v[best]], [g[best]], marker="*", s=160, color="gold", edgecolors="black", zorder=4)
+        axg.set_xlabel(name.replace("_", " "))
+        axg.set_title(f"G against {name.replace('_', ' ')}")
+    for a in axes:
+        a.grid(True, linewidth=0.3, alpha=0.6)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, format="png", metadata={"Software": None})
     return out

@@ -302,6 +302,16 @@ struct RawRobot {
     max_accel: f64,
     #[serde(default = "d_inflation_margin")]
     inflation_margin: f64,
+    #[serde(default)]
+    eband: RawEbandGains,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawEbandGains {
+    contraction_gain: Option<f64>,
+    repulsion_gain: Option<f64>,
+    social_gain: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -756,6 +766,71 @@ pub struct Robot {
     pub max_accel: f64,
     /// Extra clearance added to the radius when inflating the map (metres); default 0.06.
     pub inflation_margin: f64,
+    /// Gains of the elastic band (used by the `eband` planner); file table `eband = { ... }`.
+    pub eband: EbandGains,
+}
+
+/// The elastic band's force gains (dimensionless, each in `[0, EbandGains::MAX]`), as tuned by
+/// `proxemic tune` (Calderita §5.4). Defaults: Calderita's optimum `kc = 120`, `kr = 60` mapped
+/// by their ratio (see [`crate::control::eband`]): 1.0, 0.5, 0.5.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct EbandGains {
+    /// Contraction gain `k_c`; default 1.0.
+    pub contraction_gain: f64,
+    /// Repulsion gain `k_r` from static obstacles; default 0.5.
+    pub repulsion_gain: f64,
+    /// Repulsion gain `k_s` from the social cost; default 0.5.
+    pub social_gain: f64,
+}
+
+impl Default for EbandGains {
+    fn default() -> Self {
+        let p = crate::control::eband::EbandParams::default();
+        EbandGains {
+            contraction_gain: p.contraction_gain,
+            repulsion_gain: p.repulsion_gain,
+            social_gain: p.social_gain,
+        }
+    }
+}
+
+impl EbandGains {
+    /// Largest accepted gain (a bubble's move is clamped to a fraction of its radius anyway).
+    pub const MAX: f64 = 100.0;
+
+    /// The elastic band's parameters: these gains, the other fields at their defaults.
+    pub fn params(&self) -> crate::control::eband::EbandParams {
+        crate::control::eband::EbandParams {
+            contraction_gain: self.contraction_gain,
+            repulsion_gain: self.repulsion_gain,
+            social_gain: self.social_gain,
+            ..Default::default()
+        }
+    }
+
+    /// These gains with each `Some` value replaced, checked (errors name `{field}.<gain>`).
+    fn merged(
+        &self,
+        file: &str,
+        field: &str,
+        contraction: Option<f64>,
+        repulsion: Option<f64>,
+        social: Option<f64>,
+    ) -> Result<Self> {
+        let ck = Checker { file };
+        let mut g = *self;
+        for (name, new, slot) in [
+            ("contraction_gain", contraction, &mut g.contraction_gain),
+            ("repulsion_gain", repulsion, &mut g.repulsion_gain),
+            ("social_gain", social, &mut g.social_gain),
+        ] {
+            if let Some(v) = new {
+                ck.range(&format!("{field}.{name}"), v, 0.0, Self::MAX, false)?;
+                *slot = v;
+            }
+        }
+        Ok(g)
+    }
 }
 
 /// An approach task (Sousa 2022's waiter serving food from the left and drinks from the right;
@@ -1279,6 +1354,41 @@ impl Scenario {
         Ok(s)
     }
 
+    /// A copy with every robot's elastic-band gains replaced where `Some` (each a number in
+    /// `[0, EbandGains::MAX]`; errors name the field `eband.<gain>`).
+    pub fn with_eband_gains(
+        &self,
+        contraction: Option<f64>,
+        repulsion: Option<f64>,
+        social: Option<f64>,
+    ) -> Result<Self> {
+        let mut s = self.clone();
+        for r in &mut s.robots {
+            r.eband = r.eband.merged(&self.source, "eband", contraction, repulsion, social)?;
+        }
+        Ok(s)
+    }
+
+    /// A copy whose robot `robot` goes to `goal` (world frame, metres; inside `scene.bounds`)
+    /// instead of its file goal or approach task. Whether the goal is free space is checked when
+    /// a world is built from the scenario.
+    pub fn with_goal(&self, robot: usize, goal: [f64; 2]) -> Result<Self> {
+        let field = format!("robot[{robot}].goal");
+        if robot >= self.robots.len() {
+            return Err(err(
+                &self.source,
+                field,
+                format!("a robot index below {}", self.robots.len()),
+                format!("{robot}"),
+            ));
+        }
+        Checker { file: &self.source }.inside(&field, goal, self.scene.bounds)?;
+        let mut s = self.clone();
+        s.robots[robot].goal = goal;
+        s.robots[robot].approach = None;
+        Ok(s)
+    }
+
     /// JSON of the validated scenario (defaults filled in, world polygons computed).
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
@@ -1612,6 +1722,13 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
             max_angular_speed: r.max_angular_speed,
             max_accel: r.max_accel,
             inflation_margin: r.inflation_margin,
+            eband: EbandGains::default().merged(
+                file,
+                &format!("{f}.eband"),
+                r.eband.contraction_gain,
+                r.eband.repulsion_gain,
+                r.eband.social_gain,
+            )?,
         });
     }
     check_unique(file, "robot", robots.iter().map(|r| r.name.as_str()))?;
@@ -2725,6 +2842,49 @@ goal = [9, 4]
         assert!(field.starts_with("robot[0].planner"), "{field}");
         assert!(expected.contains("astar"), "{expected}");
         assert!(found.contains("teleport"), "{found}");
+    }
+
+    #[test]
+    fn eband_gains_from_the_file_and_by_override_are_checked() {
+        let s = parse(MINIMAL).expect("valid");
+        assert_eq!(s.robots[0].eband, EbandGains::default());
+        assert_eq!((s.robots[0].eband.contraction_gain, s.robots[0].eband.repulsion_gain), (1.0, 0.5));
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\neband = { repulsion_gain = 2.0 }");
+        let g = parse(&text).expect("valid").robots[0].eband;
+        assert_eq!((g.contraction_gain, g.repulsion_gain, g.social_gain), (1.0, 2.0, 0.5));
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\neband = { social_gain = -1.0 }");
+        let (_, field, expected, found) = scenario_err(&text);
+        assert_eq!(field, "robot[0].eband.social_gain");
+        assert!(expected.contains("[0, 100]"), "{expected}");
+        assert_eq!(found, "-1");
+        let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\neband = { kc = 1.0 }");
+        assert!(scenario_err(&text).1.starts_with("robot[0].eband"));
+
+        let t = s.with_eband_gains(Some(3.0), None, Some(0.0)).expect("valid gains");
+        assert_eq!(t.robots[0].eband.contraction_gain, 3.0);
+        assert_eq!(t.robots[0].eband.repulsion_gain, 0.5);
+        assert_eq!(t.robots[0].eband.params().social_gain, 0.0);
+        match s.with_eband_gains(None, Some(f64::NAN), None) {
+            Err(CoreError::Scenario { field, found, .. }) => {
+                assert_eq!(field, "eband.repulsion_gain");
+                assert_eq!(found, "NaN");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn goal_override_is_checked() {
+        let s = parse(MINIMAL).expect("valid");
+        assert_eq!(s.with_goal(0, [5.0, 2.0]).expect("inside").robots[0].goal, [5.0, 2.0]);
+        match s.with_goal(0, [50.0, 2.0]) {
+            Err(CoreError::Scenario { field, expected, .. }) => {
+                assert_eq!(field, "robot[0].goal");
+                assert!(expected.contains("inside scene.bounds"), "{expected}");
+            }
+            other => panic!("expected a scenario error, got {other:?}"),
+        }
+        assert!(matches!(s.with_goal(3, [5.0, 2.0]), Err(CoreError::Scenario { .. })));
     }
 
     #[test]

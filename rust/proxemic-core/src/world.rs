@@ -123,6 +123,8 @@ impl Layout {
 /// Per-robot state that does not change between episodes.
 struct RobotStatic {
     planner: PlannerKind,
+    /// The elastic band's parameters (eband planner only).
+    eband: EbandParams,
     /// For approach tasks, the point to face near the goal (the person approached).
     face: Option<Vec2>,
     limits: Limits,
@@ -296,6 +298,7 @@ impl World {
             };
             statics.push(RobotStatic {
                 planner: r.planner,
+                eband: r.eband.params(),
                 face: r.approach.as_ref().map(|a| v2(a.face)),
                 limits,
                 radius: r.radius,
@@ -521,7 +524,7 @@ impl World {
         for i in 0..self.robots.len() {
             if self.statics[i].planner == PlannerKind::Eband {
                 self.robots[i].band =
-                    ElasticBand::new(self.robots[i].follower.path(), EbandParams::default()).ok();
+                    ElasticBand::new(self.robots[i].follower.path(), self.statics[i].eband).ok();
             }
         }
         if (0..self.robots.len()).any(|i| self.planning[i] && self.statics[i].planner.social_global()) {
@@ -1077,7 +1080,7 @@ impl World {
                     rb.follower = PathFollower::new(path, FollowerParams::default());
                     o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
                     if planner == PlannerKind::Eband {
-                        rb.band = ElasticBand::new(rb.follower.path(), EbandParams::default()).ok();
+                        rb.band = ElasticBand::new(rb.follower.path(), st.eband).ok();
                     }
                 }
             }

@@ -121,6 +121,30 @@ impl PyScenario {
         self.inner.robots.len()
     }
 
+    /// A copy whose robots' elastic-band gains (dimensionless, each in [0, 100]; used by the
+    /// `eband` planner) are replaced where given. Raises `ScenarioError` naming the gain.
+    #[pyo3(signature = (contraction_gain = None, repulsion_gain = None, social_gain = None))]
+    fn with_eband_gains(
+        &self,
+        py: Python<'_>,
+        contraction_gain: Option<f64>,
+        repulsion_gain: Option<f64>,
+        social_gain: Option<f64>,
+    ) -> PyResult<Self> {
+        let inner =
+            enter_core(py, || self.inner.with_eband_gains(contraction_gain, repulsion_gain, social_gain))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy whose robot `robot` goes to `goal` (x, y in metres, inside the scene's bounds)
+    /// instead of its file goal. Raises `ScenarioError`; a goal inside a wall or object is
+    /// rejected when a `World` is built.
+    #[pyo3(signature = (goal, robot = 0))]
+    fn with_goal(&self, py: Python<'_>, goal: [f64; 2], robot: usize) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_goal(robot, goal))?;
+        Ok(PyScenario { inner })
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
     fn to_json(&self) -> String {
         self.inner.to_json()
