@@ -1,6 +1,7 @@
 """Type stubs of the compiled core ``proxemic._core`` (Rust, pyo3)."""
 
 from os import PathLike
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -65,7 +66,8 @@ class World:
         out: npt.NDArray[np.float64],
         people_out: npt.NDArray[np.float64],
     ) -> None: ...
-    def metrics_json(self) -> str: ...
+    def episode_metrics(self) -> list[dict[str, Any]]: ...
+    def astar_path(self, robot: int) -> npt.NDArray[np.float64]: ...
     def path(self, robot: int) -> npt.NDArray[np.float64]: ...
     def plan(
         self, robot: int, start: tuple[float, float], goal: tuple[float, float]

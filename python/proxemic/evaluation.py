@@ -21,16 +21,28 @@ import numpy as np
 from proxemic import scenarios
 from proxemic.errors import InputError
 
-#: Metrics summarised as rates (0/1 per episode), with Wilson intervals.
-RATE_METRICS = ("success", "collision_person", "collision_static")
+#: Metrics summarised as rates (0/1 per episode), with Wilson intervals: success, collisions with
+#: people (HC) and with walls or furniture (WC), timeout.
+RATE_METRICS = ("success", "hc", "wc", "timeout")
 
-#: Metrics summarised as means with t intervals (None values are left out).
+#: Metrics summarised as means with t intervals (None values are left out): efficiency (time to
+#: goal, path length, SPL, Daza 2021's L_ratio and Smooth), motion (CHC), distance to people
+#: (closest centre distance), and time shares (%) in people's intimate and personal zones, inside
+#: groups' o-spaces and inside object spaces while their activity is on (Calderita's Psi), plus
+#: interaction crossings (person-person and person-object) per episode.
 MEAN_METRICS = (
     "time_to_goal",
     "path_length",
-    "min_person_distance",
-    "min_person_gap",
-    "duration",
+    "spl",
+    "l_ratio",
+    "smooth",
+    "chc",
+    "dist_person_min",
+    "psi_intimate",
+    "psi_personal",
+    "ospace_pct",
+    "interaction_crossings",
+    "psi_objects",
     "reward",
 )
 
@@ -77,7 +89,7 @@ _ENV_CACHE: dict[tuple[str, str], Any] = {}
 
 def run_task(task: tuple[str, str, int], keep: bool = False) -> EpisodeResult:
     """Runs one (scenario, planner, seed) episode in this process (envs are cached per process)."""
-    from proxemic.env import ProxemicEnv
+    from proxemic.env import ProxemicEnv, flatten_metrics
     from proxemic.runner import run_episode
 
     scenario, planner, seed = task
@@ -87,7 +99,7 @@ def run_task(task: tuple[str, str, int], keep: bool = False) -> EpisodeResult:
         _ENV_CACHE[(scenario, planner)] = env
     rec = run_episode(scenario, seed, env=env)
     record = {"scenario": env.scenario["scene"]["name"], "planner": planner, "seed": seed, "reward": rec.total_reward}
-    record.update({k: v for k, v in rec.metrics.items() if not isinstance(v, list | dict)})
+    record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
         return EpisodeResult(record, rec.robot, rec.people, rec.path)
     return EpisodeResult(record)
@@ -282,7 +294,7 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
     _write_parquet(records, out / "episodes.parquet")
     rows = summarise(records)
     (out / "summary.md").write_text(summary_markdown(rows) + "\n")
-    plot_metrics_bars(rows, ["success", "path_length", "min_person_distance", "time_to_goal"], out / "metrics.png")
+    plot_metrics_bars(rows, list(RATE_METRICS[:2] + MEAN_METRICS[:-1]), out / "metrics.png")
     for planner, results in kept.items():
         episodes = [
             {
