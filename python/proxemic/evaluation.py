@@ -308,7 +308,25 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
         ]
         if episodes:
             plot_episodes(scenario, episodes, out / f"trajectories_{planner}.png", title=f"{cfg.scenario}: {planner}")
+    plot_planners_on_social_map(cfg.scenario, cfg.seed, kept, out / "trajectories_social_map.png")
     return rows
+
+
+def plot_planners_on_social_map(
+    scenario: str, seed: int, kept: dict[str, list[EpisodeResult]], out_png: Path
+) -> Path | None:
+    """Each planner's executed trajectory of episode `seed` over the social cost map at its start."""
+    from proxemic.social import SocialMap
+
+    paths = {
+        planner: results[0].robot[:, :2]
+        for planner, results in kept.items()
+        if results and results[0].record["seed"] == seed and results[0].robot is not None
+    }
+    if not paths:
+        return None
+    sm = SocialMap(scenario, seed=seed)
+    return sm.plot(out_png, paths=paths, title=f"{scenario}, seed {seed}: executed trajectories over the social map")
 
 
 def _write_parquet(records: Sequence[dict[str, Any]], path: Path) -> None:
