@@ -52,6 +52,9 @@ def main() -> None:
         mujoco.mj_step(m, d, skip)
 
     resets: list[float] = []
+    # the full metric set of one finished episode (World.episode_metrics: the post-hoc evaluator)
+    metrics_us: list[float] = []
+    episode_steps: list[int] = []
     res: dict[str, list[float]] = {"env.step": [], "Rust World.step": [], "bare mj_step x frame_skip": []}
     seed = 0
     for _ in range(TRIALS):
@@ -64,6 +67,13 @@ def main() -> None:
             seed += 1
             env.reset(seed=seed)
         resets.append((time.thread_time_ns() - t0) / 20 / 1e3)
+        env.reset(seed=seed)
+        done, n = False, 0
+        while not done:
+            _, _, te, tr, _ = env.step(zero)
+            done, n = te or tr, n + 1
+        episode_steps.append(n)
+        metrics_us.append(cpu_us(world.episode_metrics, 5))
         env.reset(seed=seed)
     med = {k: statistics.median(v) for k, v in res.items()}
     base = med["bare mj_step x frame_skip"]
@@ -81,6 +91,12 @@ def main() -> None:
     )
     print(f"  {'bare mj_step x frame_skip':40s} {base:8.1f} us")
     print(f"  {'env.reset':40s} {statistics.median(resets) / 1e3:8.2f} ms")
+    mu, steps = statistics.median(metrics_us), statistics.median(episode_steps)
+    print(
+        f"  {'episode_metrics (full set, one episode)':40s} {mu / 1e3:8.2f} ms  "
+        f"{mu / steps:6.1f} us per recorded step ({steps:.0f} steps), "
+        f"{100 * mu / steps / med['env.step']:4.1f}% of an env step"
+    )
     env.close()
 
 
