@@ -11,7 +11,7 @@ export MUJOCO_GL ?= egl
 CARGO_FLAGS := --workspace --release
 
 .DEFAULT_GOAL := help
-.PHONY: help setup system-deps build demo test test-rust test-python install-check lint format bench clean
+.PHONY: help setup system-deps build demo test test-full test-rust test-python install-check lint format bench clean
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  make %-12s %s\n", $$1, $$2}'
@@ -47,6 +47,9 @@ test-rust: ## Rust unit and integration tests (property tests with a fixed seed:
 
 test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
 	$(PY) -m pytest -q
+
+test-full: setup ## the full social-vs-A* comparison suites (20 seeds per scene; pytest -m full)
+	$(PY) -m pytest -q -m full tests/test_social_vs_astar.py
 
 install-check: system-deps ## `pip install .` into a fresh venv, then gym.make from another directory
 	rm -rf /tmp/proxemic-install-check && python3 -m venv /tmp/proxemic-install-check

@@ -96,6 +96,9 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         mujoco.mj_step(m, d, skip)
 
     resets: list[float] = []
+    # the full metric set of one finished episode (World.episode_metrics: the post-hoc evaluator)
+    metrics_us: list[float] = []
+    episode_steps: list[int] = []
     res: dict[str, list[float]] = {"env.step": [], "Rust World.step": [], "bare mj_step x frame_skip": []}
     seed = 0
     for _ in range(TRIALS):
@@ -108,6 +111,13 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
             seed += 1
             env.reset(seed=seed)
         resets.append((time.thread_time_ns() - t0) / 20 / 1e3)
+        env.reset(seed=seed)
+        done, n = False, 0
+        while not done:
+            _, _, te, tr, _ = env.step(zero)
+            done, n = te or tr, n + 1
+        episode_steps.append(n)
+        metrics_us.append(cpu_us(world.episode_metrics, 5))
         env.reset(seed=seed)
     med = {k: statistics.median(v) for k, v in res.items()}
     med["env.reset"] = statistics.median(resets)
@@ -165,6 +175,12 @@ def main() -> None:
     print(
         f"  targets (>= 3000 steps/s, <= 1.5x bare MuJoCo): steps/s {'met' if rate >= 3000 else 'MISSED'}, "
         f"ratio {'met' if ratio <= 1.5 else 'MISSED'}"
+    )
+    mu, steps = statistics.median(metrics_us), statistics.median(episode_steps)
+    print(
+        f"  {'episode_metrics (full set, one episode)':40s} {mu / 1e3:8.2f} ms  "
+        f"{mu / steps:6.1f} us per recorded step ({steps:.0f} steps), "
+        f"{100 * mu / steps / med['env.step']:4.1f}% of an env step"
     )
     ren = bench_render(env)
     step_wall, step_cpu = ren.pop("env.step")

@@ -52,6 +52,13 @@ def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
         assert table.num_rows == 3
         assert (out / "summary.md").read_text().startswith("| planner |")
         assert (out / "metrics.png").exists() and (out / "trajectories_astar.png").exists()
+        assert (out / "trajectories_social_map.png").exists()
+        # every metric is a column: the papers' ones, and one per person / per object space
+        header = list(runs[workers][0])
+        for col in ("l_ratio", "smooth", "psi_intimate", "psi_objects", "ospace_pct", "d_t", "tau", "chc"):
+            assert col in header
+        assert sum(c.startswith("d_min_") for c in header) == 29
+        assert any(c.startswith("psi_object_") for c in header)
     assert runs[1] == runs[2]
     assert [r["seed"] for r in runs[1]] == ["5", "6", "7"]
 

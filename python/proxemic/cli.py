@@ -207,6 +207,17 @@ def cmd_tune(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    """Runs a paper's experiments and prints our metrics beside the published ones."""
+    from proxemic.reproduce import reproduce
+
+    out = Path(args.out) / args.paper
+    t0 = time.perf_counter()
+    print(reproduce(args.paper, out, episodes=args.episodes, seed=args.seed))
+    print(f"{time.perf_counter() - t0:.1f} s; wrote {out}/report.md, episodes.csv and the figures")
+    return 0
+
+
 def cmd_scenes(args: argparse.Namespace) -> int:
     """Lists the bundled scenarios and their environment ids."""
     from proxemic.registration import ENV_IDS
@@ -297,6 +308,12 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
     t.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
     t.set_defaults(func=cmd_tune)
+    r = sub.add_parser("reproduce", help="a paper's experiments: our metrics beside the published ones")
+    r.add_argument("paper", choices=["daza2021", "sousa2022", "calderita"], help="which paper")
+    r.add_argument("--episodes", type=int, default=5, help="seeded episodes per planner and scene (default: 5)")
+    r.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
+    r.add_argument("--out", default="out/reproduce", help="output folder; the paper's name is appended")
+    r.set_defaults(func=cmd_reproduce)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
     return p

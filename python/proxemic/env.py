@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -198,9 +197,26 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     # ------------------------------------------------------------------ extras
     def metrics(self) -> dict[str, Any]:
-        """The robot's episode metrics so far (see ``design/metrics.md`` for definitions)."""
-        metrics: dict[str, Any] = json.loads(self.world.metrics_json())[0]
+        """The robot's episode metrics so far: ``outcome`` and every metric of ``design/metrics.md``.
+
+        Undefined values are ``None`` (e.g. ``time_to_goal`` without success). ``d_min`` holds one
+        value per person (scenario order) and ``psi_object`` / ``psi_object_any`` one per object
+        with an interaction space (scenario order); :func:`flat_metrics` names them.
+        """
+        metrics: dict[str, Any] = self.world.episode_metrics()[0]
         return metrics
+
+    def flat_metrics(self) -> dict[str, Any]:
+        """:meth:`metrics` with the per-person and per-object lists as named scalar keys.
+
+        ``d_min`` becomes ``d_min_<person>``, ``psi_object`` ``psi_object_<object>`` and
+        ``psi_object_any`` ``psi_object_any_<object>``: one column per metric in eval's records.
+        """
+        return flatten_metrics(self.metrics(), self.scenario)
+
+    def astar_path(self) -> np.ndarray:
+        """The plain A* path from the episode's start to the goal, (K, 2) (the reference of L_ratio)."""
+        return np.asarray(self.world.astar_path(0))
 
     def planned_path(self) -> np.ndarray:
         """The global path the robot follows, (K, 2) world-frame waypoints."""
@@ -252,3 +268,19 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     def close(self) -> None:
         """Releases rendering resources."""
         self.ws.close()
+
+
+def flatten_metrics(metrics: dict[str, Any], scenario: dict[str, Any]) -> dict[str, Any]:
+    """Metrics with the per-person and per-object lists as ``<metric>_<name>`` scalar keys."""
+    people = [p["name"] for p in scenario.get("persons", [])]
+    objects = [o["name"] for o in scenario.get("objects", []) if o.get("interaction") is not None]
+    names = {"d_min": people, "psi_object": objects, "psi_object_any": objects}
+    out: dict[str, Any] = {}
+    for key, value in metrics.items():
+        if isinstance(value, list):
+            labels = names.get(key) or [str(k) for k in range(len(value))]
+            for label, v in zip(labels, value, strict=False):
+                out[f"{key}_{label}"] = v
+        else:
+            out[key] = value
+    return out

@@ -24,16 +24,28 @@ from proxemic.errors import EpisodeError, InputError, ProxemicError
 T = TypeVar("T")
 R = TypeVar("R")
 
-#: Metrics summarised as rates (0/1 per episode), with Wilson intervals.
-RATE_METRICS = ("success", "collision_person", "collision_static")
+#: Metrics summarised as rates (0/1 per episode), with Wilson intervals: success, collisions with
+#: people (HC) and with walls or furniture (WC), timeout.
+RATE_METRICS = ("success", "hc", "wc", "timeout")
 
-#: Metrics summarised as means with t intervals (None values are left out).
+#: Metrics summarised as means with t intervals (None values are left out): efficiency (time to
+#: goal, path length, SPL, Daza 2021's L_ratio and Smooth), motion (CHC), distance to people
+#: (closest centre distance), and time shares (%) in people's intimate and personal zones, inside
+#: groups' o-spaces and inside object spaces while their activity is on (Calderita's Psi), plus
+#: interaction crossings (person-person and person-object) per episode.
 MEAN_METRICS = (
     "time_to_goal",
     "path_length",
-    "min_person_distance",
-    "min_person_gap",
-    "duration",
+    "spl",
+    "l_ratio",
+    "smooth",
+    "chc",
+    "dist_person_min",
+    "psi_intimate",
+    "psi_personal",
+    "ospace_pct",
+    "interaction_crossings",
+    "psi_objects",
     "reward",
 )
 
@@ -101,13 +113,14 @@ def cached_env(
 
 def run_task(task: tuple[str, str, int], keep: bool = False) -> EpisodeResult:
     """Runs one (scenario, planner, seed) episode in this process (envs are cached per process)."""
+    from proxemic.env import flatten_metrics
     from proxemic.runner import run_episode
 
     scenario, planner, seed = task
     env = cached_env(scenario, planner)
     rec = run_episode(scenario, seed, env=env)
     record = {"scenario": env.scenario["scene"]["name"], "planner": planner, "seed": seed, "reward": rec.total_reward}
-    record.update({k: v for k, v in rec.metrics.items() if not isinstance(v, list | dict)})
+    record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
         return EpisodeResult(record, rec.robot, rec.people, rec.path)
     return EpisodeResult(record)
@@ -390,7 +403,7 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
     records = records.rows
     rows = summarise(records)
     (out / "summary.md").write_text(summary_markdown(rows) + "\n")
-    plot_metrics_bars(rows, ["success", "path_length", "min_person_distance", "time_to_goal"], out / "metrics.png")
+    plot_metrics_bars(rows, list(RATE_METRICS[:2] + MEAN_METRICS[:-1]), out / "metrics.png")
     for planner, results in kept.items():
         episodes = [
             {
@@ -404,7 +417,25 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
         ]
         if episodes:
             plot_episodes(scenario, episodes, out / f"trajectories_{planner}.png", title=f"{cfg.scenario}: {planner}")
+    plot_planners_on_social_map(cfg.scenario, cfg.seed, kept, out / "trajectories_social_map.png")
     return rows
+
+
+def plot_planners_on_social_map(
+    scenario: str, seed: int, kept: dict[str, list[EpisodeResult]], out_png: Path
+) -> Path | None:
+    """Each planner's executed trajectory of episode `seed` over the social cost map at its start."""
+    from proxemic.social import SocialMap
+
+    paths = {
+        planner: results[0].robot[:, :2]
+        for planner, results in kept.items()
+        if results and results[0].record["seed"] == seed and results[0].robot is not None
+    }
+    if not paths:
+        return None
+    sm = SocialMap(scenario, seed=seed)
+    return sm.plot(out_png, paths=paths, title=f"{scenario}, seed {seed}: executed trajectories over the social map")
 
 
 def _write_parquet(records: Sequence[dict[str, Any]], path: Path) -> None:

@@ -218,7 +218,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self._live = frozenset(self.agents)
         finished = [a for a in live if terms[a] or truncs[a]]
         if finished:
-            metrics = json.loads(self.world.metrics_json())
+            metrics = self.metrics()
             for a in finished:
                 infos[a]["metrics"] = metrics[index[a]]
             if not self.agents:
@@ -247,7 +247,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
     # ------------------------------------------------------------------ extras
     def metrics(self) -> list[dict[str, Any]]:
         """Every robot's episode metrics so far, by robot index (see ``design/metrics.md``)."""
-        metrics: list[dict[str, Any]] = json.loads(self.world.metrics_json())
+        metrics: list[dict[str, Any]] = self.world.episode_metrics()
         return metrics
 
     def episode_metrics(self) -> dict[str, Any]:
@@ -266,10 +266,10 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         return {
             "robots": ms,
             "success_rate": sum(bool(m["success"]) for m in ms) / n,
-            "agent_collisions": sum(bool(m["collision_robot"]) for m in ms),
-            "robot_collision_steps": sum(int(m["collision_robot_steps"]) for m in ms),
-            "person_collisions": sum(bool(m["collision_person"]) for m in ms),
-            "static_collisions": sum(bool(m["collision_static"]) for m in ms),
+            "agent_collisions": sum(bool(m["ac"]) for m in ms),
+            "robot_collision_steps": sum(int(m["ac_count"]) for m in ms),
+            "person_collisions": sum(bool(m["hc"]) for m in ms),
+            "static_collisions": sum(bool(m["wc"]) for m in ms),
             "min_robot_gap": min((m["min_robot_gap"] for m in ms if m["min_robot_gap"] is not None), default=None),
             "team_time": max((float(m["duration"]) for m in ms), default=0.0),
             "total_time": sum(float(m["duration"]) for m in ms),

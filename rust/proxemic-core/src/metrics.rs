@@ -1,25 +1,35 @@
-//! Episode metrics, accumulated step by step (definitions: `design/metrics.md`).
+//! Episode metrics (definitions: `design/metrics.md`).
 //!
-//! First cut: success, collisions with people and with static geometry, time to goal, path
-//! length, and the minimum distance to people, both centre-to-centre and as the surface gap.
-//! - **success**: the robot's centre came within the success radius of the goal before any
-//!   collision and before the time limit (Francis et al. S).
-//! - **collision with people (HC)** / **with static geometry (WC)**: a contact reported by the
-//!   physics between the robot and a person's or the static world's geometry, or (people) a
-//!   surface gap below zero measured geometrically at a control instant.
-//! - **collision with another robot (AC, Francis et al.'s agent collisions)**: a contact reported
-//!   by the physics between two robots, or a surface gap below zero between them at a control
-//!   instant; it ends the episode like the other collisions.
-//! - **time to goal**: control steps until success times the control period (s); only on success.
-//! - **path length**: sum of the distances between consecutive control-instant positions (m).
-//! - **minimum distance to people**: over all control instants and people, the centre-to-centre
-//!   distance `d = |p - q_i|` (m) and the surface gap `d - r_robot - r_i` (m).
+//! While an episode runs, an [`EpisodeRecorder`] per robot keeps what the post-hoc evaluator
+//! [`trajectory::evaluate`] needs (the robot's poses, the people's tracks, the groups' o-spaces and
+//! the interaction segments, the object spaces' activity, the contacts per step) and decides the
+//! episode's [`Outcome`] step by step with the same rules the evaluator applies afterwards, so
+//! the env's termination flags and the final [`FullMetrics`] always agree. At the end,
+//! [`EpisodeRecorder::evaluate`] gives the full metric set ([`EpisodeReport`]).
+//!
+//! Groups and interactions are the scenario's ground truth, the same for every planner:
+//! - a group is the people sharing a `group` id (two or more); its o-space is the circle centred
+//!   on the members' mean position through their mean distance to it (Kendon's o-space as the
+//!   space the members enclose);
+//! - a person-person interaction is the segment between two members of the same group;
+//! - a person-object interaction is the segment from a person standing still (speed below
+//!   [`STILL_SPEED`]) inside an object's interaction space to the object's centre (a visitor
+//!   looking at a painting, a senior watching the TV).
 
 pub mod trajectory;
 
 use serde::Serialize;
 
+use crate::error::Result;
 use crate::math::Vec2;
+pub use trajectory::{
+    CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, EvalContext, FullMetrics, Groups, InteractionLink,
+    LinkKind, MetricParams, OSpace, ObjectSpaces, PeopleTracks, Trajectory, evaluate,
+};
+
+/// A person moving slower than this (m/s) counts as standing still, for person-object
+/// interactions.
+pub const STILL_SPEED: f64 = 0.1;
 
 /// How an episode ended for a robot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -29,156 +39,301 @@ pub enum Outcome {
     Running,
     /// Reached the goal.
     Success,
-    /// Collided with a person, another robot or the static geometry.
+    /// Collided with a person, the static geometry or another robot.
     Collision,
     /// Ran out of time.
     Timeout,
 }
 
-/// Per-robot episode metrics.
-#[derive(Clone, Debug, Serialize)]
-pub struct EpisodeMetrics {
-    /// How the episode ended.
+/// A robot's episode metrics: the outcome and every metric of [`FullMetrics`] (flattened when
+/// serialised, one key per metric).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EpisodeReport {
+    /// How the episode ended (`running` while it runs).
     pub outcome: Outcome,
-    /// 1 if the goal was reached without collision, else 0.
-    pub success: bool,
-    /// Any collision with a person.
-    pub collision_person: bool,
-    /// Any collision with walls or furniture.
-    pub collision_static: bool,
-    /// Number of control steps with a collision with a person.
-    pub collision_person_steps: usize,
-    /// Number of control steps with a collision with static geometry.
-    pub collision_static_steps: usize,
-    /// Any collision with another robot.
-    pub collision_robot: bool,
-    /// Number of control steps with a collision with another robot.
-    pub collision_robot_steps: usize,
-    /// Minimum surface gap to any other robot (metres; negative means overlap; +inf alone).
-    pub min_robot_gap: f64,
-    /// Seconds from the start to success (None unless successful).
-    pub time_to_goal: Option<f64>,
-    /// Path length (metres).
-    pub path_length: f64,
-    /// Minimum centre-to-centre distance to any person (metres; +inf with no people).
-    pub min_person_distance: f64,
-    /// Minimum surface gap to any person (metres; negative means overlap; +inf with no people).
-    pub min_person_gap: f64,
-    /// Control steps taken.
-    pub steps: usize,
-    /// Episode duration (s).
+    /// Episode duration so far (s): control steps times the control period.
     pub duration: f64,
+    /// Daza et al. 2021's D_A* (m): length of the plain A* path from the episode's start to the
+    /// goal, planned by the world at reset (the denominator of nothing, the numerator of
+    /// `l_ratio`).
+    pub astar_length: f64,
+    /// Geodesic (shortest collision-free) start-goal length `l*` (m) of `path_length_ratio` and
+    /// `spl`; `None` when unreachable.
+    pub geodesic_length: Option<f64>,
+    /// Smallest surface gap to another robot over the episode's instants (m; negative means
+    /// overlap; `None` for a robot alone).
+    pub min_robot_gap: Option<f64>,
+    /// Every metric.
+    #[serde(flatten)]
+    pub metrics: FullMetrics,
 }
 
-impl Default for EpisodeMetrics {
-    fn default() -> Self {
-        EpisodeMetrics {
-            outcome: Outcome::Running,
-            success: false,
-            collision_person: false,
-            collision_static: false,
-            collision_person_steps: 0,
-            collision_static_steps: 0,
-            collision_robot: false,
-            collision_robot_steps: 0,
-            min_robot_gap: f64::INFINITY,
-            time_to_goal: None,
-            path_length: 0.0,
-            min_person_distance: f64::INFINITY,
-            min_person_gap: f64::INFINITY,
-            steps: 0,
-            duration: 0.0,
-        }
-    }
+/// What stays fixed over a robot's episode.
+#[derive(Clone, Debug)]
+pub struct RecorderSetup {
+    /// Control period (s), > 0.
+    pub dt: f64,
+    /// Robot disc radius (m).
+    pub robot_radius: f64,
+    /// Goal position (m).
+    pub goal: Vec2,
+    /// Success radius around the goal (m, robot centre).
+    pub success_radius: f64,
+    /// People's disc radii (m).
+    pub people_radii: Vec<f64>,
+    /// Objects' interaction polygons (world frame, m).
+    pub object_polygons: Vec<Vec<Vec2>>,
+    /// The plain A* path from the start to the goal (Daza et al. 2021's reference path).
+    pub astar_path: Vec<Vec2>,
+    /// Geodesic start-goal length (m); `f64::INFINITY` when unreachable.
+    pub geodesic_length: f64,
 }
 
-/// What one control step contributes to the metrics.
+/// What the world looks like at one control instant.
 #[derive(Clone, Copy, Debug)]
-pub struct StepSample {
-    /// Robot position after the step.
-    pub position: Vec2,
-    /// Closest centre-to-centre distance to a person at this instant.
-    pub person_distance: f64,
-    /// Closest surface gap to a person at this instant.
-    pub person_gap: f64,
-    /// A collision with a person happened during the step.
-    pub hit_person: bool,
-    /// A collision with static geometry happened during the step.
-    pub hit_static: bool,
-    /// Closest surface gap to another robot at this instant (+inf without other robots).
-    pub robot_gap: f64,
-    /// A collision with another robot happened during the step.
-    pub hit_robot: bool,
-    /// The goal is reached at this instant.
-    pub at_goal: bool,
-    /// The time limit is reached at this instant.
-    pub out_of_time: bool,
+pub struct Snapshot<'a> {
+    /// Robot pose `[x, y, theta]` (m, m, rad).
+    pub pose: [f64; 3],
+    /// People's centres (m).
+    pub positions: &'a [Vec2],
+    /// People's velocities (m/s).
+    pub velocities: &'a [Vec2],
+    /// People's headings (rad).
+    pub headings: &'a [f64],
+    /// The groups' o-spaces at this instant.
+    pub ospaces: &'a [OSpace],
+    /// The interaction segments at this instant.
+    pub links: &'a [InteractionLink],
+    /// Per object polygon, whether its activity is on.
+    pub active: &'a [bool],
 }
 
-/// Accumulates [`EpisodeMetrics`] for one robot.
-#[derive(Clone, Debug, Default)]
-pub struct MetricsAccumulator {
-    metrics: EpisodeMetrics,
-    last: Option<Vec2>,
+/// Records one robot's episode and decides its outcome (see the module documentation).
+#[derive(Clone, Debug)]
+pub struct EpisodeRecorder {
+    setup: RecorderSetup,
+    poses: Vec<[f64; 3]>,
+    positions: Vec<Vec2>,
+    velocities: Vec<Vec2>,
+    headings: Vec<f64>,
+    ospace_offsets: Vec<usize>,
+    ospaces: Vec<OSpace>,
+    link_offsets: Vec<usize>,
+    links: Vec<InteractionLink>,
+    active: Vec<bool>,
+    contacts: Vec<u8>,
+    min_robot_gap: f64,
+    outcome: Outcome,
 }
 
-impl MetricsAccumulator {
-    /// Starts an episode at `start`.
-    pub fn new(start: Vec2) -> Self {
-        MetricsAccumulator { metrics: EpisodeMetrics::default(), last: Some(start) }
+impl EpisodeRecorder {
+    /// Starts an episode at the instant `start` (instant 0).
+    pub fn new(setup: RecorderSetup, start: &Snapshot) -> Self {
+        let mut r = EpisodeRecorder {
+            setup,
+            poses: Vec::new(),
+            positions: Vec::new(),
+            velocities: Vec::new(),
+            headings: Vec::new(),
+            ospace_offsets: vec![0],
+            ospaces: Vec::new(),
+            link_offsets: vec![0],
+            links: Vec::new(),
+            active: Vec::new(),
+            contacts: Vec::new(),
+            min_robot_gap: f64::INFINITY,
+            outcome: Outcome::Running,
+        };
+        r.push(start);
+        r
     }
 
-    /// Records the distances at the start of the episode (before any step).
-    pub fn observe_start(&mut self, person_distance: f64, person_gap: f64) {
-        self.metrics.min_person_distance = self.metrics.min_person_distance.min(person_distance);
-        self.metrics.min_person_gap = self.metrics.min_person_gap.min(person_gap);
+    fn push(&mut self, s: &Snapshot) {
+        let np = self.setup.people_radii.len();
+        let nm = self.setup.object_polygons.len();
+        self.poses.push(s.pose);
+        // Sizes come from the world, which builds the snapshot from the same crowd and objects;
+        // pad or cut defensively so the evaluator's length checks always hold.
+        let fill = |dst: &mut Vec<Vec2>, src: &[Vec2]| {
+            dst.extend((0..np).map(|i| src.get(i).copied().unwrap_or_else(Vec2::zeros)));
+        };
+        fill(&mut self.positions, s.positions);
+        fill(&mut self.velocities, s.velocities);
+        self.headings.extend((0..np).map(|i| s.headings.get(i).copied().unwrap_or(0.0)));
+        self.ospaces.extend_from_slice(s.ospaces);
+        self.ospace_offsets.push(self.ospaces.len());
+        self.links.extend_from_slice(s.links);
+        self.link_offsets.push(self.links.len());
+        self.active.extend((0..nm).map(|k| s.active.get(k).copied().unwrap_or(false)));
     }
 
-    /// Adds one control step of `dt` seconds; returns the outcome after it. Steps after the
-    /// episode has ended are ignored.
-    pub fn record(&mut self, s: &StepSample, dt: f64) -> Outcome {
-        let m = &mut self.metrics;
-        if m.outcome != Outcome::Running {
-            return m.outcome;
+    /// Notes the surface gap (m) to the closest other robot at an instant (for `min_robot_gap`;
+    /// a negative gap is a robot-robot collision, which the caller reports as `CONTACT_ROBOT`).
+    pub fn observe_robot_gap(&mut self, gap: f64) {
+        self.min_robot_gap = self.min_robot_gap.min(gap);
+    }
+
+    /// Adds one control step ending at `s`, with the physics' `CONTACT_*` bits of the step;
+    /// returns the outcome after it. A collision (physics contact, or a negative surface gap to a
+    /// person anywhere on the relative motion swept over the step) ends the episode before the
+    /// goal does; the goal before the time limit. Steps after the end are ignored.
+    pub fn record(&mut self, s: &Snapshot, contacts: u8, out_of_time: bool) -> Outcome {
+        if self.outcome != Outcome::Running {
+            return self.outcome;
         }
-        m.steps += 1;
-        m.duration = m.steps as f64 * dt;
-        if let Some(last) = self.last {
-            m.path_length += (s.position - last).norm();
-        }
-        self.last = Some(s.position);
-        m.min_person_distance = m.min_person_distance.min(s.person_distance);
-        m.min_person_gap = m.min_person_gap.min(s.person_gap);
-        if s.hit_person {
-            m.collision_person = true;
-            m.collision_person_steps += 1;
-        }
-        if s.hit_static {
-            m.collision_static = true;
-            m.collision_static_steps += 1;
-        }
-        m.min_robot_gap = m.min_robot_gap.min(s.robot_gap);
-        if s.hit_robot {
-            m.collision_robot = true;
-            m.collision_robot_steps += 1;
-        }
-        m.outcome = if s.hit_person || s.hit_static || s.hit_robot {
+        let np = self.setup.people_radii.len();
+        let prev_t = self.poses.len() - 1;
+        let prev = self.poses[prev_t];
+        self.push(s);
+        let (p0, p1) = (Vec2::new(prev[0], prev[1]), Vec2::new(s.pose[0], s.pose[1]));
+        let rr = self.setup.robot_radius;
+        let swept = (0..np).any(|i| {
+            let a = self.positions[prev_t * np + i] - p0;
+            let b = self.positions[(prev_t + 1) * np + i] - p1;
+            trajectory::origin_to_segment(a, b) - rr - self.setup.people_radii[i] < 0.0
+        });
+        let bits = contacts | if swept { CONTACT_PERSON } else { 0 };
+        self.contacts.push(bits);
+        self.outcome = if bits != 0 {
             Outcome::Collision
-        } else if s.at_goal {
-            m.success = true;
-            m.time_to_goal = Some(m.duration);
+        } else if (p1 - self.setup.goal).norm() <= self.setup.success_radius {
             Outcome::Success
-        } else if s.out_of_time {
+        } else if out_of_time {
             Outcome::Timeout
         } else {
             Outcome::Running
         };
-        m.outcome
+        self.outcome
     }
 
-    /// The metrics so far.
-    pub fn metrics(&self) -> &EpisodeMetrics {
-        &self.metrics
+    /// The outcome so far.
+    pub fn outcome(&self) -> Outcome {
+        self.outcome
+    }
+
+    /// Control steps recorded.
+    pub fn steps(&self) -> usize {
+        self.poses.len() - 1
+    }
+
+    /// The recorded robot poses `[x, y, theta]`, instant 0 first.
+    pub fn poses(&self) -> &[[f64; 3]] {
+        &self.poses
+    }
+
+    /// The plain A* reference path.
+    pub fn astar_path(&self) -> &[Vec2] {
+        &self.setup.astar_path
+    }
+
+    /// Evaluates the recording: every metric of [`FullMetrics`], with `clearance` the distance
+    /// from a point to the static geometry (m) and `zones` the Hall zone radii (m, centre
+    /// distance: intimate, personal, social).
+    ///
+    /// # Errors
+    /// [`crate::error::CoreError::Input`] from [`evaluate`] when a recorded value is not finite
+    /// or the zones are not non-decreasing.
+    pub fn evaluate(
+        &self,
+        clearance: &dyn Fn(Vec2) -> f64,
+        zones: [f64; 3],
+        params: MetricParams,
+    ) -> Result<EpisodeReport> {
+        let s = &self.setup;
+        let traj = Trajectory {
+            dt: s.dt,
+            robot: &self.poses,
+            robot_radius: s.robot_radius,
+            goal: s.goal,
+            success_radius: s.success_radius,
+        };
+        let people = PeopleTracks {
+            positions: &self.positions,
+            velocities: &self.velocities,
+            headings: &self.headings,
+            radii: &s.people_radii,
+            count: s.people_radii.len(),
+        };
+        let groups = Groups {
+            ospace_offsets: &self.ospace_offsets,
+            ospaces: &self.ospaces,
+            link_offsets: &self.link_offsets,
+            links: &self.links,
+        };
+        let objects = ObjectSpaces { polygons: &s.object_polygons, active: &self.active };
+        let ctx = EvalContext {
+            geodesic_length: s.geodesic_length,
+            astar_path: &s.astar_path,
+            clearance,
+            zones,
+            collision_steps: &self.contacts,
+            params,
+        };
+        let metrics = evaluate(&traj, &people, &groups, &objects, &ctx)?;
+        let astar_length = s.astar_path.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+        Ok(EpisodeReport {
+            outcome: self.outcome,
+            duration: self.steps() as f64 * s.dt,
+            astar_length,
+            geodesic_length: s.geodesic_length.is_finite().then_some(s.geodesic_length),
+            min_robot_gap: self.min_robot_gap.is_finite().then_some(self.min_robot_gap),
+            metrics,
+        })
+    }
+}
+
+/// An object whose interaction space people use, for [`interactions`].
+#[derive(Clone, Debug)]
+pub struct InteractionObject {
+    /// Interaction polygon (world frame, m).
+    pub polygon: Vec<Vec2>,
+    /// The object's centre (m), the far end of a person-object interaction segment.
+    pub centre: Vec2,
+}
+
+/// The ground-truth o-spaces and interaction segments of one instant (see the module
+/// documentation): `groups[i]` is person `i`'s group id, if any.
+pub fn interactions(
+    positions: &[Vec2],
+    velocities: &[Vec2],
+    groups: &[Option<u32>],
+    objects: &[InteractionObject],
+    ospaces: &mut Vec<OSpace>,
+    links: &mut Vec<InteractionLink>,
+) {
+    ospaces.clear();
+    links.clear();
+    let mut ids: Vec<u32> = groups.iter().flatten().copied().collect();
+    ids.sort_unstable();
+    ids.dedup();
+    for id in ids {
+        let members: Vec<usize> = (0..groups.len()).filter(|&i| groups[i] == Some(id)).collect();
+        if members.len() < 2 {
+            continue;
+        }
+        let centre = members.iter().fold(Vec2::zeros(), |a, &i| a + positions[i]) / members.len() as f64;
+        let radius =
+            members.iter().map(|&i| (positions[i] - centre).norm()).sum::<f64>() / members.len() as f64;
+        ospaces.push(OSpace { centre, radius });
+        for (k, &i) in members.iter().enumerate() {
+            for &j in &members[k + 1..] {
+                links.push(InteractionLink {
+                    a: positions[i],
+                    b: positions[j],
+                    kind: LinkKind::PersonPerson,
+                });
+            }
+        }
+    }
+    for (&q, v) in positions.iter().zip(velocities) {
+        if v.norm() >= STILL_SPEED {
+            continue;
+        }
+        for o in objects {
+            if trajectory::inside_polygon(q, &o.polygon) {
+                links.push(InteractionLink { a: q, b: o.centre, kind: LinkKind::PersonObject });
+            }
+        }
     }
 }
 
@@ -186,75 +341,105 @@ impl MetricsAccumulator {
 mod tests {
     use super::*;
 
-    fn sample(x: f64, y: f64, d: f64) -> StepSample {
-        StepSample {
-            position: Vec2::new(x, y),
-            person_distance: d,
-            person_gap: d - 0.44,
-            hit_person: false,
-            hit_static: false,
-            robot_gap: f64::INFINITY,
-            hit_robot: false,
-            at_goal: false,
-            out_of_time: false,
+    fn setup(radii: Vec<f64>) -> RecorderSetup {
+        RecorderSetup {
+            dt: 0.1,
+            robot_radius: 0.25,
+            goal: Vec2::new(3.0, 4.0),
+            success_radius: 0.3,
+            people_radii: radii,
+            object_polygons: vec![],
+            astar_path: vec![Vec2::zeros(), Vec2::new(3.0, 0.0), Vec2::new(3.0, 4.0)],
+            geodesic_length: 7.0,
+        }
+    }
+
+    fn snap<'a>(x: f64, y: f64, people: &'a [Vec2], zeros: &'a [Vec2], h: &'a [f64]) -> Snapshot<'a> {
+        Snapshot {
+            pose: [x, y, 0.0],
+            positions: people,
+            velocities: zeros,
+            headings: h,
+            ospaces: &[],
+            links: &[],
+            active: &[],
         }
     }
 
     #[test]
-    fn hand_computed_trajectory() {
-        // (0,0) -> (3,0) -> (3,4) -> goal: path 7 m; closest person 0.9 m at step 2
-        let mut acc = MetricsAccumulator::new(Vec2::zeros());
-        acc.observe_start(2.0, 1.56);
-        assert_eq!(acc.record(&sample(3.0, 0.0, 1.5), 0.1), Outcome::Running);
-        assert_eq!(acc.record(&sample(3.0, 4.0, 0.9), 0.1), Outcome::Running);
-        let mut last = sample(3.0, 4.0, 1.0);
-        last.at_goal = true;
-        assert_eq!(acc.record(&last, 0.1), Outcome::Success);
-        let m = acc.metrics();
-        assert!((m.path_length - 7.0).abs() < 1e-12);
-        assert!((m.min_person_distance - 0.9).abs() < 1e-12);
-        assert!((m.min_person_gap - 0.46).abs() < 1e-12);
-        assert!(m.success);
-        assert!((m.time_to_goal.expect("success") - 0.3).abs() < 1e-12);
-        assert_eq!(m.steps, 3);
-    }
-
-    #[test]
-    fn collision_beats_goal_and_freezes_the_episode() {
-        let mut acc = MetricsAccumulator::new(Vec2::zeros());
-        let mut s = sample(1.0, 0.0, 0.3);
-        s.hit_person = true;
-        s.at_goal = true;
-        assert_eq!(acc.record(&s, 0.1), Outcome::Collision);
-        assert!(!acc.metrics().success);
-        assert!(acc.metrics().collision_person && !acc.metrics().collision_static);
+    fn hand_computed_episode_reaches_the_goal() {
+        // (0,0) -> (3,0) -> (3,4): path 7 m = the A* path, so L_ratio = 1; person at (1.5, 1)
+        // is 1.0 m from the robot at no sample but (1.5, 0) lies between samples: d_min is over
+        // the samples, (0,0) and (3,0) are both sqrt(1.5² + 1) = 1.803 m away.
+        let far = [Vec2::new(1.5, 1.0)];
+        let z = [Vec2::zeros()];
+        let h = [0.0];
+        let mut rec = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &far, &z, &h));
+        assert_eq!(rec.record(&snap(3.0, 0.0, &far, &z, &h), 0, false), Outcome::Running);
+        assert_eq!(rec.record(&snap(3.0, 4.0, &far, &z, &h), 0, false), Outcome::Success);
         // ignored after the end
-        assert_eq!(acc.record(&sample(5.0, 0.0, 3.0), 0.1), Outcome::Collision);
-        assert!((acc.metrics().path_length - 1.0).abs() < 1e-12);
-        assert_eq!(acc.metrics().time_to_goal, None);
+        assert_eq!(rec.record(&snap(9.0, 9.0, &far, &z, &h), CONTACT_STATIC, true), Outcome::Success);
+        let r = rec.evaluate(&|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        assert_eq!(r.outcome, Outcome::Success);
+        assert_eq!(r.metrics.steps, 2);
+        assert!((r.metrics.path_length - 7.0).abs() < 1e-12);
+        assert!((r.astar_length - 7.0).abs() < 1e-12);
+        assert!((r.metrics.l_ratio.expect("success") - 1.0).abs() < 1e-12);
+        assert!((r.metrics.time_to_goal.expect("success") - 0.2).abs() < 1e-12);
+        assert!((r.duration - 0.2).abs() < 1e-12);
+        let dmin = r.metrics.d_min[0].expect("sampled");
+        assert!((dmin - 3.25f64.sqrt()).abs() < 1e-12);
+        assert_eq!(r.geodesic_length, Some(7.0));
     }
 
     #[test]
-    fn robot_collision_ends_the_episode_and_is_counted() {
-        let mut acc = MetricsAccumulator::new(Vec2::zeros());
-        let mut s = sample(0.5, 0.0, 5.0);
-        s.robot_gap = 0.2;
-        assert_eq!(acc.record(&s, 0.1), Outcome::Running);
-        s.robot_gap = -0.01;
-        s.hit_robot = true;
-        assert_eq!(acc.record(&s, 0.1), Outcome::Collision);
-        let m = acc.metrics();
-        assert!(m.collision_robot && !m.collision_person && !m.collision_static);
-        assert_eq!(m.collision_robot_steps, 1);
-        assert!((m.min_robot_gap + 0.01).abs() < 1e-12);
+    fn swept_contact_ends_the_episode_as_the_evaluator_counts_it() {
+        // The robot jumps from (0,0) to (2,0) through a person at (1,0): no sample overlaps, the
+        // swept relative motion does; the recorder stops and the evaluator agrees (hc = 1).
+        let p = [Vec2::new(1.0, 0.0)];
+        let z = [Vec2::zeros()];
+        let h = [0.0];
+        let mut rec = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &p, &z, &h));
+        assert_eq!(rec.record(&snap(2.0, 0.0, &p, &z, &h), 0, false), Outcome::Collision);
+        let r = rec.evaluate(&|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        assert!(r.metrics.hc && r.metrics.collision && !r.metrics.success && !r.metrics.timeout);
+        assert_eq!(r.metrics.hc_count, 1);
+        assert_eq!(r.metrics.l_ratio, None);
     }
 
     #[test]
-    fn timeout() {
-        let mut acc = MetricsAccumulator::new(Vec2::zeros());
-        let mut s = sample(0.0, 0.0, 5.0);
-        s.out_of_time = true;
-        assert_eq!(acc.record(&s, 0.1), Outcome::Timeout);
-        assert!(!acc.metrics().success);
+    fn contact_bits_and_timeout() {
+        let z: [Vec2; 0] = [];
+        let mut rec = EpisodeRecorder::new(setup(vec![]), &snap(0.0, 0.0, &z, &z, &[]));
+        assert_eq!(rec.record(&snap(0.1, 0.0, &z, &z, &[]), 0, true), Outcome::Timeout);
+        let r = rec.evaluate(&|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        assert!(r.metrics.timeout);
+        let mut rec = EpisodeRecorder::new(setup(vec![]), &snap(0.0, 0.0, &z, &z, &[]));
+        assert_eq!(rec.record(&snap(0.1, 0.0, &z, &z, &[]), CONTACT_STATIC, false), Outcome::Collision);
+        let r = rec.evaluate(&|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        assert!(r.metrics.wc && !r.metrics.hc);
+    }
+
+    #[test]
+    fn ground_truth_groups_and_object_interactions() {
+        // A pair (group 7) 2 m apart, a lone walker, a still viewer inside a square space.
+        let pos = [Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0), Vec2::new(5.0, 5.0), Vec2::new(10.5, 0.5)];
+        let vel = [Vec2::zeros(), Vec2::zeros(), Vec2::new(1.0, 0.0), Vec2::new(0.05, 0.0)];
+        let groups = [Some(7), Some(7), None, None];
+        let square =
+            vec![Vec2::new(10.0, 0.0), Vec2::new(11.0, 0.0), Vec2::new(11.0, 1.0), Vec2::new(10.0, 1.0)];
+        let objects = [InteractionObject { polygon: square, centre: Vec2::new(10.5, -0.5) }];
+        let (mut os, mut ls) = (Vec::new(), Vec::new());
+        interactions(&pos, &vel, &groups, &objects, &mut os, &mut ls);
+        assert_eq!(os, vec![OSpace { centre: Vec2::new(1.0, 0.0), radius: 1.0 }]);
+        assert_eq!(ls.len(), 2);
+        assert_eq!(ls[0].kind, LinkKind::PersonPerson);
+        assert_eq!((ls[0].a, ls[0].b), (pos[0], pos[1]));
+        assert_eq!(ls[1].kind, LinkKind::PersonObject);
+        assert_eq!((ls[1].a, ls[1].b), (pos[3], Vec2::new(10.5, -0.5)));
+        // The viewer walking away is no longer interacting.
+        let vel2 = [Vec2::zeros(), Vec2::zeros(), Vec2::zeros(), Vec2::new(0.5, 0.0)];
+        interactions(&pos, &vel2, &groups, &objects, &mut os, &mut ls);
+        assert_eq!(ls.len(), 1);
     }
 }

@@ -31,7 +31,10 @@ use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar;
 use crate::math::{Vec2, wrap_angle};
-use crate::metrics::{EpisodeMetrics, MetricsAccumulator, Outcome, StepSample};
+use crate::metrics::{
+    EpisodeRecorder, EpisodeReport, InteractionLink, InteractionObject, MetricParams, OSpace, Outcome,
+    RecorderSetup, Snapshot, interactions,
+};
 use crate::pedestrians::scripts::{Script, plan_scripts};
 use crate::pedestrians::{Crowd, SocialForceParams};
 use crate::plan::geodesic::GoalField;
@@ -149,7 +152,8 @@ struct RobotRuntime {
     proposed_v: Vec2,
     proposed_wz: f64,
     follower: PathFollower,
-    metrics: MetricsAccumulator,
+    /// The episode's recording, from which the metrics are computed.
+    recorder: EpisodeRecorder,
     outcome: Outcome,
     geodesic: f64,
     user_command: bool,
@@ -206,6 +210,13 @@ pub struct World {
     scratch_discs: Vec<(Vec2, f64)>,
     /// Per robot: whether its built-in planner runs (see [`World::set_planning`]).
     planning: Vec<bool>,
+    /// The objects with an interaction space (metrics: person-object interactions, object
+    /// spaces), in the order of the social planner's object names.
+    interaction_objects: Vec<InteractionObject>,
+    /// The current instant's ground-truth o-spaces, interactions and object activities.
+    now_ospaces: Vec<OSpace>,
+    now_links: Vec<InteractionLink>,
+    now_active: Vec<bool>,
 }
 
 fn v2(p: [f64; 2]) -> Vec2 {
@@ -335,6 +346,19 @@ impl World {
             scratch_people: Vec::new(),
             scratch_discs: Vec::new(),
             planning: vec![true; scenario.robots.len()],
+            interaction_objects: scenario
+                .objects
+                .iter()
+                .filter_map(|o| {
+                    o.interaction.as_ref().map(|space| InteractionObject {
+                        polygon: space.polygon.iter().map(|q| v2(*q)).collect(),
+                        centre: Vec2::new(o.pose[0], o.pose[1]),
+                    })
+                })
+                .collect(),
+            now_ospaces: Vec::new(),
+            now_links: Vec::new(),
+            now_active: Vec::new(),
             scenario,
         };
         world.crowd = Crowd::spawn_scripted(
@@ -425,9 +449,66 @@ impl World {
         Ok(())
     }
 
-    /// Episode metrics of every robot so far.
-    pub fn metrics(&self) -> Vec<EpisodeMetrics> {
-        self.robots.iter().map(|r| r.metrics.metrics().clone()).collect()
+    }
+
+    /// Every metric of every robot's episode so far (`design/metrics.md`; the zones are the
+    /// scenario's Hall zones, the thresholds [`MetricParams::default`]).
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] before the first reset, or if a recorded value is not finite.
+    pub fn episode_metrics(&self) -> Result<Vec<EpisodeReport>> {
+        if !self.started {
+            return Err(CoreError::input(
+                "episode_metrics",
+                "a call after reset()",
+                "a call before the first reset()",
+            ));
+        }
+        let z = self.social.config().zones;
+        let clearance = |p: Vec2| self.geometry.distance(p);
+        self.robots
+            .iter()
+            .map(|r| {
+                r.recorder.evaluate(&clearance, [z.intimate, z.personal, z.social], MetricParams::default())
+            })
+            .collect()
+    }
+
+    /// The recorded poses `[x, y, theta]` of robot `i` since the reset, instant 0 first.
+    pub fn trajectory(&self, i: usize) -> Option<&[[f64; 3]]> {
+        self.robots.get(i).map(|r| r.recorder.poses())
+    }
+
+    /// The plain A* path from robot `i`'s episode start to its goal (Daza et al. 2021's D_A*).
+    pub fn astar_path(&self, i: usize) -> Option<&[Vec2]> {
+        self.robots.get(i).map(|r| r.recorder.astar_path())
+    }
+
+    /// Updates the ground-truth o-spaces, interactions and object activities of this instant.
+    fn observe_interactions(&mut self) {
+        interactions(
+            &self.crowd.pos,
+            &self.crowd.vel,
+            &self.crowd.group,
+            &self.interaction_objects,
+            &mut self.now_ospaces,
+            &mut self.now_links,
+        );
+        let tod = self.time_of_day();
+        self.social.object_activity(tod, &mut self.now_active);
+    }
+
+    /// The recorder's view of this instant for a robot at `pose`.
+    fn snapshot(&self, pose: [f64; 3]) -> Snapshot<'_> {
+        Snapshot {
+            pose,
+            positions: &self.crowd.pos,
+            velocities: &self.crowd.vel,
+            headings: &self.crowd.heading,
+            ospaces: &self.now_ospaces,
+            links: &self.now_links,
+            active: &self.now_active,
+        }
     }
 
     /// The people: positions, velocities, headings and radii.
@@ -470,6 +551,7 @@ impl World {
         );
         self.steps = 0;
         self.robots.clear();
+        self.observe_interactions();
         let jitter = self.scenario.episode.randomize.robot_start_jitter;
         for i in 0..self.statics.len() {
             let r = &self.scenario.robots[i];
@@ -497,9 +579,18 @@ impl World {
                 plan_path(&mut self.planner, grid, start, st.goal).unwrap_or_else(|| st.nominal_path.clone())
             };
             let pose = [start.x, start.y, wrap_angle(r.start[2])];
-            let mut metrics = MetricsAccumulator::new(start);
-            let (d, gap) = self.closest_person(start, st.radius);
-            metrics.observe_start(d, gap);
+            let geodesic = st.goal_field.distance(start);
+            let setup = RecorderSetup {
+                dt: self.scenario.control_dt(),
+                robot_radius: st.radius,
+                goal: st.goal,
+                success_radius: self.scenario.episode.success_radius,
+                people_radii: self.crowd.radius.clone(),
+                object_polygons: self.interaction_objects.iter().map(|o| o.polygon.clone()).collect(),
+                astar_path: path.clone(),
+                geodesic_length: geodesic,
+            };
+            let recorder = EpisodeRecorder::new(setup, &self.snapshot(pose));
             self.robots.push(RobotRuntime {
                 pose,
                 velocity: Vec2::zeros(),
@@ -509,9 +600,9 @@ impl World {
                 proposed_v: Vec2::zeros(),
                 proposed_wz: 0.0,
                 follower: PathFollower::new(path, FollowerParams::default()),
-                metrics,
+                recorder,
                 outcome: Outcome::Running,
-                geodesic: st.goal_field.distance(start),
+                geodesic,
                 user_command: false,
                 social_path: None,
                 last_plan_step: 0,
@@ -663,39 +754,43 @@ impl World {
             .collect();
         self.crowd.step(dt, &robots, &self.geometry, &self.field);
         self.steps += 1;
+        self.observe_interactions();
         let out_of_time = self.time() >= self.scenario.episode.max_time - 1e-9;
         let stride = self.layout.stride;
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
         let (terms_off, reward_off, flags_off) = (sec("reward_terms"), sec("reward"), sec("flags"));
         let w = self.scenario.reward.clone();
-        let success_radius = self.scenario.episode.success_radius;
         for i in 0..n {
-            let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
-            let radius = self.statics[i].radius;
-            let (d, gap) = self.closest_person(p, radius);
+            let pose = self.robots[i].pose;
+            let p = Vec2::new(pose[0], pose[1]);
+            let d = self.closest_person(p);
             let robot_gap = self.closest_robot_gap(i);
-            let st = &self.statics[i];
-            let rb = &mut self.robots[i];
-            let row = &mut out[i * stride..(i + 1) * stride];
-            let terms = &mut row[terms_off..terms_off + REWARD_TERMS.len()];
-            if rb.outcome != Outcome::Running {
-                terms.fill(0.0);
+            if self.robots[i].outcome != Outcome::Running {
+                let row = &mut out[i * stride..(i + 1) * stride];
+                row[terms_off..terms_off + REWARD_TERMS.len()].fill(0.0);
                 row[reward_off] = 0.0;
                 continue;
             }
-            let sample = StepSample {
-                position: p,
-                person_distance: d,
-                person_gap: gap,
-                hit_person: contacts[i] & CONTACT_PERSON != 0 || gap < 0.0,
-                hit_static: contacts[i] & CONTACT_STATIC != 0,
-                robot_gap,
-                hit_robot: contacts[i] & CONTACT_ROBOT != 0 || robot_gap < 0.0,
-                at_goal: (p - st.goal).norm() <= success_radius,
-                out_of_time,
+            // Field by field (not `self.snapshot`): the recorder is borrowed mutably beside it.
+            let snapshot = Snapshot {
+                pose,
+                positions: &self.crowd.pos,
+                velocities: &self.crowd.vel,
+                headings: &self.crowd.heading,
+                ospaces: &self.now_ospaces,
+                links: &self.now_links,
+                active: &self.now_active,
             };
-            let outcome = rb.metrics.record(&sample, dt);
+            let st = &self.statics[i];
+            let rb = &mut self.robots[i];
+            // Two robots overlapping at a control instant collide even if the physics missed it
+            // (Francis et al.'s agent collisions, AC).
+            rb.recorder.observe_robot_gap(robot_gap);
+            let bits = contacts[i] | if robot_gap < 0.0 { CONTACT_ROBOT } else { 0 };
+            let outcome = rb.recorder.record(&snapshot, bits, out_of_time);
             rb.outcome = outcome;
+            let row = &mut out[i * stride..(i + 1) * stride];
+            let terms = &mut row[terms_off..terms_off + REWARD_TERMS.len()];
             let geo = st.goal_field.distance(p);
             let progress = if geo.is_finite() && rb.geodesic.is_finite() { rb.geodesic - geo } else { 0.0 };
             if geo.is_finite() {
@@ -725,19 +820,9 @@ impl World {
     }
 
     /// Closest person to `p`: (centre distance, surface gap for a robot of `radius`).
-    fn closest_person(&self, p: Vec2, radius: f64) -> (f64, f64) {
-        let mut best = (f64::INFINITY, f64::INFINITY);
-        for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
-            let d = (q - p).norm();
-            if d < best.0 {
-                best.0 = d;
-            }
-            let gap = d - radius - r;
-            if gap < best.1 {
-                best.1 = gap;
-            }
-        }
-        best
+    /// Centre distance from `p` to the closest person (m; +inf without people).
+    fn closest_person(&self, p: Vec2) -> f64 {
+        self.crowd.pos.iter().map(|q| (q - p).norm()).fold(f64::INFINITY, f64::min)
     }
 
     /// Closest surface gap from robot `i` to any other robot (+inf alone).

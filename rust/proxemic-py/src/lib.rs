@@ -335,9 +335,27 @@ impl PyWorld {
         self.inner.set_planning(&planning).map_err(|e| to_py_err(py, e))
     }
 
-    /// Episode metrics of every robot so far, as JSON (a list of objects; infinities as null).
-    fn metrics_json(&self) -> String {
-        serde_json_string(&self.inner.metrics())
+    /// Every metric of every robot's episode so far (`design/metrics.md`): a list with one dict
+    /// per robot, the outcome and one key per metric (undefined values as None; `d_min` per
+    /// person and `psi_object` / `psi_object_any` per object with an interaction space as lists).
+    fn episode_metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let w = &self.inner;
+        let text = enter_core(py, move || w.episode_metrics().map(|m| serde_json_string(&m)))?;
+        py.import("json")?.call_method1("loads", (text,))
+    }
+
+    /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
+    /// reference path of `l_ratio` and `smooth`), as a (K, 2) float64 array.
+    fn astar_path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let path = self.inner.astar_path(robot).ok_or_else(|| {
+            input_err(
+                py,
+                "robot",
+                format!("an index below {} after reset()", self.inner.num_robots()),
+                robot.to_string(),
+            )
+        })?;
+        points_to_array(py, path)
     }
 
     /// The global path robot `robot` is following, as a (K, 2) float64 array.

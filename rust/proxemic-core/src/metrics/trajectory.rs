@@ -580,7 +580,7 @@ fn min_avg_max(values: impl Iterator<Item = f64>) -> Option<(f64, f64, f64)> {
 }
 
 /// Distance from the origin to the segment `a -> b`.
-fn origin_to_segment(a: Vec2, b: Vec2) -> f64 {
+pub(crate) fn origin_to_segment(a: Vec2, b: Vec2) -> f64 {
     let d = b - a;
     let len2 = d.norm_squared();
     if len2 <= EPS * EPS {
@@ -623,7 +623,7 @@ fn crosses(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> bool {
 }
 
 /// Even-odd point-in-polygon test; fewer than 3 vertices contain nothing.
-fn inside_polygon(pt: Vec2, poly: &[Vec2]) -> bool {
+pub(crate) fn inside_polygon(pt: Vec2, poly: &[Vec2]) -> bool {
     if poly.len() < 3 {
         return false;
     }
@@ -960,7 +960,7 @@ pub fn evaluate(
         if astar_ok { leave_rejoin_angles(&pos, ctx.astar_path, q.astar_tolerance) } else { Vec::new() };
     let smooth_k = angles.len();
     let smooth = astar_ok.then(|| {
-        let sq: f64 = angles.iter().map(|a| a * a).sum();
+        let sq = angles.iter().fold(0.0, |acc, a| acc + a * a);
         sq / (smooth_k.saturating_sub(1).max(1)) as f64
     });
 

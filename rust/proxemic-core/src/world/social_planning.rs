@@ -121,6 +121,13 @@ impl SocialPlanning {
         &self.object_names
     }
 
+    /// Whether each object's activity is on at `time_of_day` (seconds after midnight), in the
+    /// order of [`Self::object_names`], written into `out`.
+    pub fn object_activity(&self, time_of_day: f64, out: &mut Vec<bool>) {
+        out.clear();
+        out.extend(self.object_names.iter().map(|n| self.agenda.active(n, time_of_day)));
+    }
+
     /// R(t) of every object with an interaction space at `time_of_day`.
     pub fn object_factors(&self, time_of_day: f64) -> Vec<f64> {
         self.object_names.iter().map(|n| self.agenda.cost(n, time_of_day)).collect()
