@@ -88,15 +88,15 @@ def ensure_navground() -> Path:
     return py
 
 
-def build_ours() -> Path:
-    """Builds the Rust example and returns the binary's path."""
+def build_example(name: str) -> Path:
+    """Builds the Rust example `name` of proxemic-core (release) and returns the binary's path."""
     subprocess.run(
-        ["cargo", "build", "--release", "-q", "-p", "proxemic-core", "--example", "orca_agents"],
+        ["cargo", "build", "--release", "-q", "-p", "proxemic-core", "--example", name],
         cwd=ROOT,
         check=True,
     )
     target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    return target / "release" / "examples" / "orca_agents"
+    return target / "release" / "examples" / name
 
 
 def run_navground(py: Path, n: int, steps: int, seed: int) -> dict[str, float]:
@@ -125,7 +125,7 @@ def main() -> None:
     p.add_argument("--agent-steps", type=int, default=100_000)
     a = p.parse_args()
     py = ensure_navground()
-    binary = build_ours()
+    binary = build_example("orca_agents")
     rows = []
     for n in a.ns:
         steps = max(5, a.agent_steps // n)

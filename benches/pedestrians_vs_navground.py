@@ -25,14 +25,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
 import subprocess
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from orca_vs_navground import ensure_navground
+from orca_vs_navground import build_example, ensure_navground
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Timed person-steps per repetition: ours and HL (C++), navground's Python social force.
@@ -79,17 +78,6 @@ print(json.dumps(dict(wall=(t1 - t0) / (steps * n) / 1e3, cpu=(c1 - c0) / (steps
 '''
 
 
-def build_ours() -> Path:
-    """Builds the Rust example and returns the binary's path."""
-    subprocess.run(
-        ["cargo", "build", "--release", "-q", "-p", "proxemic-core", "--example", "pedestrian_crowd"],
-        cwd=ROOT,
-        check=True,
-    )
-    target = Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
-    return target / "release" / "examples" / "pedestrian_crowd"
-
-
 def run_navground(py: Path, n: int, behavior: str, seed: int) -> dict[str, float]:
     """One navground repetition of `behavior`."""
     steps = max(3, PERSON_STEPS[behavior] // n)
@@ -120,7 +108,7 @@ def main() -> None:
     p.add_argument("--reps", type=int, default=3)
     a = p.parse_args()
     py = ensure_navground()
-    binary = build_ours()
+    binary = build_example("pedestrian_crowd")
     rows = []
     for n in a.ns:
         res: dict[str, list[dict[str, float]]] = {"ours": [], "HL": [], "SocialForce": []}

@@ -10,6 +10,7 @@ import pytest
 
 from proxemic.cli import main
 from proxemic.evaluation import EvalConfig, mean_ci, run_eval, summarise, wilson
+from proxemic.scenarios import load as load_scenario
 
 
 def test_wilson_interval_known_values():
@@ -57,7 +58,8 @@ def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
         header = list(runs[workers][0])
         for col in ("l_ratio", "smooth", "psi_intimate", "psi_objects", "ospace_pct", "d_t", "tau", "chc"):
             assert col in header
-        assert sum(c.startswith("d_min_") for c in header) == 29
+        people = len(load_scenario("museum")[1]["persons"])
+        assert sum(c.startswith("d_min_") for c in header) == people
         assert any(c.startswith("psi_object_") for c in header)
     assert runs[1] == runs[2]
     assert [r["seed"] for r in runs[1]] == ["5", "6", "7"]

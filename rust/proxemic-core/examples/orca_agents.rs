@@ -22,6 +22,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
+mod common;
+use common::{median, thread_cpu_ns};
+
 const RADIUS: f64 = 0.35;
 const MAX_SPEED: f64 = 1.5;
 const PREF_SPEED: f64 = 1.0;
@@ -70,12 +73,6 @@ fn make_world(n: usize, seed: u64) -> World {
     World { agents, targets, current: vec![0; n] }
 }
 
-/// Nanoseconds this thread has spent on a CPU (Linux `schedstat`), if available.
-fn thread_cpu_ns() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    s.split_whitespace().next()?.parse().ok()
-}
-
 fn step(w: &mut World, orca: &mut Orca, obstacles: &ObstacleSet, active: &[usize], out: &mut [Vec2], k: u64) {
     for (i, a) in w.agents.iter_mut().enumerate() {
         let mut goal = w.targets[i][w.current[i]];
@@ -95,12 +92,6 @@ fn step(w: &mut World, orca: &mut Orca, obstacles: &ObstacleSet, active: &[usize
         a.vel = *v;
         a.pos += *v * DT;
     }
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 { v[m] } else { 0.5 * (v[m - 1] + v[m]) }
 }
 
 fn main() {

@@ -11,83 +11,19 @@
 //! steps. Prints one JSON line with the median wall and thread-CPU microseconds per person-step.
 #![allow(missing_docs)]
 
-use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use proxemic_core::math::Vec2;
 use proxemic_core::pedestrians::{Crowd, SocialForceParams};
-use proxemic_core::scenario::{Behaviour, Person, Randomize};
-use rand::{Rng, SeedableRng};
+use proxemic_core::scenario::Randomize;
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
 
+mod common;
+use common::{AREA_PER_PERSON, hall, median, thread_cpu_ns, walkers};
+
 const DT: f64 = 0.1;
 const WARMUP: usize = 20;
-
-/// Square metres per person in the museum (864 m^2, 29 people).
-const AREA_PER_PERSON: f64 = 864.0 / 29.0;
-
-fn hall(side: f64) -> Result<StaticGeometry, String> {
-    let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
-        vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)]
-    };
-    let mut polys = vec![
-        rect(-0.2, -0.2, side + 0.2, 0.0),
-        rect(-0.2, side, side + 0.2, side + 0.2),
-        rect(-0.2, 0.0, 0.0, side),
-        rect(side, 0.0, side + 0.2, side),
-    ];
-    let mut x = 8.0;
-    while x < side - 4.0 {
-        let mut y = 8.0;
-        while y < side - 4.0 {
-            polys.push(rect(x - 0.3, y - 0.3, x + 0.3, y + 0.3));
-            y += 8.0;
-        }
-        x += 8.0;
-    }
-    StaticGeometry::new(polys, Bounds { min: Vec2::new(-1.0, -1.0), max: Vec2::new(side + 1.0, side + 1.0) })
-        .map_err(|e| e.to_string())
-}
-
-fn persons(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
-    let mut pt = || Vec2::new(rng.random_range(1.0..side - 1.0), rng.random_range(1.0..side - 1.0));
-    (0..n)
-        .map(|k| {
-            let (a, b, c) = (pt(), pt(), pt());
-            Person {
-                name: format!("p{k}"),
-                behaviour: Behaviour::Walker,
-                pose: [a.x, a.y, 0.0],
-                route: vec![[a.x, a.y], [b.x, b.y], [c.x, c.y]],
-                speed: 1.2,
-                dwell: 2.0,
-                radius: 0.2,
-                height: 1.7,
-                group: if k % 10 < 2 { Some((k / 10) as u32) } else { None },
-                aware: true,
-                features: vec![],
-            }
-        })
-        .collect()
-}
-
-/// Nanoseconds this thread has spent on a CPU (Linux `schedstat`), if available.
-fn thread_cpu_ns() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    s.split_whitespace().next()?.parse().ok()
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.is_empty() {
-        f64::NAN
-    } else if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -114,7 +50,7 @@ fn main() {
     let mut speed = 0.0;
     for seed in seed0..seed0 + reps as u64 {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let people = persons(n, side, &mut rng);
+        let people = walkers(n, side, &mut rng);
         let mut crowd = Crowd::spawn(&people, &Randomize::default(), SocialForceParams::default(), &mut rng);
         for _ in 0..WARMUP {
             crowd.step(DT, &robots, &geom, &field);

@@ -292,17 +292,21 @@ impl Crowd {
         rng: &mut R,
     ) -> Self {
         let scripts: Vec<Script> = persons.iter().map(Script::basic).collect();
-        Self::spawn_scripted(persons, &scripts, randomize, params, rng)
+        Self::spawn_scripted(persons, &scripts, randomize, params, &[], rng)
     }
 
     /// Builds the crowd for a new episode with one planned script per person, drawing the
     /// randomised parts (walkers' route phase, visitors' first exhibit and dwell phase, speed
-    /// jitter of everyone who walks) from `rng`.
+    /// jitter of everyone who walks) from `rng`. A walker's random start on its route is drawn
+    /// again (up to [`SPAWN_TRIES`] times) while it lies within `keep_clear`'s discs (centre,
+    /// radius in m) widened by the person's radius: the robots' start areas, so that no episode
+    /// begins with a person on top of a robot.
     pub fn spawn_scripted<R: Rng>(
         persons: &[Person],
         scripts: &[Script],
         randomize: &Randomize,
         params: SocialForceParams,
+        keep_clear: &[(Vec2, f64)],
         rng: &mut R,
     ) -> Self {
         let mut c = Crowd { params, ..Crowd::default() };
@@ -318,7 +322,14 @@ impl Crowd {
             let (mut task, mut clock) = (0, 0.0);
             let (pos, target, heading) = match script {
                 Script::Walker if randomize.person_phase => {
-                    let (pos, target) = point_at_fraction(&route, rng.random::<f64>());
+                    let blocked = |q: Vec2| keep_clear.iter().any(|(c, r)| (q - c).norm() < r + p.radius);
+                    let (mut pos, mut target) = point_at_fraction(&route, rng.random::<f64>());
+                    for _ in 1..SPAWN_TRIES {
+                        if !blocked(pos) {
+                            break;
+                        }
+                        (pos, target) = point_at_fraction(&route, rng.random::<f64>());
+                    }
                     let d = route[target] - pos;
                     (pos, target, d.y.atan2(d.x))
                 }
@@ -719,6 +730,10 @@ impl Crowd {
 
 /// The point at `frac` (in [0, 1)) of a closed route's length, and the index of the waypoint
 /// that follows it.
+/// Draws of a walker's start on its route before the last one is kept even if it is not clear
+/// of the robots' start areas (see [`Crowd::spawn_scripted`]).
+pub const SPAWN_TRIES: usize = 32;
+
 fn point_at_fraction(route: &[Vec2], frac: f64) -> (Vec2, usize) {
     let n = route.len();
     let lens: Vec<f64> = (0..n).map(|k| (route[(k + 1) % n] - route[k]).norm()).collect();
@@ -758,6 +773,30 @@ mod tests {
             features: vec![],
             ..Person::default()
         }
+    }
+
+    #[test]
+    fn walkers_never_start_in_a_robot_start_area() {
+        // A 10 m out-and-back route; the robot's start area covers its first 3 m (plus the
+        // person's radius). Over many seeds no walker starts inside it, and without the area
+        // some do (the check can fail).
+        let persons = vec![walker(&[[0.0, 0.0], [10.0, 0.0]], 1.2, 0.0); 8];
+        let scripts: Vec<Script> = persons.iter().map(Script::basic).collect();
+        let random = Randomize { person_phase: true, speed_jitter: 0.0, robot_start_jitter: 0.0 };
+        let area = [(Vec2::new(0.0, 0.0), 3.0)];
+        let inside = |c: &Crowd| c.pos.iter().filter(|q| q.norm() < 3.0 + 0.2).count();
+        let (mut with_area, mut without) = (0, 0);
+        for seed in 0..50 {
+            let spawn = |clear: &[(Vec2, f64)]| {
+                let mut rng = ChaCha8Rng::seed_from_u64(seed);
+                let params = SocialForceParams::default();
+                Crowd::spawn_scripted(&persons, &scripts, &random, params, clear, &mut rng)
+            };
+            with_area += inside(&spawn(&area));
+            without += inside(&spawn(&[]));
+        }
+        assert_eq!(with_area, 0);
+        assert!(without > 50, "{without}");
     }
 
     fn fixed() -> Randomize {

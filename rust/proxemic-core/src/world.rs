@@ -214,10 +214,37 @@ pub struct World {
     /// spaces), in the order of the social planner's object names.
     interaction_objects: Vec<InteractionObject>,
     /// The current instant's ground-truth o-spaces, interactions and object activities.
-    now_ospaces: Vec<OSpace>,
-    now_links: Vec<InteractionLink>,
-    now_active: Vec<bool>,
+    now: GroundTruth,
 }
+
+/// The ground truth of one instant that the metrics need: the groups' o-spaces, the interaction
+/// segments and, per object with an interaction space, whether its activity is on.
+#[derive(Clone, Debug, Default)]
+struct GroundTruth {
+    ospaces: Vec<OSpace>,
+    links: Vec<InteractionLink>,
+    active: Vec<bool>,
+}
+
+impl GroundTruth {
+    /// The recorder's view of this instant for a robot at `pose` among `crowd`.
+    fn snapshot<'a>(&'a self, crowd: &'a Crowd, pose: [f64; 3]) -> Snapshot<'a> {
+        Snapshot {
+            pose,
+            positions: &crowd.pos,
+            velocities: &crowd.vel,
+            headings: &crowd.heading,
+            ospaces: &self.ospaces,
+            links: &self.links,
+            active: &self.active,
+        }
+    }
+}
+
+/// Free space (m) kept between a robot's start area and the people who start walking near it:
+/// the common evaluation radius of the intimate zone, 0.45 m, so that no episode begins with an
+/// intrusion the robot could not avoid.
+pub const START_CLEARANCE: f64 = 0.45;
 
 fn v2(p: [f64; 2]) -> Vec2 {
     Vec2::new(p[0], p[1])
@@ -356,19 +383,31 @@ impl World {
                     })
                 })
                 .collect(),
-            now_ospaces: Vec::new(),
-            now_links: Vec::new(),
-            now_active: Vec::new(),
+            now: GroundTruth::default(),
             scenario,
         };
+        let clear = world.start_areas();
         world.crowd = Crowd::spawn_scripted(
             &world.scenario.persons,
             &world.scripts,
             &world.scenario.episode.randomize,
             SocialForceParams::default(),
+            &clear,
             &mut world.rng,
         );
         Ok(world)
+    }
+
+    /// The discs no walker may start in (centre, radius in m): each robot's nominal start with
+    /// the robot's radius, its start jitter and [`START_CLEARANCE`].
+    fn start_areas(&self) -> Vec<(Vec2, f64)> {
+        let jitter = self.scenario.episode.randomize.robot_start_jitter * std::f64::consts::SQRT_2;
+        self.scenario
+            .robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(r, st)| (Vec2::new(r.start[0], r.start[1]), st.radius + jitter + START_CLEARANCE))
+            .collect()
     }
 
     /// The validated scenario.
@@ -449,8 +488,6 @@ impl World {
         Ok(())
     }
 
-    }
-
     /// Every metric of every robot's episode so far (`design/metrics.md`; the zones are the
     /// scenario's Hall zones, the thresholds [`MetricParams::default`]).
     ///
@@ -491,24 +528,16 @@ impl World {
             &self.crowd.vel,
             &self.crowd.group,
             &self.interaction_objects,
-            &mut self.now_ospaces,
-            &mut self.now_links,
+            &mut self.now.ospaces,
+            &mut self.now.links,
         );
         let tod = self.time_of_day();
-        self.social.object_activity(tod, &mut self.now_active);
+        self.social.object_activity(tod, &mut self.now.active);
     }
 
     /// The recorder's view of this instant for a robot at `pose`.
     fn snapshot(&self, pose: [f64; 3]) -> Snapshot<'_> {
-        Snapshot {
-            pose,
-            positions: &self.crowd.pos,
-            velocities: &self.crowd.vel,
-            headings: &self.crowd.heading,
-            ospaces: &self.now_ospaces,
-            links: &self.now_links,
-            active: &self.now_active,
-        }
+        self.now.snapshot(&self.crowd, pose)
     }
 
     /// The people: positions, velocities, headings and radii.
@@ -542,11 +571,13 @@ impl World {
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
+        let clear = self.start_areas();
         self.crowd = Crowd::spawn_scripted(
             &self.scenario.persons,
             &self.scripts,
             &self.scenario.episode.randomize,
             SocialForceParams::default(),
+            &clear,
             &mut self.rng,
         );
         self.steps = 0;
@@ -771,16 +802,8 @@ impl World {
                 row[reward_off] = 0.0;
                 continue;
             }
-            // Field by field (not `self.snapshot`): the recorder is borrowed mutably beside it.
-            let snapshot = Snapshot {
-                pose,
-                positions: &self.crowd.pos,
-                velocities: &self.crowd.vel,
-                headings: &self.crowd.heading,
-                ospaces: &self.now_ospaces,
-                links: &self.now_links,
-                active: &self.now_active,
-            };
+            // Not `self.snapshot`: the recorder is borrowed mutably beside it.
+            let snapshot = self.now.snapshot(&self.crowd, pose);
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
             // Two robots overlapping at a control instant collide even if the physics missed it

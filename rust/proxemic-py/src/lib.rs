@@ -211,6 +211,27 @@ fn flat_mut<'a>(
     })
 }
 
+impl PyWorld {
+    /// `points` (robot `robot`'s path of some kind) as a (K, 2) array, or an `InputError` naming
+    /// the robot index when there is none (a bad index, or before the first reset).
+    fn robot_points<'py>(
+        &self,
+        py: Python<'py>,
+        robot: usize,
+        points: Option<&[Vec2]>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let points = points.ok_or_else(|| {
+            input_err(
+                py,
+                "robot",
+                format!("an index below {} after reset()", self.inner.num_robots()),
+                robot.to_string(),
+            )
+        })?;
+        points_to_array(py, points)
+    }
+}
+
 #[pymethods]
 impl PyWorld {
     /// Builds the world (static map, inflated grids, goal fields, plain A* paths). Raises
@@ -347,28 +368,12 @@ impl PyWorld {
     /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
     /// reference path of `l_ratio` and `smooth`), as a (K, 2) float64 array.
     fn astar_path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let path = self.inner.astar_path(robot).ok_or_else(|| {
-            input_err(
-                py,
-                "robot",
-                format!("an index below {} after reset()", self.inner.num_robots()),
-                robot.to_string(),
-            )
-        })?;
-        points_to_array(py, path)
+        self.robot_points(py, robot, self.inner.astar_path(robot))
     }
 
     /// The global path robot `robot` is following, as a (K, 2) float64 array.
     fn path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let path = self.inner.path(robot).ok_or_else(|| {
-            input_err(
-                py,
-                "robot",
-                format!("an index below {} after reset()", self.inner.num_robots()),
-                robot.to_string(),
-            )
-        })?;
-        points_to_array(py, path)
+        self.robot_points(py, robot, self.inner.path(robot))
     }
 
     /// Plans a path for robot `robot`'s footprint: plain A* on the inflated static map, or with
