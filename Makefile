@@ -37,7 +37,7 @@ build: $(VENV)/.deps ## compile the Rust core and install the package into the v
 
 setup: system-deps build ## everything needed to run the demo and the tests
 
-demo: setup ## plain A* in the museum: seeded episodes, metrics table, trajectory plot (in out/)
+demo: setup ## plain A* vs the social planners in the museum and the care center: metrics tables and plots (in out/)
 	$(VENV)/bin/proxemic demo --out $(OUT)
 
 test: setup test-rust test-python ## all Rust and Python tests

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from proxemic.cli import main
+from proxemic.cli import DEMO_PLANNERS, main
 from proxemic.env import ProxemicEnv
 from proxemic.errors import InputError
 
@@ -65,10 +65,12 @@ def test_topdown_overlays_are_switchable_and_leave_the_episode_unchanged():
 def test_demo_writes_tables_and_plots(tmp_path, capsys):
     assert main(["demo", "--episodes", "1", "--workers", "1", "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
-    assert "| astar |" in text and "| social_astar |" in text
+    assert "| astar |" in text and "| social_astar |" in text and "| social |" in text
     for scenario in ("museum", "care_center"):
-        assert (tmp_path / scenario / "summary.md").read_text().count("\n") == 4
-        for planner in ("astar", "social_astar"):
+        # header, separator, one row per planner
+        assert (tmp_path / scenario / "summary.md").read_text().count("\n") == 2 + len(DEMO_PLANNERS)
+        assert (tmp_path / scenario / "trajectories_social_map.png").stat().st_size > 10_000
+        for planner in DEMO_PLANNERS:
             assert (tmp_path / scenario / f"trajectories_{planner}.png").stat().st_size > 10_000
     assert (tmp_path / "social_map_sousa2022_fig16.png").stat().st_size > 20_000
 

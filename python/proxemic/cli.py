@@ -18,13 +18,18 @@ from proxemic.errors import ProxemicError
 DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None), ("calderita_exp1", None))
 
 
+#: The demo's planners: plain A*, the social global planner alone, and the full social planner
+#: (social A* with Social Momentum near people and ORCA among robots, Daza 2021 Algorithm 1).
+DEMO_PLANNERS = ("astar", "social_astar", "social")
+
+
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
     from proxemic.evaluation import EvalConfig, run_eval, summary_markdown
     from proxemic.social import SocialMap
 
     out = Path(args.out)
-    planners = args.planner or ["astar", "social_astar"]
+    planners = args.planner or list(DEMO_PLANNERS)
     written: list[Path] = []
     for scenario in args.scenario or ["museum", "care_center"]:
         cfg = EvalConfig(
@@ -45,7 +50,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
         print()
         print(summary_markdown(rows))
         written += [cfg.out / "summary.md", cfg.out / "metrics.png"]
-        written += [cfg.out / f"trajectories_{p}.png" for p in planners]
+        written += [cfg.out / f"trajectories_{p}.png" for p in planners] + [cfg.out / "trajectories_social_map.png"]
     print()
     print("## social maps: plain A* vs social A* paths")
     print()
@@ -240,7 +245,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("demo", help="planners compared in the museum and the care center, with plots")
     d.add_argument("--scenario", action="append", help="scenario(s) to run (default: museum and care_center)")
-    d.add_argument("--planner", action="append", help="planner(s) to compare (default: astar and social_astar)")
+    d.add_argument("--planner", action="append", help="planner(s) to compare (default: astar, social_astar and social)")
     d.add_argument("--episodes", type=int, default=10, help="seeded episodes per planner (default: 10)")
     d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
     d.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
