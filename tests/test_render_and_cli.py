@@ -26,10 +26,11 @@ def test_rgb_array_renders_offscreen_from_both_cameras():
 
 
 def test_topdown_render_shows_the_robot():
-    env = ProxemicEnv("museum", render_mode="topdown", width=320, height=240)
+    # 640 x 480: the robot's disc (0.24 m) is some 4 pixels across the 36 x 25 m museum
+    env = ProxemicEnv("museum", render_mode="topdown", width=640, height=480)
     env.reset(seed=0)
     frame = env.render()
-    assert frame.shape == (240, 320, 3)
+    assert frame.shape == (480, 640, 3)
     r = env.ws.topdown
     col, row = r.world_to_pixel(env.robot_pose()[None, :2])[0].astype(int)
     # the robot's colour fills its disc around the centre (the white heading tick starts at the

@@ -63,7 +63,13 @@ fn scenes(geom: &StaticGeometry, n: usize, count: usize, seed: u64, min_dist: f6
             }
             let b: f64 = rng.random_range(0.0..std::f64::consts::TAU);
             let s = rng.random_range(0.0..1.3);
-            people.push(Agent { pos: p, vel: Vec2::new(b.cos(), b.sin()) * s, radius: 0.3, weight: 1.0 });
+            people.push(Agent {
+                pos: p,
+                vel: Vec2::new(b.cos(), b.sin()) * s,
+                radius: 0.3,
+                weight: 1.0,
+                comfort: 1.2,
+            });
         }
         out.push(Scene { pos, vel: dir * 0.4, goal: pos + dir * 2.0, people });
     }

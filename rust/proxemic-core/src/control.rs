@@ -210,7 +210,9 @@ impl PathFollower {
 
     /// [`PathFollower::step`] that never aims across an obstacle: when the straight line to the
     /// look-ahead point is not `visible`, the look-ahead is halved (down to 5 cm), so the robot
-    /// does not cut inside corners such as doorways.
+    /// does not cut inside corners such as doorways; it then heads along the path's direction
+    /// with a cross-track correction (closing the gap over one look-ahead length) rather than
+    /// straight at the nearby point.
     pub fn step_visible(
         &mut self,
         p: Vec2,
@@ -229,7 +231,19 @@ impl PathFollower {
             target = self.point_at(s + ahead);
         }
         let remaining = (self.length() - s) + cross;
-        let to_target = target - p;
+        let mut to_target = target - p;
+        if ahead < self.params.lookahead {
+            // The look-ahead point was hidden: rather than head straight for a point beside the
+            // robot (which, off the path by SM or a push, aims square at the path and overshoots
+            // it toward the wall it runs along), go along the path's direction here and close
+            // the cross-track error over one look-ahead length.
+            let here = self.point_at(s);
+            let tangent = self.point_at(s + 0.05) - here;
+            if tangent.norm() > 1e-9 {
+                let dir = tangent / tangent.norm() + (here - p) / self.params.lookahead;
+                to_target = dir * ahead.min(to_target.norm().max(1e-3)) / dir.norm().max(1e-9);
+            }
+        }
         let dist = to_target.norm();
         // Brake so as to stop at the end: v^2 = 2 a d, with 10% margin on the deceleration.
         // and never ask for more than the remaining distance in one step (no overshoot).
@@ -338,10 +352,26 @@ mod tests {
         };
         let free = f.clone().step(Vec2::new(1.7, 0.0), 0.0, 0.55, 0.55, 0.1);
         let out = f.step_visible(Vec2::new(1.7, 0.0), 0.0, 0.55, 0.55, 0.1, &blocked);
-        // Free: aims at (2, -0.5) through the block (slope -5/3); checked: at (2, -0.1) (slope -1/3).
+        // Free: aims at (2, -0.5) through the block (slope -5/3); checked: along the path toward
+        // the corner (slope 0: the robot is on the path, so no cross-track correction).
         assert!(free.velocity.y / free.velocity.x < -1.5, "{free:?}");
         let slope = out.velocity.y / out.velocity.x;
-        assert!(slope > -0.5 && slope < 0.0, "{out:?}");
+        assert!(slope > -0.5 && slope <= 0.0, "{out:?}");
+    }
+
+    #[test]
+    fn follower_rejoins_a_path_by_a_wall_at_a_shallow_angle() {
+        // A straight path 0.35 m from a wall (y < -0.35 blocked); the robot, pushed 0.3 m off
+        // toward the open side, cannot see its look-ahead point past the wall's inflation (as in
+        // a corridor whose path hugs a wall). It heads along the path, closing the gap over one
+        // look-ahead length, not square at the wall.
+        let path = vec![Vec2::new(0.0, 0.0), Vec2::new(10.0, 0.0)];
+        let mut f = PathFollower::new(path, FollowerParams::default());
+        let hidden = |a: Vec2, b: Vec2| (0..=20).all(|k| (a + (b - a) * (k as f64 / 20.0)).y > 0.05);
+        let out = f.step_visible(Vec2::new(2.0, 0.3), 0.0, 0.55, 0.55, 0.1, &hidden);
+        let slope = out.velocity.y / out.velocity.x;
+        let expected = -0.3 / FollowerParams::default().lookahead;
+        assert!((slope - expected).abs() < 1e-9, "{out:?}");
     }
 
     #[test]

@@ -8,10 +8,14 @@
 //! [`EpisodeRecorder::evaluate`] gives the full metric set ([`EpisodeReport`]).
 //!
 //! Groups and interactions are the scenario's ground truth, the same for every planner:
-//! - a group is the people sharing a `group` id (two or more); its o-space is the circle centred
-//!   on the members' mean position through their mean distance to it (Kendon's o-space as the
-//!   space the members enclose);
-//! - a person-person interaction is the segment between two members of the same group;
+//! - a group is the people sharing a `group` id; it has an o-space while it stands gathered:
+//!   the largest set of its members standing still (speed below [`STILL_SPEED`]) within
+//!   [`GATHERED_RADIUS`] of their mean position, when it has two or more. The o-space is the
+//!   circle centred on their mean position through their mean distance to it (Kendon's o-space
+//!   as the space the members enclose). Members still walking to their places, or spread over
+//!   the floor waiting for their conversation to start, or a tour on the move, form none (an
+//!   F-formation is a standing arrangement);
+//! - a person-person interaction is the segment between two members of a gathered group;
 //! - a person-object interaction is the segment from a person standing still (speed below
 //!   [`STILL_SPEED`]) inside an object's interaction space to the object's centre (a visitor
 //!   looking at a painting, a senior watching the TV).
@@ -27,9 +31,14 @@ pub use trajectory::{
     LinkKind, MetricParams, OSpace, ObjectSpaces, PeopleTracks, Trajectory, evaluate,
 };
 
-/// A person moving slower than this (m/s) counts as standing still, for person-object
-/// interactions.
+/// A person moving slower than this (m/s) counts as standing still, for o-spaces and
+/// person-object interactions.
 pub const STILL_SPEED: f64 = 0.1;
+
+/// Members of a group standing farther than this (m) from the mean position of its still members
+/// are not part of its o-space: Hall's social-zone radius of 3.6 m between two people who still
+/// talk means at most 1.8 m from their centre; 2.0 m leaves room for larger circles.
+pub const GATHERED_RADIUS: f64 = 2.0;
 
 /// How an episode ended for a robot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -307,7 +316,28 @@ pub fn interactions(
     ids.sort_unstable();
     ids.dedup();
     for id in ids {
-        let members: Vec<usize> = (0..groups.len()).filter(|&i| groups[i] == Some(id)).collect();
+        let still: Vec<usize> = (0..groups.len())
+            .filter(|&i| groups[i] == Some(id) && velocities[i].norm() < STILL_SPEED)
+            .collect();
+        if still.len() < 2 {
+            continue;
+        }
+        // The largest gathering: around each still member, the still members within a circle's
+        // diameter of it, kept if within the radius of their mean position.
+        let mut members: Vec<usize> = Vec::new();
+        for &i in &still {
+            let near: Vec<usize> = still
+                .iter()
+                .copied()
+                .filter(|&j| (positions[j] - positions[i]).norm() <= 2.0 * GATHERED_RADIUS)
+                .collect();
+            let mean = near.iter().fold(Vec2::zeros(), |a, &j| a + positions[j]) / near.len() as f64;
+            let kept: Vec<usize> =
+                near.into_iter().filter(|&j| (positions[j] - mean).norm() <= GATHERED_RADIUS).collect();
+            if kept.len() > members.len() {
+                members = kept;
+            }
+        }
         if members.len() < 2 {
             continue;
         }
@@ -441,5 +471,26 @@ mod tests {
         let vel2 = [Vec2::zeros(), Vec2::zeros(), Vec2::zeros(), Vec2::new(0.5, 0.0)];
         interactions(&pos, &vel2, &groups, &objects, &mut os, &mut ls);
         assert_eq!(ls.len(), 1);
+    }
+
+    #[test]
+    fn a_group_has_an_o_space_only_while_it_stands_gathered() {
+        // Group 3: two members standing 1.2 m apart, a third still far away (waiting at home).
+        let pos = [Vec2::new(0.0, 0.0), Vec2::new(1.2, 0.0), Vec2::new(12.0, 0.0)];
+        let still = [Vec2::zeros(); 3];
+        let groups = [Some(3), Some(3), Some(3)];
+        let (mut os, mut ls) = (Vec::new(), Vec::new());
+        interactions(&pos, &still, &groups, &[], &mut os, &mut ls);
+        // The far member is left out: the o-space is the pair's, not a 6 m circle over the floor.
+        assert_eq!(os, vec![OSpace { centre: Vec2::new(0.6, 0.0), radius: 0.6 }]);
+        assert_eq!(ls.len(), 1);
+        // Members spread over the floor (waiting for their conversation): no o-space.
+        let spread = [Vec2::new(0.0, 0.0), Vec2::new(7.0, 0.0), Vec2::new(14.0, 0.0)];
+        interactions(&spread, &still, &groups, &[], &mut os, &mut ls);
+        assert!(os.is_empty() && ls.is_empty());
+        // Walking together (a tour on the move): no o-space either.
+        let walking = [Vec2::new(0.8, 0.0); 3];
+        interactions(&pos, &walking, &groups, &[], &mut os, &mut ls);
+        assert!(os.is_empty() && ls.is_empty());
     }
 }

@@ -172,6 +172,8 @@ pub struct Crowd {
     dwell_left: Vec<f64>,
     routes: Vec<Vec<Vec2>>,
     dwell: Vec<f64>,
+    /// Walkers: whether they dwell at each waypoint (empty: at every one).
+    stops: Vec<Vec<bool>>,
     walker: Vec<bool>,
     aware: Vec<bool>,
     params: SocialForceParams,
@@ -376,6 +378,7 @@ impl Crowd {
             c.dwell_left.push(0.0);
             c.routes.push(route);
             c.dwell.push(p.dwell);
+            c.stops.push(if walker { p.stops.clone() } else { Vec::new() });
             c.walker.push(walker);
             c.aware.push(p.aware);
         }
@@ -560,8 +563,10 @@ impl Crowd {
                 if self.dwell_left[i] > 0.0 {
                     self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
                 } else if (self.routes[i][self.target[i]] - pos).norm() <= arrival {
-                    self.target[i] = (self.target[i] + 1) % self.routes[i].len();
-                    self.dwell_left[i] = self.dwell[i];
+                    let k = self.target[i];
+                    self.target[i] = (k + 1) % self.routes[i].len();
+                    let stop = self.stops[i].get(k).copied().unwrap_or(true);
+                    self.dwell_left[i] = if stop { self.dwell[i] } else { 0.0 };
                 }
                 let next = self.routes[i][self.target[i]];
                 if self.dwell_left[i] > 0.0 {
@@ -900,6 +905,27 @@ mod tests {
         }
         assert!(reached_second);
         assert!(dwelt >= 20, "dwelt {dwelt} steps");
+    }
+
+    #[test]
+    fn walkers_dwell_only_at_their_stops() {
+        let room = room_with_field();
+        let mut w = walker(&[[2.0, 2.0], [8.0, 2.0], [8.0, 8.0]], 1.0, 3.0);
+        w.stops = vec![false, false, true];
+        let mut c = spawn(&[w]);
+        let (mut still_at_corner, mut still_at_stop) = (0, 0);
+        for _ in 0..400 {
+            room.step(&mut c, 0.1, &[]);
+            let still = c.vel[0].norm() < 1e-9;
+            if still && (c.pos[0] - Vec2::new(8.0, 2.0)).norm() < 0.35 {
+                still_at_corner += 1;
+            }
+            if still && (c.pos[0] - Vec2::new(8.0, 8.0)).norm() < 0.35 {
+                still_at_stop += 1;
+            }
+        }
+        assert_eq!(still_at_corner, 0, "dwelt at a waypoint that is not a stop");
+        assert!(still_at_stop >= 20, "dwelt {still_at_stop} steps at the stop");
     }
 
     #[test]

@@ -488,7 +488,8 @@ impl ObjectKind {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Behaviour {
-    /// Walks a closed `route` of waypoints at `speed`, pausing `dwell` seconds at each.
+    /// Walks a closed `route` of waypoints at `speed`, pausing `dwell` seconds at the waypoints
+    /// listed in `stops` (indices; default every waypoint).
     #[default]
     Walker,
     /// Stands still at `pose`.
@@ -704,7 +705,7 @@ pub struct Person {
     /// Conversation: when it forms and breaks up (seconds after the episode start; may be
     /// negative for a conversation already under way).
     pub schedule: Option<[f64; 2]>,
-    /// Guide: whether each route waypoint is a stop.
+    /// Walker and guide: whether each route waypoint is a stop (empty for a walker: every one).
     pub stops: Vec<bool>,
     /// Follower: index of the guide.
     pub guide: Option<usize>,
@@ -1298,6 +1299,7 @@ impl Scenario {
                 public_cost: p.public_cost,
                 mode,
                 max_factor: 5.0,
+                object_margin: 0.0,
             },
             groups,
             aggregate,
@@ -1782,7 +1784,7 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
 /// Which per-behaviour fields a person may carry; any other one set is an error.
 fn behaviour_fields(b: Behaviour) -> &'static [&'static str] {
     match b {
-        Behaviour::Walker => &["route", "dwell"],
+        Behaviour::Walker => &["route", "dwell", "stops"],
         Behaviour::Standing => &["pose"],
         Behaviour::Visitor => &["exhibits", "dwell"],
         Behaviour::Conversation => &["home", "spot", "start", "end"],
@@ -1927,7 +1929,7 @@ fn build_person(
                     ));
                 }
             }
-            if p.behaviour == Behaviour::Guide {
+            if p.behaviour == Behaviour::Guide || p.stops.is_some() {
                 let n = p.route.len();
                 let stops = p.stops.clone().unwrap_or_else(|| (0..n).collect());
                 person.stops = vec![false; n];
@@ -1942,7 +1944,7 @@ fn build_person(
                     }
                     person.stops[s] = true;
                 }
-                if !person.stops[0] {
+                if p.behaviour == Behaviour::Guide && !person.stops[0] {
                     return Err(err(
                         file,
                         format!("{f}.stops"),

@@ -159,6 +159,9 @@ impl SpaceFunction for Individual {
     fn quadratic(&self) -> Option<[f64; 8]> {
         Some(self.placed.coefficients())
     }
+    fn centre(&self) -> Option<Vec2> {
+        Some(self.centre)
+    }
     fn fingerprint(&self) -> [f64; 8] {
         let s = &self.sides;
         [self.centre.x, self.centre.y, self.heading, s.front, s.rear, s.right, s.left, self.bounds[0]]
@@ -339,6 +342,22 @@ mod tests {
         fn fingerprint(&self) -> [f64; 8] {
             self.0.fingerprint()
         }
+        fn centre(&self) -> Option<Vec2> {
+            self.0.centre()
+        }
+    }
+
+    /// A wall at x = 10 (two cells thick, the grid's resolution 0.1 m) with a doorway at
+    /// y 4 - 5.5: zones stop at it on both map paths.
+    fn wall_with_doorway(grid: &mut crate::plan::CostGrid) {
+        for iy in 0..grid.spec.height {
+            if !(40..55).contains(&iy) {
+                for ix in 100..102 {
+                    let i = grid.spec.index(ix, iy);
+                    grid.cost[i] = crate::plan::LETHAL;
+                }
+            }
+        }
     }
 
     #[test]
@@ -357,7 +376,8 @@ mod tests {
         let p = perceive(&cfg, &people, &vec![vec![]; people.len()], &[]).expect("valid");
         let spec =
             GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(20.0, 12.0) }, 0.1).expect("grid");
-        let grid = CostGrid { spec, cost: vec![0; spec.len()] };
+        let mut grid = CostGrid { spec, cost: vec![0; spec.len()] };
+        wall_with_doorway(&mut grid);
         let mut fast = SocialMap::new(grid.clone(), &[], cfg.costs);
         let mut slow = SocialMap::new(grid, &[], cfg.costs);
         fast.update_people(&p.individuals);
@@ -379,7 +399,8 @@ mod tests {
         let cfg = SocialConfig::default();
         let spec =
             GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(24.0, 16.0) }, 0.1).expect("grid");
-        let grid = CostGrid { spec, cost: vec![0; spec.len()] };
+        let mut grid = CostGrid { spec, cost: vec![0; spec.len()] };
+        wall_with_doorway(&mut grid);
         let mut people: Vec<PersonState> = (0..20)
             .map(|k| {
                 let k = k as f64;

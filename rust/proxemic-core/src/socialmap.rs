@@ -51,6 +51,11 @@ pub trait SpaceFunction {
     fn quadratic(&self) -> Option<[f64; 8]> {
         None
     }
+    /// Where the individual stands (metres), if known: its zones are then limited to the cells in
+    /// sight of it (see [`in_sight`]). `None` (the default) lets them through walls.
+    fn centre(&self) -> Option<Vec2> {
+        None
+    }
 }
 
 /// How people's costs are computed.
@@ -85,6 +90,10 @@ pub struct SocialCosts {
     pub mode: CostMode,
     /// Largest representable factor (the A* weight is `max_factor - 1`). Default 5.0.
     pub max_factor: f64,
+    /// Object interaction spaces are drawn this much wider on the map (m, `>= 0`), so a path
+    /// planned along a space's edge keeps the robot's centre out of it. Default 0; the social
+    /// planner sets the robot's radius.
+    pub object_margin: f64,
 }
 
 impl Default for SocialCosts {
@@ -98,6 +107,7 @@ impl Default for SocialCosts {
             public_cost: 1.0,
             mode: CostMode::Zones,
             max_factor: 5.0,
+            object_margin: 0.0,
         }
     }
 }
@@ -153,7 +163,58 @@ impl SocialCosts {
 }
 
 /// Cells whose centres lie inside a polygon (even-odd rule), as grid indices in row order.
-pub fn polygon_cells(spec: &GridSpec, polygon: &[Vec2]) -> Vec<u32> {
+pub fn polygon_cells(spec: &GridSpec, polygon: &[Vec2], margin: f64) -> Vec<u32> {
+    let mut cells = polygon_interior_cells(spec, polygon);
+    if margin <= 0.0 || cells.is_empty() {
+        return cells;
+    }
+    // The ring: cells outside whose centre lies within `margin` of an edge.
+    let (mut lo, mut hi) =
+        (Vec2::new(f64::INFINITY, f64::INFINITY), Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
+    for p in polygon {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let res = spec.resolution;
+    let cell_of = |v: f64, o: f64, n: usize| (((v - o) / res).floor().max(0.0) as usize).min(n - 1);
+    let (x0, x1) = (
+        cell_of(lo.x - margin, spec.origin.x, spec.width),
+        cell_of(hi.x + margin, spec.origin.x, spec.width),
+    );
+    let (y0, y1) = (
+        cell_of(lo.y - margin, spec.origin.y, spec.height),
+        cell_of(hi.y + margin, spec.origin.y, spec.height),
+    );
+    let inside: std::collections::HashSet<u32> = cells.iter().copied().collect();
+    for iy in y0..=y1 {
+        for ix in x0..=x1 {
+            let idx = spec.index(ix, iy) as u32;
+            if inside.contains(&idx) {
+                continue;
+            }
+            let c =
+                Vec2::new(spec.origin.x + (ix as f64 + 0.5) * res, spec.origin.y + (iy as f64 + 0.5) * res);
+            let near = (0..polygon.len()).any(|k| {
+                let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
+                let ab = b - a;
+                let t = if ab.norm_squared() > 0.0 {
+                    ((c - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                (c - (a + ab * t)).norm() <= margin
+            });
+            if near {
+                cells.push(idx);
+            }
+        }
+    }
+    cells.sort_unstable();
+    cells
+}
+
+/// The cells whose centre lies inside `polygon` (scanline fill).
+fn polygon_interior_cells(spec: &GridSpec, polygon: &[Vec2]) -> Vec<u32> {
     let mut cells = Vec::new();
     if polygon.len() < 3 {
         return cells;
@@ -202,16 +263,25 @@ type Rect = (usize, usize, usize, usize);
 /// inside the social zone of a quadratic-form individual (see [`SpaceFunction::quadratic`]).
 /// The axis distances advance by constant steps along a row, and zones are decided by comparing
 /// the exponent with the zone radii's thresholds, without exp or sqrt.
+///
+/// `full` is the individual's whole box and `rect` the part of it to visit. Zones do not pass
+/// through walls: only the cells that [`in_sight`] finds open to the individual's centre (within
+/// its whole box) are visited.
+#[allow(clippy::too_many_arguments)]
 fn for_each_zone_cell(
-    spec: &GridSpec,
+    grid: &CostGrid,
     costs: &SocialCosts,
     quad: &[f64; 8],
     zone_scale: f64,
+    full: Rect,
     rect: Rect,
     mut f: impl FnMut(usize, usize),
 ) {
+    let spec = &grid.spec;
     let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
     let (a0, b0, a1, b1) = rect;
+    let open = in_sight(grid, Vec2::new(cx, cy), full);
+    let (f0x, f0y, width) = (full.0, full.1, full.2 + 1 - full.0);
     let two_z2 = 2.0 * zone_scale * zone_scale;
     let (qi, qp, qs) = (
         costs.intimate * costs.intimate / two_z2,
@@ -230,7 +300,7 @@ fn for_each_zone_cell(
             let ks = if sag >= 0.0 { kf } else { kr };
             let kq = if fro >= 0.0 { kri } else { kl };
             let e = ks * sag * sag + kq * fro * fro;
-            if e < qs {
+            if e < qs && open[(iy - f0y) * width + (ix - f0x)] {
                 let zone = if e < qi {
                     0
                 } else if e < qp {
@@ -245,6 +315,59 @@ fn for_each_zone_cell(
         }
     }
 }
+
+/// Which cells of `rect` (row-major over the rect) lie open to `centre`: reached from the
+/// centre's cell by a breadth-first walk over non-obstacle cells (8-connected) in at most the
+/// straight-line distance in cells plus [`SIGHT_SLACK`] steps. A cell behind a wall is reached
+/// only around it, in more steps, so a person's zones stop at the walls of the room they are in
+/// instead of spreading into the next room or corridor (where they would push the robot's path
+/// away from people it cannot even see). Every cell is open when the centre lies outside the
+/// rect or on an obstacle.
+fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect) -> Vec<bool> {
+    let spec = &grid.spec;
+    let (a0, b0, a1, b1) = rect;
+    let (w, h) = (a1 + 1 - a0, b1 + 1 - b0);
+    let res = spec.resolution;
+    let cx = ((centre.x - spec.origin.x) / res).floor();
+    let cy = ((centre.y - spec.origin.y) / res).floor();
+    let inside = cx >= a0 as f64 && cx <= a1 as f64 && cy >= b0 as f64 && cy <= b1 as f64;
+    if !inside || grid.cost[spec.index(cx as usize, cy as usize)] >= LETHAL {
+        return vec![true; w * h];
+    }
+    let (sx, sy) = (cx as usize - a0, cy as usize - b0);
+    let mut steps = vec![u16::MAX; w * h];
+    let mut open = vec![false; w * h];
+    let mut queue = std::collections::VecDeque::with_capacity(w * h);
+    steps[sy * w + sx] = 0;
+    queue.push_back((sx, sy));
+    while let Some((x, y)) = queue.pop_front() {
+        let k = steps[y * w + x];
+        let (dx, dy) = (x as f64 - sx as f64, y as f64 - sy as f64);
+        if f64::from(k) > (dx * dx + dy * dy).sqrt() + SIGHT_SLACK {
+            continue; // reached only the long way round: out of sight, and so is what lies beyond
+        }
+        open[y * w + x] = true;
+        for (ox, oy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+            let (nx, ny) = (x as i64 + ox, y as i64 + oy);
+            if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                continue;
+            }
+            let (nx, ny) = (nx as usize, ny as usize);
+            let j = ny * w + nx;
+            if steps[j] != u16::MAX || grid.cost[spec.index(a0 + nx, b0 + ny)] >= LETHAL {
+                continue;
+            }
+            steps[j] = k + 1;
+            queue.push_back((nx, ny));
+        }
+    }
+    open
+}
+
+/// Steps (cells) a walk to a cell may take beyond its straight-line distance and still count
+/// as in sight (see [`in_sight`]): the 8-connected walk is never longer than the straight line
+/// in open space, so the slack only absorbs the grid's staircase along walls and doorposts.
+const SIGHT_SLACK: f64 = 2.0;
 
 /// The layered social cost map of one robot footprint.
 #[derive(Clone, Debug)]
@@ -281,8 +404,10 @@ impl SocialMap {
     /// polygons of the objects (world coordinates; an empty polygon for objects without one).
     pub fn new(static_grid: CostGrid, object_polygons: &[Vec<Vec2>], costs: SocialCosts) -> Self {
         let n = static_grid.spec.len();
-        let object_cells: Vec<Vec<u32>> =
-            object_polygons.iter().map(|poly| polygon_cells(&static_grid.spec, poly)).collect();
+        let object_cells: Vec<Vec<u32>> = object_polygons
+            .iter()
+            .map(|poly| polygon_cells(&static_grid.spec, poly, costs.object_margin))
+            .collect();
         let m = object_cells.len();
         SocialMap {
             costs,
@@ -458,11 +583,18 @@ impl SocialMap {
                 }
                 let part = (lo_x, lo_y, hi_x, hi_y);
                 match (ind.quadratic(), self.costs.mode) {
-                    (Some(qf), CostMode::Zones) => self.splat_zones(&qf, ind.zone_scale(), part),
+                    (Some(qf), CostMode::Zones) => {
+                        self.splat_zones(&qf, ind.zone_scale(), (a0, b0, a1, b1), part)
+                    }
                     _ => {
+                        let open = ind.centre().map(|c| in_sight(&self.static_grid, c, (a0, b0, a1, b1)));
+                        let w = a1 + 1 - a0;
                         for iy in lo_y..=hi_y {
                             let row = spec.index(0, iy);
                             for ix in lo_x..=hi_x {
+                                if open.as_ref().is_some_and(|o| !o[(iy - b0) * w + (ix - a0)]) {
+                                    continue;
+                                }
                                 let f = self.costs.factor(ind, spec.center(ix, iy));
                                 if f > self.people[row + ix] {
                                     self.people[row + ix] = f;
@@ -552,25 +684,31 @@ impl SocialMap {
 
     /// Adds `delta` to the zone counts of the cells of one contribution.
     fn count_zones(&mut self, c: &Contribution, delta: i32, touched: &mut Vec<u32>) {
-        let spec = self.static_grid.spec;
         let (counts, mark) = (&mut self.counts, &mut self.mark);
-        for_each_zone_cell(&spec, &self.costs, &c.quad, c.zone_scale, c.rect, |idx, zone| {
-            let slot = &mut counts[idx][zone];
-            *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
-            if !mark[idx] {
-                mark[idx] = true;
-                touched.push(idx as u32);
-            }
-        });
+        for_each_zone_cell(
+            &self.static_grid,
+            &self.costs,
+            &c.quad,
+            c.zone_scale,
+            c.rect,
+            c.rect,
+            |idx, zone| {
+                let slot = &mut counts[idx][zone];
+                *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
+                if !mark[idx] {
+                    mark[idx] = true;
+                    touched.push(idx as u32);
+                }
+            },
+        );
     }
 
     /// Zone costs of one quadratic-form individual over a cell box (max with what is there).
-    fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, rect: Rect) {
-        let spec = self.static_grid.spec;
+    fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
         let people = &mut self.people;
-        for_each_zone_cell(&spec, &c, q, zone_scale, rect, |idx, zone| {
+        for_each_zone_cell(&self.static_grid, &c, q, zone_scale, full, rect, |idx, zone| {
             if factors[zone] > people[idx] {
                 people[idx] = factors[zone];
             }
@@ -628,6 +766,9 @@ mod tests {
         fn fingerprint(&self) -> [f64; 8] {
             [self.c.x, self.c.y, self.sigma, 0.0, 0.0, 0.0, 0.0, 0.0]
         }
+        fn centre(&self) -> Option<Vec2> {
+            Some(self.c)
+        }
     }
 
     fn grid(w: f64, h: f64) -> CostGrid {
@@ -653,6 +794,34 @@ mod tests {
         // encoded factors decode back within the quantisation
         let w = c.weight();
         assert!(((1.0 + w * f64::from(c.encode(4.0)) / 252.0) - 4.0).abs() < w / 252.0);
+    }
+
+    #[test]
+    fn zones_stop_at_walls_and_pass_doorways() {
+        // A wall at x = 6 (cells 60-61) from y = 0 to 10 with a doorway at y 4.5 - 5.5; a
+        // person at (5, 2) in the west room.
+        let mut g = grid(10.0, 10.0);
+        for iy in 0..100 {
+            if !(45..55).contains(&iy) {
+                for ix in 60..62 {
+                    let i = g.spec.index(ix, iy);
+                    g.cost[i] = LETHAL;
+                }
+            }
+        }
+        let mut m = SocialMap::new(g, &[], SocialCosts::default());
+        m.update_people(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0 }]);
+        let c = m.costs();
+        // 1.6 m east of the person, behind the wall: no zone (2.0 without the wall).
+        assert_eq!(cost_at(&m, Vec2::new(6.6, 2.0)), 0);
+        // The same distance west, in the person's room: the social zone.
+        assert_eq!(cost_at(&m, Vec2::new(3.4, 2.0)), c.encode(2.0));
+        // Through the doorway, in sight of the person: still the social zone.
+        assert_eq!(cost_at(&m, Vec2::new(6.3, 4.7)), c.encode(2.0));
+        // The counted (incremental) update agrees with a rebuild.
+        let mut full = m.clone();
+        full.rebuild(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0 }], &[]);
+        assert_eq!(m.grid(), full.grid());
     }
 
     #[test]
@@ -707,7 +876,13 @@ mod tests {
     fn polygon_cells_of_a_square() {
         let g = grid(10.0, 10.0);
         let poly = vec![Vec2::new(1.0, 1.0), Vec2::new(2.0, 1.0), Vec2::new(2.0, 2.0), Vec2::new(1.0, 2.0)];
-        assert_eq!(polygon_cells(&g.spec, &poly).len(), 100);
-        assert!(polygon_cells(&g.spec, &poly[..2]).is_empty());
+        assert_eq!(polygon_cells(&g.spec, &poly, 0.0).len(), 100);
+        assert!(polygon_cells(&g.spec, &poly[..2], 0.0).is_empty());
+        // A 0.22 m margin adds the cells whose centre is within 0.22 m of an edge: 2 more
+        // columns or rows along each side (centres 0.05 and 0.15 m out) and, at each corner,
+        // the 2 x 2 cells whose centres are at most 0.15 * sqrt(2) = 0.21 m from it.
+        let ring = polygon_cells(&g.spec, &poly, 0.22);
+        assert_eq!(ring.len(), 100 + 4 * 2 * 10 + 4 * 4);
+        assert!(ring.windows(2).all(|w| w[0] < w[1]), "sorted, no duplicates");
     }
 }

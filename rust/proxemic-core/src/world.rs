@@ -176,6 +176,15 @@ const ORCA_MARGIN: f64 = 0.08;
 const SOCIAL_CHECK_PERIOD: usize = 3;
 /// ...and re-plan at most once per this many steps.
 const SOCIAL_MIN_REPLAN: usize = 10;
+/// Without a trigger, a social path is re-planned every this many steps anyway, and replaced
+/// when the new one is cheaper (see [`SOCIAL_REPLAN_GAIN`]): a way that people blocked when the
+/// path was made may have cleared.
+const SOCIAL_REFRESH: usize = 20;
+/// A re-planned social path replaces the current one only when it costs at least this fraction
+/// less than what is left of the current one on the same map (or the current one is blocked):
+/// without it, two ways of nearly equal cost (around a gallery or along the corridor) took turns
+/// as people moved and the robot wandered between them.
+const SOCIAL_REPLAN_GAIN: f64 = 0.15;
 
 /// A cost grid shared by all robots with the same inflation radius.
 struct InflatedGrid {
@@ -349,7 +358,7 @@ impl World {
         }
         let layout =
             Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays, scenario.robots.len());
-        let grid_refs: Vec<&CostGrid> = grids.iter().map(|g| &g.grid).collect();
+        let grid_refs: Vec<(&CostGrid, f64)> = grids.iter().map(|g| (&g.grid, g.radius)).collect();
         let social = SocialPlanning::new(&scenario, &grid_refs)?;
         let obstacles = ObstacleSet::from_geometry(&geometry)?;
         let orca = Orca::new(OrcaParams::default())?;
@@ -1030,18 +1039,28 @@ impl World {
         self.social.map(self.statics.get(i)?.grid_index)
     }
 
-    /// Number of times robot `i`'s social path was re-planned this episode.
+    /// Number of times robot `i`'s social path was re-planned (and changed) this episode.
     pub fn replans(&self, i: usize) -> usize {
         self.robots.get(i).map_or(0, |r| r.replans)
     }
 
     /// (Re-)plans robot `i`'s social path from `p`; falls back to the plain path when the goal
-    /// is unreachable on the social map (for example inside someone's intimate zone).
+    /// is unreachable on the social map (for example inside someone's intimate zone). A new
+    /// social path replaces the current one only when it is [`SOCIAL_REPLAN_GAIN`] cheaper.
     fn social_plan(&mut self, i: usize, p: Vec2, time_of_day: f64) {
         let st = &self.statics[i];
         let k = st.grid_index;
         let goal = st.goal;
         let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
+        if let (Some(new), Some(old)) = (&plan, &self.robots[i].social_path) {
+            let grid = &self.grids[k].grid;
+            let left = self.social.remaining_cost(old, p, time_of_day, |a, b| segment_clear(grid, a, b));
+            if left.is_finite() && SocialPlanning::planned_cost(new) > (1.0 - SOCIAL_REPLAN_GAIN) * left {
+                // Not worth a change of way: keep the current path, look again later.
+                self.robots[i].last_plan_step = self.steps;
+                return;
+            }
+        }
         let rb = &mut self.robots[i];
         match plan {
             Some(sp) => {
@@ -1087,7 +1106,8 @@ impl World {
                 Some(path) => self.social.check(path, p, tod),
                 None => Trigger::Blocked, // on the plain fallback: try the social map again
             };
-            if trigger != Trigger::None || off_path {
+            let stale = self.steps >= self.robots[i].last_plan_step + SOCIAL_REFRESH;
+            if trigger != Trigger::None || off_path || stale {
                 self.social_plan(i, p, tod);
             }
         }
@@ -1099,6 +1119,7 @@ impl World {
     /// if any, so a robot does not avoid itself.
     fn controller_people(&self, robot_radius: f64) -> Vec<(CtlPerson, Option<usize>)> {
         let intimate = self.social.config().zones.intimate;
+        let personal = self.social.config().zones.personal;
         let keep = |r: f64| r.max(intimate - robot_radius);
         let c = &self.crowd;
         let mut out: Vec<(CtlPerson, Option<usize>)> = Vec::with_capacity(c.len() + 4);
@@ -1107,7 +1128,16 @@ impl World {
             |k: usize| per.map(|p| p.groups.members[p.groups.labels[k]].len() > 1).unwrap_or(false);
         for k in 0..c.len() {
             let weight = if group_of(k) { self.control.group_weight } else { 1.0 };
-            out.push((CtlPerson { pos: c.pos[k], vel: c.vel[k], keep_out: keep(c.radius[k]), weight }, None));
+            out.push((
+                CtlPerson {
+                    pos: c.pos[k],
+                    vel: c.vel[k],
+                    keep_out: keep(c.radius[k]),
+                    weight,
+                    comfort: personal,
+                },
+                None,
+            ));
         }
         if let Some(p) = per {
             for ind in &p.individuals {
@@ -1125,14 +1155,26 @@ impl World {
                 let vel = ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k])
                     / ind.members.len().max(1) as f64;
                 out.push((
-                    CtlPerson { pos: ind.centre, vel, keep_out: ospace, weight: self.control.group_weight },
+                    CtlPerson {
+                        pos: ind.centre,
+                        vel,
+                        keep_out: ospace,
+                        weight: self.control.group_weight,
+                        comfort: 0.0,
+                    },
                     None,
                 ));
                 for &r in &ind.robots {
                     if let (Some(rb), Some(st)) = (self.robots.get(r), self.statics.get(r)) {
                         let q = Vec2::new(rb.pose[0], rb.pose[1]);
                         out.push((
-                            CtlPerson { pos: q, vel: rb.velocity, keep_out: keep(st.radius), weight: 1.0 },
+                            CtlPerson {
+                                pos: q,
+                                vel: rb.velocity,
+                                keep_out: keep(st.radius),
+                                weight: 1.0,
+                                comfort: personal,
+                            },
                             Some(r),
                         ));
                     }

@@ -49,7 +49,9 @@ impl Mode {
 /// Parameters of the mode switch (every value documented with its default).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SocialControlParams {
-    /// People within this centre distance switch to Social Momentum (m); default 3.0.
+    /// People within this centre distance switch to Social Momentum (m); default 4.0: with the
+    /// comfort term's 3 s horizon, a person walking at the robot is seen before their personal
+    /// zone is reached (3.0 left it too late in the museum's corridor).
     pub people_range: f64,
     /// Robots within this distance are checked against the collision cone (m); default 4.0.
     pub robot_range: f64,
@@ -66,7 +68,7 @@ pub struct SocialControlParams {
 impl Default for SocialControlParams {
     fn default() -> Self {
         SocialControlParams {
-            people_range: 3.0,
+            people_range: 4.0,
             robot_range: 4.0,
             cone_horizon: 3.0,
             partial_goal: 1.5,
@@ -88,6 +90,10 @@ pub struct Person {
     pub keep_out: f64,
     /// Momentum weight (1 alone, heavier in a group).
     pub weight: f64,
+    /// Radius of the comfort zone the robot's centre prefers to stay out of (m, centre
+    /// distance): Hall's personal zone for a person, 0 for none (see
+    /// [`crate::control::social_momentum::Agent::comfort`]).
+    pub comfort: f64,
 }
 
 /// Another robot as the controller sees it.
@@ -157,10 +163,16 @@ pub fn social_momentum_step(
 ) -> (Vec2, Mode) {
     let mut agents: Vec<Agent> = Vec::with_capacity(people.len() + robots.len());
     for p in people {
-        agents.push(Agent { pos: p.pos, vel: p.vel, radius: p.keep_out, weight: p.weight });
+        agents.push(Agent {
+            pos: p.pos,
+            vel: p.vel,
+            radius: p.keep_out,
+            weight: p.weight,
+            comfort: p.comfort,
+        });
     }
     for o in robots {
-        agents.push(Agent { pos: o.pos, vel: o.vel, radius: o.radius, weight: 0.0 });
+        agents.push(Agent { pos: o.pos, vel: o.vel, radius: o.radius, weight: 0.0, comfort: 0.0 });
     }
     match social_momentum(pos, vel, radius, partial_goal, &agents, geometry, limits, dt, &params.sm) {
         // Standing still as the only safe choice is waiting, too.
@@ -195,7 +207,13 @@ mod tests {
     fn mode_switch_follows_algorithm_1() {
         let params = SocialControlParams::default();
         let v = Vec2::new(0.5, 0.0);
-        let person = Person { pos: Vec2::new(2.0, 0.5), vel: Vec2::zeros(), keep_out: 0.21, weight: 1.0 };
+        let person = Person {
+            pos: Vec2::new(2.0, 0.5),
+            vel: Vec2::zeros(),
+            keep_out: 0.21,
+            weight: 1.0,
+            comfort: 0.0,
+        };
         let robot = OtherRobot { pos: Vec2::new(3.0, 0.0), vel: Vec2::new(-0.5, 0.0), radius: 0.24 };
         let far_robot = OtherRobot { pos: Vec2::new(3.0, 3.0), vel: Vec2::new(0.5, 0.0), radius: 0.24 };
         assert_eq!(choose_mode(Vec2::zeros(), v, 0.24, &[person], &[robot], &params), Mode::SocialMomentum);
@@ -215,6 +233,7 @@ mod tests {
                     vel: Vec2::zeros(),
                     keep_out: 0.21,
                     weight: 1.0,
+                    comfort: 0.0,
                 }
             })
             .collect();

@@ -35,6 +35,23 @@
 //!    `w_i ∝ weight_i / |pos - p_i|` normalised to sum 1. `E` is normalised to `[0, 1]` and `SM` to
 //!    `[0, 1]` over the collision-free samples; the chosen velocity maximises `E + λ SM` (the
 //!    first sample wins a tie, so the result is deterministic).
+//! 4. **Comfort** (our addition; the papers' robot only keeps out of the intimate zone, which
+//!    the collision filter enforces, while Daza et al. 2021 §3 ask it to respect personal zones
+//!    too). For every agent with a comfort radius `R_i` (Hall's personal zone), the intrusion of a
+//!    sample is the mean over the comfort horizon `T` of `max(0, R_i − |d0 + dv t|)`, sampled at
+//!    [`COMFORT_SAMPLES`] instants; `C(v)` sums it over the agents. It is normalised as
+//!    `(C − C_min) / max(C_max − C_min, COMFORT_SCALE)` over the collision-free samples (so a
+//!    difference of a few millimetres barely counts) and the score becomes `E + λ SM − μ C`.
+//!    The robot thus sidesteps early for a person walking at it, lets a person beside it walk on,
+//!    and passes standing people wide where there is room; where there is none it still moves
+//!    (the term only ranks samples, it rejects none). The part of a sample that backs away from
+//!    the partial goal is left out of its intrusion (it counts as standing still), so comfort
+//!    makes the robot slow down or step aside, never retreat along its way.
+//!
+//! 5. **Escape.** When the robot is already inside a person's bound (`radius + r_i +
+//!    safety_margin`: someone walked up to it, or it was pushed), it takes the collision-free
+//!    sample that opens the smallest such gap most over the projection time, whatever the goal:
+//!    standing still there deadlocks with a person who waits for the robot to make way.
 //!
 //! # Passing convention (right-hand traffic)
 //! The world frame is REP-103 (x forward, y left, counter-clockwise positive). A robot at the
@@ -61,6 +78,12 @@ use crate::math::Vec2;
 /// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
 /// the derivation.
 pub const PASSING_MOMENTUM_SIGN: f64 = if crate::control::PASS_ON_RIGHT { 1.0 } else { -1.0 };
+
+/// Instants at which a sample's comfort intrusion is evaluated over the comfort horizon.
+pub const COMFORT_SAMPLES: usize = 6;
+/// Smallest spread of the comfort intrusion (m) that the normalisation stretches to the full
+/// weight: differences below it count in proportion.
+pub const COMFORT_SCALE: f64 = 0.05;
 
 /// Parameters of [`social_momentum`]. All lengths in metres, times in seconds.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -102,6 +125,15 @@ pub struct SocialMomentumParams {
     /// any reactive person (the 2022 all-or-nothing form). `true`: only the flipped persons'
     /// terms are dropped.
     pub per_agent_mask: bool,
+    /// Weight μ of the normalised comfort term (dimensionless, `>= 0`): the intrusion of a sample
+    /// into the agents' comfort zones ([`Agent::comfort`]) is subtracted, `E + λ SM − μ C`;
+    /// default 3.0. 0 gives the plain Social Momentum of the papers (which only keeps out of the
+    /// intimate zone, through the collision filter).
+    pub comfort_weight: f64,
+    /// Horizon over which the comfort intrusion is integrated (s, `>= 0`); default 3.0: long
+    /// enough to see a person walking at the robot from beyond their personal zone (a closing
+    /// speed of 1.5 m/s covers 4.5 m).
+    pub comfort_horizon: f64,
 }
 
 impl Default for SocialMomentumParams {
@@ -117,6 +149,8 @@ impl Default for SocialMomentumParams {
             field_of_view: std::f64::consts::PI,
             min_momentum: 0.05,
             per_agent_mask: false,
+            comfort_weight: 3.0,
+            comfort_horizon: 3.0,
         }
     }
 }
@@ -134,6 +168,8 @@ impl SocialMomentumParams {
             && nonneg(self.field_of_view)
             && self.field_of_view <= std::f64::consts::TAU
             && nonneg(self.min_momentum)
+            && nonneg(self.comfort_weight)
+            && nonneg(self.comfort_horizon)
     }
 }
 
@@ -150,6 +186,10 @@ pub struct Agent {
     /// Importance in the momentum term (dimensionless, `>= 0`; 1 for an individual, heavier for
     /// group members, 0 to ignore the person in the momentum term but not in the collision filter).
     pub weight: f64,
+    /// Radius of the agent's comfort zone (m, centre distance to the robot's centre, `>= 0`): the
+    /// robot prefers samples that keep it outside (Hall's personal zone for a person, 1.2 m by
+    /// default); 0 for none (other robots).
+    pub comfort: f64,
 }
 
 impl Agent {
@@ -160,6 +200,8 @@ impl Agent {
             && self.radius >= 0.0
             && self.weight.is_finite()
             && self.weight >= 0.0
+            && self.comfort.is_finite()
+            && self.comfort >= 0.0
     }
 }
 
@@ -326,7 +368,41 @@ pub fn social_momentum(
     }
 
     // ---- filter and score.
-    let mut feasible: Vec<(Vec2, f64, f64)> = Vec::with_capacity(samples.len());
+    // ---- agents whose comfort zone the robot could enter within the comfort horizon.
+    let t_c = params.comfort_horizon;
+    let comfort: Vec<(Vec2, Vec2, f64)> = if params.comfort_weight > 0.0 && t_c > 0.0 {
+        others
+            .iter()
+            .filter(|a| a.comfort > 0.0 && (pos - a.pos).norm() - a.comfort <= (vmax + a.vel.norm()) * t_c)
+            .map(|a| (pos - a.pos, a.vel, a.comfort))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let accel = limits.max_accel.min(1e3);
+    let intrusion = |v: Vec2| -> f64 {
+        // The sample's way over the horizon: it keeps accelerating the way it turned (at the
+        // acceleration limit, up to the speed limit), so a step aside shows where it leads.
+        let dv0 = v - vel;
+        let turn = if dv0.norm() > 1e-9 { dv0 / dv0.norm() } else { Vec2::zeros() };
+        let h = t_c / COMFORT_SAMPLES as f64;
+        let mut q = Vec2::zeros();
+        let mut c = 0.0;
+        for k in 0..COMFORT_SAMPLES {
+            let t = (k as f64 + 1.0) * h;
+            let mut w = clamp_norm(v + turn * accel * (t - dt).max(0.0), vmax);
+            // Backing away from the partial goal counts as standing still: the robot may slow
+            // down or sidestep for someone's comfort, but it does not retreat along its way.
+            w -= goal_dir * w.dot(&goal_dir).min(0.0);
+            q += w * h;
+            for &(d0, vi, r) in &comfort {
+                c += (r - (d0 + q - vi * t).norm()).max(0.0);
+            }
+        }
+        c / COMFORT_SAMPLES as f64
+    };
+
+    let mut feasible: Vec<(Vec2, f64, f64, f64)> = Vec::with_capacity(samples.len());
     for &v in &samples {
         if !finite2(v) {
             continue;
@@ -363,23 +439,49 @@ pub fn social_momentum(
         if !params.per_agent_mask && !all_kept {
             sm = 0.0;
         }
-        feasible.push((v, e, sm));
+        let c = if comfort.is_empty() { 0.0 } else { intrusion(v) };
+        feasible.push((v, e, sm, c));
     }
     if feasible.is_empty() {
         return None;
     }
+    // Inside someone's keep-out bound already (they came up to the robot, or the robot was
+    // pushed): get out first, along the feasible sample that opens the smallest such gap most
+    // over the projection time. Waiting there deadlocks with a person who yields to the robot.
+    let intruded: Vec<&Near> = near.iter().filter(|a| (pos - a.pos).norm_squared() < a.bound2).collect();
+    if !intruded.is_empty() {
+        let gap = |v: Vec2| {
+            intruded
+                .iter()
+                .map(|a| (pos + v * tau - a.pos - a.vel * tau).norm())
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut best: Option<(Vec2, f64)> = None;
+        for &(v, ..) in &feasible {
+            let g = gap(v);
+            if best.is_none_or(|(_, b)| g > b) {
+                best = Some((v, g));
+            }
+        }
+        return best.map(|(v, _)| v).filter(|v| finite2(*v) && v.norm() > 1e-9);
+    }
     let (mut e_min, mut e_max, mut sm_max) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
-    for &(_, e, sm) in &feasible {
+    let (mut c_min, mut c_max) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &(_, e, sm, c) in &feasible {
         e_min = e_min.min(e);
         e_max = e_max.max(e);
         sm_max = sm_max.max(sm);
+        c_min = c_min.min(c);
+        c_max = c_max.max(c);
     }
     let e_range = e_max - e_min;
+    let c_range = (c_max - c_min).max(COMFORT_SCALE);
     let mut best: Option<(Vec2, f64)> = None;
-    for &(v, e, sm) in &feasible {
+    for &(v, e, sm, c) in &feasible {
         let e_n = if e_range > 1e-12 { (e - e_min) / e_range } else { 1.0 };
         let sm_n = if sm_max > 1e-12 { sm / sm_max } else { 0.0 };
-        let score = e_n + params.lambda * sm_n;
+        let c_n = (c - c_min) / c_range;
+        let score = e_n + params.lambda * sm_n - params.comfort_weight * c_n;
         if best.is_none_or(|(_, s)| score > s) {
             best = Some((v, score));
         }
@@ -471,7 +573,7 @@ mod tests {
     }
 
     fn person(pos: Vec2, vel: Vec2) -> Agent {
-        Agent { pos, vel, radius: 0.3, weight: 1.0 }
+        Agent { pos, vel, radius: 0.3, weight: 1.0, comfort: 0.0 }
     }
 
     fn step(
@@ -550,6 +652,23 @@ mod tests {
             traj.push(pos);
         }
         (traj, min_d)
+    }
+
+    #[test]
+    fn inside_a_persons_bound_it_backs_out_instead_of_waiting() {
+        // A person standing 0.5 m ahead, between the robot and its goal: closer than the bound
+        // (0.3 + 0.3 + 0.1 = 0.7 m). The robot opens the gap rather than stopping there.
+        let p = SocialMomentumParams::default();
+        let ped = person(v(0.5, 0.0), Vec2::zeros());
+        let mut pos = Vec2::zeros();
+        let mut vel = Vec2::zeros();
+        for _ in 0..30 {
+            let out = step(pos, vel, v(5.0, 0.0), &[ped], &p).expect("a way out");
+            check_limits(out, vel, &Limits::PEPPER, DT);
+            vel = out;
+            pos += vel * DT;
+        }
+        assert!((pos - ped.pos).norm() >= 0.7, "still inside the bound at {pos:?}");
     }
 
     #[test]

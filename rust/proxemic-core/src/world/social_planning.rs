@@ -1,7 +1,11 @@
 //! The social global planner: social A* on the social cost map, and its re-planning triggers.
 //!
-//! The map combines the static layer, the people (as the individuals of
-//! [`crate::social::perceive`]) and the objects' interaction spaces at R(t) from the agenda. The
+//! The map combines the static layer, the people who stay where they are (the individuals of
+//! [`crate::social::perceive`] whose members all move slower than [`MAP_STILL_SPEED`]: people
+//! standing, sitting, talking or looking at an exhibit) and the objects' interaction spaces at
+//! R(t) from the agenda. People who walk are left to the local planner, which predicts their
+//! motion: where a walker is now says little about where they will be when the robot gets there,
+//! and mapping them sent the robot on long detours around a corridor's passing traffic. The
 //! path is re-planned when
 //! - the agenda changes an object's cost along the path,
 //! - people move into the path (a point of the path ahead is now in someone's zone with a
@@ -18,7 +22,7 @@ use crate::math::Vec2;
 use crate::pedestrians::Crowd;
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path};
 use crate::scenario::Scenario;
-use crate::social::{Perception, SocialConfig, perceive};
+use crate::social::{Individual, Perception, SocialConfig, perceive};
 use crate::socialmap::SocialMap;
 
 /// Spacing of the points sampled along a path for the re-planning checks (metres).
@@ -27,6 +31,9 @@ const SAMPLE_SPACING: f64 = 0.25;
 const LOOKAHEAD: f64 = 8.0;
 /// A sampled point whose traversal factor rose by at least this much triggers a re-plan.
 const FACTOR_RISE: f64 = 0.75;
+/// Individuals whose members all move slower than this (m/s) are in the global map; the others
+/// are walking and left to the local planner.
+pub const MAP_STILL_SPEED: f64 = 0.25;
 
 /// Why a path should be re-planned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,6 +65,8 @@ pub struct SocialPlanning {
     maps: Vec<SocialMap>,
     features: Vec<Vec<f64>>,
     perception: Option<Perception>,
+    /// The perceived individuals that stay where they are (the global map's people).
+    mapped: Vec<Individual>,
     people: Vec<PersonState>,
 }
 
@@ -74,8 +83,10 @@ fn point_in_polygon(poly: &[Vec2], p: Vec2) -> bool {
 }
 
 impl SocialPlanning {
-    /// Builds the social model and one social map per inflated grid.
-    pub fn new(scenario: &Scenario, grids: &[&CostGrid]) -> Result<Self> {
+    /// Builds the social model and one social map per inflated grid, given with its inflation
+    /// radius (m): the map widens the objects' interaction spaces by it, so the robot's body
+    /// keeps out of a space whose edge its path follows.
+    pub fn new(scenario: &Scenario, grids: &[(&CostGrid, f64)]) -> Result<Self> {
         let cfg = scenario.social_config();
         let agenda = scenario.agenda()?;
         let mut object_names = Vec::new();
@@ -87,7 +98,13 @@ impl SocialPlanning {
                     .push(space.polygon.iter().map(|q| Vec2::new(q[0], q[1])).collect::<Vec<Vec2>>());
             }
         }
-        let maps = grids.iter().map(|g| SocialMap::new((*g).clone(), &object_polygons, cfg.costs)).collect();
+        let maps = grids
+            .iter()
+            .map(|&(g, radius)| {
+                let costs = crate::socialmap::SocialCosts { object_margin: radius, ..cfg.costs };
+                SocialMap::new(g.clone(), &object_polygons, costs)
+            })
+            .collect();
         let features = scenario.persons.iter().map(|p| p.features.clone()).collect();
         Ok(SocialPlanning {
             cfg,
@@ -97,6 +114,7 @@ impl SocialPlanning {
             maps,
             features,
             perception: None,
+            mapped: Vec::new(),
             people: Vec::new(),
         })
     }
@@ -139,7 +157,17 @@ impl SocialPlanning {
         for k in 0..crowd.len() {
             self.people.push(PersonState { pos: crowd.pos[k], heading: crowd.heading[k], vel: crowd.vel[k] });
         }
-        self.perception = Some(perceive(&self.cfg, &self.people, &self.features, robots)?);
+        let perception = perceive(&self.cfg, &self.people, &self.features, robots)?;
+        let people = &self.people;
+        self.mapped.clear();
+        self.mapped.extend(
+            perception
+                .individuals
+                .iter()
+                .filter(|ind| ind.members.iter().all(|&k| people[k].vel.norm() < MAP_STILL_SPEED))
+                .cloned(),
+        );
+        self.perception = Some(perception);
         Ok(())
     }
 
@@ -149,8 +177,8 @@ impl SocialPlanning {
         let factors = self.object_factors(time_of_day);
         let Some(map) = self.maps.get_mut(k) else { return };
         map.set_object_factors(&factors);
-        if let Some(p) = &self.perception {
-            map.update_people(&p.individuals);
+        if self.perception.is_some() {
+            map.update_people(&self.mapped);
         }
     }
 
@@ -158,12 +186,10 @@ impl SocialPlanning {
     /// (people factor, object factor).
     fn factors_at(&self, p: Vec2, object_factors: &[f64]) -> (f64, f64) {
         let mut people: f64 = 1.0;
-        if let Some(per) = &self.perception {
-            for ind in &per.individuals {
-                let [x0, y0, x1, y1] = ind_bounds(ind);
-                if p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1 {
-                    people = people.max(self.cfg.costs.factor(ind, p));
-                }
+        for ind in &self.mapped {
+            let [x0, y0, x1, y1] = ind_bounds(ind);
+            if p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1 {
+                people = people.max(self.cfg.costs.factor(ind, p));
             }
         }
         let mut objects: f64 = 1.0;
@@ -206,6 +232,42 @@ impl SocialPlanning {
             })
             .collect();
         Some(SocialPath { points, samples })
+    }
+
+    /// Cost of `path` when it was planned: its length weighted by the traversal factor seen
+    /// along it (m; people and objects, the larger of the two), as the social A* counts it.
+    pub fn planned_cost(path: &SocialPath) -> f64 {
+        path.samples.iter().map(|&(_, pf, of)| SAMPLE_SPACING * pf.max(of)).sum()
+    }
+
+    /// Cost of what is left of `path` for a robot at `from`, on today's map: the straight
+    /// way to the nearest sample that `visible` says can be reached in a straight line, then
+    /// the remaining samples weighted by their traversal factor now (m; infinite when no sample
+    /// can be reached straight or someone's intimate zone now covers the rest).
+    pub fn remaining_cost(
+        &self,
+        path: &SocialPath,
+        from: Vec2,
+        time_of_day: f64,
+        visible: impl Fn(Vec2, Vec2) -> bool,
+    ) -> f64 {
+        let factors = self.object_factors(time_of_day);
+        let Some((first, q)) = path
+            .samples
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| visible(from, s.0))
+            .min_by(|a, b| (a.1.0 - from).norm().total_cmp(&(b.1.0 - from).norm()))
+            .map(|(i, s)| (i, s.0))
+        else {
+            return f64::INFINITY;
+        };
+        let mut cost = (q - from).norm();
+        for &(q, _, _) in &path.samples[first + 1..] {
+            let (pf, of) = self.factors_at(q, &factors);
+            cost += SAMPLE_SPACING * pf.max(of);
+        }
+        cost
     }
 
     /// Whether `path` should be re-planned, looking ahead from the sample nearest to `from`.
