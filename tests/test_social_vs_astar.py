@@ -53,11 +53,7 @@ EXERCISED: dict[str, tuple[str, ...]] = {
 KNOWN_FAILURES: dict[tuple[str, str], str] = {}
 
 #: Failures of the full suite only (the CI seeds happen to meet the claim).
-KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {
-    ("care_center", "time"): "care_center, 60 seeds: social takes 1.35x plain A*'s time to goal (32.3 s vs "
-    "24.0 s; 1.19x on the 20 CI seeds): in a few episodes the robot meets walkers in the 1.4 m doorways of the "
-    "nurse station and the physiotherapy room and gives way for 20-40 s (seeds 13, 25, 33, 50)",
-}
+KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {}
 
 #: Hall's intimate radius (m, centre distance) of both scenes: an episode whose robot starts with
 #: a person closer than this has no room to stay out of the intimate zone.

@@ -49,7 +49,7 @@ impl Mode {
 /// Parameters of the mode switch (every value documented with its default).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SocialControlParams {
-    /// People within this centre distance switch to Social Momentum (m); default 4.0: with the
+    /// People within this centre distance switch to Social Momentum (m); default 3.5: with the
     /// comfort term's 3 s horizon, a person walking at the robot is seen before their personal
     /// zone is reached (3.0 left it too late in the museum's corridor).
     pub people_range: f64,
@@ -68,7 +68,7 @@ pub struct SocialControlParams {
 impl Default for SocialControlParams {
     fn default() -> Self {
         SocialControlParams {
-            people_range: 4.0,
+            people_range: 3.5,
             robot_range: 4.0,
             cone_horizon: 3.0,
             partial_goal: 1.5,
