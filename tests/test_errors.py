@@ -99,20 +99,44 @@ def test_core_checks_buffer_sizes_and_state():
     scenario, _ = proxemic.scenarios.load("museum")
     world = _core.World(scenario)
     out = np.zeros(world.stride * world.num_robots)
-    people = np.zeros(world.num_people * 3)
+    people = np.zeros(world.num_people * _core.PERSON_OUT)
+    state, contacts = np.zeros(6), np.zeros(1, np.uint8)
+    nan = np.full(3, np.nan)
+    calls = []
+
+    def physics() -> None:
+        calls.append(1)
+
     with pytest.raises(InputError) as info:
         world.reset(0, np.zeros(3), people)
     assert info.value.field == "out"
+    with pytest.raises(InputError) as info:
+        world.reset(0, out, np.zeros(world.num_people * 3))
+    assert info.value.field == "people_out"
     with pytest.raises(InputError):
-        world.step(np.zeros(6), np.zeros(1, np.uint8), out, people)  # before reset
+        world.step(nan, physics, state, contacts, out, people)  # before reset
     world.reset(0, out, people)
-    state = np.zeros(6)
+    # Bad actions are refused before the physics runs.
+    with pytest.raises(InputError) as info:
+        world.step(np.array([0.0, np.nan, 1.0]), physics, state, contacts, out, people)
+    assert info.value.field == "action[0]"
+    with pytest.raises(InputError) as info:
+        world.step(np.zeros(6), physics, state, contacts, out, people)
+    assert info.value.field == "actions"
+    assert not calls
     state[2] = np.nan
     with pytest.raises(InputError) as info:
-        world.step(state, np.zeros(1, np.uint8), out, people)
+        world.step(nan, physics, state, contacts, out, people)
     assert info.value.field == "state[0][2]"
-    with pytest.raises(InputError):
-        world.command(np.array([0.0, np.nan, 1.0]), out)
+    assert calls == [1]
+
+    # An exception raised by the physics reaches the caller unchanged.
+    def broken() -> None:
+        raise RuntimeError("physics exploded")
+
+    state[2] = 0.0
+    with pytest.raises(RuntimeError, match="physics exploded"):
+        world.step(nan, broken, state, contacts, out, people)
 
 
 def test_bad_render_mode():

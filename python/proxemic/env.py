@@ -203,7 +203,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         value per person (scenario order) and ``psi_object`` / ``psi_object_any`` one per object
         with an interaction space (scenario order); :func:`flat_metrics` names them.
         """
-        metrics: dict[str, Any] = self.world.episode_metrics()[0]
+        metrics: dict[str, Any] = self.world.episode_metrics([0])[0]
         return metrics
 
     def flat_metrics(self) -> dict[str, Any]:

@@ -1,16 +1,18 @@
 //! The world: ties scenario, map, planners, pedestrians and metrics together behind one `step`.
 //!
-//! The Python env owns the physics. Per control step it calls, in this order:
-//! 1. [`World::command`] (only when a user policy acts): turns normalised actions into limited
-//!    robot-frame commands; without it the built-in planner's command is executed;
-//! 2. writes the commands and the people's poses into MuJoCo and steps the physics;
+//! The Python env owns the physics. A control step has three parts, which the Python binding
+//! runs as one call (`World.step`, the GIL released around the core's parts):
+//! 1. [`World::command`]: turns the policies' normalised actions into limited robot-frame
+//!    commands; robots without an action (NaN) execute their built-in planner's command;
+//! 2. the caller writes the commands and the people's poses into MuJoCo and steps the physics;
 //! 3. [`World::step`] with the robots' new poses, velocities and contact flags: advances the
 //!    people, accumulates metrics and reward terms, builds the observations, and runs each
 //!    robot's built-in planner for the next command.
 //!
 //! All outputs are written into one caller-owned `f64` buffer laid out as described by
-//! [`Layout`] (one row of [`Layout::stride`] values per robot), plus a `(people, 3)` buffer of
-//! the people's poses, so a step allocates nothing and crosses the language boundary once.
+//! [`Layout`] (one row of [`Layout::stride`] values per robot), plus a `(people, PERSON_OUT)`
+//! buffer of the people's poses and contact hints, so a step allocates nothing and crosses the
+//! language boundary once.
 
 mod social_planning;
 
@@ -29,7 +31,7 @@ use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
 use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
-use crate::map::lidar;
+use crate::map::lidar::Scanner;
 use crate::math::{Vec2, wrap_angle};
 use crate::metrics::{
     EpisodeRecorder, EpisodeReport, InteractionLink, InteractionObject, MetricParams, OSpace, Outcome,
@@ -65,6 +67,15 @@ pub const PERSONAL_ZONE: f64 = 1.2;
 pub const OBS_MAX_SPEED: f64 = 5.0;
 /// Bound on the angular velocity in observations (rad/s).
 pub const OBS_MAX_ANGULAR: f64 = 10.0;
+/// Values per person in the people buffer: x, y, heading (world frame, m and rad) and a contact
+/// hint, 1.0 while the person is within [`CONTACT_RANGE`] of a robot, else 0.0.
+pub const PERSON_OUT: usize = 4;
+/// Surface gap (m) within which the physics must test a robot against the static geometry or a
+/// person for contacts. Beyond it nothing can touch during one control step: closing 0.5 m in
+/// 0.1 s takes 5 m/s, and robots move at most 0.55 m/s, people at most 1.3 times their preferred
+/// speed; a robot moving faster than [`CONTACT_RANGE`] per control period is always tested.
+/// The hints only let the physics skip pairs that cannot collide: contacts are the same.
+pub const CONTACT_RANGE: f64 = 0.5;
 
 /// One named section of a robot's row in the output buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,14 +97,17 @@ pub struct Layout {
     /// robots within sensor range, nearest first, see [`PEER_FEATURES`]), `obs_robots_mask`
     /// (n - 1), `reward_terms` (5), `reward` (1),
     /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta), `mode`
-    /// (1: the local planner's mode, see [`Mode::code`]).
+    /// (1: the local planner's mode, see [`Mode::code`]), `near_static` (1: 1.0 while the robot is
+    /// within [`CONTACT_RANGE`] of a wall or object, else 0.0: whether the physics must test it
+    /// against the static geometry), `time_of_day` (1: seconds after midnight, the same in every
+    /// row).
     pub sections: Vec<(&'static str, Section)>,
 }
 
 impl Layout {
     fn new(k: usize, rays: usize, robots: usize) -> Self {
         let others = robots.saturating_sub(1);
-        let sizes: [(&'static str, usize); 13] = [
+        let sizes: [(&'static str, usize); 15] = [
             ("command", 3),
             ("planner_action", 3),
             ("obs_robot", ROBOT_FEATURES),
@@ -107,6 +121,8 @@ impl Layout {
             ("flags", 4),
             ("pose", 3),
             ("mode", 1),
+            ("near_static", 1),
+            ("time_of_day", 1),
         ];
         let mut offset = 0;
         let mut sections = Vec::with_capacity(sizes.len());
@@ -208,6 +224,11 @@ pub struct World {
     started: bool,
     scratch_people: Vec<(f64, usize)>,
     scratch_discs: Vec<(Vec2, f64)>,
+    /// Per robot, its lidar (buffers, and the static part of its last scan).
+    scanners: Vec<Scanner>,
+    /// Per robot, whether its episode had ended before the current step (its observation is
+    /// then no longer updated).
+    ended: Vec<bool>,
     /// Per robot: whether its built-in planner runs (see [`World::set_planning`]).
     planning: Vec<bool>,
     /// The objects with an interaction space (metrics: person-object interactions, object
@@ -372,6 +393,8 @@ impl World {
             started: false,
             scratch_people: Vec::new(),
             scratch_discs: Vec::new(),
+            scanners: vec![Scanner::default(); scenario.robots.len()],
+            ended: vec![false; scenario.robots.len()],
             planning: vec![true; scenario.robots.len()],
             interaction_objects: scenario
                 .objects
@@ -494,6 +517,15 @@ impl World {
     /// # Errors
     /// [`CoreError::Input`] before the first reset, or if a recorded value is not finite.
     pub fn episode_metrics(&self) -> Result<Vec<EpisodeReport>> {
+        let all: Vec<usize> = (0..self.robots.len()).collect();
+        self.robot_metrics(&all)
+    }
+
+    /// [`World::episode_metrics`] of the robots `robots` only (indices, in the order given).
+    ///
+    /// # Errors
+    /// As [`World::episode_metrics`], and [`CoreError::Input`] for an index out of range.
+    pub fn robot_metrics(&self, robots: &[usize]) -> Result<Vec<EpisodeReport>> {
         if !self.started {
             return Err(CoreError::input(
                 "episode_metrics",
@@ -501,12 +533,23 @@ impl World {
                 "a call before the first reset()",
             ));
         }
+        if let Some(&bad) = robots.iter().find(|&&i| i >= self.robots.len()) {
+            return Err(CoreError::input(
+                "robots",
+                format!("robot indices below {}", self.robots.len()),
+                bad.to_string(),
+            ));
+        }
         let z = self.social.config().zones;
         let clearance = |p: Vec2| self.geometry.distance(p);
-        self.robots
+        robots
             .iter()
-            .map(|r| {
-                r.recorder.evaluate(&clearance, [z.intimate, z.personal, z.social], MetricParams::default())
+            .map(|&i| {
+                self.robots[i].recorder.evaluate(
+                    &clearance,
+                    [z.intimate, z.personal, z.social],
+                    MetricParams::default(),
+                )
             })
             .collect()
     }
@@ -554,11 +597,11 @@ impl World {
                 format!("{} values", out.len()),
             ));
         }
-        let want_p = self.num_people() * 3;
+        let want_p = self.num_people() * PERSON_OUT;
         if people_out.len() != want_p {
             return Err(CoreError::input(
                 "people_out",
-                format!("{want_p} values ({} people x 3)", self.num_people()),
+                format!("{want_p} values ({} people x {PERSON_OUT})", self.num_people()),
                 format!("{} values", people_out.len()),
             ));
         }
@@ -567,7 +610,8 @@ impl World {
 
     /// Starts a new episode from `seed`: respawns the people, places the robots (with the
     /// scenario's start jitter), plans their paths and fills `out` (observations at the start,
-    /// the first planner command, the start poses in `pose`) and `people_out` (x, y, theta).
+    /// the first planner command, the start poses in `pose`) and `people_out` ([`PERSON_OUT`]
+    /// values per person).
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
@@ -581,7 +625,9 @@ impl World {
             &mut self.rng,
         );
         self.steps = 0;
-        self.robots.clear();
+        // The last episode's recorders are restarted (their buffers keep their memory).
+        let mut recorders: Vec<Option<EpisodeRecorder>> =
+            self.robots.drain(..).map(|r| Some(r.recorder)).collect();
         self.observe_interactions();
         let jitter = self.scenario.episode.randomize.robot_start_jitter;
         for i in 0..self.statics.len() {
@@ -621,7 +667,13 @@ impl World {
                 astar_path: path.clone(),
                 geodesic_length: geodesic,
             };
-            let recorder = EpisodeRecorder::new(setup, &self.snapshot(pose));
+            let recorder = match recorders.get_mut(i).and_then(Option::take) {
+                Some(mut r) => {
+                    r.restart(setup, &self.snapshot(pose));
+                    r
+                }
+                None => EpisodeRecorder::new(setup, &self.snapshot(pose)),
+            };
             self.robots.push(RobotRuntime {
                 pose,
                 velocity: Vec2::zeros(),
@@ -643,6 +695,7 @@ impl World {
             });
         }
         self.started = true;
+        self.ended.fill(false);
         for i in 0..self.robots.len() {
             if self.statics[i].planner == PlannerKind::Eband {
                 self.robots[i].band =
@@ -667,15 +720,21 @@ impl World {
         }
         self.observe_all(out);
         self.plan_all(out);
-        self.write_people(people_out);
+        self.write_people(out, people_out);
         Ok(())
     }
 
-    /// Executes normalised actions instead of the built-in planners' commands for this step.
-    /// `actions` holds 3 values per robot in [-1, 1] (vx, vy scaled by the robot's max speed,
-    /// wz by its max angular speed, robot frame); values outside are clipped to [-1, 1] as in
-    /// Gymnasium's MuJoCo environments. Pass NaN for all three values of a robot to let its
-    /// built-in planner drive it. The limited commands are written to `out`'s `command`.
+    /// The first half of a control step: executes normalised actions instead of the built-in
+    /// planners' commands. `actions` holds 3 values per robot in [-1, 1] (vx, vy scaled by the
+    /// robot's max speed, wz by its max angular speed, robot frame); values outside are clipped
+    /// to [-1, 1] as in Gymnasium's MuJoCo environments. All three values NaN let the robot's
+    /// built-in planner drive it (autopilot). The limited commands are written to `out`'s
+    /// `command`, which the physics then executes before [`World::step`]. The Python binding
+    /// makes the two halves and the physics between them one call (`World.step`).
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] before the first reset, for a wrong number of values, or for a robot
+    /// whose values are partly non-finite; nothing is changed then.
     pub fn command(&mut self, actions: &[f64], out: &mut [f64]) -> Result<()> {
         let n = self.num_robots();
         if !self.started {
@@ -692,19 +751,20 @@ impl World {
                 format!("{} values", actions.len()),
             ));
         }
-        let dt = self.scenario.control_dt();
-        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
-        for i in 0..n {
-            let a = &actions[3 * i..3 * i + 3];
-            if a.iter().all(|v| v.is_nan()) {
-                continue;
-            }
-            if a.iter().any(|v| !v.is_finite()) {
+        for (i, a) in actions.chunks_exact(3).enumerate() {
+            if !a.iter().all(|v| v.is_nan()) && a.iter().any(|v| !v.is_finite()) {
                 return Err(CoreError::input(
                     format!("action[{i}]"),
-                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised)",
+                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised), or 3 NaN (autopilot)",
                     format!("[{}, {}, {}]", a[0], a[1], a[2]),
                 ));
+            }
+        }
+        let dt = self.scenario.control_dt();
+        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
+        for (i, a) in actions.chunks_exact(3).enumerate() {
+            if a.iter().all(|v| v.is_nan()) {
+                continue;
             }
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
@@ -727,9 +787,11 @@ impl World {
         Ok(())
     }
 
-    /// One control step after the physics: `state` holds 6 values per robot (x, y, theta, and
-    /// the world-frame velocities vx, vy, wz), `contacts` one byte of `CONTACT_*` bits per
-    /// robot. Fills `out` and `people_out` (see [`Layout`]).
+    /// The second half of a control step, after the physics executed `out`'s `command`: `state`
+    /// holds 6 values per robot (x, y, theta, and the world-frame velocities vx, vy, wz),
+    /// `contacts` one byte of `CONTACT_*` bits per robot. Advances the people, records the
+    /// metrics and rewards, builds the observations and runs the built-in planners for the next
+    /// command; fills `out` and `people_out` (see [`Layout`] and [`PERSON_OUT`]).
     pub fn step(
         &mut self,
         state: &[f64],
@@ -764,6 +826,9 @@ impl World {
             ));
         }
         let dt = self.scenario.control_dt();
+        for (e, rb) in self.ended.iter_mut().zip(&self.robots) {
+            *e = rb.outcome != Outcome::Running;
+        }
         // The executed command becomes the reference for the acceleration limit.
         for rb in &mut self.robots {
             rb.exec_v = rb.proposed_v;
@@ -838,7 +903,7 @@ impl World {
         }
         self.observe_all(out);
         self.plan_all(out);
-        self.write_people(people_out);
+        self.write_people(out, people_out);
         Ok(())
     }
 
@@ -861,15 +926,45 @@ impl World {
         best
     }
 
-    fn write_people(&self, people_out: &mut [f64]) {
-        for (k, chunk) in people_out.chunks_exact_mut(3).enumerate() {
-            chunk[0] = self.crowd.pos[k].x;
-            chunk[1] = self.crowd.pos[k].y;
+    /// Writes the people's poses and contact hints into `people_out`, and each robot's
+    /// `near_static` hint and the time of day into its row of `out`.
+    fn write_people(&self, out: &mut [f64], people_out: &mut [f64]) {
+        let stride = self.layout.stride;
+        let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
+        let (near_off, tod_off) = (sec("near_static"), sec("time_of_day"));
+        let dt = self.scenario.control_dt();
+        let tod = self.time_of_day();
+        // Robot discs grown by the contact range and what the robot can travel in one period.
+        let reach: Vec<(Vec2, f64)> = self
+            .robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(rb, st)| {
+                let travel = (rb.velocity.norm() * dt).min(1e6);
+                (Vec2::new(rb.pose[0], rb.pose[1]), st.radius + CONTACT_RANGE + travel)
+            })
+            .collect();
+        for (i, &(p, r)) in reach.iter().enumerate() {
+            // Centre distance to the nearest wall or object edge, looked up within `r` only (a
+            // robot cannot be deep inside an object: the physics pushes it out first).
+            let near = self.geometry.boundary_distance_within(p, r) < r;
+            let row = &mut out[i * stride..(i + 1) * stride];
+            row[near_off] = f64::from(u8::from(near));
+            row[tod_off] = tod;
+        }
+        for (k, chunk) in people_out.chunks_exact_mut(PERSON_OUT).enumerate() {
+            let q = self.crowd.pos[k];
+            let rk = self.crowd.radius[k];
+            let near = reach.iter().any(|&(p, r)| (q - p).norm_squared() < (r + rk) * (r + rk));
+            chunk[0] = q.x;
+            chunk[1] = q.y;
             chunk[2] = self.crowd.heading[k];
+            chunk[3] = f64::from(u8::from(near));
         }
     }
 
-    /// Fills the observation sections and `pose` of every robot's row.
+    /// Fills the observation sections and `pose` of every robot's row (only `pose` for robots
+    /// whose episode had ended before this step: their last observation stays).
     fn observe_all(&mut self, out: &mut [f64]) {
         let stride = self.layout.stride;
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
@@ -888,6 +983,9 @@ impl World {
             let th = rb.pose[2];
             let row = &mut out[i * stride..(i + 1) * stride];
             row[o_pose..o_pose + 3].copy_from_slice(&rb.pose);
+            if self.ended[i] {
+                continue;
+            }
             let g = world_to_body(st.goal - p, th);
             let v = world_to_body(rb.velocity, th);
             let obs = &mut row[o_robot..o_robot + ROBOT_FEATURES];
@@ -959,8 +1057,9 @@ impl World {
                 }
             }
             let scan = &mut row[o_lidar..o_lidar + rays];
-            // The only failure is a length mismatch, which the layout rules out.
-            let _ = lidar::scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
+            // Failures are an empty buffer or non-finite inputs, which the layout and the checks
+            // of `step` rule out.
+            let _ = self.scanners[i].scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
         }
     }
 
