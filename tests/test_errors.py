@@ -158,3 +158,21 @@ def test_bad_people_name_the_field(write_scenario, small_room):
     inside = small_room.replace("route = [[2, 2], [8, 2]]", 'behaviour = "standing"\npose = [5, 6, 0]')
     err = _scenario_error(inside, write_scenario)
     assert err.field == "person[0].pose" and "furniture" in err.expected
+
+
+def test_a_follower_of_an_unknown_robot_names_the_field(write_scenario, small_room):
+    """`guide = "robot:<name>"` must name a [[robot]] of the file (error: file, field, the robots'
+    names expected, the name given)."""
+    follower = 'behaviour = "follower"\nguide = "robot:pepper"\ngroup = 4'
+    text = small_room.replace("route = [[2, 2], [8, 2]]\nspeed = 1.0", follower)
+    text += '\n[[person]]\nname = "second"\nbehaviour = "follower"\nguide = "robot:pepper"\ngroup = 4\n'
+    err = _scenario_error(text, write_scenario)
+    assert err.field == "person[0].guide"
+    assert err.found == '"robot:pepper"'
+    assert "robot:<name>" in err.expected and "robot_0" in err.expected
+    assert err.file.endswith(".toml")
+    # Naming the robot works (it is called robot_0 when the file gives no name).
+    ok = text.replace("robot:pepper", "robot:robot_0").replace("[[robot]]", "[[robot]]\nwaypoints = [[5, 4]]")
+    path = write_scenario(ok)
+    _, desc = proxemic.scenarios.load(path)
+    assert desc["persons"][0]["guide_robot"] == 0 and len(desc["persons"][0]["tour"]) == 3

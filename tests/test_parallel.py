@@ -339,7 +339,7 @@ def test_one_rust_call_per_control_step_for_all_robots():
     """Policies act for some robots, planners drive the others: every control step is one call
     into the core (``World.step``), apart from the metrics of the robots whose episode ends."""
     env = proxemic.parallel_env("museum_multi", robots=6, autopilot={"robot_4", "robot_5"})
-    obs, infos = env.reset(seed=1)
+    _, infos = env.reset(seed=1)
     counting = _CountingWorld(env.ws.world)
     env.ws.world = env.world = counting  # type: ignore[assignment]
     before = counting._inner.calls  # type: ignore[attr-defined]

@@ -196,7 +196,27 @@ pub struct Crowd {
     group_slot: Vec<Option<usize>>,
     /// Neighbour bins (rebuilt every substep for large crowds).
     bins: NeighbourBins,
+    /// The robots as their tours' followers see them (see [`Crowd::set_guides`]).
+    guides: Vec<GuideState>,
 }
+
+/// A robot as the followers of its tour see it (see [`Crowd::set_guides`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GuideState {
+    /// Position (metres).
+    pub pos: Vec2,
+    /// The tour point it walks to or stands at: 0 its start, then its waypoints, then its goal.
+    pub target: usize,
+    /// Whether it stands at `target` (dwelling at a waypoint, or arrived at its goal).
+    pub dwelling: bool,
+}
+
+/// How close (metres, centre to centre) a follower walks behind its robot guide.
+pub const FOLLOW_GAP: f64 = 1.2;
+
+/// How near (metres) a follower of a robot gets to its place on a gathering arc (places are
+/// 0.75 m apart, so followers in place never overlap).
+pub const SLOT_REACHED: f64 = 0.1;
 
 /// Uniform grid of people for the neighbour search (cell = cutoff); used above
 /// [`BRUTE_FORCE_MAX`] people.
@@ -275,6 +295,14 @@ impl Crowd {
     /// Whether there are no people.
     pub fn is_empty(&self) -> bool {
         self.pos.is_empty()
+    }
+
+    /// Tells the followers of robot tours where each robot is (one entry per robot, by index;
+    /// followers of a robot without an entry wait where they are). Call before every
+    /// [`Crowd::step`].
+    pub fn set_guides(&mut self, guides: &[GuideState]) {
+        self.guides.clear();
+        self.guides.extend_from_slice(guides);
     }
 
     /// The social force parameters.
@@ -357,12 +385,19 @@ impl Crowd {
                     let at = slots.first().copied().flatten().unwrap_or(Vec2::new(p.pose[0], p.pose[1]));
                     (at, 0, p.pose[2])
                 }
+                Script::RobotFollower { slots, legs, .. } => {
+                    // Gathered behind the robot at its start, facing it; next: the first leg.
+                    let start = legs[0][0];
+                    let at = slots.first().copied().flatten().unwrap_or(start);
+                    let d = start - at;
+                    (at, 1.min(slots.len() - 1), d.y.atan2(d.x))
+                }
                 Script::Guide { .. } => (route[0], 0, p.pose[2]),
                 Script::Still => (Vec2::new(p.pose[0], p.pose[1]), 0, p.pose[2]),
             };
             c.script.push(script.clone());
             c.task.push(task);
-            c.leg.push(0);
+            c.leg.push(usize::from(matches!(script, Script::RobotFollower { .. })));
             c.clock.push(clock);
             c.stuck.push(0.0);
             c.gathered.push(None);
@@ -624,6 +659,68 @@ impl Crowd {
                         self.target[i] = (f + 1) % n;
                     }
                     self.desired[i] = toward(self.routes[g][self.target[i]], self.speed[i]);
+                }
+            }
+            Script::RobotFollower { robot, legs, slots } => {
+                let n = slots.len();
+                match robot.and_then(|j| self.guides.get(j).copied()) {
+                    // No robot to follow: wait at the place, facing the tour's start.
+                    None => {
+                        self.moving[i] = false;
+                        self.face_want[i] = bearing(legs[0][0]);
+                    }
+                    Some(g) => {
+                        let gk = g.target.min(n - 1);
+                        let f = self.target[i];
+                        if g.dwelling && (f == gk || self.gathered[i] == Some(gk)) {
+                            let slot = slots[gk].unwrap_or(g.pos);
+                            // In place: on the slot (within SLOT_REACHED), or as near as the
+                            // others let it get after 2 s of standing within a metre of it.
+                            let d = (slot - pos).norm();
+                            if d < 1.0 && self.vel[i].norm() < 0.1 {
+                                self.stuck[i] += h;
+                            } else {
+                                self.stuck[i] = 0.0;
+                            }
+                            if self.gathered[i] == Some(gk) || d <= SLOT_REACHED || self.stuck[i] > 2.0 {
+                                self.stuck[i] = 0.0;
+                                // Gathered: stand facing the robot until it moves on.
+                                self.gathered[i] = Some(gk);
+                                self.target[i] = (gk + 1).min(n - 1);
+                                self.leg[i] = 1;
+                                self.moving[i] = false;
+                                self.face_want[i] = bearing(g.pos);
+                            } else {
+                                self.desired[i] = toward(slot, self.speed[i]);
+                            }
+                        } else {
+                            // Walk the leg to tour point f; behind the robot, keep FOLLOW_GAP.
+                            let path = &legs[f];
+                            let mut k = self.leg[i].min(path.len() - 1);
+                            if (path[k] - pos).norm() <= arrival {
+                                if k + 1 < path.len() {
+                                    k += 1;
+                                } else if f < gk {
+                                    self.target[i] = f + 1;
+                                    k = 1;
+                                }
+                            }
+                            self.leg[i] = k;
+                            let path = &legs[self.target[i]];
+                            let q = path[k.min(path.len() - 1)];
+                            // On the robot's own leg a follower stays behind it: FOLLOW_GAP from
+                            // it, and farther than it from where it is going.
+                            let next = *legs[gk].last().unwrap_or(&g.pos);
+                            let behind = (pos - next).norm() > (g.pos - next).norm() + 0.5 * FOLLOW_GAP;
+                            if self.target[i] == gk && ((g.pos - pos).norm() <= FOLLOW_GAP || !behind) {
+                                self.face_want[i] = bearing(g.pos);
+                            } else if (q - pos).norm() > arrival {
+                                self.desired[i] = toward(q, self.speed[i]);
+                            } else {
+                                self.face_want[i] = bearing(g.pos);
+                            }
+                        }
+                    }
                 }
             }
             Script::Program(prog) => {

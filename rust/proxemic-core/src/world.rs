@@ -38,7 +38,7 @@ use crate::metrics::{
     RecorderSetup, Snapshot, interactions,
 };
 use crate::pedestrians::scripts::{Script, plan_scripts};
-use crate::pedestrians::{Crowd, SocialForceParams};
+use crate::pedestrians::{Crowd, GuideState, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
 use crate::scenario::{Behaviour, PlannerKind, Scenario};
@@ -150,10 +150,19 @@ struct RobotStatic {
     radius: f64,
     goal: Vec2,
     grid_index: usize,
-    goal_field: GoalField,
+    /// The targets in order: the waypoints of a tour, then the goal (just the goal otherwise).
+    route: Vec<Vec2>,
+    /// The geodesic distance field of each target of `route`.
+    fields: Vec<GoalField>,
+    /// Seconds the robot stands at each waypoint (0: it passes through).
+    dwell: f64,
+    /// Geodesic length from the nominal start through the route (m).
     geodesic_from_start: f64,
-    /// The plain A* path from the nominal start (cached: the start only changes with jitter).
+    /// The plain A* path from the nominal start to the first target (cached: the start only
+    /// changes with jitter).
     nominal_path: Vec<Vec2>,
+    /// The plain A* paths between consecutive targets (`legs[k]` from target k to k + 1).
+    legs: Vec<Vec<Vec2>>,
 }
 
 /// Per-robot state of the running episode.
@@ -180,6 +189,11 @@ struct RobotRuntime {
     /// The elastic band (eband planner only).
     band: Option<ElasticBand>,
     mode: Mode,
+    /// Index in the route of the current target.
+    leg: usize,
+    /// Whether the robot stands at its current target (a tour stop), and for how much longer (s).
+    dwelling: bool,
+    dwell_left: f64,
 }
 
 /// On an approach task the robot turns to face the person within this distance of the goal (m).
@@ -292,14 +306,16 @@ impl World {
         let field = DistanceField::from_occupancy(&occupancy);
 
         check_people(&scenario, &geometry)?;
-        let scripts = plan_scripts(&scenario, &geometry, &field)?;
 
         let mut grids: Vec<InflatedGrid> = Vec::new();
         let mut planner = PathPlanner::new();
         let mut statics = Vec::with_capacity(scenario.robots.len());
         for (i, r) in scenario.robots.iter().enumerate() {
             let clearance_needed = r.radius;
-            for (name, p) in [("start", Vec2::new(r.start[0], r.start[1])), ("goal", v2(r.goal))] {
+            let places = std::iter::once(("start".to_string(), Vec2::new(r.start[0], r.start[1])))
+                .chain(r.waypoints.iter().enumerate().map(|(k, w)| (format!("waypoints[{k}]"), v2(*w))))
+                .chain(std::iter::once(("goal".to_string(), v2(r.goal))));
+            for (name, p) in places {
                 let clear = geometry.distance(p);
                 if geometry.contains(p) || clear < clearance_needed {
                     let what = if geometry.contains(p) {
@@ -327,28 +343,64 @@ impl World {
             };
             let grid = &grids[grid_index].grid;
             let goal = v2(r.goal);
-            let goal_cell = snap_to_passable(grid, goal).ok_or_else(|| {
-                scenario_err(
-                    &scenario,
-                    format!("robot[{i}].goal"),
-                    format!("a goal with {inflate:.2} m clearance (robot radius + inflation margin) nearby"),
-                    format!("{:?}", r.goal),
-                )
-            })?;
-            let goal_field = GoalField::compute(grid, goal_cell);
             let start = Vec2::new(r.start[0], r.start[1]);
-            let geodesic_from_start = goal_field.distance(start);
-            let nominal_path =
-                plan_path(&mut planner, grid, start, goal).ok_or_else(|| CoreError::Planning {
-                    file: scenario.source.clone(),
-                    field: format!("robot[{i}].goal"),
-                    message: format!(
-                        "no collision-free path for a robot of radius {:.2} m from start {:?} to goal {:?}",
-                        r.radius,
-                        [r.start[0], r.start[1]],
-                        r.goal
-                    ),
+            let route: Vec<Vec2> = r.waypoints.iter().map(|w| v2(*w)).chain(std::iter::once(goal)).collect();
+            let target_field = |k: usize| {
+                if k + 1 == route.len() {
+                    format!("robot[{i}].goal")
+                } else {
+                    format!("robot[{i}].waypoints[{k}]")
+                }
+            };
+            let mut fields = Vec::with_capacity(route.len());
+            let mut paths: Vec<Vec<Vec2>> = Vec::with_capacity(route.len());
+            let mut geodesic_from_start = 0.0;
+            for (k, &target) in route.iter().enumerate() {
+                let cell = snap_to_passable(grid, target).ok_or_else(|| {
+                    scenario_err(
+                        &scenario,
+                        target_field(k),
+                        format!(
+                            "a place with {inflate:.2} m clearance (robot radius + inflation margin) nearby"
+                        ),
+                        format!("{:?}", [target.x, target.y]),
+                    )
                 })?;
+                let from = if k == 0 { start } else { route[k - 1] };
+                let f = GoalField::compute(grid, cell);
+                geodesic_from_start += f.distance(from);
+                fields.push(f);
+                paths.push(plan_path(&mut planner, grid, from, target).ok_or_else(|| {
+                    CoreError::Planning {
+                        file: scenario.source.clone(),
+                        field: target_field(k),
+                        message: format!(
+                            "no collision-free path for a robot of radius {:.2} m from {:?} to {:?}",
+                            r.radius,
+                            [from.x, from.y],
+                            [target.x, target.y]
+                        ),
+                    }
+                })?);
+            }
+            // A tour must not lead the robot across its goal before the end (the episode would
+            // succeed there).
+            let success = scenario.episode.success_radius;
+            if let Some(k) = paths[..paths.len() - 1]
+                .iter()
+                .position(|path| path.iter().any(|q| (q - goal).norm() <= success + 0.5))
+            {
+                return Err(scenario_err(
+                    &scenario,
+                    format!("robot[{i}].waypoints[{k}]"),
+                    format!(
+                        "a tour whose paths to its waypoints stay more than {:.2} m (success radius + 0.5 m) from the goal",
+                        success + 0.5
+                    ),
+                    format!("the path to waypoints[{k}] passes the goal {:?}", r.goal),
+                ));
+            }
+            let nominal_path = paths.remove(0);
             let limits = Limits {
                 max_speed: r.max_speed,
                 max_angular_speed: r.max_angular_speed,
@@ -363,11 +415,16 @@ impl World {
                 radius: r.radius,
                 goal,
                 grid_index,
-                goal_field,
+                route,
+                fields,
+                dwell: r.dwell,
                 geodesic_from_start,
                 nominal_path,
+                legs: paths,
             });
         }
+        // People's places and paths after the robots' (a tour's stops must be valid first).
+        let scripts = plan_scripts(&scenario, &geometry, &field)?;
         let layout =
             Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays, scenario.robots.len());
         let grid_refs: Vec<&CostGrid> = grids.iter().map(|g| &g.grid).collect();
@@ -653,10 +710,18 @@ impl World {
                 st.nominal_path.clone()
             } else {
                 let grid = &self.grids[st.grid_index].grid;
-                plan_path(&mut self.planner, grid, start, st.goal).unwrap_or_else(|| st.nominal_path.clone())
+                plan_path(&mut self.planner, grid, start, st.route[0])
+                    .unwrap_or_else(|| st.nominal_path.clone())
             };
             let pose = [start.x, start.y, wrap_angle(r.start[2])];
-            let geodesic = st.goal_field.distance(start);
+            let geodesic = st.fields[0].distance(start);
+            // The reference path and length of a tour run through its waypoints.
+            let mut astar_path = path.clone();
+            let mut geodesic_length = geodesic;
+            for (k, leg) in st.legs.iter().enumerate() {
+                astar_path.extend_from_slice(&leg[1..]);
+                geodesic_length += st.fields[k + 1].distance(st.route[k]);
+            }
             let setup = RecorderSetup {
                 dt: self.scenario.control_dt(),
                 robot_radius: st.radius,
@@ -664,8 +729,8 @@ impl World {
                 success_radius: self.scenario.episode.success_radius,
                 people_radii: self.crowd.radius.clone(),
                 object_polygons: self.interaction_objects.iter().map(|o| o.polygon.clone()).collect(),
-                astar_path: path.clone(),
-                geodesic_length: geodesic,
+                astar_path,
+                geodesic_length,
             };
             let recorder = match recorders.get_mut(i).and_then(Option::take) {
                 Some(mut r) => {
@@ -692,6 +757,9 @@ impl World {
                 replans: 0,
                 band: None,
                 mode: Mode::FollowPath,
+                leg: 0,
+                dwelling: false,
+                dwell_left: 0.0,
             });
         }
         self.started = true;
@@ -841,7 +909,17 @@ impl World {
             rb.velocity = Vec2::new(s[3], s[4]);
             rb.wz = s[5];
         }
-        // People move to the same instant as the robots.
+        // People move to the same instant as the robots (the followers of a tour see its robot).
+        let guides: Vec<GuideState> = self
+            .robots
+            .iter()
+            .map(|rb| GuideState {
+                pos: Vec2::new(rb.pose[0], rb.pose[1]),
+                target: rb.leg + 1,
+                dwelling: rb.dwelling || rb.outcome == Outcome::Success,
+            })
+            .collect();
+        self.crowd.set_guides(&guides);
         let robots: Vec<(Vec2, f64, Vec2)> = self
             .robots
             .iter()
@@ -851,6 +929,7 @@ impl World {
         self.crowd.step(dt, &robots, &self.geometry, &self.field);
         self.steps += 1;
         self.observe_interactions();
+        self.advance_tours(dt);
         let out_of_time = self.time() >= self.scenario.episode.max_time - 1e-9;
         let stride = self.layout.stride;
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
@@ -879,7 +958,7 @@ impl World {
             rb.outcome = outcome;
             let row = &mut out[i * stride..(i + 1) * stride];
             let terms = &mut row[terms_off..terms_off + REWARD_TERMS.len()];
-            let geo = st.goal_field.distance(p);
+            let geo = st.fields[rb.leg].distance(p);
             let progress = if geo.is_finite() && rb.geodesic.is_finite() { rb.geodesic - geo } else { 0.0 };
             if geo.is_finite() {
                 rb.geodesic = geo;
@@ -905,6 +984,57 @@ impl World {
         self.plan_all(out);
         self.write_people(out, people_out);
         Ok(())
+    }
+
+    /// Tours: a robot that reaches its current waypoint stands there for its `dwell` seconds,
+    /// then heads for the next target (re-planning its path); progress is measured toward the
+    /// new target from then on.
+    fn advance_tours(&mut self, dt: f64) {
+        let radius = self.scenario.episode.success_radius;
+        let mut next = Vec::new();
+        for (i, (rb, st)) in self.robots.iter_mut().zip(&self.statics).enumerate() {
+            if rb.outcome != Outcome::Running || rb.leg + 1 >= st.route.len() {
+                continue;
+            }
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            if !rb.dwelling && (p - st.route[rb.leg]).norm() <= radius {
+                rb.dwelling = true;
+                rb.dwell_left = st.dwell;
+            }
+            if rb.dwelling {
+                if rb.dwell_left <= 1e-9 {
+                    rb.dwelling = false;
+                    rb.dwell_left = 0.0;
+                    rb.leg += 1;
+                    rb.geodesic = st.fields[rb.leg].distance(p);
+                    next.push(i);
+                } else {
+                    rb.dwell_left -= dt;
+                }
+            }
+        }
+        for i in next {
+            self.start_leg(i);
+        }
+    }
+
+    /// Plans robot `i`'s path to its (new) current target with its planner.
+    fn start_leg(&mut self, i: usize) {
+        let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+        let st = &self.statics[i];
+        let target = st.route[self.robots[i].leg];
+        let grid = &self.grids[st.grid_index].grid;
+        let path = plan_path(&mut self.planner, grid, p, target).unwrap_or_else(|| vec![p, target]);
+        let rb = &mut self.robots[i];
+        rb.follower = PathFollower::new(path, FollowerParams::default());
+        rb.social_path = None;
+        if st.planner == PlannerKind::Eband {
+            rb.band = ElasticBand::new(rb.follower.path(), st.eband).ok();
+        }
+        if self.planning[i] && st.planner.social_global() && self.perceive().is_ok() {
+            let tod = self.time_of_day();
+            self.social_plan(i, p, tod);
+        }
     }
 
     /// Closest person to `p`: (centre distance, surface gap for a robot of `radius`).
@@ -986,7 +1116,7 @@ impl World {
             if self.ended[i] {
                 continue;
             }
-            let g = world_to_body(st.goal - p, th);
+            let g = world_to_body(st.route[rb.leg] - p, th);
             let v = world_to_body(rb.velocity, th);
             let obs = &mut row[o_robot..o_robot + ROBOT_FEATURES];
             obs[0] = g.x.clamp(-diag, diag);
@@ -1139,7 +1269,7 @@ impl World {
     fn social_plan(&mut self, i: usize, p: Vec2, time_of_day: f64) {
         let st = &self.statics[i];
         let k = st.grid_index;
-        let goal = st.goal;
+        let goal = st.route[self.robots[i].leg];
         let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
         let rb = &mut self.robots[i];
         match plan {
@@ -1167,6 +1297,7 @@ impl World {
                 self.statics[i].planner.social_global()
                     && self.planning[i]
                     && rb.outcome == Outcome::Running
+                    && !rb.dwelling
                     && self.steps > 0
                     && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
                     && self.steps >= rb.last_plan_step + SOCIAL_MIN_REPLAN
@@ -1268,6 +1399,11 @@ impl World {
                 self.robots[i].mode = Mode::FollowPath;
                 continue;
             }
+            if self.robots[i].dwelling {
+                // At a tour stop: stand still (the desired velocity stays zero).
+                self.robots[i].mode = Mode::Wait;
+                continue;
+            }
             let planner = self.statics[i].planner;
             let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
             let theta = self.robots[i].pose[2];
@@ -1283,7 +1419,7 @@ impl World {
                 rb.follower.step_visible(p, theta, st.limits.max_speed, st.limits.max_accel, dt, &visible);
             if o.cross_track > rb.follower.params().replan_distance && !planner.social_global() {
                 // Pushed off the path (by people or contacts): re-plan from here.
-                if let Some(path) = plan_path(&mut self.planner, grid, p, st.goal) {
+                if let Some(path) = plan_path(&mut self.planner, grid, p, st.route[rb.leg]) {
                     rb.follower = PathFollower::new(path, FollowerParams::default());
                     o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
                     if planner == PlannerKind::Eband {

@@ -88,6 +88,17 @@ pub enum Script {
         /// This follower's place at each of the guide's waypoints (`None` if not a stop).
         slots: Vec<Option<Vec2>>,
     },
+    /// A follower of a robot's tour (its start, waypoints and goal: the tour points).
+    RobotFollower {
+        /// Index of the robot; `None` if it is not in the episode (the follower then stays at
+        /// its place at the start).
+        robot: Option<usize>,
+        /// Per tour point, the walking path to it from the previous one (just the start point
+        /// for the start).
+        legs: Vec<Vec<Vec2>>,
+        /// This follower's place at each tour stop (`None` at other tour points).
+        slots: Vec<Option<Vec2>>,
+    },
 }
 
 impl Script {
@@ -318,6 +329,7 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
                     (0..persons.len()).filter(|&k| persons[k].guide == Some(i)).collect();
                 Script::Guide { stops: p.stops.clone(), followers }
             }
+            Behaviour::Follower if !p.tour.is_empty() => robot_follower(s, geometry, &mut walk, i)?,
             Behaviour::Follower => {
                 let g = p.guide.unwrap_or(0);
                 let guide = &persons[g];
@@ -364,6 +376,55 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
         out.push(script);
     }
     Ok(out)
+}
+
+/// The script of follower `i` of a robot's tour: a place on an arc of `gather_radius` behind
+/// each stop (opening toward where the robot comes from; at the start, away from where it goes),
+/// one shoulder width (0.75 m) apart, and the walking paths between the tour points.
+fn robot_follower(
+    s: &Scenario,
+    geometry: &StaticGeometry,
+    walk: &mut impl FnMut(String, Vec2, Vec2) -> Result<Vec<Vec2>>,
+    i: usize,
+) -> Result<Script> {
+    let p = &s.persons[i];
+    let tour: Vec<Vec2> = p.tour.iter().map(|q| v2(*q)).collect();
+    let n = tour.len();
+    let followers: Vec<usize> = (0..s.persons.len()).filter(|&k| s.persons[k].tour == p.tour).collect();
+    let rank = followers.iter().position(|&k| k == i).unwrap_or(0);
+    let m = followers.len() as f64;
+    // Fields of the tour points in the file: the robot's start, waypoints and goal.
+    let point_field = |k: usize| match p.guide_robot {
+        Some(j) if k == 0 => format!("robot[{j}].start"),
+        Some(j) if k + 1 == n => format!("robot[{j}].goal"),
+        Some(j) => format!("robot[{j}].waypoints[{}]", k - 1),
+        None => format!("person[{i}].guide"),
+    };
+    let mut slots = vec![None; n];
+    for k in (0..n).filter(|&k| p.tour_stops.get(k).copied().unwrap_or(false)) {
+        let stop = tour[k];
+        let back = if k == 0 { tour[0] - tour[1.min(n - 1)] } else { tour[k - 1] - stop };
+        let r = p.gather_radius;
+        let step = (0.75 / r).min(std::f64::consts::PI / m.max(1.0));
+        let a = back.y.atan2(back.x) + (rank as f64 - 0.5 * (m - 1.0)) * step;
+        let slot = stop + Vec2::new(a.cos(), a.sin()) * r;
+        if !clear(geometry, slot, p.radius) || geometry.segment_hits(stop, slot) {
+            return Err(err(
+                s,
+                point_field(k),
+                format!(
+                    "a tour stop with room for {m} followers on an arc of radius {r} m behind it, in sight of it"
+                ),
+                format!("follower {:?}'s place [{:.2}, {:.2}] does not fit", p.name, slot.x, slot.y),
+            ));
+        }
+        slots[k] = Some(slot);
+    }
+    let mut legs = vec![vec![tour[0]]];
+    for k in 1..n {
+        legs.push(walk(point_field(k), tour[k - 1], tour[k])?);
+    }
+    Ok(Script::RobotFollower { robot: p.guide_robot, legs, slots })
 }
 
 /// A visitor's viewing place for object `o`: in front of a trapezoid (painting, TV), spread
