@@ -363,3 +363,30 @@ def test_one_rust_call_per_control_step_for_all_robots():
         for _ in range(5):
             single.step(np.array([0.5, 0.0, 0.1], np.float32))
         assert counting.used == ["step"] * 5
+
+
+def test_museum_guide_robot_leads_its_tour_group():
+    """museum_multi's robot 1 leads four visitors: when it stands at its first stop (among the Old
+    Masters) they have followed it from gallery A and gather around it, and they stay with it."""
+    env = proxemic.parallel_env("museum_multi", robots=2, autopilot=True)
+    _, infos = env.reset(seed=0)
+    names = [p["name"] for p in env.scenario["persons"]]
+    group = [names.index(f"robot_tour_visitor_{k}") for k in range(1, 5)]
+    start = env.state()[1, :2].copy()
+    gathered_at = None
+    for step in range(900):
+        _, _, _, _, infos = env.step({})
+        r = env.state()[1, :2]
+        people = env.people()[group, :2]
+        dist = np.linalg.norm(people - r, axis=1)
+        if step > 20:
+            assert dist.max() < 8.0, (step, dist)  # they keep up with it
+        at_stop = np.linalg.norm(r - [21.0, 21.5]) < 0.35
+        if at_stop and infos.get("robot_1", {}).get("planner_mode") == "wait":
+            gathered_at = gathered_at if gathered_at is not None else step
+            if step - gathered_at >= 120:  # 12 s into the stop
+                assert np.linalg.norm(r - start) > 10.0
+                assert ((dist > 0.9) & (dist < 2.5)).all(), dist
+                break
+    else:
+        raise AssertionError("robot 1 never stood 12 s at its first stop")
