@@ -514,10 +514,10 @@ pub enum Behaviour {
     /// (Daza 2021 Fig. 11). It starts in its place at the guide's first waypoint.
     ///
     /// A robot can guide too: `guide = "robot:<name>"` names a `[[robot]]`. The followers start
-    /// gathered behind the robot's start, walk behind it (keeping 1.2 m from it) along paths
-    /// planned between its tour points (start, `waypoints`, goal), and gather on an arc behind it
-    /// at every waypoint where it dwells (`dwell` > 0) and at its goal. If that robot is not in
-    /// the episode (fewer robots), they stand at their place at its start.
+    /// gathered behind the robot's start, walk where it went (its trail), 1.2 m behind it, and
+    /// gather on an arc of `gather_radius` behind it, facing it, at every waypoint where it
+    /// dwells (`dwell` > 0) and at its goal, each taking a free place as it arrives. If that
+    /// robot is not in the episode (fewer robots), they stand at their place at its start.
     Follower,
     /// Seated on the bench, sofa or chair named `seat`, at seat `place` (0, 1, ... along its
     /// width, one per 0.6 m), facing the seat's front; never moves and cannot be pushed.
