@@ -8,9 +8,10 @@ eleven robot definitions; the first N are used). Three settings:
   every robot every step), so the actions go through the step as a learning policy's would and
   the robots move sensibly;
 - ``astar``: the same with plain A*;
-- policies only (``planner_actions=False``: the agents' planners do not run): every agent drives
-  toward its goal in a straight line (the direction of ``obs["robot"][:2]``, full speed), through
-  people and into furniture, as an untrained policy does; episodes end often (collisions).
+- policies only (``planner_actions=False``: the agents' planners do not run): every agent turns
+  in place (``[0, 0, 0.5]``), so every robot's lidar and observations change every step and all
+  eleven stay live (robots that drive blindly end their episodes in a few seconds, leaving steps
+  with few agents: the number would measure collisions, not the env).
 
 Only ``env.step`` is timed (the policies and ``env.reset`` are not), as thread CPU time over
 several interleaved trials (the machine is shared and noisy); medians. Agent-steps count the
@@ -44,11 +45,7 @@ STEPS = 200
 TARGET = 30_000  # agent-steps/s with 11 robots (issue 6)
 
 
-def goal_policy(obs: dict[str, np.ndarray]) -> np.ndarray:
-    """Full speed toward the goal, in the robot frame (an untrained policy's kind of action)."""
-    g = obs["robot"][:2]
-    n = float(np.hypot(g[0], g[1]))
-    return np.array([g[0] / n, g[1] / n, 0.0], np.float32) if n > 1e-9 else np.zeros(3, np.float32)
+TURN = np.array([0.0, 0.0, 0.5], np.float32)
 
 
 def bench(robots: int, planners: str | None, planner_actions: bool) -> dict[str, float]:
@@ -79,7 +76,7 @@ def bench(robots: int, planners: str | None, planner_actions: bool) -> dict[str,
     def actions() -> dict[str, np.ndarray]:
         if planner_actions:
             return {a: state["infos"][a]["planner_action"] for a in env.agents}
-        return {a: goal_policy(state["obs"][a]) for a in env.agents}
+        return dict.fromkeys(env.agents, TURN)
 
     def run(n: int) -> tuple[float, int, float, float]:
         """(step us, agent-steps, physics us, World.step us) summed over `n` steps."""
@@ -134,7 +131,7 @@ def main() -> None:
     settings = (
         ("astar", True, "planner astar"),
         (None, True, "planner social"),
-        (None, False, "policies only (to the goal)"),
+        (None, False, "policies only (turning in place)"),
     )
     for planners, planner_actions, label in settings:
         for robots in (4, 11):

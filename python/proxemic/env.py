@@ -187,7 +187,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         )
 
     def _observation(self) -> dict[str, np.ndarray]:
-        return self.ws.observations(robots=False)[0]
+        return self.ws.observations(robots=False, rows=[0])[0]
 
     def _info(self, *, final: bool) -> dict[str, Any]:
         info = self.ws.info(0)

@@ -210,13 +210,14 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         ws.step_actions()
         rows = [index[a] for a in live]
         obs = dict(zip(live, ws.observations(robots=True, rows=rows), strict=True))
-        reward = ws.sections["reward"][rows, 0].tolist()
-        flags = (ws.sections["flags"][rows, :2] != 0.0).tolist()
-        rewards = dict(zip(live, reward, strict=True))
-        terms = {a: f[0] for a, f in zip(live, flags, strict=True)}
-        truncs = {a: f[1] for a, f in zip(live, flags, strict=True)}
+        outcome = ws.step_outcome()
+        rewards, terms, truncs = {}, {}, {}
+        finished = []
+        for a, i in zip(live, rows, strict=True):
+            rewards[a], terms[a], truncs[a] = outcome[i]
+            if terms[a] or truncs[a]:
+                finished.append(a)
         infos = dict(zip(live, ws.infos(rows), strict=True))
-        finished = [a for a, f in zip(live, flags, strict=True) if f[0] or f[1]]
         if finished:
             self.agents = [a for a in live if not (terms[a] or truncs[a])]
             self._live = frozenset(self.agents)

@@ -76,6 +76,9 @@ class WorldSim:
         self.layout: dict[str, tuple[int, int]] = dict(w.layout)
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
         self._actions = np.full(3 * w.num_robots, np.nan)
+        self._all_rows = list(range(w.num_robots))
+        # The columns step_outcome() reads: reward, terminated, truncated.
+        self._outcome_cols = np.array([self.layout["reward"][0], self.layout["flags"][0], self.layout["flags"][0] + 1])
         # The columns infos() reads: the reward terms, success and collision, mode, time of day.
         terms, flags = self.layout["reward_terms"], self.layout["flags"]
         self._info_cols = np.array(
@@ -201,7 +204,11 @@ class WorldSim:
                 self._actions.fill(np.nan)  # nothing of a rejected step is kept
                 raise
             return
-        self._actions.reshape(-1, 3)[robots] = a
+        acts = self._actions.reshape(-1, 3)
+        if len(robots) == self.num_robots and robots == self._all_rows:
+            acts[:] = a  # every robot, in order: a plain copy
+        else:
+            acts[robots] = a
 
     def step_actions(self) -> None:
         """Steps with the actions stored by :meth:`act` (others keep their planners), then clears them."""
@@ -228,6 +235,10 @@ class WorldSim:
             parts.append(("robots", part("obs_robots", total - 1, _core.PEER_FEATURES)))
             parts.append(("robots_mask", part("obs_robots_mask", total - 1)))
         return [{key: arr[i] for key, arr in parts} for i in range(n)]
+
+    def step_outcome(self) -> list[tuple[float, bool, bool]]:
+        """Every robot's (reward, terminated, truncated) after the last step (one read)."""
+        return [(r, t != 0.0, u != 0.0) for r, t, u in self.rows[:, self._outcome_cols].tolist()]
 
     def info(self, robot: int) -> dict[str, Any]:
         """Robot `robot`'s step info: reward terms, success and collision flags, planner command and mode."""
