@@ -254,7 +254,6 @@ class Simulation:
         self.state = np.zeros(6 * n)
         self._state2d = self.state.reshape(n, 6)
         self.contacts = np.zeros(n, dtype=np.uint8)
-        self._quat = np.zeros((p, 4))
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
 
@@ -274,15 +273,23 @@ class Simulation:
         self.read()
 
     def write_people(self, people: np.ndarray) -> None:
-        """Writes the people's poses (P rows: x, y, heading, ...) into their mocap bodies."""
+        """Writes the people's poses into their mocap bodies.
+
+        `people` has P rows: x, y, heading, and (the core's buffer, ``PERSON_OUT`` columns) the
+        contact hint and the heading's yaw quaternion w and z; with 3 columns the quaternion is
+        computed here.
+        """
         if self.num_people == 0:
             return
         self._mocap_pos[:, :2] = people[:, :2]
-        half = people[:, 2] * 0.5
-        q = self._quat
-        np.cos(half, out=q[:, 0])
-        np.sin(half, out=q[:, 3])
-        self._mocap_quat[:] = q
+        q = self._mocap_quat
+        if people.shape[1] >= 6:
+            q[:, 0] = people[:, 4]
+            q[:, 3] = people[:, 5]
+        else:
+            half = people[:, 2] * 0.5
+            q[:, 0] = np.cos(half)
+            q[:, 3] = np.sin(half)
 
     def set_hints(self, near_static: np.ndarray, near_people: np.ndarray) -> None:
         """Sets which contact pairs the physics tests (the core's hints, 1.0 or 0.0 each).
@@ -297,14 +304,20 @@ class Simulation:
         for arr in self._person_flags:
             arr[:] = near_people
 
-    def step(self, command: np.ndarray) -> None:
+    def step(self, command: np.ndarray, contacts_possible: bool = True) -> None:
         """Writes robot-frame commands (N, 3) to the servos and advances one control period.
 
         Contacts are checked after every physics step (a person's push can separate the bodies
         again within one control period), and accumulated into `contacts` as CONTACT_* bits.
+        With `contacts_possible` False (the core's hints rule every contact out for this
+        period), the physics steps are made in one call and no contact is read.
         """
         m, d = self.model, self.data
         self._ctrl[:] = command
+        if not contacts_possible:
+            mujoco.mj_step(m, d, self.frame_skip)
+            self.contacts[:] = 0
+            return
         owner, bit = self._owner_list, self._bit_list
         acc = [0] * self.num_robots
         step = mujoco.mj_step

@@ -77,6 +77,7 @@ class WorldSim:
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
         self._actions = np.full(3 * w.num_robots, np.nan)
         self._all_rows = list(range(w.num_robots))
+        self._near_cols = np.array([self.layout["near_static"][0], self.layout["near_robot"][0]])
         # The columns step_outcome() reads: reward, terminated, truncated.
         self._outcome_cols = np.array([self.layout["reward"][0], self.layout["flags"][0], self.layout["flags"][0] + 1])
         # The columns infos() reads: the reward terms, success and collision, mode, time of day.
@@ -166,7 +167,9 @@ class WorldSim:
         sim = self.sim
         sim.write_people(self._people2d)
         sim.set_hints(self._near_static, self._near_people)
-        sim.step(self._command)
+        # Nothing near anything (no robot near a wall, a person or another robot): no contact.
+        possible = bool(self.rows[:, self._near_cols].any()) or bool(self._near_people.any())
+        sim.step(self._command, possible)
         sim.read()
 
     def act(self, robot: int, action: Any, field: str) -> None:

@@ -67,9 +67,10 @@ pub const PERSONAL_ZONE: f64 = 1.2;
 pub const OBS_MAX_SPEED: f64 = 5.0;
 /// Bound on the angular velocity in observations (rad/s).
 pub const OBS_MAX_ANGULAR: f64 = 10.0;
-/// Values per person in the people buffer: x, y, heading (world frame, m and rad) and a contact
-/// hint, 1.0 while the person is within [`CONTACT_RANGE`] of a robot, else 0.0.
-pub const PERSON_OUT: usize = 4;
+/// Values per person in the people buffer: x, y, heading (world frame, m and rad), a contact
+/// hint (1.0 while the person is within [`CONTACT_RANGE`] of a robot, else 0.0), and the
+/// heading as the w and z of a yaw quaternion (cos and sin of half the heading, for MuJoCo).
+pub const PERSON_OUT: usize = 6;
 /// Surface gap (m) within which the physics must test a robot against the static geometry or a
 /// person for contacts. Beyond it nothing can touch during one control step: closing 0.5 m in
 /// 0.1 s takes 5 m/s, and robots move at most 0.55 m/s, people at most 1.3 times their preferred
@@ -99,15 +100,16 @@ pub struct Layout {
     /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta), `mode`
     /// (1: the local planner's mode, see [`Mode::code`]), `near_static` (1: 1.0 while the robot is
     /// within [`CONTACT_RANGE`] of a wall or object, else 0.0: whether the physics must test it
-    /// against the static geometry), `time_of_day` (1: seconds after midnight, the same in every
-    /// row).
+    /// against the static geometry), `near_robot` (1: 1.0 while another robot is within
+    /// [`CONTACT_RANGE`] of it, else 0.0), `time_of_day` (1: seconds after midnight, the same in
+    /// every row).
     pub sections: Vec<(&'static str, Section)>,
 }
 
 impl Layout {
     fn new(k: usize, rays: usize, robots: usize) -> Self {
         let others = robots.saturating_sub(1);
-        let sizes: [(&'static str, usize); 15] = [
+        let sizes: [(&'static str, usize); 16] = [
             ("command", 3),
             ("planner_action", 3),
             ("obs_robot", ROBOT_FEATURES),
@@ -122,6 +124,7 @@ impl Layout {
             ("pose", 3),
             ("mode", 1),
             ("near_static", 1),
+            ("near_robot", 1),
             ("time_of_day", 1),
         ];
         let mut offset = 0;
@@ -1061,7 +1064,7 @@ impl World {
     fn write_people(&self, out: &mut [f64], people_out: &mut [f64]) {
         let stride = self.layout.stride;
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
-        let (near_off, tod_off) = (sec("near_static"), sec("time_of_day"));
+        let (near_off, robot_off, tod_off) = (sec("near_static"), sec("near_robot"), sec("time_of_day"));
         let dt = self.scenario.control_dt();
         let tod = self.time_of_day();
         // Robot discs grown by the contact range and what the robot can travel in one period.
@@ -1078,8 +1081,13 @@ impl World {
             // Centre distance to the nearest wall or object edge, looked up within `r` only (a
             // robot cannot be deep inside an object: the physics pushes it out first).
             let near = self.geometry.boundary_distance_within(p, r) < r;
+            let near_robot = reach
+                .iter()
+                .enumerate()
+                .any(|(j, &(q, rq))| j != i && (q - p).norm_squared() < (r + rq - CONTACT_RANGE).powi(2));
             let row = &mut out[i * stride..(i + 1) * stride];
             row[near_off] = f64::from(u8::from(near));
+            row[robot_off] = f64::from(u8::from(near_robot));
             row[tod_off] = tod;
         }
         for (k, chunk) in people_out.chunks_exact_mut(PERSON_OUT).enumerate() {
@@ -1088,8 +1096,12 @@ impl World {
             let near = reach.iter().any(|&(p, r)| (q - p).norm_squared() < (r + rk) * (r + rk));
             chunk[0] = q.x;
             chunk[1] = q.y;
-            chunk[2] = self.crowd.heading[k];
+            let h = self.crowd.heading[k];
+            chunk[2] = h;
             chunk[3] = f64::from(u8::from(near));
+            let (sin, cos) = (0.5 * h).sin_cos();
+            chunk[4] = cos;
+            chunk[5] = sin;
         }
     }
 
