@@ -69,7 +69,7 @@ format: $(VENV)/.deps ## apply rustfmt and ruff format
 	$(VENV)/bin/ruff format python tests benches examples
 	$(VENV)/bin/ruff check --fix python tests benches examples
 
-BENCHES := planning pedestrians proxemics groups socialmap controllers orca
+BENCHES := planning pedestrians proxemics groups socialmap controllers orca world
 
 bench: setup ## criterion benches of the core (medians), env, parallel env and rendering throughput, ORCA and pedestrians vs navground
 	for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \

@@ -1,6 +1,7 @@
 """Env throughput and rendering bench: the museum with (at least) 40 people.
 
-Steps: env steps per second, the Rust call's share, bare MuJoCo stepping of the same model, reset.
+Steps: env steps per second, the Rust call's share, bare MuJoCo stepping of the same model (and of
+the full visual model, which the physics stepped before it lost its visual parts), reset.
 Everything is measured in this run, on the same model, interleaved over several trials (the
 machine is shared and noisy), as thread CPU time; medians are reported with ratios against the
 bare ``mj_step`` cost of the same control steps. The issue's targets: at least 3,000 env steps/s
@@ -79,10 +80,12 @@ def museum_with(people: int, tmp: Path) -> tuple[str | Path, int, int]:
 
 def bench_steps(env: ProxemicEnv) -> dict[str, float]:
     env.reset(seed=0)
-    m, d = env.sim.model, env.sim.data
     skip = env.sim.frame_skip
     world, sim = env.world, env.sim
     zero = np.zeros(3, np.float32)
+    autopilot = np.full(3 * world.num_robots, np.nan)
+    models = {"bare mj_step x frame_skip": sim.model, "bare mj_step x frame_skip (full model)": sim.render_model}
+    scratch = {k: mujoco.MjData(model) for k, model in models.items()}
 
     def env_step() -> None:
         _, _, te, tr, _ = env.step(zero)
@@ -90,22 +93,36 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
             env.reset()
 
     def rust_step() -> None:
-        world.step(sim.state, sim.contacts, env._out, env._people)
+        # The core's share of the one call: World.step with a physics that does nothing.
+        world.step(autopilot, lambda: None, sim.state, sim.contacts, env._out, env._people)
 
-    def bare() -> None:
-        mujoco.mj_step(m, d, skip)
+    def bare_from_env(key: str) -> Callable[[], None]:
+        model, d = models[key], scratch[key]
+
+        def sync() -> None:  # the env's current state, on a scratch copy
+            for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
+                getattr(d, name)[:] = getattr(sim.data, name)
+
+        def step() -> None:
+            mujoco.mj_step(model, d, skip)
+
+        step.sync = sync  # type: ignore[attr-defined]
+        return step
 
     resets: list[float] = []
     # the full metric set of one finished episode (World.episode_metrics: the post-hoc evaluator)
     metrics_us: list[float] = []
     episode_steps: list[int] = []
-    res: dict[str, list[float]] = {"env.step": [], "Rust World.step": [], "bare mj_step x frame_skip": []}
+    res: dict[str, list[float]] = {"env.step": [], "Rust World.step": [], **{k: [] for k in models}}
     seed = 0
     for _ in range(TRIALS):
         res["env.step"].append(cpu_us(env_step, STEPS))
+        for key in models:
+            bare = bare_from_env(key)
+            bare.sync()  # type: ignore[attr-defined]
+            res[key].append(cpu_us(bare, STEPS))
         # the Rust call alone, on the state the env is in (advances the people; harmless here)
         res["Rust World.step"].append(cpu_us(rust_step, STEPS))
-        res["bare mj_step x frame_skip"].append(cpu_us(bare, STEPS))
         t0 = time.thread_time_ns()
         for _ in range(20):
             seed += 1
@@ -172,7 +189,10 @@ def main() -> None:
         f"  {'Rust World.step (one call)':40s} {med['Rust World.step']:8.1f} us  "
         f"{100 * med['Rust World.step'] / med['env.step']:5.1f}% of the env step"
     )
-    print(f"  {'bare mj_step x frame_skip':40s} {base:8.1f} us")
+    print(f"  {'bare mj_step x frame_skip':40s} {base:8.1f} us  (physics model)")
+    full = med["bare mj_step x frame_skip (full model)"]
+    ratio_full = med["env.step"] / full
+    print(f"  {'bare mj_step x frame_skip, full model':40s} {full:8.1f} us  (visual parts; {ratio_full:4.2f}x)")
     print(f"  {'env.reset':40s} {med['env.reset'] / 1e3:8.2f} ms")
     print(
         f"  targets (>= 3000 steps/s, <= 1.5x bare MuJoCo): steps/s {'met' if rate >= 3000 else 'MISSED'}, "

@@ -1,27 +1,37 @@
 """Parallel env throughput: env steps and agent-steps per second with 4 and 11 robots.
 
-The museum with several robots (``museum_multi``: the museum's walls, objects and visitors,
-eleven robot definitions; the first N are used). Every robot is an agent whose policy returns
-its built-in planner's command (``info["planner_action"]``), so the actions go through
-``World.command`` as a learning policy's would and the robots move sensibly. Two planner
-settings: the scenario's ``social`` planner (Daza 2021 Algorithm 1, computed for every robot
-every step to fill ``planner_action``), plain ``astar``, and policies only (``planner_actions=False``:
-the agents' planners do not run; the policy sends zero commands).
+The museum with several robots (``museum_multi``: the museum's walls, objects and 50 people,
+eleven robot definitions; the first N are used). Three settings:
 
-Measured in this run, on the same model, interleaved over several trials (the machine is shared
-and noisy), as thread CPU time; medians. Agent-steps count the agents actually live in each
-step. The ratio is to the bare MuJoCo stepping a control step contains (``mj_step`` x frame_skip
-on the same model), and the Rust share is one ``World.step`` call (all robots) of the step.
+- ``social``: every agent's policy returns its built-in planner's command
+  (``info["planner_action"]``, the scenario's social planner, Daza 2021 Algorithm 1, computed for
+  every robot every step), so the actions go through the step as a learning policy's would and
+  the robots move sensibly;
+- ``astar``: the same with plain A*;
+- policies only (``planner_actions=False``: the agents' planners do not run): every agent turns
+  in place (``[0, 0, 0.5]``), so every robot's lidar and observations change every step and all
+  eleven stay live (robots that drive blindly end their episodes in a few seconds, leaving steps
+  with few agents: the number would measure collisions, not the env).
+
+Only ``env.step`` is timed (the policies and ``env.reset`` are not), as thread CPU time over
+several interleaved trials (the machine is shared and noisy); medians. Agent-steps count the
+agents live in each step. Beside each: the bare MuJoCo stepping a control step contains
+(``mj_step`` x frame_skip from the same states, on a copy of the data) for the physics model the
+env steps, and for the full visual model (the render model, which is what the physics stepped
+before the physics model lost its visual parts); and the step split into the physics (the
+callback of ``World.step``: MuJoCo and its Python wrapper), the core (the rest of the
+``World.step`` call) and Python (the rest of ``env.step``).
 
 Run: ``python benches/parallel_bench.py`` (``make bench`` does).
 """
 
 from __future__ import annotations
 
+import copy
 import os
 import statistics
 import time
-from collections.abc import Callable
+from typing import Any
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
@@ -33,84 +43,111 @@ import proxemic
 TRIALS = 5
 STEPS = 200
 TARGET = 30_000  # agent-steps/s with 11 robots (issue 6)
-ZERO = np.zeros(3, np.float32)
 
 
-def bench(robots: int, planners: str | None, planner_actions: bool = True) -> dict[str, float]:
+TURN = np.array([0.0, 0.0, 0.5], np.float32)
+
+
+def bench(robots: int, planners: str | None, planner_actions: bool) -> dict[str, float]:
     env = proxemic.parallel_env("museum_multi", robots=robots, planners=planners, planner_actions=planner_actions)
-    _, infos = env.reset(seed=0)
     ws = env.ws
-    m, d, skip = ws.sim.model, ws.sim.data, ws.sim.frame_skip
-    seed = 0
-    state = {"infos": infos}
+    sim = ws.sim
+    m, skip = sim.model, sim.frame_skip
+    rm = sim.render_model
+    physics_ns, call_ns = [0], [0]
+    inner, call = ws._physics, ws.step
 
-    def run(n: int) -> tuple[float, int]:
-        nonlocal seed
-        agent_steps = 0
+    def timed_physics() -> None:
         t0 = time.thread_time_ns()
+        inner()
+        physics_ns[0] += time.thread_time_ns() - t0
+
+    def timed_call(actions: np.ndarray | None = None) -> None:
+        t0 = time.thread_time_ns()
+        call(actions)
+        call_ns[0] += time.thread_time_ns() - t0
+
+    ws._physics = timed_physics  # type: ignore[method-assign]
+    ws.step = timed_call  # type: ignore[method-assign]
+    seed = 0
+    obs, infos = env.reset(seed=seed)
+    state: dict[str, Any] = {"obs": obs, "infos": infos}
+
+    def actions() -> dict[str, np.ndarray]:
+        if planner_actions:
+            return {a: state["infos"][a]["planner_action"] for a in env.agents}
+        return dict.fromkeys(env.agents, TURN)
+
+    def run(n: int) -> tuple[float, int, float, float]:
+        """(step us, agent-steps, physics us, World.step us) summed over `n` steps."""
+        nonlocal seed
+        total, agents = 0, 0
+        physics_ns[0] = call_ns[0] = 0
         for _ in range(n):
             if not env.agents:
                 seed += 1
-                _, state["infos"] = env.reset(seed=seed)
-            infos = state["infos"]
-            actions = {a: infos[a].get("planner_action", ZERO) for a in env.agents}
-            agent_steps += len(actions)
-            _, _, _, _, state["infos"] = env.step(actions)
-        return (time.thread_time_ns() - t0) / 1e3, agent_steps
+                state["obs"], state["infos"] = env.reset(seed=seed)
+            acts = actions()
+            agents += len(acts)
+            t0 = time.thread_time_ns()
+            out = env.step(acts)
+            total += time.thread_time_ns() - t0
+            state["obs"], state["infos"] = out[0], out[4]
+        return total / 1e3, agents, physics_ns[0] / 1e3, call_ns[0] / 1e3
 
-    def cpu_us(fn: Callable[[], None], n: int) -> float:
+    def bare(model: mujoco.MjModel, n: int) -> float:
+        """us per control step of bare stepping of `model` from the env's current state."""
+        d = copy.copy(sim.data) if model is m else mujoco.MjData(model)
+        if model is not m:
+            for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
+                getattr(d, name)[:] = getattr(sim.data, name)
+            mujoco.mj_forward(model, d)
         t0 = time.thread_time_ns()
         for _ in range(n):
-            fn()
+            mujoco.mj_step(model, d, skip)
         return (time.thread_time_ns() - t0) / n / 1e3
 
-    def rust() -> None:
-        ws.world.step(ws.sim.state, ws.sim.contacts, ws.out, ws.people)
-
-    def bare() -> None:
-        mujoco.mj_step(m, d, skip)
-
     run(20)  # warm up
-    step_us, agent_us, rust_us, bare_us = [], [], [], []
+    res: dict[str, list[float]] = {k: [] for k in ("step", "agent", "physics", "core", "bare", "bare_full")}
     for _ in range(TRIALS):
-        total, agents = run(STEPS)
-        step_us.append(total / STEPS)
-        agent_us.append(total / agents)
-        rust_us.append(cpu_us(rust, STEPS))  # advances the people; harmless for timing
-        bare_us.append(cpu_us(bare, STEPS))
-        _, state["infos"] = env.reset(seed=seed)
-    people = ws.world.num_people
+        total, agents, physics, world_call = run(STEPS)
+        res["step"].append(total / STEPS)
+        res["agent"].append(total / max(agents, 1))
+        res["physics"].append(physics / STEPS)
+        res["core"].append((world_call - physics) / STEPS)
+        res["bare"].append(bare(m, 50))
+        res["bare_full"].append(bare(rm, 50))
+    out = {k: statistics.median(v) for k, v in res.items()}
+    out["people"] = ws.world.num_people
     env.close()
-    return {
-        "people": people,
-        "step": statistics.median(step_us),
-        "agent": statistics.median(agent_us),
-        "rust": statistics.median(rust_us),
-        "bare": statistics.median(bare_us),
-    }
+    return out
 
 
 def main() -> None:
-    print(f"parallel env, museum_multi, {TRIALS} trials x {STEPS} steps, thread CPU time, medians")
-    settings = (
-        ("social", None, True, "planner social"),
-        ("astar", "astar", True, "planner astar"),
-        ("none", None, False, "policies only (planner_actions=False)"),
+    print(
+        f"parallel env, museum_multi, {TRIALS} trials x {STEPS} steps, env.step thread CPU time, medians "
+        "(bare: mj_step x frame_skip from the env's states; full: the visual model)"
     )
-    for _, planners, planner_actions, label in settings:
+    settings = (
+        ("astar", True, "planner astar"),
+        (None, True, "planner social"),
+        (None, False, "policies only (turning in place)"),
+    )
+    for planners, planner_actions, label in settings:
         for robots in (4, 11):
             r = bench(robots, planners, planner_actions)
             what = f"{robots:2d} robots, {int(r['people'])} people, {label}"
             print(
-                f"  {what:58s} {r['step']:8.1f} us/step {1e6 / r['step']:7.0f} steps/s "
-                f"{1e6 / r['agent']:7.0f} agent-steps/s  ratio to bare MuJoCo {r['step'] / r['bare']:5.2f}x  "
-                f"(bare {r['bare']:.0f} us, Rust call {r['rust']:.0f} us = {100 * r['rust'] / r['step']:.0f}%)"
+                f"  {what:46s} {r['step']:7.1f} us/step {1e6 / r['step']:6.0f} steps/s "
+                f"{1e6 / r['agent']:6.0f} agent-steps/s  {r['step'] / r['bare']:5.2f}x bare MuJoCo "
+                f"(bare {r['bare']:.0f} us, full model {r['bare_full']:.0f} us; physics {r['physics']:.0f} us, "
+                f"core {r['core']:.0f} us, Python {r['step'] - r['physics'] - r['core']:.0f} us)"
             )
             if robots == 11:
+                rate = 1e6 / r["agent"]
                 print(
-                    f"  {'':58s} target {TARGET} agent-steps/s with 11 robots: "
-                    f"{'met' if 1e6 / r['agent'] >= TARGET else 'NOT met'}; the bare MuJoCo stepping alone "
-                    f"allows {robots * 1e6 / r['bare']:.0f}"
+                    f"  {'':46s} target {TARGET} agent-steps/s with 11 robots: {'met' if rate >= TARGET else 'NOT met'}"
+                    f"; the bare MuJoCo stepping alone allows {robots * 1e6 / r['bare']:.0f}"
                 )
 
 

@@ -99,20 +99,44 @@ def test_core_checks_buffer_sizes_and_state():
     scenario, _ = proxemic.scenarios.load("museum")
     world = _core.World(scenario)
     out = np.zeros(world.stride * world.num_robots)
-    people = np.zeros(world.num_people * 3)
+    people = np.zeros(world.num_people * _core.PERSON_OUT)
+    state, contacts = np.zeros(6), np.zeros(1, np.uint8)
+    nan = np.full(3, np.nan)
+    calls = []
+
+    def physics() -> None:
+        calls.append(1)
+
     with pytest.raises(InputError) as info:
         world.reset(0, np.zeros(3), people)
     assert info.value.field == "out"
+    with pytest.raises(InputError) as info:
+        world.reset(0, out, np.zeros(world.num_people * 3))
+    assert info.value.field == "people_out"
     with pytest.raises(InputError):
-        world.step(np.zeros(6), np.zeros(1, np.uint8), out, people)  # before reset
+        world.step(nan, physics, state, contacts, out, people)  # before reset
     world.reset(0, out, people)
-    state = np.zeros(6)
+    # Bad actions are refused before the physics runs.
+    with pytest.raises(InputError) as info:
+        world.step(np.array([0.0, np.nan, 1.0]), physics, state, contacts, out, people)
+    assert info.value.field == "action[0]"
+    with pytest.raises(InputError) as info:
+        world.step(np.zeros(6), physics, state, contacts, out, people)
+    assert info.value.field == "actions"
+    assert not calls
     state[2] = np.nan
     with pytest.raises(InputError) as info:
-        world.step(state, np.zeros(1, np.uint8), out, people)
+        world.step(nan, physics, state, contacts, out, people)
     assert info.value.field == "state[0][2]"
-    with pytest.raises(InputError):
-        world.command(np.array([0.0, np.nan, 1.0]), out)
+    assert calls == [1]
+
+    # An exception raised by the physics reaches the caller unchanged.
+    def broken() -> None:
+        raise RuntimeError("physics exploded")
+
+    state[2] = 0.0
+    with pytest.raises(RuntimeError, match="physics exploded"):
+        world.step(nan, broken, state, contacts, out, people)
 
 
 def test_bad_render_mode():
@@ -134,3 +158,21 @@ def test_bad_people_name_the_field(write_scenario, small_room):
     inside = small_room.replace("route = [[2, 2], [8, 2]]", 'behaviour = "standing"\npose = [5, 6, 0]')
     err = _scenario_error(inside, write_scenario)
     assert err.field == "person[0].pose" and "furniture" in err.expected
+
+
+def test_a_follower_of_an_unknown_robot_names_the_field(write_scenario, small_room):
+    """`guide = "robot:<name>"` must name a [[robot]] of the file (error: file, field, the robots'
+    names expected, the name given)."""
+    follower = 'behaviour = "follower"\nguide = "robot:pepper"\ngroup = 4'
+    text = small_room.replace("route = [[2, 2], [8, 2]]\nspeed = 1.0", follower)
+    text += '\n[[person]]\nname = "second"\nbehaviour = "follower"\nguide = "robot:pepper"\ngroup = 4\n'
+    err = _scenario_error(text, write_scenario)
+    assert err.field == "person[0].guide"
+    assert err.found == '"robot:pepper"'
+    assert "robot:<name>" in err.expected and "robot_0" in err.expected
+    assert err.file.endswith(".toml")
+    # Naming the robot works (it is called robot_0 when the file gives no name).
+    ok = text.replace("robot:pepper", "robot:robot_0").replace("[[robot]]", "[[robot]]\nwaypoints = [[5, 4]]")
+    path = write_scenario(ok)
+    _, desc = proxemic.scenarios.load(path)
+    assert desc["persons"][0]["guide_robot"] == 0 and len(desc["persons"][0]["tour"]) == 3

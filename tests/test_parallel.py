@@ -12,6 +12,7 @@ from pettingzoo.utils.conversions import parallel_to_aec
 
 import proxemic
 from proxemic import InputError, ScenarioError, UnknownNameError
+from proxemic.env import ProxemicEnv
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -320,3 +321,72 @@ def test_readme_parallel_example_runs(capsys):
     exec(compile(block, "README.md", "exec"), {})
     rate, collisions, team_time = capsys.readouterr().out.split()
     assert 0.0 <= float(rate) <= 1.0 and int(collisions) >= 0 and float(team_time) > 0.0
+
+
+class _CountingWorld:
+    """Counts every attribute of the core ``World`` used (each one is a call into Rust)."""
+
+    def __init__(self, inner: object) -> None:
+        self._inner = inner
+        self.used: list[str] = []
+
+    def __getattr__(self, name: str) -> object:
+        self.used.append(name)
+        return getattr(self._inner, name)
+
+
+def test_one_rust_call_per_control_step_for_all_robots():
+    """Policies act for some robots, planners drive the others: every control step is one call
+    into the core (``World.step``), apart from the metrics of the robots whose episode ends."""
+    env = proxemic.parallel_env("museum_multi", robots=6, autopilot={"robot_4", "robot_5"})
+    _, infos = env.reset(seed=1)
+    counting = _CountingWorld(env.ws.world)
+    env.ws.world = env.world = counting  # type: ignore[assignment]
+    before = counting._inner.calls  # type: ignore[attr-defined]
+    steps = 0
+    for _ in range(40):
+        counting.used.clear()
+        acts = {a: infos[a]["planner_action"] for a in env.agents if a not in env.autopilot}
+        _, _, terms, truncs, infos = env.step(acts)
+        steps += 1
+        ended = sum(terms.values()) + sum(truncs.values())
+        assert counting.used == (["step"] if not ended else ["step", "episode_metrics"]), counting.used
+        if not env.agents:
+            break
+    assert counting._inner.calls - before == steps  # type: ignore[attr-defined]
+    # The single-robot env too, with a policy and on autopilot.
+    for autopilot in (False, True):
+        single = ProxemicEnv("museum", autopilot=autopilot)
+        single.reset(seed=0)
+        counting = _CountingWorld(single.ws.world)
+        single.ws.world = single.world = counting  # type: ignore[assignment]
+        for _ in range(5):
+            single.step(np.array([0.5, 0.0, 0.1], np.float32))
+        assert counting.used == ["step"] * 5
+
+
+def test_museum_guide_robot_leads_its_tour_group():
+    """museum_multi's robot 1 leads four visitors: when it stands at its first stop (among the Old
+    Masters) they have followed it from gallery A and gather around it, and they stay with it."""
+    env = proxemic.parallel_env("museum_multi", robots=2, autopilot=True)
+    _, infos = env.reset(seed=0)
+    names = [p["name"] for p in env.scenario["persons"]]
+    group = [names.index(f"robot_tour_visitor_{k}") for k in range(1, 5)]
+    start = env.state()[1, :2].copy()
+    gathered_at = None
+    for step in range(900):
+        _, _, _, _, infos = env.step({})
+        r = env.state()[1, :2]
+        people = env.people()[group, :2]
+        dist = np.linalg.norm(people - r, axis=1)
+        if step > 20:
+            assert dist.max() < 8.0, (step, dist)  # they keep up with it
+        at_stop = np.linalg.norm(r - [21.0, 21.5]) < 0.35
+        if at_stop and infos.get("robot_1", {}).get("planner_mode") == "wait":
+            gathered_at = gathered_at if gathered_at is not None else step
+            if step - gathered_at >= 120:  # 12 s into the stop
+                assert np.linalg.norm(r - start) > 10.0
+                assert ((dist > 0.9) & (dist < 2.5)).all(), dist
+                break
+    else:
+        raise AssertionError("robot 1 never stood 12 s at its first stop")

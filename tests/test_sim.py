@@ -61,8 +61,8 @@ def test_person_contact_is_reported(small_room):
 def test_people_face_their_heading(small_room):
     sim = _sim(small_room)
     sim.reset(np.array([[1.5, 4.0, 0.0]]), np.array([[4.0, 2.0, np.pi / 2]]))
-    mujoco.mj_forward(sim.model, sim.data)
-    nose = sim.data.geom_xpos[sim.model.geom("person_0/nose").id]
+    sim.sync_render()
+    nose = sim.render_data.geom_xpos[sim.render_model.geom("person_0/nose").id]
     assert nose[1] > 2.05 and abs(nose[0] - 4.0) < 1e-6
 
 
@@ -72,7 +72,7 @@ def test_every_object_kind_has_a_model_and_keeps_its_collision_footprint():
     kinds = set()
     for name in ("museum", "care_center"):
         _, desc = scenarios.load(name)
-        m = Simulation(desc).model
+        m = Simulation(desc).render_model
         for o in desc["objects"]:
             kinds.add(o["kind"])
             g = m.geom(f"object/{o['name']}")
@@ -94,10 +94,91 @@ def test_robots_are_colour_coded_like_the_top_down_view():
     from proxemic.viz.topdown import ROBOT_PALETTE
 
     _, desc = scenarios.load("daza2021_fig15")
-    m = Simulation(desc).model
+    m = Simulation(desc).render_model
     assert len(desc["robots"]) == 4
     for i in range(4):
         rgba = m.geom(f"robot_{i}/shell").rgba
         np.testing.assert_allclose(rgba[:3] * 255.0, ROBOT_PALETTE[i], atol=1e-6)
     colours = {tuple(m.geom(f"robot_{i}/shell").rgba) for i in range(4)}
     assert len(colours) == 4
+
+
+def test_physics_model_is_the_render_model_without_what_cannot_collide():
+    _, desc = scenarios.load("museum_multi")
+    sim = Simulation(desc)
+    m, rm = sim.model, sim.render_model
+    # Only colliding geoms (static, robots' base and torso, people's bodies), no cameras or lights.
+    assert m.ncam == 0 and m.nlight == 0
+    assert all(m.geom_contype[g] or m.geom_conaffinity[g] for g in range(m.ngeom))
+    assert m.ngeom == len(desc["walls"]) + sum(o["solid"] for o in desc["objects"]) + 2 * len(desc["robots"]) + len(
+        desc["persons"]
+    )
+    assert rm.ngeom > 2 * m.ngeom
+    # The same bodies with the same masses and inertia (the visual parts are massless).
+    for i in range(len(desc["robots"])):
+        b, rb = m.body(f"robot_{i}/base"), rm.body(f"robot_{i}/base")
+        assert b.mass[0] == rb.mass[0] == 28.0
+        assert np.array_equal(b.inertia, rb.inertia) and np.array_equal(b.ipos, rb.ipos)
+    assert (m.nq, m.nv, m.nu, m.nmocap) == (rm.nq, rm.nv, rm.nu, rm.nmocap)
+
+
+def test_physics_and_render_models_step_bit_for_bit_alike(small_room):
+    """A robot pushed by a person into a wall: contacts with both, the same trajectory in the
+    physics model (contact hints on) and in the full visual model."""
+    sim = _sim(small_room)
+    rm, rd = sim.render_model, sim.render_data
+    robot = np.array([[9.0, 4.0, 0.0]])
+    person = np.array([[8.4, 4.0, 0.0, 1.0]])
+    sim.reset(robot, person)
+    mujoco.mj_resetData(rm, rd)
+    rd.qpos[:] = sim.data.qpos
+    rd.mocap_pos[:] = sim.data.mocap_pos
+    rd.mocap_quat[:] = sim.data.mocap_quat
+    flags = 0
+    for k in range(25):
+        person[0, 0] += 0.06  # the person walks into the robot
+        sim.write_people(person)
+        rd.mocap_pos[:] = sim.data.mocap_pos
+        rd.mocap_quat[:] = sim.data.mocap_quat
+        cmd = np.array([0.5, 0.05, 0.2 * (k % 3 - 1)])
+        sim.step(cmd)
+        flags |= int(sim.contacts[0])
+        rd.ctrl[:] = cmd
+        for _ in range(sim.frame_skip):
+            mujoco.mj_step(rm, rd)
+        assert np.array_equal(sim.data.qpos, rd.qpos) and np.array_equal(sim.data.qvel, rd.qvel), k
+    assert flags & _core.CONTACT_STATIC and flags & _core.CONTACT_PERSON
+
+
+def test_contact_hints_change_nothing_but_the_cost():
+    """Eleven robots driven blindly into walls, people and each other: the episode with the
+    core's contact hints equals the one with every pair tested, bit for bit; and the hints do
+    leave out far pairs."""
+    import proxemic
+
+    def run(hints: bool) -> tuple[list[np.ndarray], int]:
+        env = proxemic.parallel_env("museum_multi", robots=11, planners="astar")
+        sim = env.ws.sim
+        skipped = 0
+        if not hints:  # every pair tested, contacts read after every physics step
+            real, real_step = sim.set_hints, sim.step
+            sim.set_hints = lambda s, p: real(np.ones_like(s), np.ones_like(p))  # type: ignore[method-assign]
+            sim.step = lambda command, possible=True: real_step(command, True)  # type: ignore[method-assign]
+        rng = np.random.default_rng(3)
+        env.reset(seed=5)
+        states = []
+        for _ in range(400):
+            if not env.agents:
+                break
+            # full speed ahead, turning a little: into walls, people and each other
+            env.step({a: np.array([1.0, 0.0, rng.uniform(-0.3, 0.3)]) for a in env.agents})
+            states.append(sim.data.qpos.copy())
+            skipped += int((sim.model.body_contype == 0).sum())  # people out of the broadphase
+        return states, skipped
+
+    on, skipped = run(True)
+    off, none = run(False)
+    assert len(on) == len(off) > 20
+    assert all(np.array_equal(a, b) for a, b in zip(on, off, strict=True))
+    assert none == 0 and skipped > 0
+    assert len(on) < 400  # every robot collided before the step limit

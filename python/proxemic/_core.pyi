@@ -1,6 +1,6 @@
 """Type stubs of the compiled core ``proxemic._core`` (Rust, pyo3)."""
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from os import PathLike
 from typing import Any
 
@@ -17,6 +17,8 @@ ROBOT_FEATURES: int
 PEER_FEATURES: int
 OBS_MAX_SPEED: float
 OBS_MAX_ANGULAR: float
+PERSON_OUT: int
+CONTACT_RANGE: float
 PLANNERS: list[str]
 
 class Scenario:
@@ -70,17 +72,20 @@ class World:
     def time_of_day(self) -> float: ...
     @property
     def obs_position_bound(self) -> float: ...
+    @property
+    def calls(self) -> int: ...
     def reset(self, seed: int, out: npt.NDArray[np.float64], people_out: npt.NDArray[np.float64]) -> None: ...
-    def command(self, actions: npt.NDArray[np.float64], out: npt.NDArray[np.float64]) -> None: ...
     def step(
         self,
+        actions: npt.NDArray[np.float64],
+        physics: Callable[[], None],
         state: npt.NDArray[np.float64],
         contacts: npt.NDArray[np.uint8],
         out: npt.NDArray[np.float64],
         people_out: npt.NDArray[np.float64],
     ) -> None: ...
     def set_planning(self, planning: list[bool]) -> None: ...
-    def episode_metrics(self) -> list[dict[str, Any]]: ...
+    def episode_metrics(self, robots: list[int] | None = None) -> list[dict[str, Any]]: ...
     def astar_path(self, robot: int) -> npt.NDArray[np.float64]: ...
     def path(self, robot: int) -> npt.NDArray[np.float64]: ...
     def plan(

@@ -38,8 +38,8 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     social force model, never through walls or furniture, aware of the robot or oblivious to
     it): walkers on routes with pauses, standing people, exhibit visitors who dwell facing each
     exhibit of a list, standing conversations (F-formations) that form and break up on a
-    schedule, a tour guide whose followers gather on an arc facing it at every stop (Daza 2021
-    Fig. 11), people seated on benches and sofas, slow walkers (speed presets such as
+    schedule, a tour guide (a person, or a robot of the scenario) whose followers gather on an
+    arc facing it at every stop (Daza 2021 Fig. 11), people seated on benches and sofas, slow walkers (speed presets such as
     ``"elderly"``), and care-center residents and staff who follow the agenda (arriving before
     each activity, staying for it with the therapist facing the residents, leaving after). The
     museum (``proxemic/Museum-v0``) has 50 people with all of these but residents; the care center
@@ -62,7 +62,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     | key | shape | content |
     |---|---|---|
-    | ``robot`` | (5,) | goal offset (x, y) in the robot frame [m], robot velocity (vx, vy) in its frame [m/s], yaw rate [rad/s] |
+    | ``robot`` | (5,) | goal offset (x, y) in the robot frame [m] (to the next waypoint while a tour has one), robot velocity (vx, vy) in its frame [m/s], yaw rate [rad/s] |
     | ``people`` | (k, 5) | the k nearest people within sensor range: position (x, y) and velocity (vx, vy) in the robot frame, radius; zero rows beyond the mask |
     | ``people_mask`` | (k,) | 1 for a real person row, 0 for padding |
     | ``lidar`` | (rays,) | 2D range scan over 360 degrees from the robot's heading, counter-clockwise [m], capped at the range |
@@ -187,7 +187,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         )
 
     def _observation(self) -> dict[str, np.ndarray]:
-        return self.ws.observations(robots=False)[0]
+        return self.ws.observations(robots=False, rows=[0])[0]
 
     def _info(self, *, final: bool) -> dict[str, Any]:
         info = self.ws.info(0)
@@ -203,7 +203,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         value per person (scenario order) and ``psi_object`` / ``psi_object_any`` one per object
         with an interaction space (scenario order); :func:`flat_metrics` names them.
         """
-        metrics: dict[str, Any] = self.world.episode_metrics()[0]
+        metrics: dict[str, Any] = self.world.episode_metrics([0])[0]
         return metrics
 
     def flat_metrics(self) -> dict[str, Any]:

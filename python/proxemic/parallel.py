@@ -43,8 +43,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
     ``planner_action``, ``planner_mode``, and, at the agent's last step, its ``metrics``; once the
     last agent is done every final info also has ``team`` (see :meth:`episode_metrics`).
 
-    One control step is one Rust call for all robots (plus one when policies act), the GIL
-    released, whole arrays; the same seed gives the same episode bit for bit.
+    One control step is one Rust call for all robots (``World.step``: actions in, the MuJoCo
+    physics called back, everything else out), the GIL released but for the physics, whole
+    arrays; the same seed gives the same episode bit for bit.
     """
 
     metadata = {  # noqa: RUF012
@@ -139,6 +140,8 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
         self._np_random: np.random.Generator | None = None
         self._live: frozenset[str] = frozenset()
+        # Final metrics of the robots whose episode ended, by robot index.
+        self._final: dict[int, dict[str, Any]] = {}
 
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
         """Pickles as the constructor's arguments: a copy is a new env (episode state not carried)."""
@@ -162,6 +165,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.ws.reset(int(self._np_random.integers(0, 2**63 - 1)))
         self.agents = list(self.possible_agents)
         self._live = frozenset(self.agents)
+        self._final = {}
         obs = self.ws.observations(robots=True)
         infos = dict(zip(self.agents, self.ws.infos(list(range(len(self.agents)))), strict=True))
         if self.render_mode == "human":
@@ -192,8 +196,6 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                 expected=f"keys among {live}",
                 found=repr(extra),
             )
-        acting = [a for a in actions if a not in self.autopilot]
-        ws.act_many([index[a] for a in acting], [actions[a] for a in acting], [f"actions[{a!r}]" for a in acting])
         missing = [a for a in live if a not in actions and a not in self.autopilot]
         if missing:
             raise InputError(
@@ -202,25 +204,29 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                 expected=f"keys {[a for a in self.agents if a not in self.autopilot]}",
                 found=f"keys {list(actions)}",
             )
+        autopilot = self.autopilot
+        acting = [a for a in actions if a not in autopilot] if autopilot else list(actions)
+        ws.act_many([index[a] for a in acting], [actions[a] for a in acting], lambda k: f"actions[{acting[k]!r}]")
         ws.step_actions()
-        obs_all = ws.observations(robots=True)
-        reward = ws.sections["reward"][:, 0].tolist()
-        flags = ws.sections["flags"][:, :2].tolist()
         rows = [index[a] for a in live]
-        obs, rewards, terms, truncs = {}, {}, {}, {}
+        obs = dict(zip(live, ws.observations(robots=True, rows=rows), strict=True))
+        outcome = ws.step_outcome()
+        rewards, terms, truncs = {}, {}, {}
+        finished = []
         for a, i in zip(live, rows, strict=True):
-            obs[a] = obs_all[i]
-            rewards[a] = reward[i]
-            terms[a] = flags[i][0] != 0.0
-            truncs[a] = flags[i][1] != 0.0
+            rewards[a], terms[a], truncs[a] = outcome[i]
+            if terms[a] or truncs[a]:
+                finished.append(a)
         infos = dict(zip(live, ws.infos(rows), strict=True))
-        self.agents = [a for a in live if not (terms[a] or truncs[a])]
-        self._live = frozenset(self.agents)
-        finished = [a for a in live if terms[a] or truncs[a]]
         if finished:
-            metrics = self.metrics()
+            self.agents = [a for a in live if not (terms[a] or truncs[a])]
+            self._live = frozenset(self.agents)
+            # A robot's metrics are final once its episode ended: evaluated once, kept.
+            done = [index[a] for a in finished]
+            for i, m in zip(done, self.world.episode_metrics(done), strict=True):
+                self._final[i] = m
             for a in finished:
-                infos[a]["metrics"] = metrics[index[a]]
+                infos[a]["metrics"] = self._final[index[a]]
             if not self.agents:
                 team = self.episode_metrics()
                 for a in finished:
@@ -261,7 +267,11 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         ``team_time`` (s until the last robot's episode ended: the team's makespan) and
         ``total_time`` (s, the robots' episode durations summed).
         """
-        ms = self.metrics()
+        n_robots = len(self.possible_agents)
+        if len(self._final) == n_robots:
+            ms = [self._final[i] for i in range(n_robots)]
+        else:
+            ms = self.metrics()
         n = max(len(ms), 1)
         return {
             "robots": ms,

@@ -6,6 +6,22 @@ Pepper-like base per robot (``robot_<i>/``, slide-x, slide-y, hinge-yaw joints w
 velocity servos), one mocap body per person (``person_<i>/``). Mocap bodies generate contacts
 only with the robots, so the contacts read back are exactly robot-person, robot-static and
 robot-robot events.
+
+Two models are compiled from the same spec. The physics model (:attr:`Simulation.model`) holds
+only what collides: the walls' and objects' collision footprints, each robot's base and torso,
+each person's body capsule, with the same masses; no cameras, lights, floor or visual parts. The
+render model (:attr:`Simulation.render_model`, compiled on first use) adds the furniture models,
+the people's heads and the robots' heads, tablets and coloured shells, and is posed from the
+physics model's state before each frame. The visual parts are massless and never collide, so both
+models step bit for bit alike; the physics model is just cheaper to step.
+
+Contact filtering: the static geometry has contype 2 and conaffinity 0, robots contype 1 and
+conaffinity 1 (other robots, people) plus 2 while the core's ``near_static`` hint says they are
+within ``CONTACT_RANGE`` of a wall or object, and each person's body contype = conaffinity = 1
+only while within that range of a robot (the core's person hint; 0 leaves the body out of the
+broadphase). Static-static, person-static and
+person-person pairs are never generated (mocap bodies are welded to the world), and the hints only
+drop pairs that cannot touch during the control step: the contacts are the same.
 """
 
 from __future__ import annotations
@@ -33,10 +49,10 @@ ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(
     (r / 255.0, g / 255.0, b / 255.0, 1.0) for r, g, b in ROBOT_PALETTE
 )
 
-#: Owner codes of geoms in contact classification.
-OWNER_STATIC = -1
-OWNER_PERSON = -2
-OWNER_NONE = -3
+#: Contact bits of the physics model: the static geometry's contype, and the robots' and
+#: people's contype (see the module docstring).
+STATIC_BIT = 2
+DYNAMIC_BIT = 1
 
 
 def models_dir() -> Path:
@@ -48,8 +64,16 @@ def _yaw_quat(yaw: float) -> list[float]:
     return [float(np.cos(yaw / 2.0)), 0.0, 0.0, float(np.sin(yaw / 2.0))]
 
 
-def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
-    """Builds the MuJoCo spec of a validated scenario dict (see ``Scenario.to_json``)."""
+def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpec:
+    """Builds the MuJoCo spec of a validated scenario dict (see ``Scenario.to_json``).
+
+    Args:
+        scenario: The validated scenario.
+        visual: True for the render model (everything the cameras see); False for the physics
+            model: the same bodies, joints, actuators and collision geoms, without the massless
+            visual parts, floor, cameras and lights, and with the contact bits described in the
+            module docstring.
+    """
     scene = scenario["scene"]
     spec = mujoco.MjSpec()
     spec.modelname = scene["name"]
@@ -143,130 +167,218 @@ def build_spec(scenario: dict[str, Any]) -> mujoco.MjSpec:
         if p["group"] is not None:
             hue = (p["group"] * 0.618034) % 1.0
             body.rgba = [0.35 + 0.5 * hue, 0.45, 0.85 - 0.5 * hue, 1.0]
+    if not visual:
+        _strip_to_physics(spec)
     return spec
 
 
+def _strip_to_physics(spec: mujoco.MjSpec) -> None:
+    """Strips a scene spec down to its physics model.
+
+    Removes what does not collide (massless visual parts, floor), cameras and lights, and sets the
+    contact bits: static contype 2, robots and people contype = conaffinity = 1 (robots add 2 while
+    near the static geometry, see :meth:`Simulation.set_hints`).
+    """
+    for g in list(spec.geoms):
+        if g.contype == 0 and g.conaffinity == 0:
+            # robots' visual parts are massless; people are mocap bodies (their mass is unused)
+            spec.delete(g)
+        elif g.name.startswith(("wall_", "object/")):
+            g.contype, g.conaffinity = STATIC_BIT, 0
+        else:
+            g.contype, g.conaffinity = DYNAMIC_BIT, DYNAMIC_BIT | STATIC_BIT
+    for c in list(spec.cameras):
+        spec.delete(c)
+    for light in list(spec.lights):
+        spec.delete(light)
+
+
 class Simulation:
-    """Owns the MjModel and MjData of a scenario and moves arrays in and out of them."""
+    """The physics model and data of a scenario (and its render model), with arrays in and out.
+
+    Attributes:
+        model: The physics model (collision geoms only; see the module docstring).
+        data: Its data.
+        state: The robots' world-frame poses and velocities after :meth:`read`, ``6 * N`` values
+            (x, y, theta, vx, vy, wz per robot).
+        contacts: One uint8 of ``CONTACT_*`` bits per robot, accumulated over the last :meth:`step`.
+        frame_skip: Physics steps per control step.
+    """
 
     def __init__(self, scenario: dict[str, Any]) -> None:
-        """Compiles the model of `scenario` (a validated scenario dict)."""
+        """Compiles the physics model of `scenario` (a validated scenario dict)."""
         self.scenario = scenario
-        self.model = build_spec(scenario).compile()
+        self.model = build_spec(scenario, visual=False).compile()
         self.data = mujoco.MjData(self.model)
-        m = self.model
+        m, d = self.model, self.data
         self.num_robots = len(scenario["robots"])
         self.num_people = len(scenario["persons"])
         self.frame_skip = round(scenario["scene"]["physics_hz"] / scenario["scene"]["control_hz"])
-        self._qpos = np.array(
-            [[m.jnt_qposadr[m.joint(f"robot_{i}/{j}").id] for j in ("x", "y", "yaw")] for i in range(self.num_robots)],
-            dtype=np.intp,
-        )
-        self._qvel = np.array(
-            [[m.jnt_dofadr[m.joint(f"robot_{i}/{j}").id] for j in ("x", "y", "yaw")] for i in range(self.num_robots)],
-            dtype=np.intp,
-        )
-        self._ctrl = np.array(
-            [[m.actuator(f"robot_{i}/{a}").id for a in ("vx", "vy", "wz")] for i in range(self.num_robots)],
-            dtype=np.intp,
-        )
-        self._mocap = np.array(
-            [m.body_mocapid[m.body(f"person_{i}/root").id] for i in range(self.num_people)], dtype=np.intp
-        )
-        # Contiguous layouts (the usual case) use slices, which numpy handles faster than fancy indexing.
-        self._qpos_slice = _as_slice(self._qpos)
-        self._qvel_slice = _as_slice(self._qvel)
-        self._ctrl_slice = _as_slice(self._ctrl)
-        self._mocap_slice = _as_slice(self._mocap)
-        owner = np.full(m.ngeom, OWNER_NONE, dtype=np.int64)
+        n, p = self.num_robots, self.num_people
+        qpos = np.array([[m.jnt_qposadr[m.joint(f"robot_{i}/{j}").id] for j in ("x", "y", "yaw")] for i in range(n)])
+        qvel = np.array([[m.jnt_dofadr[m.joint(f"robot_{i}/{j}").id] for j in ("x", "y", "yaw")] for i in range(n)])
+        ctrl = np.array([[m.actuator(f"robot_{i}/{a}").id for a in ("vx", "vy", "wz")] for i in range(n)])
+        mocap = np.array([m.body_mocapid[m.body(f"person_{i}/root").id] for i in range(p)], dtype=np.intp)
+        robot_geoms = [[g for g in range(m.ngeom) if m.geom(g).name.startswith(f"robot_{i}/")] for i in range(n)]
+        robot_bodies = [m.body(f"robot_{i}/base").id for i in range(n)]
+        person_geoms = [m.geom(f"person_{i}/body").id for i in range(p)]
+        person_bodies = [m.body(f"person_{i}/root").id for i in range(p)]
+        # Views of the data's arrays (the data's memory never moves), sliced once.
+        self._qpos = _view(d.qpos, qpos)
+        self._qvel = _view(d.qvel, qvel)
+        self._ctrl = _view(d.ctrl, ctrl)
+        self._mocap_pos = _view(d.mocap_pos, mocap)
+        self._mocap_quat = _view(d.mocap_quat, mocap)
+        per_robot = {len(g) for g in robot_geoms}
+        if len(per_robot) > 1:  # SHOULD NOT OCCUR: every robot is the same model
+            raise ValueError("robots with different numbers of collision geoms")
+        self._robot_geom_aff = _view(m.geom_conaffinity, np.array(robot_geoms, dtype=np.intp).reshape(n, -1))
+        self._robot_body_aff = _view(m.body_conaffinity, np.array(robot_bodies, dtype=np.intp))
+        # A person's body flags decide whether the broadphase sees them at all (MuJoCo checks a
+        # body's contype/conaffinity before pairing it), so they are the ones switched.
+        pb = np.array(person_bodies, dtype=np.intp)
+        self._person_flags = [_view(m.body_contype, pb), _view(m.body_conaffinity, pb)]
+        # Contact classification: per geom, the robot owning it (-1 for none) and the CONTACT_*
+        # bit another robot touching it gets.
+        owner = np.full(m.ngeom, -1, dtype=np.intp)
+        bit = np.zeros(m.ngeom, dtype=np.uint8)
+        for i, geoms in enumerate(robot_geoms):
+            owner[geoms] = i
+            bit[geoms] = _core.CONTACT_ROBOT
+        bit[person_geoms] = _core.CONTACT_PERSON
         for g in range(m.ngeom):
-            name = m.geom(g).name
-            if name.startswith("robot_"):
-                owner[g] = int(name.split("/")[0].split("_")[1])
-            elif name.startswith("person_"):
-                owner[g] = OWNER_PERSON
-            elif name.startswith(("wall_", "object/")):
-                owner[g] = OWNER_STATIC
-        self._owner = owner
-        self.state = np.zeros(6 * self.num_robots)
-        self.contacts = np.zeros(self.num_robots, dtype=np.uint8)
-        self._quat = np.zeros((self.num_people, 4))
+            if m.geom(g).name.startswith(("wall_", "object/")):
+                bit[g] = _core.CONTACT_STATIC
+        self._owner_list: list[int] = owner.tolist()
+        self._bit_list: list[int] = bit.tolist()
+        self.state = np.zeros(6 * n)
+        self._state2d = self.state.reshape(n, 6)
+        self.contacts = np.zeros(n, dtype=np.uint8)
+        self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
 
     def reset(self, robot_poses: np.ndarray, people: np.ndarray) -> None:
-        """Resets the physics with robots at `robot_poses` (N, 3) and people at `people` (P, 3)."""
+        """Resets the physics: robots at `robot_poses` (N, 3), people at `people`.
+
+        `people` has P rows of at least 3 columns (x, y, heading; then the core's contact hints,
+        unused here: every contact pair is enabled until the next :meth:`set_hints`).
+        """
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
-        for i in range(self.num_robots):
-            d.qpos[self._qpos[i]] = robot_poses[i]
+        self._qpos[:] = robot_poses
         self.write_people(people)
+        self.set_hints(np.ones(self.num_robots), np.ones(self.num_people))
         mujoco.mj_forward(m, d)
         self.contacts[:] = 0
         self.read()
 
     def write_people(self, people: np.ndarray) -> None:
-        """Writes the people's poses (P, 3: x, y, heading) into their mocap bodies."""
+        """Writes the people's poses into their mocap bodies.
+
+        `people` has P rows: x, y, heading, and (the core's buffer, ``PERSON_OUT`` columns) the
+        contact hint and the heading's yaw quaternion w and z; with 3 columns the quaternion is
+        computed here.
+        """
         if self.num_people == 0:
             return
-        d = self.data
-        idx = self._mocap_slice if self._mocap_slice is not None else self._mocap
-        d.mocap_pos[idx, 0] = people[:, 0]
-        d.mocap_pos[idx, 1] = people[:, 1]
-        half = people[:, 2] * 0.5
-        q = self._quat
-        np.cos(half, out=q[:, 0])
-        np.sin(half, out=q[:, 3])
-        d.mocap_quat[idx] = q
+        self._mocap_pos[:, :2] = people[:, :2]
+        q = self._mocap_quat
+        if people.shape[1] >= 6:
+            q[:, 0] = people[:, 4]
+            q[:, 3] = people[:, 5]
+        else:
+            half = people[:, 2] * 0.5
+            q[:, 0] = np.cos(half)
+            q[:, 3] = np.sin(half)
 
-    def step(self, command: np.ndarray) -> None:
+    def set_hints(self, near_static: np.ndarray, near_people: np.ndarray) -> None:
+        """Sets which contact pairs the physics tests (the core's hints, 1.0 or 0.0 each).
+
+        Args:
+            near_static: Per robot: test it against the static geometry.
+            near_people: Per person: test them against the robots.
+        """
+        aff = near_static * STATIC_BIT + DYNAMIC_BIT
+        self._robot_geom_aff[:] = aff[:, None]
+        self._robot_body_aff[:] = aff
+        for arr in self._person_flags:
+            arr[:] = near_people
+
+    def step(self, command: np.ndarray, contacts_possible: bool = True) -> None:
         """Writes robot-frame commands (N, 3) to the servos and advances one control period.
 
         Contacts are checked after every physics step (a person's push can separate the bodies
         again within one control period), and accumulated into `contacts` as CONTACT_* bits.
+        With `contacts_possible` False (the core's hints rule every contact out for this
+        period), the physics steps are made in one call and no contact is read.
         """
         m, d = self.model, self.data
-        idx = self._ctrl_slice if self._ctrl_slice is not None else self._ctrl
-        d.ctrl[idx] = command.reshape(-1)
-        self.contacts[:] = 0
+        self._ctrl[:] = command
+        if not contacts_possible:
+            mujoco.mj_step(m, d, self.frame_skip)
+            self.contacts[:] = 0
+            return
+        owner, bit = self._owner_list, self._bit_list
+        acc = [0] * self.num_robots
+        step = mujoco.mj_step
         for _ in range(self.frame_skip):
-            mujoco.mj_step(m, d)
+            step(m, d)
             if d.ncon:
-                self._classify_contacts(d.contact.geom[: d.ncon])
+                # A handful of pairs at most: plain Python beats numpy on arrays this small.
+                for g1, g2 in d.contact.geom[: d.ncon].tolist():
+                    o1, o2 = owner[g1], owner[g2]
+                    if o1 >= 0:
+                        acc[o1] |= bit[g2]
+                    if o2 >= 0:
+                        acc[o2] |= bit[g1]
+        self.contacts[:] = acc
 
     def read(self) -> None:
         """Reads the robots' world-frame poses and velocities into `state`."""
-        d = self.data
-        st = self.state.reshape(-1, 6)
-        if self._qpos_slice is not None and self.num_robots == 1:
-            st[0, :3] = d.qpos[self._qpos_slice]
-            st[0, 3:] = d.qvel[self._qvel_slice]
-        else:
-            st[:, :3] = d.qpos[self._qpos]
-            st[:, 3:] = d.qvel[self._qvel]
+        st = self._state2d
+        st[:, :3] = self._qpos
+        st[:, 3:] = self._qvel
 
-    def _classify_contacts(self, geoms: np.ndarray) -> None:
-        owners = self._owner[geoms]
-        for a, b in ((0, 1), (1, 0)):
-            mine, other = owners[:, a], owners[:, b]
-            for k in np.nonzero(mine >= 0)[0]:
-                i, o = int(mine[k]), int(other[k])
-                if o == OWNER_PERSON:
-                    self.contacts[i] |= _core.CONTACT_PERSON
-                elif o == OWNER_STATIC:
-                    self.contacts[i] |= _core.CONTACT_STATIC
-                elif o >= 0 and o != i:
-                    self.contacts[i] |= _core.CONTACT_ROBOT
+    @property
+    def render_model(self) -> mujoco.MjModel:
+        """The render model (compiled on first use): the physics model plus the visual parts."""
+        return self._render_pair()[0]
+
+    @property
+    def render_data(self) -> mujoco.MjData:
+        """The render model's data, posed by :meth:`sync_render`."""
+        return self._render_pair()[1]
+
+    def _render_pair(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        if self._render is None:
+            rm = build_spec(self.scenario, visual=True).compile()
+            if (rm.nq, rm.nv, rm.nmocap, rm.nu) != (self.model.nq, self.model.nv, self.model.nmocap, self.model.nu):
+                raise ValueError("render and physics models differ in joints or bodies")  # SHOULD NOT OCCUR
+            self._render = (rm, mujoco.MjData(rm))
+        return self._render
+
+    def sync_render(self) -> None:
+        """Poses the render model like the physics: joints, velocities, people, time."""
+        rm, rd = self._render_pair()
+        d = self.data
+        rd.qpos[:] = d.qpos
+        rd.qvel[:] = d.qvel
+        rd.mocap_pos[:] = d.mocap_pos
+        rd.mocap_quat[:] = d.mocap_quat
+        rd.time = d.time
+        mujoco.mj_kinematics(rm, rd)
+        mujoco.mj_camlight(rm, rd)
 
     def render(self, width: int, height: int, camera: str = "top") -> np.ndarray:
         """Renders an RGB frame offscreen (EGL or OSMesa; see `ensure_gl_backend`)."""
         key = (width, height)
+        self.sync_render()
+        rm, rd = self._render_pair()
         renderer = self._renderers.get(key)
         if renderer is None:
-            renderer = mujoco.Renderer(self.model, height, width)
+            renderer = mujoco.Renderer(rm, height, width)
             self._renderers[key] = renderer
-        mujoco.mj_kinematics(self.model, self.data)
-        mujoco.mj_camlight(self.model, self.data)
-        renderer.update_scene(self.data, camera=camera)
+        renderer.update_scene(rd, camera=camera)
         renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
         renderer.scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = 0
         return renderer.render().copy()
@@ -278,13 +390,17 @@ class Simulation:
         self._renderers.clear()
 
 
-def _as_slice(idx: np.ndarray) -> slice | None:
+def _view(arr: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    """``arr[idx]`` as a writable view, shaped like `idx` (plus `arr`'s trailing axes).
+
+    The scene is built robot by robot and person by person, so every index set used here is a
+    contiguous run; anything else is a bug in :func:`build_spec`.
+    """
     flat = idx.reshape(-1)
-    if flat.size == 0:
-        return None
-    if np.array_equal(flat, np.arange(flat[0], flat[0] + flat.size)):
-        return slice(int(flat[0]), int(flat[0]) + flat.size)
-    return None
+    start = int(flat[0]) if flat.size else 0
+    if not np.array_equal(flat, np.arange(start, start + flat.size)):
+        raise ValueError(f"expected contiguous indices, got {flat.tolist()}")  # SHOULD NOT OCCUR
+    return arr[start : start + flat.size].reshape(*idx.shape, *arr.shape[1:])
 
 
 def ensure_gl_backend() -> str:

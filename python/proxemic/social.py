@@ -86,7 +86,7 @@ class SocialMap:
         self.world = _core.World(core)
         self.robot = robot
         out = np.zeros(self.world.num_robots * self.world.stride)
-        people = np.zeros(self.world.num_people * 3)
+        people = np.zeros(self.world.num_people * _core.PERSON_OUT)
         self.world.reset(int(seed), out, people)
         tod = parse_time_of_day(time_of_day)
         self.time_of_day = self.world.time_of_day if tod is None else tod

@@ -2,15 +2,16 @@
 
 Both front ends drive a :class:`WorldSim`: the gymnasium env (:mod:`proxemic.env`, one robot
 acting) and the PettingZoo parallel env (:mod:`proxemic.parallel`, every robot an agent). A
-control step is at most one ``World.command`` (when policies act), the physics, and one
-``World.step`` for all robots (GIL released in both calls); every output lands in one float64
-buffer of ``num_robots`` rows sliced by the core's layout. The observation and action spaces
+control step is one Rust call for all robots, ``World.step``: it turns the policies' actions into
+commands, calls back :meth:`WorldSim._physics` (MuJoCo, the only part with the GIL held), and
+computes the people, metrics, rewards, observations and planners; every output lands in one
+float64 buffer of ``num_robots`` rows sliced by the core's layout. The observation and action spaces
 and the rendering live here too, so both front ends describe a robot the same way.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import gymnasium as gym
@@ -57,7 +58,7 @@ class WorldSim:
         out: The core's output buffer, ``num_robots * stride`` float64 values.
         rows: ``out`` as (num_robots, stride).
         sections: ``{name: (num_robots, len) view of rows}`` for every layout section.
-        people: The people's poses buffer (P * 3: x, y, heading).
+        people: The people's buffer (P * PERSON_OUT: x, y, heading, contact hint).
         topdown: The 2D renderer, once a ``"topdown"`` frame was drawn.
     """
 
@@ -70,11 +71,29 @@ class WorldSim:
         self.num_robots: int = w.num_robots
         self.out = np.zeros(w.num_robots * w.stride)
         self.rows = self.out.reshape(w.num_robots, w.stride)
-        self.people = np.zeros(w.num_people * 3)
-        self._people2d = self.people.reshape(-1, 3)
+        self.people = np.zeros(w.num_people * _core.PERSON_OUT)
+        self._people2d = self.people.reshape(-1, _core.PERSON_OUT)
         self.layout: dict[str, tuple[int, int]] = dict(w.layout)
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
         self._actions = np.full(3 * w.num_robots, np.nan)
+        self._all_rows = list(range(w.num_robots))
+        self._near_cols = np.array([self.layout["near_static"][0], self.layout["near_robot"][0]])
+        # The columns step_outcome() reads: reward, terminated, truncated.
+        self._outcome_cols = np.array([self.layout["reward"][0], self.layout["flags"][0], self.layout["flags"][0] + 1])
+        # The columns infos() reads: the reward terms, success and collision, mode, time of day.
+        terms, flags = self.layout["reward_terms"], self.layout["flags"]
+        self._info_cols = np.array(
+            [
+                *range(terms[0], terms[0] + terms[1]),
+                flags[0] + 2,
+                flags[0] + 3,
+                self.layout["mode"][0],
+                self.layout["time_of_day"][0],
+            ]
+        )
+        self._command = self.sections["command"]
+        self._near_static = self.sections["near_static"][:, 0]
+        self._near_people = self._people2d[:, 3]
         self.planning = [True] * w.num_robots
         sensors = scenario["sensors"]
         self.k_nearest: int = sensors["k_nearest"]
@@ -131,14 +150,27 @@ class WorldSim:
         self.sim.reset(self.sections["pose"], self._people2d)
 
     def step(self, actions: np.ndarray | None = None) -> None:
-        """One control step: optional normalised actions (3 per robot, NaN rows keep the planner)."""
-        if actions is not None:
-            self.world.command(actions, self.out)
+        """One control step, one Rust call: the actions, the physics, then everything else.
+
+        `actions` holds 3 normalised values per robot; NaN rows (and no `actions` at all) keep the
+        built-in planners.
+        """
+        sim = self.sim
+        acts = self._actions if actions is None else actions
+        self.world.step(acts, self._physics, sim.state, sim.contacts, self.out, self.people)
+
+    def _physics(self) -> None:
+        """The physics of a control step, called back by ``World.step`` between its two halves.
+
+        The people's poses and the contact hints in, the commands executed, the robots read.
+        """
         sim = self.sim
         sim.write_people(self._people2d)
-        sim.step(self.sections["command"])
+        sim.set_hints(self._near_static, self._near_people)
+        # Nothing near anything (no robot near a wall, a person or another robot): no contact.
+        possible = bool(self.rows[:, self._near_cols].any()) or bool(self._near_people.any())
+        sim.step(self._command, possible)
         sim.read()
-        self.world.step(sim.state, sim.contacts, self.out, self.people)
 
     def act(self, robot: int, action: Any, field: str) -> None:
         """Stores `action` for `robot` in the actions of the next :meth:`step_actions` call.
@@ -156,8 +188,11 @@ class WorldSim:
             )
         self._actions[3 * robot : 3 * robot + 3] = a
 
-    def act_many(self, robots: list[int], actions: list[Any], fields: list[str]) -> None:
-        """:meth:`act` for several robots at once (one array conversion; errors name the culprit)."""
+    def act_many(self, robots: list[int], actions: list[Any], fields: Callable[[int], str]) -> None:
+        """:meth:`act` for several robots at once (one array conversion).
+
+        `fields(k)` names the k-th action in an error message; on an error no action is kept.
+        """
         if not robots:
             return
         try:
@@ -165,11 +200,18 @@ class WorldSim:
         except (ValueError, TypeError):
             a = np.empty(0)
         if a.shape != (len(robots), 3) or not np.isfinite(a).all():
-            for r, action, field in zip(robots, actions, fields, strict=True):
-                self.act(r, action, field)
+            try:
+                for k, (r, action) in enumerate(zip(robots, actions, strict=True)):
+                    self.act(r, action, fields(k))
+            except InputError:
+                self._actions.fill(np.nan)  # nothing of a rejected step is kept
+                raise
             return
-        idx = np.asarray(robots)
-        self._actions.reshape(-1, 3)[idx] = a
+        acts = self._actions.reshape(-1, 3)
+        if len(robots) == self.num_robots and robots == self._all_rows:
+            acts[:] = a  # every robot, in order: a plain copy
+        else:
+            acts[robots] = a
 
     def step_actions(self) -> None:
         """Steps with the actions stored by :meth:`act` (others keep their planners), then clears them."""
@@ -177,26 +219,29 @@ class WorldSim:
         self._actions.fill(np.nan)
 
     # ------------------------------------------------------------------ outputs
-    def observations(self, robots: bool) -> list[dict[str, np.ndarray]]:
-        """Every robot's observation (float32 views of one fresh copy of the buffer)."""
-        rows = self.rows.astype(np.float32)
-        n, lay = self.num_robots, self.layout
+    def observations(self, robots: bool, rows: list[int] | None = None) -> list[dict[str, np.ndarray]]:
+        """The observations of the robots `rows` (default all), float32 views of one fresh copy."""
+        data = (self.rows if rows is None else self.rows[rows]).astype(np.float32)
+        n, lay, total = len(data), self.layout, self.num_robots
 
         def part(name: str, *shape: int) -> np.ndarray:
             off, length = lay[name]
-            return rows[:, off : off + length].reshape(n, *shape)
+            return data[:, off : off + length].reshape(n, *shape)
 
-        parts = {
-            "robot": part("obs_robot", -1),
-            "people": part("obs_people", self.k_nearest, _core.PERSON_FEATURES),
-            "people_mask": part("obs_people_mask", -1),
-            "lidar": part("obs_lidar", -1),
-        }
+        parts = [
+            ("robot", part("obs_robot", -1)),
+            ("people", part("obs_people", self.k_nearest, _core.PERSON_FEATURES)),
+            ("people_mask", part("obs_people_mask", -1)),
+            ("lidar", part("obs_lidar", -1)),
+        ]
         if robots:
-            parts["robots"] = part("obs_robots", n - 1, _core.PEER_FEATURES)
-            parts["robots_mask"] = part("obs_robots_mask", n - 1)
-        items = list(parts.items())
-        return [{key: arr[i] for key, arr in items} for i in range(n)]
+            parts.append(("robots", part("obs_robots", total - 1, _core.PEER_FEATURES)))
+            parts.append(("robots_mask", part("obs_robots_mask", total - 1)))
+        return [{key: arr[i] for key, arr in parts} for i in range(n)]
+
+    def step_outcome(self) -> list[tuple[float, bool, bool]]:
+        """Every robot's (reward, terminated, truncated) after the last step (one read)."""
+        return [(r, t != 0.0, u != 0.0) for r, t, u in self.rows[:, self._outcome_cols].tolist()]
 
     def info(self, robot: int) -> dict[str, Any]:
         """Robot `robot`'s step info: reward terms, success and collision flags, planner command and mode."""
@@ -204,21 +249,19 @@ class WorldSim:
 
     def infos(self, robots: list[int]) -> list[dict[str, Any]]:
         """:meth:`info` of several robots (the buffer is read once)."""
-        s = self.sections
-        terms = s["reward_terms"].tolist()
-        flags = s["flags"].tolist()
-        modes = s["mode"][:, 0].tolist()
-        actions = s["planner_action"].astype(np.float32)
-        tod = self.world.time_of_day
+        vals = self.rows[:, self._info_cols].tolist()
+        actions = self.sections["planner_action"].astype(np.float32)
+        planning, nterms = self.planning, len(REWARD_KEYS)
         out = []
         for r in robots:
-            info: dict[str, Any] = dict(zip(REWARD_KEYS, terms[r], strict=True))
-            info["is_success"] = bool(flags[r][2])
-            info["collision"] = bool(flags[r][3])
-            if self.planning[r]:
+            v = vals[r]
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, v[:nterms], strict=True))
+            info["is_success"] = v[nterms] != 0.0
+            info["collision"] = v[nterms + 1] != 0.0
+            if planning[r]:
                 info["planner_action"] = actions[r]
-                info["planner_mode"] = PLANNER_MODES[int(modes[r])]
-            info["time_of_day"] = tod
+                info["planner_mode"] = PLANNER_MODES[int(v[nterms + 2])]
+            info["time_of_day"] = v[nterms + 3]
             out.append(info)
         return out
 
@@ -239,8 +282,9 @@ class WorldSim:
         if mode == "human":
             import mujoco.viewer
 
+            self.sim.sync_render()
             if self._viewer is None:
-                self._viewer = mujoco.viewer.launch_passive(self.sim.model, self.sim.data)
+                self._viewer = mujoco.viewer.launch_passive(self.sim.render_model, self.sim.render_data)
             self._viewer.sync()
             return None
         ensure_gl_backend()

@@ -157,6 +157,27 @@ impl EpisodeRecorder {
         r
     }
 
+    /// Starts a new episode as [`EpisodeRecorder::new`] does, keeping the buffers' memory (a
+    /// world reuses its robots' recorders from episode to episode).
+    pub fn restart(&mut self, setup: RecorderSetup, start: &Snapshot) {
+        self.setup = setup;
+        self.poses.clear();
+        self.positions.clear();
+        self.velocities.clear();
+        self.headings.clear();
+        self.ospace_offsets.clear();
+        self.ospace_offsets.push(0);
+        self.ospaces.clear();
+        self.link_offsets.clear();
+        self.link_offsets.push(0);
+        self.links.clear();
+        self.active.clear();
+        self.contacts.clear();
+        self.min_robot_gap = f64::INFINITY;
+        self.outcome = Outcome::Running;
+        self.push(start);
+    }
+
     fn push(&mut self, s: &Snapshot) {
         let np = self.setup.people_radii.len();
         let nm = self.setup.object_polygons.len();
@@ -435,6 +456,29 @@ mod tests {
         assert!(r.metrics.hc && r.metrics.collision && !r.metrics.success && !r.metrics.timeout);
         assert_eq!(r.metrics.hc_count, 1);
         assert_eq!(r.metrics.l_ratio, None);
+    }
+
+    #[test]
+    fn a_restarted_recorder_equals_a_new_one() {
+        let far = [Vec2::new(1.5, 1.0)];
+        let near = [Vec2::new(0.3, 0.0)];
+        let z = [Vec2::zeros()];
+        let h = [0.0];
+        let mut old = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &near, &z, &h));
+        old.observe_robot_gap(-0.1);
+        old.record(&snap(0.1, 0.0, &near, &z, &h), CONTACT_STATIC, false);
+        old.restart(setup(vec![0.2]), &snap(0.0, 0.0, &far, &z, &h));
+        let mut new = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &far, &z, &h));
+        for rec in [&mut old, &mut new] {
+            assert_eq!(rec.record(&snap(3.0, 0.0, &far, &z, &h), 0, false), Outcome::Running);
+            assert_eq!(rec.record(&snap(3.0, 4.0, &far, &z, &h), 0, false), Outcome::Success);
+        }
+        let eval = |r: &EpisodeRecorder| {
+            let rep =
+                r.evaluate(&|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+            serde_json::to_string(&rep).expect("json")
+        };
+        assert_eq!(eval(&old), eval(&new));
     }
 
     #[test]

@@ -198,7 +198,42 @@ pub struct Crowd {
     group_slot: Vec<Option<usize>>,
     /// Neighbour bins (rebuilt every substep for large crowds).
     bins: NeighbourBins,
+    /// The robots as their tours' followers see them (see [`Crowd::set_guides`]), and each
+    /// robot's trail: where it went, a point every [`TRAIL_SPACING`] metres.
+    guides: Vec<GuideState>,
+    trails: Vec<Vec<Vec2>>,
 }
+
+/// A robot as the followers of its tour see it (see [`Crowd::set_guides`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GuideState {
+    /// Position (metres).
+    pub pos: Vec2,
+    /// The tour point it walks to or stands at: 0 its start, then its waypoints, then its goal.
+    pub target: usize,
+    /// Whether it stands at `target` (dwelling at a waypoint, or arrived at its goal).
+    pub dwelling: bool,
+}
+
+/// How close (metres, centre to centre) a follower walks behind its robot guide.
+pub const FOLLOW_GAP: f64 = 1.2;
+
+/// How near (metres) a follower of a robot gets to its place on a gathering arc (places are
+/// 0.75 m apart, so followers in place never overlap).
+pub const SLOT_REACHED: f64 = 0.1;
+
+/// Within this distance (metres) of a robot standing at a stop, its followers walk straight to
+/// their places on the arc instead of along its trail.
+pub const GATHER_REACH: f64 = 3.0;
+
+/// Centre distance (metres) a follower keeps from its robot guide: closer, it steps back.
+pub const ROBOT_SPACE: f64 = 1.0;
+
+/// Spacing (metres) of the points of a robot's trail, which its followers walk.
+pub const TRAIL_SPACING: f64 = 0.3;
+
+/// How near (metres) a follower passes a trail point before heading for the next.
+pub const TRAIL_REACHED: f64 = 0.4;
 
 /// Uniform grid of people for the neighbour search (cell = cutoff); used above
 /// [`BRUTE_FORCE_MAX`] people.
@@ -277,6 +312,21 @@ impl Crowd {
     /// Whether there are no people.
     pub fn is_empty(&self) -> bool {
         self.pos.is_empty()
+    }
+
+    /// Tells the followers of robot tours where each robot is (one entry per robot, by index;
+    /// followers of a robot without an entry wait where they are). Call before every
+    /// [`Crowd::step`]: each robot's trail (a point every [`TRAIL_SPACING`] metres of its way
+    /// since the crowd was spawned) is what its followers walk, so they keep to where it went.
+    pub fn set_guides(&mut self, guides: &[GuideState]) {
+        self.guides.clear();
+        self.guides.extend_from_slice(guides);
+        self.trails.resize(guides.len(), Vec::new());
+        for (trail, g) in self.trails.iter_mut().zip(guides) {
+            if trail.last().is_none_or(|q| (g.pos - q).norm() >= TRAIL_SPACING) {
+                trail.push(g.pos);
+            }
+        }
     }
 
     /// The social force parameters.
@@ -359,6 +409,12 @@ impl Crowd {
                     let at = slots.first().copied().flatten().unwrap_or(Vec2::new(p.pose[0], p.pose[1]));
                     (at, 0, p.pose[2])
                 }
+                Script::RobotFollower { places, start, .. } => {
+                    // Gathered behind the robot at its start, facing it.
+                    let at = places.first().and_then(|p| p.first()).copied().unwrap_or(*start);
+                    let d = start - at;
+                    (at, usize::MAX, d.y.atan2(d.x))
+                }
                 Script::Guide { .. } => (route[0], 0, p.pose[2]),
                 Script::Still => (Vec2::new(p.pose[0], p.pose[1]), 0, p.pose[2]),
             };
@@ -367,7 +423,7 @@ impl Crowd {
             c.leg.push(0);
             c.clock.push(clock);
             c.stuck.push(0.0);
-            c.gathered.push(None);
+            c.gathered.push(matches!(script, Script::RobotFollower { .. }).then_some(0));
             c.pos.push(pos);
             c.vel.push(Vec2::zeros());
             c.heading.push(heading);
@@ -631,6 +687,83 @@ impl Crowd {
                     self.desired[i] = toward(self.routes[g][self.target[i]], self.speed[i]);
                 }
             }
+            Script::RobotFollower { robot, start, places } => {
+                let n = places.len();
+                let guide =
+                    robot.filter(|&j| j < self.trails.len()).and_then(|j| Some((j, *self.guides.get(j)?)));
+                match guide {
+                    // No robot to follow: wait at the place, facing the tour's start.
+                    None => {
+                        self.moving[i] = false;
+                        self.face_want[i] = bearing(*start);
+                    }
+                    Some((j, g)) => {
+                        // Taken out for the borrow checker, put back below.
+                        let trail = std::mem::take(&mut self.trails[j]);
+                        let gk = g.target.min(n - 1);
+                        // Along the robot's trail, up to FOLLOW_GAP from it.
+                        let mut k = self.leg[i];
+                        while k < trail.len() && (trail[k] - pos).norm() <= TRAIL_REACHED {
+                            k += 1;
+                        }
+                        // Caught up: the trail ahead ends at the robot, or it is this near (at a
+                        // stop, within GATHER_REACH: the place on the arc is in reach).
+                        let reach = if g.dwelling { GATHER_REACH } else { FOLLOW_GAP };
+                        let caught_up = k >= trail.len()
+                            || (trail[k] - g.pos).norm() <= FOLLOW_GAP
+                            || (pos - g.pos).norm() <= reach;
+                        // A place on the arc is claimed on arriving near the robot at a stop.
+                        let slot = if g.dwelling && caught_up {
+                            self.choose_place(i, *robot, &places[gk])
+                        } else {
+                            if !g.dwelling {
+                                self.target[i] = usize::MAX; // walking: no place claimed
+                            }
+                            None
+                        };
+                        if self.gathered[i] == Some(gk) && g.dwelling {
+                            // Gathered: stand facing the robot until it moves on.
+                            self.moving[i] = false;
+                            self.face_want[i] = bearing(g.pos);
+                        } else if let (Some(slot), true) = (slot, caught_up) {
+                            // The robot stands at a stop: take the place on its arc, or as near
+                            // as the others let it get after 2 s within 1.5 m of it (but not
+                            // within ROBOT_SPACE of the robot: from there it first steps out).
+                            let d = (slot - pos).norm();
+                            let away = pos - g.pos;
+                            let near_robot = away.norm() < ROBOT_SPACE;
+                            if d < 1.5 && self.vel[i].norm() < 0.1 && !near_robot {
+                                self.stuck[i] += h;
+                            } else {
+                                self.stuck[i] = 0.0;
+                            }
+                            if d <= SLOT_REACHED || self.stuck[i] > 2.0 {
+                                self.stuck[i] = 0.0;
+                                self.gathered[i] = Some(gk);
+                                k = trail.len(); // the way to here is behind
+                                self.moving[i] = false;
+                                self.face_want[i] = bearing(g.pos);
+                            } else {
+                                let mut dir = (slot - pos) / d;
+                                if away.norm() < FOLLOW_GAP && away.norm() > 1e-9 {
+                                    dir += away / away.norm(); // round the robot, not past it
+                                }
+                                self.desired[i] = toward(pos + dir, self.speed[i]);
+                            }
+                        } else if caught_up {
+                            let away = pos - g.pos;
+                            if away.norm() < ROBOT_SPACE && away.norm() > 1e-9 {
+                                self.desired[i] = away * (0.5 * self.speed[i] / away.norm()); // step back
+                            }
+                            self.face_want[i] = bearing(g.pos);
+                        } else {
+                            self.desired[i] = toward(trail[k], self.speed[i]);
+                        }
+                        self.leg[i] = k;
+                        self.trails[j] = trail;
+                    }
+                }
+            }
             Script::Program(prog) => {
                 let len = prog.tasks.len();
                 // Finished tasks are skipped within the substep (bounded by one pass).
@@ -682,6 +815,32 @@ impl Crowd {
     }
 
     /// Moves person `i` to the next task of its program (`len` tasks).
+    /// Follower `i`'s place on `places` (a robot's gathering arc at a tour stop): the one it
+    /// claimed before, else one no other follower of the robot has claimed, the arc's ends first
+    /// (the claim, an index into `places`, is kept in `target` while the robot stands there).
+    fn choose_place(&mut self, i: usize, robot: Option<usize>, places: &[Vec2]) -> Option<Vec2> {
+        if let Some(&q) = places.get(self.target[i]) {
+            return Some(q);
+        }
+        let claimed = |c: &Crowd, place: usize| {
+            (0..c.len()).any(|k| {
+                k != i
+                    && c.target[k] == place
+                    && matches!(&c.script[k], Script::RobotFollower { robot: r, .. } if *r == robot)
+            })
+        };
+        // The ends of the arc first (whoever comes later finds the places nearest the way in,
+        // in the middle, free), the nearer of equal ones.
+        let pos = self.pos[i];
+        let mid = 0.5 * (places.len() as f64 - 1.0);
+        let best = (0..places.len()).filter(|&k| !claimed(self, k)).min_by(|&a, &b| {
+            let end = |k: usize| -(k as f64 - mid).abs();
+            end(a).total_cmp(&end(b)).then((places[a] - pos).norm().total_cmp(&(places[b] - pos).norm()))
+        });
+        self.target[i] = best.unwrap_or(usize::MAX);
+        best.map(|k| places[k])
+    }
+
     fn advance(&mut self, i: usize, len: usize, cyclic: bool) {
         self.leg[i] = 0;
         self.clock[i] = 0.0;

@@ -304,6 +304,10 @@ struct RawRobot {
     inflation_margin: f64,
     #[serde(default)]
     eband: RawEbandGains,
+    #[serde(default)]
+    waypoints: Vec<[f64; 2]>,
+    #[serde(default)]
+    dwell: f64,
 }
 
 #[derive(Deserialize, Default)]
@@ -509,6 +513,12 @@ pub enum Behaviour {
     /// Tour follower of the person named `guide`: follows the guide's route; at each stop it
     /// gathers on an arc of radius `gather_radius` (default 1.5 m) around the guide, facing it
     /// (Daza 2021 Fig. 11). It starts in its place at the guide's first waypoint.
+    ///
+    /// A robot can guide too: `guide = "robot:<name>"` names a `[[robot]]`. The followers start
+    /// gathered behind the robot's start, walk where it went (its trail), 1.2 m behind it, and
+    /// gather on an arc of `gather_radius` behind it, facing it, at every waypoint where it
+    /// dwells (`dwell` > 0) and at its goal, each taking a free place as it arrives. If that
+    /// robot is not in the episode (fewer robots), they stand at their place at its start.
     Follower,
     /// Seated on the bench, sofa or chair named `seat`, at seat `place` (0, 1, ... along its
     /// width, one per 0.6 m), facing the seat's front; never moves and cannot be pushed.
@@ -707,8 +717,16 @@ pub struct Person {
     pub schedule: Option<[f64; 2]>,
     /// Walker and guide: whether each route waypoint is a stop (empty for a walker: every one).
     pub stops: Vec<bool>,
-    /// Follower: index of the guide.
+    /// Follower: index of the guide (a person).
     pub guide: Option<usize>,
+    /// Follower of a robot (`guide = "robot:<name>"`): index of the robot; `None` if that robot
+    /// is not in the episode (see [`Scenario::with_robots`]: the tour then waits at its start).
+    pub guide_robot: Option<usize>,
+    /// Follower of a robot: the robot's tour, its start, waypoints and goal (`[x, y]`, metres).
+    pub tour: Vec<[f64; 2]>,
+    /// Follower of a robot: whether each tour point is a stop where followers gather (the start,
+    /// the waypoints if the robot dwells there, and the goal).
+    pub tour_stops: Vec<bool>,
     /// Follower: arc radius around the guide at stops (metres, default 1.5).
     pub gather_radius: f64,
     /// Resident, staff: indices of the objects whose activities the person attends.
@@ -737,6 +755,9 @@ impl Default for Person {
             schedule: None,
             stops: Vec::new(),
             guide: None,
+            guide_robot: None,
+            tour: Vec::new(),
+            tour_stops: Vec::new(),
             gather_radius: d_gather_radius(),
             attends: Vec::new(),
             lead: d_lead_minutes() * 60.0,
@@ -769,6 +790,13 @@ pub struct Robot {
     pub inflation_margin: f64,
     /// Gains of the elastic band (used by the `eband` planner); file table `eband = { ... }`.
     pub eband: EbandGains,
+    /// Places visited in order before the goal, `[x, y]` each (metres; default none): a tour.
+    /// The robot's current target (what its planners aim for and its observation's goal offset
+    /// shows) is the next of these, then the goal; the episode succeeds at the goal.
+    pub waypoints: Vec<[f64; 2]>,
+    /// Seconds the robot stands still at each waypoint (a tour stop), in [0, 3600]; default 0
+    /// (it passes through). Followers (`guide = "robot:<name>"`) gather around it there.
+    pub dwell: f64,
 }
 
 /// The elastic band's force gains (dimensionless, each in `[0, EbandGains::MAX]`), as tuned by
@@ -1092,6 +1120,10 @@ fn check_robot_starts(file: &str, robots: &[Robot]) -> Result<()> {
     Ok(())
 }
 
+/// Arrays of tables a file that `extends` another may add to the base's instead of replacing
+/// them, by listing their names in `append` (e.g. `append = ["person"]`).
+pub const APPENDABLE: [&str; 5] = ["wall", "object", "person", "robot", "activity"];
+
 /// How many `extends` links a scenario file may chain.
 pub const MAX_EXTENDS: usize = 4;
 
@@ -1145,9 +1177,28 @@ fn extended_table(path: &Path, text: &str, depth: usize) -> Result<Option<toml::
             err(&base_path.display().to_string(), "<toml>", "valid TOML", e.message().trim().to_string())
         })?,
     };
+    let append: Vec<String> = match table.remove("append") {
+        None => Vec::new(),
+        Some(toml::Value::Array(keys))
+            if keys.iter().all(|k| k.as_str().is_some_and(|k| APPENDABLE.contains(&k))) =>
+        {
+            keys.iter().filter_map(|k| k.as_str().map(str::to_string)).collect()
+        }
+        Some(v) => {
+            return Err(err(
+                &file,
+                "append",
+                format!("a list of table names among {APPENDABLE:?} (their entries are added to the base's)"),
+                v.to_string(),
+            ));
+        }
+    };
     for (key, value) in table {
         match (key.as_str(), base.get_mut(&key), value) {
             ("scene", Some(toml::Value::Table(b)), toml::Value::Table(t)) => b.extend(t),
+            (k, Some(toml::Value::Array(b)), toml::Value::Array(t)) if append.iter().any(|a| a == k) => {
+                b.extend(t)
+            }
             (_, _, v) => {
                 base.insert(key, v);
             }
@@ -1187,7 +1238,9 @@ impl Scenario {
     /// Reads and validates a scenario file. A file with a top-level `extends = "base.toml"`
     /// (a path relative to it) starts from the base file: its `[scene]` keys override the
     /// base's one by one, and every other table or array it has (`[[robot]]`, `[episode]`,
-    /// ...) replaces the base's whole. Bases may extend others, up to [`MAX_EXTENDS`] deep.
+    /// ...) replaces the base's whole, except the arrays named in its `append` list (among
+    /// [`APPENDABLE`]), whose entries follow the base's (so `person[i]` in an error message
+    /// counts the base's people first). Bases may extend others, up to [`MAX_EXTENDS`] deep.
     pub fn from_file(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref();
         let file = path.display().to_string();
@@ -1339,6 +1392,7 @@ impl Scenario {
     }
 
     /// A copy with only the first `n` robots (1 <= `n` <= the number of `[[robot]]` entries).
+    /// Followers of a robot that is left out stay at their place at its tour's start.
     pub fn with_robots(&self, n: usize) -> Result<Self> {
         if n == 0 || n > self.robots.len() {
             return Err(err(
@@ -1353,6 +1407,11 @@ impl Scenario {
         }
         let mut s = self.clone();
         s.robots.truncate(n);
+        for p in &mut s.persons {
+            if p.guide_robot.is_some_and(|j| j >= n) {
+                p.guide_robot = None; // the tour waits at its start for a guide that is not there
+            }
+        }
         Ok(s)
     }
 
@@ -1713,6 +1772,18 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
                 ));
             }
         };
+        for (k, w) in r.waypoints.iter().enumerate() {
+            ck.inside(&format!("{f}.waypoints[{k}]"), *w, b)?;
+        }
+        ck.range(&format!("{f}.dwell"), r.dwell, 0.0, 3600.0, false)?;
+        if r.dwell > 0.0 && r.waypoints.is_empty() {
+            return Err(err(
+                file,
+                format!("{f}.dwell"),
+                "a dwell only with waypoints = [[x, y], ...] to stop at",
+                format!("dwell = {} without waypoints", r.dwell),
+            ));
+        }
         robots.push(Robot {
             name: r.name.clone().unwrap_or_else(|| format!("robot_{i}")),
             start: r.start,
@@ -1731,9 +1802,12 @@ fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
                 r.eband.repulsion_gain,
                 r.eband.social_gain,
             )?,
+            waypoints: r.waypoints.clone(),
+            dwell: r.dwell,
         });
     }
     check_unique(file, "robot", robots.iter().map(|r| r.name.as_str()))?;
+    link_robot_guides(&ck, &raw.person, &mut persons, &robots)?;
     check_robot_starts(file, &robots)?;
 
     // ---- episode, sensors, reward
@@ -2011,7 +2085,12 @@ fn build_person(
         }
         Behaviour::Follower => {
             if p.guide.is_none() {
-                return Err(err(file, format!("{f}.guide"), "the name of a guide [[person]]", "nothing"));
+                return Err(err(
+                    file,
+                    format!("{f}.guide"),
+                    "the name of a guide [[person]], or \"robot:<name>\" of a [[robot]]",
+                    "nothing",
+                ));
             }
             [0.0; 3] // placed at the guide's first stop by link_people
         }
@@ -2080,19 +2159,56 @@ fn build_person(
     Ok(person)
 }
 
+/// Prefix of a follower's `guide` naming a robot (`guide = "robot:<name>"`).
+pub const ROBOT_GUIDE: &str = "robot:";
+
+/// Followers of robots: the robot's index, its tour and stops, and the follower's reference
+/// pose (the robot's start; its place is planned when the world is built).
+fn link_robot_guides(
+    ck: &Checker<'_>,
+    raw: &[RawPerson],
+    persons: &mut [Person],
+    robots: &[Robot],
+) -> Result<()> {
+    for (i, (rp, person)) in raw.iter().zip(persons.iter_mut()).enumerate() {
+        let Some(name) = rp.guide.as_ref().and_then(|n| n.strip_prefix(ROBOT_GUIDE)) else { continue };
+        let j = robots.iter().position(|r| r.name == name).ok_or_else(|| {
+            err(
+                ck.file,
+                format!("person[{i}].guide"),
+                format!(
+                    "\"robot:<name>\" naming a [[robot]] (one of {:?}), or the name of a person with behaviour = \"guide\"",
+                    robots.iter().map(|r| r.name.as_str()).collect::<Vec<_>>()
+                ),
+                format!("{:?}", rp.guide.as_deref().unwrap_or_default()),
+            )
+        })?;
+        let r = &robots[j];
+        person.guide_robot = Some(j);
+        person.tour = std::iter::once([r.start[0], r.start[1]])
+            .chain(r.waypoints.iter().copied())
+            .chain(std::iter::once(r.goal))
+            .collect();
+        let n = person.tour.len();
+        person.tour_stops = (0..n).map(|k| k == 0 || k + 1 == n || r.dwell > 0.0).collect();
+        person.pose = [r.start[0], r.start[1], 0.0];
+    }
+    Ok(())
+}
+
 /// Cross-person checks: followers' guides, conversations' shared spot and schedule, and groups
 /// of at least two people.
 fn link_people(ck: &Checker<'_>, raw: &[RawPerson], persons: &mut [Person]) -> Result<()> {
     let file = ck.file;
     for i in 0..persons.len() {
         let f = format!("person[{i}]");
-        if let Some(name) = &raw[i].guide {
+        if let Some(name) = raw[i].guide.as_ref().filter(|n| !n.starts_with(ROBOT_GUIDE)) {
             let g = persons.iter().position(|q| &q.name == name && q.behaviour == Behaviour::Guide);
             let g = g.ok_or_else(|| {
                 err(
                     file,
                     format!("{f}.guide"),
-                    "the name of a person with behaviour = \"guide\"",
+                    "the name of a person with behaviour = \"guide\", or \"robot:<name>\" of a [[robot]]",
                     format!("{name:?}"),
                 )
             })?;

@@ -1,16 +1,18 @@
 //! The world: ties scenario, map, planners, pedestrians and metrics together behind one `step`.
 //!
-//! The Python env owns the physics. Per control step it calls, in this order:
-//! 1. [`World::command`] (only when a user policy acts): turns normalised actions into limited
-//!    robot-frame commands; without it the built-in planner's command is executed;
-//! 2. writes the commands and the people's poses into MuJoCo and steps the physics;
+//! The Python env owns the physics. A control step has three parts, which the Python binding
+//! runs as one call (`World.step`, the GIL released around the core's parts):
+//! 1. [`World::command`]: turns the policies' normalised actions into limited robot-frame
+//!    commands; robots without an action (NaN) execute their built-in planner's command;
+//! 2. the caller writes the commands and the people's poses into MuJoCo and steps the physics;
 //! 3. [`World::step`] with the robots' new poses, velocities and contact flags: advances the
 //!    people, accumulates metrics and reward terms, builds the observations, and runs each
 //!    robot's built-in planner for the next command.
 //!
 //! All outputs are written into one caller-owned `f64` buffer laid out as described by
-//! [`Layout`] (one row of [`Layout::stride`] values per robot), plus a `(people, 3)` buffer of
-//! the people's poses, so a step allocates nothing and crosses the language boundary once.
+//! [`Layout`] (one row of [`Layout::stride`] values per robot), plus a `(people, PERSON_OUT)`
+//! buffer of the people's poses and contact hints, so a step allocates nothing and crosses the
+//! language boundary once.
 
 mod social_planning;
 
@@ -29,14 +31,14 @@ use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
 use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
-use crate::map::lidar;
+use crate::map::lidar::Scanner;
 use crate::math::{Vec2, wrap_angle};
 use crate::metrics::{
     EpisodeRecorder, EpisodeReport, InteractionLink, InteractionObject, MetricParams, OSpace, Outcome,
     RecorderSetup, Snapshot, interactions,
 };
 use crate::pedestrians::scripts::{Script, plan_scripts};
-use crate::pedestrians::{Crowd, SocialForceParams};
+use crate::pedestrians::{Crowd, GuideState, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
 use crate::scenario::{Behaviour, PlannerKind, Scenario};
@@ -65,6 +67,16 @@ pub const PERSONAL_ZONE: f64 = 1.2;
 pub const OBS_MAX_SPEED: f64 = 5.0;
 /// Bound on the angular velocity in observations (rad/s).
 pub const OBS_MAX_ANGULAR: f64 = 10.0;
+/// Values per person in the people buffer: x, y, heading (world frame, m and rad), a contact
+/// hint (1.0 while the person is within [`CONTACT_RANGE`] of a robot, else 0.0), and the
+/// heading as the w and z of a yaw quaternion (cos and sin of half the heading, for MuJoCo).
+pub const PERSON_OUT: usize = 6;
+/// Surface gap (m) within which the physics must test a robot against the static geometry or a
+/// person for contacts. Beyond it nothing can touch during one control step: closing 0.5 m in
+/// 0.1 s takes 5 m/s, and robots move at most 0.55 m/s, people at most 1.3 times their preferred
+/// speed; a robot moving faster than [`CONTACT_RANGE`] per control period is always tested.
+/// The hints only let the physics skip pairs that cannot collide: contacts are the same.
+pub const CONTACT_RANGE: f64 = 0.5;
 
 /// One named section of a robot's row in the output buffer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,14 +98,18 @@ pub struct Layout {
     /// robots within sensor range, nearest first, see [`PEER_FEATURES`]), `obs_robots_mask`
     /// (n - 1), `reward_terms` (5), `reward` (1),
     /// `flags` (4: terminated, truncated, success, collision), `pose` (3: x, y, theta), `mode`
-    /// (1: the local planner's mode, see [`Mode::code`]).
+    /// (1: the local planner's mode, see [`Mode::code`]), `near_static` (1: 1.0 while the robot is
+    /// within [`CONTACT_RANGE`] of a wall or object, else 0.0: whether the physics must test it
+    /// against the static geometry), `near_robot` (1: 1.0 while another robot is within
+    /// [`CONTACT_RANGE`] of it, else 0.0), `time_of_day` (1: seconds after midnight, the same in
+    /// every row).
     pub sections: Vec<(&'static str, Section)>,
 }
 
 impl Layout {
     fn new(k: usize, rays: usize, robots: usize) -> Self {
         let others = robots.saturating_sub(1);
-        let sizes: [(&'static str, usize); 13] = [
+        let sizes: [(&'static str, usize); 16] = [
             ("command", 3),
             ("planner_action", 3),
             ("obs_robot", ROBOT_FEATURES),
@@ -107,6 +123,9 @@ impl Layout {
             ("flags", 4),
             ("pose", 3),
             ("mode", 1),
+            ("near_static", 1),
+            ("near_robot", 1),
+            ("time_of_day", 1),
         ];
         let mut offset = 0;
         let mut sections = Vec::with_capacity(sizes.len());
@@ -134,10 +153,19 @@ struct RobotStatic {
     radius: f64,
     goal: Vec2,
     grid_index: usize,
-    goal_field: GoalField,
+    /// The targets in order: the waypoints of a tour, then the goal (just the goal otherwise).
+    route: Vec<Vec2>,
+    /// The geodesic distance field of each target of `route`.
+    fields: Vec<GoalField>,
+    /// Seconds the robot stands at each waypoint (0: it passes through).
+    dwell: f64,
+    /// Geodesic length from the nominal start through the route (m).
     geodesic_from_start: f64,
-    /// The plain A* path from the nominal start (cached: the start only changes with jitter).
+    /// The plain A* path from the nominal start to the first target (cached: the start only
+    /// changes with jitter).
     nominal_path: Vec<Vec2>,
+    /// The plain A* paths between consecutive targets (`legs[k]` from target k to k + 1).
+    legs: Vec<Vec<Vec2>>,
 }
 
 /// Per-robot state of the running episode.
@@ -164,6 +192,11 @@ struct RobotRuntime {
     /// The elastic band (eband planner only).
     band: Option<ElasticBand>,
     mode: Mode,
+    /// Index in the route of the current target.
+    leg: usize,
+    /// Whether the robot stands at its current target (a tour stop), and for how much longer (s).
+    dwelling: bool,
+    dwell_left: f64,
 }
 
 /// On an approach task the robot turns to face the person within this distance of the goal (m).
@@ -217,6 +250,11 @@ pub struct World {
     started: bool,
     scratch_people: Vec<(f64, usize)>,
     scratch_discs: Vec<(Vec2, f64)>,
+    /// Per robot, its lidar (buffers, and the static part of its last scan).
+    scanners: Vec<Scanner>,
+    /// Per robot, whether its episode had ended before the current step (its observation is
+    /// then no longer updated).
+    ended: Vec<bool>,
     /// Per robot: whether its built-in planner runs (see [`World::set_planning`]).
     planning: Vec<bool>,
     /// The objects with an interaction space (metrics: person-object interactions, object
@@ -280,14 +318,16 @@ impl World {
         let field = DistanceField::from_occupancy(&occupancy);
 
         check_people(&scenario, &geometry)?;
-        let scripts = plan_scripts(&scenario, &geometry, &field)?;
 
         let mut grids: Vec<InflatedGrid> = Vec::new();
         let mut planner = PathPlanner::new();
         let mut statics = Vec::with_capacity(scenario.robots.len());
         for (i, r) in scenario.robots.iter().enumerate() {
             let clearance_needed = r.radius;
-            for (name, p) in [("start", Vec2::new(r.start[0], r.start[1])), ("goal", v2(r.goal))] {
+            let places = std::iter::once(("start".to_string(), Vec2::new(r.start[0], r.start[1])))
+                .chain(r.waypoints.iter().enumerate().map(|(k, w)| (format!("waypoints[{k}]"), v2(*w))))
+                .chain(std::iter::once(("goal".to_string(), v2(r.goal))));
+            for (name, p) in places {
                 let clear = geometry.distance(p);
                 if geometry.contains(p) || clear < clearance_needed {
                     let what = if geometry.contains(p) {
@@ -315,28 +355,64 @@ impl World {
             };
             let grid = &grids[grid_index].grid;
             let goal = v2(r.goal);
-            let goal_cell = snap_to_passable(grid, goal).ok_or_else(|| {
-                scenario_err(
-                    &scenario,
-                    format!("robot[{i}].goal"),
-                    format!("a goal with {inflate:.2} m clearance (robot radius + inflation margin) nearby"),
-                    format!("{:?}", r.goal),
-                )
-            })?;
-            let goal_field = GoalField::compute(grid, goal_cell);
             let start = Vec2::new(r.start[0], r.start[1]);
-            let geodesic_from_start = goal_field.distance(start);
-            let nominal_path =
-                plan_path(&mut planner, grid, start, goal).ok_or_else(|| CoreError::Planning {
-                    file: scenario.source.clone(),
-                    field: format!("robot[{i}].goal"),
-                    message: format!(
-                        "no collision-free path for a robot of radius {:.2} m from start {:?} to goal {:?}",
-                        r.radius,
-                        [r.start[0], r.start[1]],
-                        r.goal
-                    ),
+            let route: Vec<Vec2> = r.waypoints.iter().map(|w| v2(*w)).chain(std::iter::once(goal)).collect();
+            let target_field = |k: usize| {
+                if k + 1 == route.len() {
+                    format!("robot[{i}].goal")
+                } else {
+                    format!("robot[{i}].waypoints[{k}]")
+                }
+            };
+            let mut fields = Vec::with_capacity(route.len());
+            let mut paths: Vec<Vec<Vec2>> = Vec::with_capacity(route.len());
+            let mut geodesic_from_start = 0.0;
+            for (k, &target) in route.iter().enumerate() {
+                let cell = snap_to_passable(grid, target).ok_or_else(|| {
+                    scenario_err(
+                        &scenario,
+                        target_field(k),
+                        format!(
+                            "a place with {inflate:.2} m clearance (robot radius + inflation margin) nearby"
+                        ),
+                        format!("{:?}", [target.x, target.y]),
+                    )
                 })?;
+                let from = if k == 0 { start } else { route[k - 1] };
+                let f = GoalField::compute(grid, cell);
+                geodesic_from_start += f.distance(from);
+                fields.push(f);
+                paths.push(plan_path(&mut planner, grid, from, target).ok_or_else(|| {
+                    CoreError::Planning {
+                        file: scenario.source.clone(),
+                        field: target_field(k),
+                        message: format!(
+                            "no collision-free path for a robot of radius {:.2} m from {:?} to {:?}",
+                            r.radius,
+                            [from.x, from.y],
+                            [target.x, target.y]
+                        ),
+                    }
+                })?);
+            }
+            // A tour must not lead the robot across its goal before the end (the episode would
+            // succeed there).
+            let success = scenario.episode.success_radius;
+            if let Some(k) = paths[..paths.len() - 1]
+                .iter()
+                .position(|path| path.iter().any(|q| (q - goal).norm() <= success + 0.5))
+            {
+                return Err(scenario_err(
+                    &scenario,
+                    format!("robot[{i}].waypoints[{k}]"),
+                    format!(
+                        "a tour whose paths to its waypoints stay more than {:.2} m (success radius + 0.5 m) from the goal",
+                        success + 0.5
+                    ),
+                    format!("the path to waypoints[{k}] passes the goal {:?}", r.goal),
+                ));
+            }
+            let nominal_path = paths.remove(0);
             let limits = Limits {
                 max_speed: r.max_speed,
                 max_angular_speed: r.max_angular_speed,
@@ -351,11 +427,16 @@ impl World {
                 radius: r.radius,
                 goal,
                 grid_index,
-                goal_field,
+                route,
+                fields,
+                dwell: r.dwell,
                 geodesic_from_start,
                 nominal_path,
+                legs: paths,
             });
         }
+        // People's places and paths after the robots' (a tour's stops must be valid first).
+        let scripts = plan_scripts(&scenario, &geometry, &field)?;
         let layout =
             Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays, scenario.robots.len());
         let grid_refs: Vec<(&CostGrid, f64)> = grids.iter().map(|g| (&g.grid, g.radius)).collect();
@@ -381,6 +462,8 @@ impl World {
             started: false,
             scratch_people: Vec::new(),
             scratch_discs: Vec::new(),
+            scanners: vec![Scanner::default(); scenario.robots.len()],
+            ended: vec![false; scenario.robots.len()],
             planning: vec![true; scenario.robots.len()],
             interaction_objects: scenario
                 .objects
@@ -503,6 +586,15 @@ impl World {
     /// # Errors
     /// [`CoreError::Input`] before the first reset, or if a recorded value is not finite.
     pub fn episode_metrics(&self) -> Result<Vec<EpisodeReport>> {
+        let all: Vec<usize> = (0..self.robots.len()).collect();
+        self.robot_metrics(&all)
+    }
+
+    /// [`World::episode_metrics`] of the robots `robots` only (indices, in the order given).
+    ///
+    /// # Errors
+    /// As [`World::episode_metrics`], and [`CoreError::Input`] for an index out of range.
+    pub fn robot_metrics(&self, robots: &[usize]) -> Result<Vec<EpisodeReport>> {
         if !self.started {
             return Err(CoreError::input(
                 "episode_metrics",
@@ -510,12 +602,23 @@ impl World {
                 "a call before the first reset()",
             ));
         }
+        if let Some(&bad) = robots.iter().find(|&&i| i >= self.robots.len()) {
+            return Err(CoreError::input(
+                "robots",
+                format!("robot indices below {}", self.robots.len()),
+                bad.to_string(),
+            ));
+        }
         let z = self.social.config().zones;
         let clearance = |p: Vec2| self.geometry.distance(p);
-        self.robots
+        robots
             .iter()
-            .map(|r| {
-                r.recorder.evaluate(&clearance, [z.intimate, z.personal, z.social], MetricParams::default())
+            .map(|&i| {
+                self.robots[i].recorder.evaluate(
+                    &clearance,
+                    [z.intimate, z.personal, z.social],
+                    MetricParams::default(),
+                )
             })
             .collect()
     }
@@ -563,11 +666,11 @@ impl World {
                 format!("{} values", out.len()),
             ));
         }
-        let want_p = self.num_people() * 3;
+        let want_p = self.num_people() * PERSON_OUT;
         if people_out.len() != want_p {
             return Err(CoreError::input(
                 "people_out",
-                format!("{want_p} values ({} people x 3)", self.num_people()),
+                format!("{want_p} values ({} people x {PERSON_OUT})", self.num_people()),
                 format!("{} values", people_out.len()),
             ));
         }
@@ -576,7 +679,8 @@ impl World {
 
     /// Starts a new episode from `seed`: respawns the people, places the robots (with the
     /// scenario's start jitter), plans their paths and fills `out` (observations at the start,
-    /// the first planner command, the start poses in `pose`) and `people_out` (x, y, theta).
+    /// the first planner command, the start poses in `pose`) and `people_out` ([`PERSON_OUT`]
+    /// values per person).
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
@@ -590,7 +694,9 @@ impl World {
             &mut self.rng,
         );
         self.steps = 0;
-        self.robots.clear();
+        // The last episode's recorders are restarted (their buffers keep their memory).
+        let mut recorders: Vec<Option<EpisodeRecorder>> =
+            self.robots.drain(..).map(|r| Some(r.recorder)).collect();
         self.observe_interactions();
         let jitter = self.scenario.episode.randomize.robot_start_jitter;
         for i in 0..self.statics.len() {
@@ -616,10 +722,18 @@ impl World {
                 st.nominal_path.clone()
             } else {
                 let grid = &self.grids[st.grid_index].grid;
-                plan_path(&mut self.planner, grid, start, st.goal).unwrap_or_else(|| st.nominal_path.clone())
+                plan_path(&mut self.planner, grid, start, st.route[0])
+                    .unwrap_or_else(|| st.nominal_path.clone())
             };
             let pose = [start.x, start.y, wrap_angle(r.start[2])];
-            let geodesic = st.goal_field.distance(start);
+            let geodesic = st.fields[0].distance(start);
+            // The reference path and length of a tour run through its waypoints.
+            let mut astar_path = path.clone();
+            let mut geodesic_length = geodesic;
+            for (k, leg) in st.legs.iter().enumerate() {
+                astar_path.extend_from_slice(&leg[1..]);
+                geodesic_length += st.fields[k + 1].distance(st.route[k]);
+            }
             let setup = RecorderSetup {
                 dt: self.scenario.control_dt(),
                 robot_radius: st.radius,
@@ -627,10 +741,16 @@ impl World {
                 success_radius: self.scenario.episode.success_radius,
                 people_radii: self.crowd.radius.clone(),
                 object_polygons: self.interaction_objects.iter().map(|o| o.polygon.clone()).collect(),
-                astar_path: path.clone(),
-                geodesic_length: geodesic,
+                astar_path,
+                geodesic_length,
             };
-            let recorder = EpisodeRecorder::new(setup, &self.snapshot(pose));
+            let recorder = match recorders.get_mut(i).and_then(Option::take) {
+                Some(mut r) => {
+                    r.restart(setup, &self.snapshot(pose));
+                    r
+                }
+                None => EpisodeRecorder::new(setup, &self.snapshot(pose)),
+            };
             self.robots.push(RobotRuntime {
                 pose,
                 velocity: Vec2::zeros(),
@@ -649,9 +769,13 @@ impl World {
                 replans: 0,
                 band: None,
                 mode: Mode::FollowPath,
+                leg: 0,
+                dwelling: false,
+                dwell_left: 0.0,
             });
         }
         self.started = true;
+        self.ended.fill(false);
         for i in 0..self.robots.len() {
             if self.statics[i].planner == PlannerKind::Eband {
                 self.robots[i].band =
@@ -676,15 +800,21 @@ impl World {
         }
         self.observe_all(out);
         self.plan_all(out);
-        self.write_people(people_out);
+        self.write_people(out, people_out);
         Ok(())
     }
 
-    /// Executes normalised actions instead of the built-in planners' commands for this step.
-    /// `actions` holds 3 values per robot in [-1, 1] (vx, vy scaled by the robot's max speed,
-    /// wz by its max angular speed, robot frame); values outside are clipped to [-1, 1] as in
-    /// Gymnasium's MuJoCo environments. Pass NaN for all three values of a robot to let its
-    /// built-in planner drive it. The limited commands are written to `out`'s `command`.
+    /// The first half of a control step: executes normalised actions instead of the built-in
+    /// planners' commands. `actions` holds 3 values per robot in [-1, 1] (vx, vy scaled by the
+    /// robot's max speed, wz by its max angular speed, robot frame); values outside are clipped
+    /// to [-1, 1] as in Gymnasium's MuJoCo environments. All three values NaN let the robot's
+    /// built-in planner drive it (autopilot). The limited commands are written to `out`'s
+    /// `command`, which the physics then executes before [`World::step`]. The Python binding
+    /// makes the two halves and the physics between them one call (`World.step`).
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] before the first reset, for a wrong number of values, or for a robot
+    /// whose values are partly non-finite; nothing is changed then.
     pub fn command(&mut self, actions: &[f64], out: &mut [f64]) -> Result<()> {
         let n = self.num_robots();
         if !self.started {
@@ -701,19 +831,20 @@ impl World {
                 format!("{} values", actions.len()),
             ));
         }
-        let dt = self.scenario.control_dt();
-        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
-        for i in 0..n {
-            let a = &actions[3 * i..3 * i + 3];
-            if a.iter().all(|v| v.is_nan()) {
-                continue;
-            }
-            if a.iter().any(|v| !v.is_finite()) {
+        for (i, a) in actions.chunks_exact(3).enumerate() {
+            if !a.iter().all(|v| v.is_nan()) && a.iter().any(|v| !v.is_finite()) {
                 return Err(CoreError::input(
                     format!("action[{i}]"),
-                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised)",
+                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised), or 3 NaN (autopilot)",
                     format!("[{}, {}, {}]", a[0], a[1], a[2]),
                 ));
+            }
+        }
+        let dt = self.scenario.control_dt();
+        let cmd = self.layout.section("command").map_or(0, |s| s.offset);
+        for (i, a) in actions.chunks_exact(3).enumerate() {
+            if a.iter().all(|v| v.is_nan()) {
+                continue;
             }
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
@@ -736,9 +867,11 @@ impl World {
         Ok(())
     }
 
-    /// One control step after the physics: `state` holds 6 values per robot (x, y, theta, and
-    /// the world-frame velocities vx, vy, wz), `contacts` one byte of `CONTACT_*` bits per
-    /// robot. Fills `out` and `people_out` (see [`Layout`]).
+    /// The second half of a control step, after the physics executed `out`'s `command`: `state`
+    /// holds 6 values per robot (x, y, theta, and the world-frame velocities vx, vy, wz),
+    /// `contacts` one byte of `CONTACT_*` bits per robot. Advances the people, records the
+    /// metrics and rewards, builds the observations and runs the built-in planners for the next
+    /// command; fills `out` and `people_out` (see [`Layout`] and [`PERSON_OUT`]).
     pub fn step(
         &mut self,
         state: &[f64],
@@ -773,6 +906,9 @@ impl World {
             ));
         }
         let dt = self.scenario.control_dt();
+        for (e, rb) in self.ended.iter_mut().zip(&self.robots) {
+            *e = rb.outcome != Outcome::Running;
+        }
         // The executed command becomes the reference for the acceleration limit.
         for rb in &mut self.robots {
             rb.exec_v = rb.proposed_v;
@@ -785,7 +921,17 @@ impl World {
             rb.velocity = Vec2::new(s[3], s[4]);
             rb.wz = s[5];
         }
-        // People move to the same instant as the robots.
+        // People move to the same instant as the robots (the followers of a tour see its robot).
+        let guides: Vec<GuideState> = self
+            .robots
+            .iter()
+            .map(|rb| GuideState {
+                pos: Vec2::new(rb.pose[0], rb.pose[1]),
+                target: rb.leg + 1,
+                dwelling: rb.dwelling || rb.outcome == Outcome::Success,
+            })
+            .collect();
+        self.crowd.set_guides(&guides);
         let robots: Vec<(Vec2, f64, Vec2)> = self
             .robots
             .iter()
@@ -795,6 +941,7 @@ impl World {
         self.crowd.step(dt, &robots, &self.geometry, &self.field);
         self.steps += 1;
         self.observe_interactions();
+        self.advance_tours(dt);
         let out_of_time = self.time() >= self.scenario.episode.max_time - 1e-9;
         let stride = self.layout.stride;
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
@@ -823,7 +970,7 @@ impl World {
             rb.outcome = outcome;
             let row = &mut out[i * stride..(i + 1) * stride];
             let terms = &mut row[terms_off..terms_off + REWARD_TERMS.len()];
-            let geo = st.goal_field.distance(p);
+            let geo = st.fields[rb.leg].distance(p);
             let progress = if geo.is_finite() && rb.geodesic.is_finite() { rb.geodesic - geo } else { 0.0 };
             if geo.is_finite() {
                 rb.geodesic = geo;
@@ -847,8 +994,59 @@ impl World {
         }
         self.observe_all(out);
         self.plan_all(out);
-        self.write_people(people_out);
+        self.write_people(out, people_out);
         Ok(())
+    }
+
+    /// Tours: a robot that reaches its current waypoint stands there for its `dwell` seconds,
+    /// then heads for the next target (re-planning its path); progress is measured toward the
+    /// new target from then on.
+    fn advance_tours(&mut self, dt: f64) {
+        let radius = self.scenario.episode.success_radius;
+        let mut next = Vec::new();
+        for (i, (rb, st)) in self.robots.iter_mut().zip(&self.statics).enumerate() {
+            if rb.outcome != Outcome::Running || rb.leg + 1 >= st.route.len() {
+                continue;
+            }
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            if !rb.dwelling && (p - st.route[rb.leg]).norm() <= radius {
+                rb.dwelling = true;
+                rb.dwell_left = st.dwell;
+            }
+            if rb.dwelling {
+                if rb.dwell_left <= 1e-9 {
+                    rb.dwelling = false;
+                    rb.dwell_left = 0.0;
+                    rb.leg += 1;
+                    rb.geodesic = st.fields[rb.leg].distance(p);
+                    next.push(i);
+                } else {
+                    rb.dwell_left -= dt;
+                }
+            }
+        }
+        for i in next {
+            self.start_leg(i);
+        }
+    }
+
+    /// Plans robot `i`'s path to its (new) current target with its planner.
+    fn start_leg(&mut self, i: usize) {
+        let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+        let st = &self.statics[i];
+        let target = st.route[self.robots[i].leg];
+        let grid = &self.grids[st.grid_index].grid;
+        let path = plan_path(&mut self.planner, grid, p, target).unwrap_or_else(|| vec![p, target]);
+        let rb = &mut self.robots[i];
+        rb.follower = PathFollower::new(path, FollowerParams::default());
+        rb.social_path = None;
+        if st.planner == PlannerKind::Eband {
+            rb.band = ElasticBand::new(rb.follower.path(), st.eband).ok();
+        }
+        if self.planning[i] && st.planner.social_global() && self.perceive().is_ok() {
+            let tod = self.time_of_day();
+            self.social_plan(i, p, tod);
+        }
     }
 
     /// Closest person to `p`: (centre distance, surface gap for a robot of `radius`).
@@ -870,15 +1068,54 @@ impl World {
         best
     }
 
-    fn write_people(&self, people_out: &mut [f64]) {
-        for (k, chunk) in people_out.chunks_exact_mut(3).enumerate() {
-            chunk[0] = self.crowd.pos[k].x;
-            chunk[1] = self.crowd.pos[k].y;
-            chunk[2] = self.crowd.heading[k];
+    /// Writes the people's poses and contact hints into `people_out`, and each robot's
+    /// `near_static` hint and the time of day into its row of `out`.
+    fn write_people(&self, out: &mut [f64], people_out: &mut [f64]) {
+        let stride = self.layout.stride;
+        let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
+        let (near_off, robot_off, tod_off) = (sec("near_static"), sec("near_robot"), sec("time_of_day"));
+        let dt = self.scenario.control_dt();
+        let tod = self.time_of_day();
+        // Robot discs grown by the contact range and what the robot can travel in one period.
+        let reach: Vec<(Vec2, f64)> = self
+            .robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(rb, st)| {
+                let travel = (rb.velocity.norm() * dt).min(1e6);
+                (Vec2::new(rb.pose[0], rb.pose[1]), st.radius + CONTACT_RANGE + travel)
+            })
+            .collect();
+        for (i, &(p, r)) in reach.iter().enumerate() {
+            // Centre distance to the nearest wall or object edge, looked up within `r` only (a
+            // robot cannot be deep inside an object: the physics pushes it out first).
+            let near = self.geometry.boundary_distance_within(p, r) < r;
+            let near_robot = reach
+                .iter()
+                .enumerate()
+                .any(|(j, &(q, rq))| j != i && (q - p).norm_squared() < (r + rq - CONTACT_RANGE).powi(2));
+            let row = &mut out[i * stride..(i + 1) * stride];
+            row[near_off] = f64::from(u8::from(near));
+            row[robot_off] = f64::from(u8::from(near_robot));
+            row[tod_off] = tod;
+        }
+        for (k, chunk) in people_out.chunks_exact_mut(PERSON_OUT).enumerate() {
+            let q = self.crowd.pos[k];
+            let rk = self.crowd.radius[k];
+            let near = reach.iter().any(|&(p, r)| (q - p).norm_squared() < (r + rk) * (r + rk));
+            chunk[0] = q.x;
+            chunk[1] = q.y;
+            let h = self.crowd.heading[k];
+            chunk[2] = h;
+            chunk[3] = f64::from(u8::from(near));
+            let (sin, cos) = (0.5 * h).sin_cos();
+            chunk[4] = cos;
+            chunk[5] = sin;
         }
     }
 
-    /// Fills the observation sections and `pose` of every robot's row.
+    /// Fills the observation sections and `pose` of every robot's row (only `pose` for robots
+    /// whose episode had ended before this step: their last observation stays).
     fn observe_all(&mut self, out: &mut [f64]) {
         let stride = self.layout.stride;
         let sec = |name: &str| self.layout.section(name).map_or(0, |s| s.offset);
@@ -897,7 +1134,10 @@ impl World {
             let th = rb.pose[2];
             let row = &mut out[i * stride..(i + 1) * stride];
             row[o_pose..o_pose + 3].copy_from_slice(&rb.pose);
-            let g = world_to_body(st.goal - p, th);
+            if self.ended[i] {
+                continue;
+            }
+            let g = world_to_body(st.route[rb.leg] - p, th);
             let v = world_to_body(rb.velocity, th);
             let obs = &mut row[o_robot..o_robot + ROBOT_FEATURES];
             obs[0] = g.x.clamp(-diag, diag);
@@ -968,8 +1208,9 @@ impl World {
                 }
             }
             let scan = &mut row[o_lidar..o_lidar + rays];
-            // The only failure is a length mismatch, which the layout rules out.
-            let _ = lidar::scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
+            // Failures are an empty buffer or non-finite inputs, which the layout and the checks
+            // of `step` rule out.
+            let _ = self.scanners[i].scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
         }
     }
 
@@ -1050,7 +1291,7 @@ impl World {
     fn social_plan(&mut self, i: usize, p: Vec2, time_of_day: f64) {
         let st = &self.statics[i];
         let k = st.grid_index;
-        let goal = st.goal;
+        let goal = st.route[self.robots[i].leg];
         let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
         if let (Some(new), Some(old)) = (&plan, &self.robots[i].social_path) {
             let grid = &self.grids[k].grid;
@@ -1087,6 +1328,7 @@ impl World {
                 self.statics[i].planner.social_global()
                     && self.planning[i]
                     && rb.outcome == Outcome::Running
+                    && !rb.dwelling
                     && self.steps > 0
                     && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
                     && self.steps >= rb.last_plan_step + SOCIAL_MIN_REPLAN
@@ -1211,6 +1453,11 @@ impl World {
                 self.robots[i].mode = Mode::FollowPath;
                 continue;
             }
+            if self.robots[i].dwelling {
+                // At a tour stop: stand still (the desired velocity stays zero).
+                self.robots[i].mode = Mode::Wait;
+                continue;
+            }
             let planner = self.statics[i].planner;
             let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
             let theta = self.robots[i].pose[2];
@@ -1226,7 +1473,7 @@ impl World {
                 rb.follower.step_visible(p, theta, st.limits.max_speed, st.limits.max_accel, dt, &visible);
             if o.cross_track > rb.follower.params().replan_distance && !planner.social_global() {
                 // Pushed off the path (by people or contacts): re-plan from here.
-                if let Some(path) = plan_path(&mut self.planner, grid, p, st.goal) {
+                if let Some(path) = plan_path(&mut self.planner, grid, p, st.route[rb.leg]) {
                     rb.follower = PathFollower::new(path, FollowerParams::default());
                     o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
                     if planner == PlannerKind::Eband {

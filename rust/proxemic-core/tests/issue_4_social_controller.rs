@@ -32,7 +32,7 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
     let pose_off = world.layout().section("pose").expect("pose").offset;
     let flags = world.layout().section("flags").expect("flags").offset;
     let mut out = vec![0.0; stride * n];
-    let mut people_out = vec![0.0; world.num_people() * 3];
+    let mut people_out = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
     world.reset(seed, &mut out, &mut people_out).expect("reset");
     let mut state: Vec<f64> = (0..n)
         .flat_map(|i| {

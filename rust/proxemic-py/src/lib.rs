@@ -7,9 +7,10 @@
 //! reaching Python as a `PanicException`.
 //!
 //! # Threading model
-//! `World.reset`, `World.command` and `World.step` copy nothing: they borrow the numpy buffers
-//! (read-only for inputs, read-write for outputs), release the GIL while the core runs, and
-//! reacquire it before returning. A `World` is not shared between threads (`unsendable`).
+//! `World.reset` and `World.step` copy nothing: they borrow the numpy buffers (read-only for
+//! inputs, read-write for outputs), release the GIL while the core runs, and reacquire it before
+//! returning (`World.step` also to call the Python physics between its two halves, with no
+//! buffer borrowed). A `World` is not shared between threads (`unsendable`).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -70,6 +71,11 @@ fn internal_error(py: Python<'_>) -> PyErr {
 
 fn input_err(py: Python<'_>, field: &str, expected: String, found: String) -> PyErr {
     to_py_err(py, CoreError::input(field, expected, found))
+}
+
+/// An `InputError` for a buffer that is already borrowed (the same array passed twice).
+fn busy(py: Python<'_>, field: &str) -> PyErr {
+    input_err(py, field, "a float64 or uint8 array not borrowed elsewhere".into(), "a borrowed array".into())
 }
 
 /// A validated scenario (parsed once, from a TOML file or string).
@@ -194,11 +200,13 @@ impl PyScenario {
 /// The simulated world of a scenario: people, planners, metrics, observations and rewards.
 ///
 /// Buffers: `out` is a C-contiguous float64 array of `num_robots * stride` values (use
-/// `layout` to slice it), `people_out` a C-contiguous float64 array of `num_people * 3` values
-/// (x, y, heading). Both may have any shape with that many values.
+/// `layout` to slice it), `people_out` a C-contiguous float64 array of `num_people * PERSON_OUT`
+/// values (x, y, heading, contact hint). Both are one-dimensional.
 #[pyclass(module = "proxemic._core", name = "World", unsendable)]
 struct PyWorld {
     inner: CoreWorld,
+    /// `step` and `reset` calls so far (see `calls`).
+    calls: u64,
 }
 
 fn flat_mut<'a>(
@@ -241,7 +249,7 @@ impl PyWorld {
     fn new(py: Python<'_>, scenario: &PyScenario) -> PyResult<Self> {
         let s = scenario.inner.clone();
         let inner = enter_core(py, move || CoreWorld::new(s))?;
-        Ok(PyWorld { inner })
+        Ok(PyWorld { inner, calls: 0 })
     }
 
     /// Values per robot row of `out`.
@@ -304,49 +312,70 @@ impl PyWorld {
         mut out: PyReadwriteArray1<'_, f64>,
         mut people_out: PyReadwriteArray1<'_, f64>,
     ) -> PyResult<()> {
+        self.calls += 1;
         let o = flat_mut(py, "out", &mut out)?;
         let p = flat_mut(py, "people_out", &mut people_out)?;
         let w = &mut self.inner;
         enter_core(py, move || w.reset(seed, o, p))
     }
 
-    /// Replaces the built-in planners' commands with normalised actions (3 per robot, in
-    /// [-1, 1], clipped; a robot whose 3 values are all NaN keeps its planner's command).
-    /// Raises `InputError` for partly non-finite actions.
-    fn command(
-        &mut self,
-        py: Python<'_>,
-        actions: PyReadonlyArray1<'_, f64>,
-        mut out: PyReadwriteArray1<'_, f64>,
-    ) -> PyResult<()> {
-        let a = actions.as_slice().map_err(|_| {
-            input_err(py, "actions", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
-        })?;
-        let o = flat_mut(py, "out", &mut out)?;
-        let w = &mut self.inner;
-        enter_core(py, move || w.command(a, o))
-    }
-
-    /// One control step after the physics. `state`: 6 float64 per robot (x, y, theta, vx, vy,
-    /// wz; world frame); `contacts`: one uint8 of CONTACT_* bits per robot.
+    /// One control step for every robot, as one call: executes the normalised `actions` (3 per
+    /// robot in [-1, 1], clipped; all three NaN for a robot on autopilot, which executes its
+    /// built-in planner's command) by writing the limited commands into `out`'s `command`, calls
+    /// `physics()` once (it must execute those commands and the people's poses in `people_out`,
+    /// and write the robots' new `state`, 6 float64 per robot: x, y, theta, vx, vy, wz in the
+    /// world frame, and `contacts`, one uint8 of CONTACT_* bits per robot), then advances the
+    /// people, metrics, rewards, observations and planners into `out` and `people_out`. The
+    /// GIL is released except while `physics` runs. Raises `InputError` for bad actions (before
+    /// `physics` is called) or buffers; an exception raised by `physics` propagates.
+    #[allow(clippy::too_many_arguments)]
     fn step(
         &mut self,
         py: Python<'_>,
-        state: PyReadonlyArray1<'_, f64>,
-        contacts: PyReadonlyArray1<'_, u8>,
-        mut out: PyReadwriteArray1<'_, f64>,
-        mut people_out: PyReadwriteArray1<'_, f64>,
+        actions: PyReadonlyArray1<'_, f64>,
+        physics: &Bound<'_, PyAny>,
+        state: &Bound<'_, PyArray1<f64>>,
+        contacts: &Bound<'_, PyArray1<u8>>,
+        out: &Bound<'_, PyArray1<f64>>,
+        people_out: &Bound<'_, PyArray1<f64>>,
     ) -> PyResult<()> {
-        let s = state.as_slice().map_err(|_| {
+        self.calls += 1;
+        {
+            let a = actions.as_slice().map_err(|_| {
+                input_err(
+                    py,
+                    "actions",
+                    "a C-contiguous float64 array".into(),
+                    "a non-contiguous array".into(),
+                )
+            })?;
+            let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
+            let o = flat_mut(py, "out", &mut out_rw)?;
+            let w = &mut self.inner;
+            enter_core(py, move || w.command(a, o))?;
+        }
+        physics.call0()?;
+        let state_ro = state.try_readonly().map_err(|_| busy(py, "state"))?;
+        let contacts_ro = contacts.try_readonly().map_err(|_| busy(py, "contacts"))?;
+        let s = state_ro.as_slice().map_err(|_| {
             input_err(py, "state", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
         })?;
-        let c = contacts.as_slice().map_err(|_| {
+        let c = contacts_ro.as_slice().map_err(|_| {
             input_err(py, "contacts", "a C-contiguous uint8 array".into(), "a non-contiguous array".into())
         })?;
-        let o = flat_mut(py, "out", &mut out)?;
-        let p = flat_mut(py, "people_out", &mut people_out)?;
+        let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
+        let mut people_rw = people_out.try_readwrite().map_err(|_| busy(py, "people_out"))?;
+        let o = flat_mut(py, "out", &mut out_rw)?;
+        let p = flat_mut(py, "people_out", &mut people_rw)?;
         let w = &mut self.inner;
         enter_core(py, move || w.step(s, c, o, p))
+    }
+
+    /// Calls into the core since the world was built: `step` and `reset` calls (a diagnostic:
+    /// one per control step and per episode start).
+    #[getter]
+    fn calls(&self) -> u64 {
+        self.calls
     }
 
     /// Chooses which robots' built-in planners run (one bool per robot; all by default). A
@@ -359,9 +388,21 @@ impl PyWorld {
     /// Every metric of every robot's episode so far (`design/metrics.md`): a list with one dict
     /// per robot, the outcome and one key per metric (undefined values as None; `d_min` per
     /// person and `psi_object` / `psi_object_any` per object with an interaction space as lists).
-    fn episode_metrics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+    /// With `robots` (indices), only those robots' dicts, in that order.
+    #[pyo3(signature = (robots = None))]
+    fn episode_metrics<'py>(
+        &self,
+        py: Python<'py>,
+        robots: Option<Vec<usize>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let w = &self.inner;
-        let text = enter_core(py, move || w.episode_metrics().map(|m| serde_json_string(&m)))?;
+        let text = enter_core(py, move || {
+            match &robots {
+                Some(r) => w.robot_metrics(r),
+                None => w.episode_metrics(),
+            }
+            .map(|m| serde_json_string(&m))
+        })?;
         py.import("json")?.call_method1("loads", (text,))
     }
 
@@ -569,6 +610,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PEER_FEATURES", world::PEER_FEATURES)?;
     m.add("OBS_MAX_SPEED", world::OBS_MAX_SPEED)?;
     m.add("OBS_MAX_ANGULAR", world::OBS_MAX_ANGULAR)?;
+    m.add("PERSON_OUT", world::PERSON_OUT)?;
+    m.add("CONTACT_RANGE", world::CONTACT_RANGE)?;
     m.add("PLANNERS", proxemic_core::scenario::PlannerKind::NAMES.to_vec())?;
     m.add_class::<PyScenario>()?;
     m.add_class::<PyWorld>()?;

@@ -34,7 +34,8 @@ fn ray_disc(origin: Vec2, dir: Vec2, c: Vec2, r: f64, max_t: f64) -> Option<f64>
 ///
 /// The static geometry is cast through its bucket grid; each disc is then intersected analytically
 /// with only the rays inside its angular extent, so the cost grows with the rays a disc covers,
-/// not with rays times discs.
+/// not with rays times discs. [`Scanner`] does the same with reusable buffers and a cache of the
+/// static part for a lidar that has not moved.
 ///
 /// Errors with [`CoreError::Input`] if `out` is empty (`out.len()` is the number of rays), if
 /// `origin` or `heading` is not finite, if `max_range` is not finite and positive, or if a disc
@@ -47,74 +48,132 @@ pub fn scan(
     max_range: f64,
     out: &mut [f64],
 ) -> Result<()> {
-    if out.is_empty() {
-        return Err(CoreError::input("out", "a buffer of n_rays >= 1 ranges", "an empty buffer"));
-    }
-    if !(origin.x.is_finite() && origin.y.is_finite()) {
-        return Err(CoreError::input("origin", "finite coordinates (metres)", format!("{origin:?}")));
-    }
-    if !heading.is_finite() {
-        return Err(CoreError::input("heading", "a finite angle (radians)", format!("{heading}")));
-    }
-    if !(max_range.is_finite() && max_range > 0.0) {
-        return Err(CoreError::input("max_range", "a finite range > 0 (metres)", format!("{max_range}")));
-    }
-    // Cull discs once; at most a small fixed number live on the stack, the rest fall back to a
-    // per-ray scan over all discs.
-    for (k, &(c, r)) in discs.iter().enumerate() {
-        if !(c.x.is_finite() && c.y.is_finite() && r.is_finite() && r >= 0.0) {
-            return Err(CoreError::input(
-                format!("discs[{k}]"),
-                "a finite centre and a finite radius >= 0 (metres)",
-                format!("centre {:?}, radius {r}", (c.x, c.y)),
-            ));
+    Scanner::default().scan(geom, discs, origin, heading, max_range, out)
+}
+
+/// A lidar with its working buffers: [`scan`] without allocations, and with the static part of
+/// the last scan kept, so a lidar that has not moved (same origin, heading, range and ray count,
+/// bit for bit) against the same geometry reuses it instead of casting its rays again. Results
+/// are exactly those of [`scan`]. Use one `Scanner` per lidar and one static geometry.
+#[derive(Clone, Debug, Default)]
+pub struct Scanner {
+    /// (origin x, origin y, heading, range) of the cached static ranges, as bits.
+    key: Option<[u64; 4]>,
+    /// The static ranges of the last scan.
+    ranges: Vec<f64>,
+    /// Per ray, its direction if already computed this scan (x is NaN until then).
+    dirs: Vec<Vec2>,
+}
+
+impl Scanner {
+    /// Scans as [`scan`] does (same arguments, results and errors).
+    pub fn scan(
+        &mut self,
+        geom: &StaticGeometry,
+        discs: &[(Vec2, f64)],
+        origin: Vec2,
+        heading: f64,
+        max_range: f64,
+        out: &mut [f64],
+    ) -> Result<()> {
+        if out.is_empty() {
+            return Err(CoreError::input("out", "a buffer of n_rays >= 1 ranges", "an empty buffer"));
         }
-    }
-    let n = out.len();
-    let step = std::f64::consts::TAU / n as f64;
-    // Static geometry: one containment check per scan, then a bucket-grid cast per ray.
-    if geom.contains(origin) {
-        out.fill(0.0);
-        return Ok(());
-    }
-    // Ray directions by exact rotation of the first one (two trig calls per scan, not per ray);
-    // re-anchored every 16 rays so rounding cannot accumulate.
-    let (rs, rc) = step.sin_cos();
-    let mut dir = Vec2::new(heading.cos(), heading.sin());
-    for (k, slot) in out.iter_mut().enumerate() {
-        if k % 16 == 0 {
-            let a = heading + k as f64 * step;
-            dir = Vec2::new(a.cos(), a.sin());
+        if !(origin.x.is_finite() && origin.y.is_finite()) {
+            return Err(CoreError::input("origin", "finite coordinates (metres)", format!("{origin:?}")));
         }
-        *slot = geom.cast_ray_from_outside(origin, dir, max_range);
-        dir = Vec2::new(rc * dir.x - rs * dir.y, rs * dir.x + rc * dir.y);
-    }
-    // Discs: each only touches the rays inside its angular extent asin(r / d) around its bearing
-    // (one extra ray on each side absorbs rounding); those are intersected exactly.
-    for &(c, r) in discs {
-        let rel = c - origin;
-        let d = rel.norm();
-        if d - r >= max_range {
-            continue;
+        if !heading.is_finite() {
+            return Err(CoreError::input("heading", "a finite angle (radians)", format!("{heading}")));
         }
-        if d <= r {
-            out.fill(0.0);
-            continue;
+        if !(max_range.is_finite() && max_range > 0.0) {
+            return Err(CoreError::input("max_range", "a finite range > 0 (metres)", format!("{max_range}")));
         }
-        let half = (r / d).asin();
-        let bearing = rel.y.atan2(rel.x) - heading;
-        let first = ((bearing - half) / step).floor() as i64 - 1;
-        let last = ((bearing + half) / step).ceil() as i64 + 1;
-        let span = (last - first + 1).min(n as i64);
-        for j in 0..span {
-            let k = (first + j).rem_euclid(n as i64) as usize;
-            let a = heading + k as f64 * step;
-            if let Some(t) = ray_disc(origin, Vec2::new(a.cos(), a.sin()), c, r, out[k]) {
-                out[k] = t;
+        for (k, &(c, r)) in discs.iter().enumerate() {
+            if !(c.x.is_finite() && c.y.is_finite() && r.is_finite() && r >= 0.0) {
+                return Err(CoreError::input(
+                    format!("discs[{k}]"),
+                    "a finite centre and a finite radius >= 0 (metres)",
+                    format!("centre {:?}, radius {r}", (c.x, c.y)),
+                ));
             }
         }
+        let n = out.len();
+        let step = std::f64::consts::TAU / n as f64;
+        let key = [origin.x.to_bits(), origin.y.to_bits(), heading.to_bits(), max_range.to_bits()];
+        if self.key == Some(key) && self.ranges.len() == n {
+            out.copy_from_slice(&self.ranges);
+        } else {
+            Self::cast_static(geom, origin, heading, max_range, step, out);
+            self.ranges.clear();
+            self.ranges.extend_from_slice(out);
+            self.key = Some(key);
+        }
+        if out[0] == 0.0 && geom.contains(origin) {
+            return Ok(()); // inside the static geometry: every ray reads 0 already
+        }
+        // Discs: each only touches the rays inside its angular extent asin(r / d) around its bearing
+        // (one extra ray on each side absorbs rounding); those are intersected exactly. A ray's
+        // direction is computed once per scan, however many discs it meets.
+        self.dirs.clear();
+        self.dirs.resize(n, Vec2::new(f64::NAN, 0.0));
+        for &(c, r) in discs {
+            let rel = c - origin;
+            let d = rel.norm();
+            if d - r >= max_range {
+                continue;
+            }
+            if d <= r {
+                out.fill(0.0);
+                continue;
+            }
+            let half = (r / d).asin();
+            let bearing = rel.y.atan2(rel.x) - heading;
+            let first = ((bearing - half) / step).floor() as i64 - 1;
+            let last = ((bearing + half) / step).ceil() as i64 + 1;
+            let span = (last - first + 1).min(n as i64);
+            for j in 0..span {
+                let k = (first + j).rem_euclid(n as i64) as usize;
+                let mut dir = self.dirs[k];
+                if dir.x.is_nan() {
+                    let a = heading + k as f64 * step;
+                    dir = Vec2::new(a.cos(), a.sin());
+                    self.dirs[k] = dir;
+                }
+                if let Some(t) = ray_disc(origin, dir, c, r, out[k]) {
+                    out[k] = t;
+                }
+            }
+        }
+        Ok(())
     }
-    Ok(())
+
+    /// The static part of a scan: every ray cast through the bucket grid (0 everywhere from
+    /// inside a polygon).
+    fn cast_static(
+        geom: &StaticGeometry,
+        origin: Vec2,
+        heading: f64,
+        max_range: f64,
+        step: f64,
+        out: &mut [f64],
+    ) {
+        if geom.contains(origin) {
+            out.fill(0.0);
+            return;
+        }
+        // Ray directions by exact rotation of the first one (two trig calls per scan, not per ray);
+        // re-anchored every 16 rays so rounding cannot accumulate.
+        let (rs, rc) = step.sin_cos();
+        let mut dir = Vec2::new(heading.cos(), heading.sin());
+        for (k, slot) in out.iter_mut().enumerate() {
+            if k % 16 == 0 {
+                let a = heading + k as f64 * step;
+                dir = Vec2::new(a.cos(), a.sin());
+            }
+            *slot = geom.cast_ray_from_outside(origin, dir, max_range);
+            dir = Vec2::new(rc * dir.x - rs * dir.y, rs * dir.x + rc * dir.y);
+        }
+    }
 }
 
 #[cfg(test)]
@@ -244,6 +303,38 @@ mod tests {
         for (a, b) in out.iter().zip(&want) {
             assert!((a - b).abs() < 1e-9, "{a} vs {b}");
         }
+    }
+
+    #[test]
+    fn scanner_equals_scan_bit_for_bit_with_and_without_its_cache() {
+        let g = wall();
+        let mut sc = Scanner::default();
+        let discs = [(v(1.5, 0.2), 0.25), (v(2.0, -1.0), 0.3)];
+        let mut a = vec![0.0; 36];
+        let mut b = vec![0.0; 36];
+        for (o, h, d) in [
+            (v(0.0, 0.0), 0.3, &discs[..]),
+            (v(0.0, 0.0), 0.3, &discs[..1]), // same pose: the static part comes from the cache
+            (v(0.0, 0.0), 0.3, &[][..]),
+            (v(0.5, 0.1), 0.3, &discs[..]),  // moved
+            (v(0.5, 0.1), -1.0, &discs[..]), // turned
+            (v(3.1, 0.0), 0.0, &discs[..]),  // inside the wall
+            (v(3.1, 0.0), 0.0, &discs[..]),
+        ] {
+            sc.scan(&g, d, o, h, 8.0, &mut a).expect("valid");
+            scan(&g, d, o, h, 8.0, &mut b).expect("valid");
+            assert_eq!(
+                a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                b.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+        }
+        // A different ray count at the same pose is not served from the cache.
+        let mut c = vec![0.0; 12];
+        sc.scan(&g, &[], v(3.1, 0.0), 0.0, 8.0, &mut c).expect("valid");
+        sc.scan(&g, &[], v(0.0, 0.0), 0.0, 8.0, &mut c).expect("valid");
+        let mut d = vec![0.0; 12];
+        scan(&g, &[], v(0.0, 0.0), 0.0, 8.0, &mut d).expect("valid");
+        assert_eq!(c, d);
     }
 
     proptest! {

@@ -11,4 +11,4 @@ pub mod raycast;
 
 pub use geometry::{Bounds, StaticGeometry};
 pub use grid::{DistanceField, GridSpec, OccupancyGrid};
-pub use lidar::scan;
+pub use lidar::{Scanner, scan};

@@ -88,6 +88,19 @@ pub enum Script {
         /// This follower's place at each of the guide's waypoints (`None` if not a stop).
         slots: Vec<Option<Vec2>>,
     },
+    /// A follower of a robot's tour (its start, waypoints and goal: the tour points). It walks
+    /// the robot's trail (see [`crate::pedestrians::Crowd::set_guides`]).
+    RobotFollower {
+        /// Index of the robot; `None` if it is not in the episode (the follower then stays at
+        /// its place at the start).
+        robot: Option<usize>,
+        /// The robot's start (the first tour point).
+        start: Vec2,
+        /// The places on the arc at each tour point, one per follower (empty where the robot
+        /// does not stop); a follower takes the nearest one not yet taken. The first is this
+        /// follower's own at the start.
+        places: Vec<Vec<Vec2>>,
+    },
 }
 
 impl Script {
@@ -318,6 +331,7 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
                     (0..persons.len()).filter(|&k| persons[k].guide == Some(i)).collect();
                 Script::Guide { stops: p.stops.clone(), followers }
             }
+            Behaviour::Follower if !p.tour.is_empty() => robot_follower(s, geometry, i)?,
             Behaviour::Follower => {
                 let g = p.guide.unwrap_or(0);
                 let guide = &persons[g];
@@ -364,6 +378,52 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
         out.push(script);
     }
     Ok(out)
+}
+
+/// The script of follower `i` of a robot's tour: a place on an arc of `gather_radius` behind
+/// each stop (opening toward where the robot comes from; at the start, away from where it goes),
+/// one shoulder width (0.75 m) apart, in sight of the stop.
+fn robot_follower(s: &Scenario, geometry: &StaticGeometry, i: usize) -> Result<Script> {
+    let p = &s.persons[i];
+    let tour: Vec<Vec2> = p.tour.iter().map(|q| v2(*q)).collect();
+    let n = tour.len();
+    let followers: Vec<usize> = (0..s.persons.len()).filter(|&k| s.persons[k].tour == p.tour).collect();
+    let rank = followers.iter().position(|&k| k == i).unwrap_or(0);
+    let m = followers.len() as f64;
+    // Fields of the tour points in the file: the robot's start, waypoints and goal.
+    let point_field = |k: usize| match p.guide_robot {
+        Some(j) if k == 0 => format!("robot[{j}].start"),
+        Some(j) if k + 1 == n => format!("robot[{j}].goal"),
+        Some(j) => format!("robot[{j}].waypoints[{}]", k - 1),
+        None => format!("person[{i}].guide"),
+    };
+    let mut places = vec![Vec::new(); n];
+    for k in (0..n).filter(|&k| p.tour_stops.get(k).copied().unwrap_or(false)) {
+        let stop = tour[k];
+        let back = if k == 0 { tour[0] - tour[1.min(n - 1)] } else { tour[k - 1] - stop };
+        let r = p.gather_radius;
+        let step = (0.75 / r).min(std::f64::consts::PI / m.max(1.0));
+        for place in 0..followers.len() {
+            let a = back.y.atan2(back.x) + (place as f64 - 0.5 * (m - 1.0)) * step;
+            let slot = stop + Vec2::new(a.cos(), a.sin()) * r;
+            if !clear(geometry, slot, p.radius) || geometry.segment_hits(stop, slot) {
+                return Err(err(
+                    s,
+                    point_field(k),
+                    format!(
+                        "a tour stop with room for {m} followers on an arc of radius {r} m behind it, in sight of it"
+                    ),
+                    format!("place {place} of its arc, [{:.2}, {:.2}], does not fit", slot.x, slot.y),
+                ));
+            }
+            places[k].push(slot);
+        }
+    }
+    // At the start, each follower stands at its own place (by rank).
+    if let Some(first) = places.first_mut().filter(|f| !f.is_empty()) {
+        first.swap(0, rank);
+    }
+    Ok(Script::RobotFollower { robot: p.guide_robot, start: tour[0], places })
 }
 
 /// A visitor's viewing place for object `o`: in front of a trapezoid (painting, TV), spread
