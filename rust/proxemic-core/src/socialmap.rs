@@ -264,23 +264,22 @@ type Rect = (usize, usize, usize, usize);
 /// The axis distances advance by constant steps along a row, and zones are decided by comparing
 /// the exponent with the zone radii's thresholds, without exp or sqrt.
 ///
-/// `full` is the individual's whole box and `rect` the part of it to visit. Zones do not pass
-/// through walls: only the cells that [`in_sight`] finds open to the individual's centre (within
-/// its whole box) are visited.
+/// `full` is the individual's whole box, `open` which of its cells are in sight of the
+/// individual (row-major over `full`, from [`in_sight`]: zones do not pass through walls) and
+/// `rect` the part of the box to visit.
 #[allow(clippy::too_many_arguments)]
 fn for_each_zone_cell(
-    grid: &CostGrid,
+    spec: &GridSpec,
     costs: &SocialCosts,
     quad: &[f64; 8],
     zone_scale: f64,
     full: Rect,
+    open: &[bool],
     rect: Rect,
     mut f: impl FnMut(usize, usize),
 ) {
-    let spec = &grid.spec;
     let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
     let (a0, b0, a1, b1) = rect;
-    let open = in_sight(grid, Vec2::new(cx, cy), full);
     let (f0x, f0y, width) = (full.0, full.1, full.2 + 1 - full.0);
     let two_z2 = 2.0 * zone_scale * zone_scale;
     let (qi, qp, qs) = (
@@ -391,12 +390,21 @@ pub struct SocialMap {
     counted: Vec<Option<Contribution>>,
 }
 
-/// What one individual added to the zone counts: its quadratic form, zone scale and box.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What one individual added to the zone counts: its quadratic form, zone scale and box, and
+/// the cells of the box in sight of it (kept, so taking the contribution back costs no search).
+#[derive(Clone, Debug)]
 struct Contribution {
     quad: [f64; 8],
     zone_scale: f64,
     rect: Rect,
+    open: Vec<bool>,
+}
+
+impl Contribution {
+    /// Same individual in the same place (the sight mask follows from these).
+    fn same(&self, quad: &[f64; 8], zone_scale: f64, rect: Rect) -> bool {
+        self.quad == *quad && self.zone_scale == zone_scale && self.rect == rect
+    }
 }
 
 impl SocialMap {
@@ -638,29 +646,32 @@ impl SocialMap {
         }
         self.mark.resize(spec.len(), false);
         let mut touched: Vec<u32> = Vec::new();
-        let n = individuals.len().max(self.counted.len());
-        for k in 0..n {
-            let new = individuals.get(k).and_then(|s| {
-                let rect = self.rect_of(s)?;
-                Some(Contribution { quad: s.quadratic()?, zone_scale: s.zone_scale(), rect })
-            });
-            let old = self.counted.get(k).copied().flatten();
-            if old == new {
+        // Match the new individuals with the counted contributions by content, not by index:
+        // when someone joins or leaves the list, the others keep their contributions.
+        let new: Vec<Option<([f64; 8], f64, Rect)>> =
+            individuals.iter().map(|s| Some((s.quadratic()?, s.zone_scale(), self.rect_of(s)?))).collect();
+        let mut old = std::mem::take(&mut self.counted);
+        let mut next: Vec<Option<Contribution>> = Vec::with_capacity(new.len());
+        for n in &new {
+            let Some((quad, zone_scale, rect)) = *n else {
+                next.push(None);
                 continue;
-            }
-            if let Some(c) = old {
-                self.count_zones(&c, -1, &mut touched);
-            }
-            if let Some(c) = new {
+            };
+            let kept = old.iter_mut().find(|c| c.as_ref().is_some_and(|c| c.same(&quad, zone_scale, rect)));
+            next.push(kept.and_then(Option::take));
+        }
+        for c in old.into_iter().flatten() {
+            self.count_zones(&c, -1, &mut touched);
+        }
+        for (k, n) in new.iter().enumerate() {
+            if let (None, Some((quad, zone_scale, rect))) = (&next[k], *n) {
+                let open = in_sight(&self.static_grid, Vec2::new(quad[0], quad[1]), rect);
+                let c = Contribution { quad, zone_scale, rect, open };
                 self.count_zones(&c, 1, &mut touched);
-            }
-            if k < self.counted.len() {
-                self.counted[k] = new;
-            } else {
-                self.counted.push(new);
+                next[k] = Some(c);
             }
         }
-        self.counted.truncate(individuals.len());
+        self.counted = next;
         let c = self.costs;
         for &cell in &touched {
             let i = cell as usize;
@@ -686,11 +697,12 @@ impl SocialMap {
     fn count_zones(&mut self, c: &Contribution, delta: i32, touched: &mut Vec<u32>) {
         let (counts, mark) = (&mut self.counts, &mut self.mark);
         for_each_zone_cell(
-            &self.static_grid,
+            &self.static_grid.spec,
             &self.costs,
             &c.quad,
             c.zone_scale,
             c.rect,
+            &c.open,
             c.rect,
             |idx, zone| {
                 let slot = &mut counts[idx][zone];
@@ -707,8 +719,9 @@ impl SocialMap {
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
+        let open = in_sight(&self.static_grid, Vec2::new(q[0], q[1]), full);
         let people = &mut self.people;
-        for_each_zone_cell(&self.static_grid, &c, q, zone_scale, full, rect, |idx, zone| {
+        for_each_zone_cell(&self.static_grid.spec, &c, q, zone_scale, full, &open, rect, |idx, zone| {
             if factors[zone] > people[idx] {
                 people[idx] = factors[zone];
             }
@@ -768,6 +781,32 @@ mod tests {
         }
         fn centre(&self) -> Option<Vec2> {
             Some(self.c)
+        }
+    }
+
+    /// A [`Disc`] that also offers its quadratic form, so the map takes the counting path.
+    #[derive(Clone, Copy)]
+    struct Round(Disc);
+
+    impl SpaceFunction for Round {
+        fn exponent(&self, p: Vec2) -> f64 {
+            self.0.exponent(p)
+        }
+        fn zone_scale(&self) -> f64 {
+            self.0.zone_scale()
+        }
+        fn bounds(&self) -> [f64; 4] {
+            self.0.bounds()
+        }
+        fn fingerprint(&self) -> [f64; 8] {
+            self.0.fingerprint()
+        }
+        fn centre(&self) -> Option<Vec2> {
+            self.0.centre()
+        }
+        fn quadratic(&self) -> Option<[f64; 8]> {
+            let k = 1.0 / (2.0 * self.0.sigma * self.0.sigma);
+            Some([self.0.c.x, self.0.c.y, 1.0, 0.0, k, k, k, k])
         }
     }
 
@@ -844,6 +883,36 @@ mod tests {
         // unchanged people cost nothing
         inc.update_people(&people);
         assert_eq!(inc.cells_touched(), 0);
+    }
+
+    #[test]
+    fn counted_update_keeps_contributions_when_the_list_shifts() {
+        let round = |x: f64, y: f64| Round(Disc { c: Vec2::new(x, y), sigma: 1.0 });
+        let mut people = vec![round(5.0, 5.0), round(15.0, 5.0), round(25.0, 5.0)];
+        let mut inc = SocialMap::new(grid(40.0, 20.0), &[], SocialCosts::default());
+        inc.update_people(&people);
+        let one = {
+            let mut lone = SocialMap::new(grid(40.0, 20.0), &[], SocialCosts::default());
+            lone.update_people(&people[..1]);
+            lone.cells_touched()
+        };
+        assert!(one > 0);
+        // The first one starts walking and leaves the list: the others' indices shift, yet only
+        // the leaver's cells are touched.
+        people.remove(0);
+        inc.update_people(&people);
+        assert_eq!(inc.cells_touched(), one);
+        // Someone stops at the front of the list: only the newcomer's cells.
+        people.insert(0, round(35.0, 15.0));
+        inc.update_people(&people);
+        assert_eq!(inc.cells_touched(), one);
+        let mut full = SocialMap::new(grid(40.0, 20.0), &[], SocialCosts::default());
+        full.update_people(&people);
+        assert_eq!(inc.grid(), full.grid());
+        // Against the zone costs of a map that never counted.
+        let mut plain = SocialMap::new(grid(40.0, 20.0), &[], SocialCosts::default());
+        plain.update_people(&people.iter().map(|r| r.0).collect::<Vec<_>>());
+        assert_eq!(inc.grid(), plain.grid());
     }
 
     #[test]

@@ -218,6 +218,10 @@ const SOCIAL_REFRESH: usize = 20;
 /// without it, two ways of nearly equal cost (around a gallery or along the corridor) took turns
 /// as people moved and the robot wandered between them.
 const SOCIAL_REPLAN_GAIN: f64 = 0.15;
+/// The largest ratio of the shortest 8-connected grid path to the straight line between its
+/// ends, `cos 22.5° + (sqrt 2 - 1) sin 22.5°` (at 22.5°): a grid geodesic divided by it never
+/// exceeds the true one.
+const GRID_DETOUR: f64 = 1.082_392_200_292_394;
 
 /// A cost grid shared by all robots with the same inflation radius.
 struct InflatedGrid {
@@ -1292,15 +1296,31 @@ impl World {
         let st = &self.statics[i];
         let k = st.grid_index;
         let goal = st.route[self.robots[i].leg];
-        let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
-        if let (Some(new), Some(old)) = (&plan, &self.robots[i].social_path) {
+        let left = self.robots[i].social_path.as_ref().map(|old| {
             let grid = &self.grids[k].grid;
-            let left = self.social.remaining_cost(old, p, time_of_day, |a, b| segment_clear(grid, a, b));
-            if left.is_finite() && SocialPlanning::planned_cost(new) > (1.0 - SOCIAL_REPLAN_GAIN) * left {
-                // Not worth a change of way: keep the current path, look again later.
+            self.social.remaining_cost(old, p, time_of_day, |a, b| segment_clear(grid, a, b))
+        });
+        if let Some(left) = left {
+            // No path can cost less than the way's length, and none is shorter than the geodesic
+            // distance (the 8-connected field overestimates it by at most 8.24%, and the cost
+            // counts the path in samples): when what is left is already within the gain of that,
+            // a search could not find a path worth changing to.
+            let field = &st.fields[self.robots[i].leg];
+            let shortest =
+                field.distance(p) / GRID_DETOUR - 2.0 * field.resolution() - social_planning::SAMPLE_SPACING;
+            if left.is_finite() && (1.0 - SOCIAL_REPLAN_GAIN) * left <= shortest {
                 self.robots[i].last_plan_step = self.steps;
                 return;
             }
+        }
+        let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
+        if let (Some(new), Some(left)) = (&plan, left)
+            && left.is_finite()
+            && SocialPlanning::planned_cost(new) > (1.0 - SOCIAL_REPLAN_GAIN) * left
+        {
+            // Not worth a change of way: keep the current path, look again later.
+            self.robots[i].last_plan_step = self.steps;
+            return;
         }
         let rb = &mut self.robots[i];
         match plan {

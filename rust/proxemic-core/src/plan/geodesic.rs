@@ -93,6 +93,11 @@ impl GoalField {
         }
     }
 
+    /// The grid's resolution (metres per cell).
+    pub fn resolution(&self) -> f64 {
+        self.spec.resolution
+    }
+
     /// Smooth geodesic distance at `p` (metres): the minimum over the reachable cells of the 3x3
     /// neighbourhood of (cell distance + straight-line distance from `p` to that cell's centre).
     /// Continuous in `p` where the neighbourhood is free, so progress rewards do not jump at cell

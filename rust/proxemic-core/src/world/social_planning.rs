@@ -26,7 +26,7 @@ use crate::social::{Individual, Perception, SocialConfig, perceive};
 use crate::socialmap::SocialMap;
 
 /// Spacing of the points sampled along a path for the re-planning checks (metres).
-const SAMPLE_SPACING: f64 = 0.25;
+pub const SAMPLE_SPACING: f64 = 0.25;
 /// How far ahead along the path the checks look (metres).
 const LOOKAHEAD: f64 = 8.0;
 /// A sampled point whose traversal factor rose by at least this much triggers a re-plan.
