@@ -1,7 +1,8 @@
 """Parallel env throughput: env steps and agent-steps per second with 4 and 11 robots.
 
-The museum with several robots (``museum_multi``: the museum's walls, objects and 50 people,
-eleven robot definitions; the first N are used). Three settings:
+The museum with several robots (``museum_multi``: the museum's walls, objects and 52 people, a
+tour group of four led by robot 1, 56 people in all; eleven robot definitions, the first N are
+used). Three settings:
 
 - ``social``: every agent's policy returns its built-in planner's command
   (``info["planner_action"]``, the scenario's social planner, Daza 2021 Algorithm 1, computed for

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import mujoco
 import numpy as np
+import pytest
 
 from proxemic import _core, scenarios
 from proxemic.sim import Simulation
@@ -150,20 +151,31 @@ def test_physics_and_render_models_step_bit_for_bit_alike(small_room):
     assert flags & _core.CONTACT_STATIC and flags & _core.CONTACT_PERSON
 
 
-def test_contact_hints_change_nothing_but_the_cost():
-    """Eleven robots driven blindly into walls, people and each other: the episode with the
-    core's contact hints equals the one with every pair tested, bit for bit; and the hints do
-    leave out far pairs."""
+@pytest.mark.parametrize("robots", [11, 2])
+def test_contact_hints_change_nothing_but_the_cost(robots: int):
+    """Robots driven blindly into walls, people and each other: the episode with the core's
+    contact hints equals the one with every pair tested, bit for bit; and the hints do leave out
+    far pairs, and (with two robots) whole control periods, stepped with the collision detection
+    off."""
     import proxemic
 
+    quiet = [0]
+
     def run(hints: bool) -> tuple[list[np.ndarray], int]:
-        env = proxemic.parallel_env("museum_multi", robots=11, planners="astar")
+        env = proxemic.parallel_env("museum_multi", robots=robots, planners="astar")
         sim = env.ws.sim
         skipped = 0
+        real, real_step = sim.set_hints, sim.step
         if not hints:  # every pair tested, contacts read after every physics step
-            real, real_step = sim.set_hints, sim.step
             sim.set_hints = lambda s, p: real(np.ones_like(s), np.ones_like(p))  # type: ignore[method-assign]
             sim.step = lambda command, possible=True: real_step(command, True)  # type: ignore[method-assign]
+        else:
+
+            def counted(command: np.ndarray, possible: bool = True) -> None:
+                quiet[0] += int(not possible)
+                real_step(command, possible)
+
+            sim.step = counted  # type: ignore[method-assign]
         rng = np.random.default_rng(3)
         env.reset(seed=5)
         states = []
@@ -182,3 +194,5 @@ def test_contact_hints_change_nothing_but_the_cost():
     assert all(np.array_equal(a, b) for a, b in zip(on, off, strict=True))
     assert none == 0 and skipped > 0
     assert len(on) < 400  # every robot collided before the step limit
+    if robots == 2:
+        assert quiet[0] > 0

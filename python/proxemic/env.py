@@ -42,7 +42,7 @@ class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     arc facing it at every stop (Daza 2021 Fig. 11), people seated on benches and sofas, slow walkers (speed presets such as
     ``"elderly"``), and care-center residents and staff who follow the agenda (arriving before
     each activity, staying for it with the therapist facing the residents, leaving after). The
-    museum (``proxemic/Museum-v0``) has 50 people with all of these but residents; the care center
+    museum (``proxemic/Museum-v0``) has 52 people with all of these but residents; the care center
     (``proxemic/CareCenter-v0``) runs a morning agenda whose activities end and start during the
     episode.
 

@@ -254,6 +254,11 @@ class Simulation:
         self.state = np.zeros(6 * n)
         self._state2d = self.state.reshape(n, 6)
         self.contacts = np.zeros(n, dtype=np.uint8)
+        # A control period the hints rule every contact out for is stepped with contacts
+        # disabled: the collision detection (half of an mj_step here) finds nothing anyway, and
+        # with no contact the solver's input is the same, so the states are bit-identical.
+        self._flags = int(m.opt.disableflags)
+        self._flags_no_contact = self._flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
 
@@ -310,12 +315,17 @@ class Simulation:
         Contacts are checked after every physics step (a person's push can separate the bodies
         again within one control period), and accumulated into `contacts` as CONTACT_* bits.
         With `contacts_possible` False (the core's hints rule every contact out for this
-        period), the physics steps are made in one call and no contact is read.
+        period), the physics steps are made in one call with the collision detection off and
+        no contact is read.
         """
         m, d = self.model, self.data
         self._ctrl[:] = command
         if not contacts_possible:
-            mujoco.mj_step(m, d, self.frame_skip)
+            m.opt.disableflags = self._flags_no_contact
+            try:
+                mujoco.mj_step(m, d, self.frame_skip)
+            finally:
+                m.opt.disableflags = self._flags
             self.contacts[:] = 0
             return
         owner, bit = self._owner_list, self._bit_list

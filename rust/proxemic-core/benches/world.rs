@@ -1,9 +1,10 @@
 //! Whole-world control steps: `World::command` plus `World::step` for the robots of
-//! `museum_multi` (the museum's 50 people), with the physics replaced by exact integration of the
+//! `museum_multi` (the museum's 56 people), with the physics replaced by exact integration of the
 //! commands (no contacts), so what is timed is the core's share of a parallel env step. Three
-//! settings per robot count (4 and 11): policies only (built-in planners off, the robots driven by
-//! constant actions), every robot planning with plain A* (`astar`) and with the full social
-//! planner (`social`). Episodes are reset (untimed) when every robot has finished.
+//! settings per robot count (4 and 11): policies only (built-in planners off, every robot turning
+//! in place, so all stay live and every scan changes, as in `benches/parallel_bench.py`), every
+//! robot planning with plain A* (`astar`) and with the full social planner (`social`). Episodes
+//! are reset (untimed) when every robot has finished.
 //!
 //! Run with `cargo bench --bench world` (add `-- --quick` for a short run; `--profile-time 10`
 //! runs one setting for a profiler).
@@ -43,7 +44,7 @@ impl Sim {
         if planner.is_none() {
             world.set_planning(&vec![false; n]).expect("planning");
             for a in actions.chunks_exact_mut(3) {
-                a.copy_from_slice(&[0.3, 0.0, 0.1]);
+                a.copy_from_slice(&[0.0, 0.0, 0.5]);
             }
         }
         let out = vec![0.0; world.layout().stride * n];

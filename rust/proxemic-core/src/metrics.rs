@@ -333,16 +333,18 @@ pub fn interactions(
 ) {
     ospaces.clear();
     links.clear();
-    let mut ids: Vec<u32> = groups.iter().flatten().copied().collect();
-    ids.sort_unstable();
-    ids.dedup();
-    for id in ids {
-        let still: Vec<usize> = (0..groups.len())
-            .filter(|&i| groups[i] == Some(id) && velocities[i].norm() < STILL_SPEED)
-            .collect();
-        if still.len() < 2 {
+    // The still group members by group id (then index): one pass over the people.
+    let mut still_members: Vec<(u32, usize)> = groups
+        .iter()
+        .enumerate()
+        .filter_map(|(i, g)| g.filter(|_| velocities[i].norm() < STILL_SPEED).map(|id| (id, i)))
+        .collect();
+    still_members.sort_unstable();
+    for same in still_members.chunk_by(|a, b| a.0 == b.0) {
+        if same.len() < 2 {
             continue;
         }
+        let still: Vec<usize> = same.iter().map(|&(_, i)| i).collect();
         // The largest gathering: around each still member, the still members within a circle's
         // diameter of it, kept if within the radius of their mean position.
         let mut members: Vec<usize> = Vec::new();
