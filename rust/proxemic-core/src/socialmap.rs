@@ -759,11 +759,13 @@ mod tests {
     use super::*;
     use crate::map::geometry::Bounds;
 
-    /// A symmetric test individual: zone distance = Euclidean distance.
+    /// A symmetric test individual: zone distance = Euclidean distance. With `quadratic` it
+    /// offers its quadratic form, so the map takes the counting path; without, the generic one.
     #[derive(Clone, Copy)]
     struct Disc {
         c: Vec2,
         sigma: f64,
+        quadratic: bool,
     }
 
     impl SpaceFunction for Disc {
@@ -782,31 +784,9 @@ mod tests {
         fn centre(&self) -> Option<Vec2> {
             Some(self.c)
         }
-    }
-
-    /// A [`Disc`] that also offers its quadratic form, so the map takes the counting path.
-    #[derive(Clone, Copy)]
-    struct Round(Disc);
-
-    impl SpaceFunction for Round {
-        fn exponent(&self, p: Vec2) -> f64 {
-            self.0.exponent(p)
-        }
-        fn zone_scale(&self) -> f64 {
-            self.0.zone_scale()
-        }
-        fn bounds(&self) -> [f64; 4] {
-            self.0.bounds()
-        }
-        fn fingerprint(&self) -> [f64; 8] {
-            self.0.fingerprint()
-        }
-        fn centre(&self) -> Option<Vec2> {
-            self.0.centre()
-        }
         fn quadratic(&self) -> Option<[f64; 8]> {
-            let k = 1.0 / (2.0 * self.0.sigma * self.0.sigma);
-            Some([self.0.c.x, self.0.c.y, 1.0, 0.0, k, k, k, k])
+            let k = 1.0 / (2.0 * self.sigma * self.sigma);
+            self.quadratic.then_some([self.c.x, self.c.y, 1.0, 0.0, k, k, k, k])
         }
     }
 
@@ -824,7 +804,7 @@ mod tests {
     #[test]
     fn zones_get_calderita_costs() {
         let mut m = SocialMap::new(grid(10.0, 10.0), &[], SocialCosts::default());
-        m.update_people(&[Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0 }]);
+        m.update_people(&[Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0, quadratic: false }]);
         let c = m.costs();
         assert_eq!(cost_at(&m, Vec2::new(5.2, 5.0)), LETHAL);
         assert_eq!(cost_at(&m, Vec2::new(5.8, 5.0)), c.encode(4.0));
@@ -849,7 +829,7 @@ mod tests {
             }
         }
         let mut m = SocialMap::new(g, &[], SocialCosts::default());
-        m.update_people(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0 }]);
+        m.update_people(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0, quadratic: false }]);
         let c = m.costs();
         // 1.6 m east of the person, behind the wall: no zone (2.0 without the wall).
         assert_eq!(cost_at(&m, Vec2::new(6.6, 2.0)), 0);
@@ -859,7 +839,7 @@ mod tests {
         assert_eq!(cost_at(&m, Vec2::new(6.3, 4.7)), c.encode(2.0));
         // The counted (incremental) update agrees with a rebuild.
         let mut full = m.clone();
-        full.rebuild(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0 }], &[]);
+        full.rebuild(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0, quadratic: false }], &[]);
         assert_eq!(m.grid(), full.grid());
     }
 
@@ -868,8 +848,10 @@ mod tests {
         let spec_grid = grid(40.0, 20.0);
         let poly = vec![Vec2::new(1.0, 1.0), Vec2::new(3.0, 1.0), Vec2::new(3.0, 3.0), Vec2::new(1.0, 3.0)];
         let mut inc = SocialMap::new(spec_grid.clone(), std::slice::from_ref(&poly), SocialCosts::default());
-        let mut people =
-            vec![Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0 }, Disc { c: Vec2::new(15.0, 5.0), sigma: 1.0 }];
+        let mut people = vec![
+            Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0, quadratic: false },
+            Disc { c: Vec2::new(15.0, 5.0), sigma: 1.0, quadratic: false },
+        ];
         inc.set_object_factors(&[1.5]);
         inc.update_people(&people);
         people[0].c = Vec2::new(6.0, 5.5);
@@ -887,7 +869,7 @@ mod tests {
 
     #[test]
     fn counted_update_keeps_contributions_when_the_list_shifts() {
-        let round = |x: f64, y: f64| Round(Disc { c: Vec2::new(x, y), sigma: 1.0 });
+        let round = |x: f64, y: f64| Disc { c: Vec2::new(x, y), sigma: 1.0, quadratic: true };
         let mut people = vec![round(5.0, 5.0), round(15.0, 5.0), round(25.0, 5.0)];
         let mut inc = SocialMap::new(grid(40.0, 20.0), &[], SocialCosts::default());
         inc.update_people(&people);
@@ -911,7 +893,7 @@ mod tests {
         assert_eq!(inc.grid(), full.grid());
         // Against the zone costs of a map that never counted.
         let mut plain = SocialMap::new(grid(40.0, 20.0), &[], SocialCosts::default());
-        plain.update_people(&people.iter().map(|r| r.0).collect::<Vec<_>>());
+        plain.update_people(&people.iter().map(|r| Disc { quadratic: false, ..*r }).collect::<Vec<_>>());
         assert_eq!(inc.grid(), plain.grid());
     }
 
@@ -935,7 +917,7 @@ mod tests {
     fn continuous_mode_follows_the_function() {
         let costs = SocialCosts { mode: CostMode::Continuous { gain: 3.0 }, ..SocialCosts::default() };
         let mut m = SocialMap::new(grid(10.0, 10.0), &[], costs);
-        m.update_people(&[Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0 }]);
+        m.update_people(&[Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0, quadratic: false }]);
         let near = cost_at(&m, Vec2::new(5.55, 5.05));
         let far = cost_at(&m, Vec2::new(6.55, 5.05));
         assert!(near > far && far > 0);
