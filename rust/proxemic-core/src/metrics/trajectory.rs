@@ -706,16 +706,32 @@ fn leave_rejoin_angles(pos: &[Vec2], astar: &[Vec2], tol: f64) -> Vec<f64> {
     angles
 }
 
-/// Anisotropic Helbing-style repulsion magnitude exerted on an agent at `to` (heading
-/// `heading`, radius `r_to`) by an agent at `from` (radius `r_from`) (metrics.md 22).
-fn social_force(from: Vec2, r_from: f64, to: Vec2, heading: f64, r_to: f64, q: &MetricParams) -> Vec2 {
-    let diff = to - from;
+/// Anisotropic Helbing-style repulsions between a robot and a person (metrics.md 22): the force
+/// the robot (at `robot`, radius `r_robot`) exerts on the person (at `person`, radius `r_person`,
+/// facing the unit vector `person_dir`), and the force the person exerts on the robot (facing
+/// `robot_dir`). The two share their distance and their exponential (the contact term
+/// `(r_robot + r_person - d) / B` is symmetric), so one call costs one `exp`.
+fn social_forces(
+    robot: Vec2,
+    r_robot: f64,
+    robot_dir: Vec2,
+    person: Vec2,
+    r_person: f64,
+    person_dir: Vec2,
+    q: &MetricParams,
+) -> (Vec2, Vec2) {
+    let diff = person - robot;
     let d = diff.norm();
-    let n = if d > EPS { diff / d } else { Vec2::new(1.0, 0.0) };
-    // phi is between the receiver's heading and -n (the direction towards the source).
-    let cos_phi = Vec2::new(heading.cos(), heading.sin()).dot(&(-n));
-    let aniso = q.sf_lambda + (1.0 - q.sf_lambda) * (1.0 + cos_phi) / 2.0;
-    n * (q.sf_a * ((r_from + r_to - d) / q.sf_b).exp() * aniso)
+    // Unit vectors from the source to the receiver of each force.
+    let (to_person, to_robot) =
+        if d > EPS { (diff / d, -(diff / d)) } else { (Vec2::new(1.0, 0.0), Vec2::new(1.0, 0.0)) };
+    let magnitude = q.sf_a * ((r_robot + r_person - d) / q.sf_b).exp();
+    // phi is between the receiver's heading and the direction towards the source.
+    let aniso = |dir: Vec2, n: Vec2| q.sf_lambda + (1.0 - q.sf_lambda) * (1.0 + dir.dot(&(-n))) / 2.0;
+    (
+        to_person * (magnitude * aniso(person_dir, to_person)),
+        to_robot * (magnitude * aniso(robot_dir, to_robot)),
+    )
 }
 
 fn pct(count: usize, n: usize) -> Option<f64> {
@@ -851,6 +867,7 @@ pub fn evaluate(
         let mut closest = f64::INFINITY;
         let mut closest_gap = f64::INFINITY;
         let mut on_robot = Vec2::zeros();
+        let robot_dir = Vec2::new(yaw[t].cos(), yaw[t].sin());
         for (i, dm) in d_min.iter_mut().enumerate() {
             let qi = person(t, i);
             let ri = people.radii[i];
@@ -861,8 +878,11 @@ pub fn evaluate(
             if let Some(m) = dm.as_mut() {
                 *m = m.min(d);
             }
-            sf_people += social_force(pos[t], rr, qi, people.headings[t * np + i], ri, q).norm();
-            on_robot += social_force(qi, ri, pos[t], yaw[t], rr, q);
+            let heading = people.headings[t * np + i];
+            let (on_person, by_person) =
+                social_forces(pos[t], rr, robot_dir, qi, ri, Vec2::new(heading.cos(), heading.sin()), q);
+            sf_people += on_person.norm();
+            on_robot += by_person;
         }
         sf_robot += on_robot.norm();
         if np > 0 {
