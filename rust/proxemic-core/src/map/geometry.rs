@@ -332,6 +332,13 @@ impl StaticGeometry {
         self.rays.cast(origin, dir, max_range)
     }
 
+    /// Calls `f(start, end)` once for every polygon edge (metres, the polygon's interior on the
+    /// left) within `radius` metres of `p`, and possibly for some farther ones: the edges in the
+    /// buckets of the ray-casting grid that overlap the square of half-side `radius` around `p`.
+    pub fn for_each_edge_near(&self, p: Vec2, radius: f64, f: impl FnMut(Vec2, Vec2)) {
+        self.rays.for_each_edge_near(p, radius, f);
+    }
+
     /// Every polygon edge `(start, end)` (metres), polygon by polygon, each polygon counter-clockwise
     /// and closed (the last edge returns to the first vertex).
     pub fn edges(&self) -> impl Iterator<Item = (Vec2, Vec2)> + '_ {

@@ -2,10 +2,11 @@
 //! Amanatides-Woo digital differential analyser ("A Fast Voxel Traversal Algorithm for Ray
 //! Tracing", Eurographics 1987).
 //!
-//! The lidar casts dozens of rays every control step from a point that moves, against geometry
-//! that does not. Each edge is stored in every bucket its bounding box overlaps; a ray visits the
-//! buckets it crosses in order and stops as soon as its best hit lies before the exit of the
-//! current bucket. With 0.5 m buckets a ray of a few metres tests a handful of edges.
+//! Each edge is stored in every bucket its bounding box overlaps. A single ray ([`EdgeGrid::cast`])
+//! visits the buckets it crosses in order and stops as soon as its best hit lies before the exit
+//! of the current bucket. The lidar, which casts a whole fan of rays from one point, instead
+//! visits every edge near that point once ([`EdgeGrid::for_each_edge_near`]) and tests it against
+//! only the rays of its angular extent.
 
 use crate::math::Vec2;
 
@@ -21,6 +22,8 @@ pub struct EdgeGrid {
     /// `start[c]..start[c + 1]` indexes `items` for bucket `c`.
     start: Vec<u32>,
     items: Vec<u32>,
+    /// Per edge, the lowest bucket column and row it is stored in.
+    first: Vec<[u32; 2]>,
     a: Vec<Vec2>,
     b: Vec<Vec2>,
 }
@@ -78,6 +81,7 @@ impl EdgeGrid {
             ny,
             start,
             items,
+            first: ranges.iter().map(|&(x0, _, y0, _)| [x0 as u32, y0 as u32]).collect(),
             a: edges.iter().map(|e| e.0).collect(),
             b: edges.iter().map(|e| e.1).collect(),
         }
@@ -106,6 +110,42 @@ impl EdgeGrid {
             }
         }
         best
+    }
+
+    /// Calls `f(a, b)` once for every edge (`a` to `b`, metres) stored in a bucket that overlaps
+    /// the square of half-side `radius` (metres) around `p`: every edge within `radius` of `p`,
+    /// and some farther ones. Nothing for a non-finite `p` or `radius`.
+    pub fn for_each_edge_near(&self, p: Vec2, radius: f64, mut f: impl FnMut(Vec2, Vec2)) {
+        let Some((x0, x1)) = Self::bucket_span(p.x - radius, p.x + radius, self.min.x, self.nx) else {
+            return;
+        };
+        let Some((y0, y1)) = Self::bucket_span(p.y - radius, p.y + radius, self.min.y, self.ny) else {
+            return;
+        };
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                let c = y * self.nx + x;
+                for &e in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+                    // An edge spans a rectangle of buckets: it is visited in the one bucket where
+                    // that rectangle's lowest corner meets the query square, so exactly once.
+                    let [ex, ey] = self.first[e as usize];
+                    if x == (ex as usize).max(x0) && y == (ey as usize).max(y0) {
+                        f(self.a[e as usize], self.b[e as usize]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The buckets `lo..=hi` of one axis (origin `min`, `n` buckets) overlapping `[from, to]`
+    /// (metres), or `None` when none does (or a bound is not finite).
+    fn bucket_span(from: f64, to: f64, min: f64, n: usize) -> Option<(usize, usize)> {
+        let lo = ((from - min) / BUCKET).floor();
+        let hi = ((to - min) / BUCKET).floor();
+        if !(lo.is_finite() && hi.is_finite()) || hi < 0.0 || lo >= n as f64 {
+            return None;
+        }
+        Some((lo.max(0.0) as usize, (hi as usize).min(n - 1)))
     }
 
     /// Distance along the unit ray `origin + t * dir` to the first edge, or `max_range`.
@@ -231,6 +271,35 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn edges_near_a_point_are_visited_once_and_none_within_range_is_missed(seed in any::<u64>()) {
+            use rand::{Rng, SeedableRng};
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let edges: Vec<(Vec2, Vec2)> = (0..rng.random_range(0..40))
+                .map(|_| {
+                    let a = Vec2::new(rng.random_range(-10.0..10.0), rng.random_range(-10.0..10.0));
+                    let d = Vec2::new(rng.random_range(-6.0..6.0), rng.random_range(-6.0..6.0));
+                    (a, a + d)
+                })
+                .collect();
+            let g = EdgeGrid::new(&edges, Vec2::new(-16.0, -16.0), Vec2::new(16.0, 16.0));
+            for _ in 0..10 {
+                let p = Vec2::new(rng.random_range(-25.0..25.0), rng.random_range(-25.0..25.0));
+                let r = rng.random_range(0.0..12.0);
+                let mut seen = Vec::new();
+                g.for_each_edge_near(p, r, |a, b| seen.push((a, b)));
+                for (k, e) in edges.iter().enumerate() {
+                    let times = seen.iter().filter(|s| *s == e).count();
+                    let copies = edges.iter().filter(|f| *f == e).count();
+                    prop_assert!(times == 0 || times == copies, "edge {} seen {} times", k, times);
+                    let (ab, ap) = (e.1 - e.0, p - e.0);
+                    let s = if ab.norm_squared() > 0.0 { (ap.dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+                    let dist = (e.0 + ab * s - p).norm();
+                    prop_assert!(dist > r || times > 0, "edge {} at {} m of the point, within {} m, missed", k, dist, r);
+                }
+            }
+        }
+
         #[test]
         fn equals_brute_force(seed in any::<u64>()) {
             use rand::{Rng, SeedableRng};
