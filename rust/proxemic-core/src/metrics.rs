@@ -1,8 +1,8 @@
 //! Episode metrics (definitions: `design/metrics.md`).
 //!
-//! While an episode runs, an [`EpisodeRecorder`] per robot keeps what the post-hoc evaluator
-//! [`trajectory::evaluate`] needs (the robot's poses, the people's tracks, the groups' o-spaces and
-//! the interaction segments, the object spaces' activity, the contacts per step) and decides the
+//! While an episode runs, a [`SceneLog`] keeps what every robot's metrics share (the people's
+//! tracks, the groups' o-spaces and the interaction segments, the object spaces' activity), and
+//! an [`EpisodeRecorder`] per robot keeps its poses and contacts per step and decides the
 //! episode's [`Outcome`] step by step with the same rules the evaluator applies afterwards, so
 //! the env's termination flags and the final [`FullMetrics`] always agree. At the end,
 //! [`EpisodeRecorder::evaluate`] gives the full metric set ([`EpisodeReport`]).
@@ -88,21 +88,15 @@ pub struct RecorderSetup {
     pub goal: Vec2,
     /// Success radius around the goal (m, robot centre).
     pub success_radius: f64,
-    /// People's disc radii (m).
-    pub people_radii: Vec<f64>,
-    /// Objects' interaction polygons (world frame, m).
-    pub object_polygons: Vec<Vec<Vec2>>,
     /// The plain A* path from the start to the goal (Daza et al. 2021's reference path).
     pub astar_path: Vec<Vec2>,
     /// Geodesic start-goal length (m); `f64::INFINITY` when unreachable.
     pub geodesic_length: f64,
 }
 
-/// What the world looks like at one control instant.
+/// What the world looks like at one control instant (apart from the robots).
 #[derive(Clone, Copy, Debug)]
 pub struct Snapshot<'a> {
-    /// Robot pose `[x, y, theta]` (m, m, rad).
-    pub pose: [f64; 3],
     /// People's centres (m).
     pub positions: &'a [Vec2],
     /// People's velocities (m/s).
@@ -117,11 +111,13 @@ pub struct Snapshot<'a> {
     pub active: &'a [bool],
 }
 
-/// Records one robot's episode and decides its outcome (see the module documentation).
+/// The scene since the episode started, one [`Snapshot`] per control instant: what every
+/// robot's metrics share (the people's tracks, the o-spaces, the interaction segments, the object
+/// spaces' activity), kept once for all robots. A robot's instant `k` is the log's instant `k`.
 #[derive(Clone, Debug)]
-pub struct EpisodeRecorder {
-    setup: RecorderSetup,
-    poses: Vec<[f64; 3]>,
+pub struct SceneLog {
+    people_radii: Vec<f64>,
+    object_polygons: Vec<Vec<Vec2>>,
     positions: Vec<Vec2>,
     velocities: Vec<Vec2>,
     headings: Vec<f64>,
@@ -130,17 +126,15 @@ pub struct EpisodeRecorder {
     link_offsets: Vec<usize>,
     links: Vec<InteractionLink>,
     active: Vec<bool>,
-    contacts: Vec<u8>,
-    min_robot_gap: f64,
-    outcome: Outcome,
 }
 
-impl EpisodeRecorder {
-    /// Starts an episode at the instant `start` (instant 0).
-    pub fn new(setup: RecorderSetup, start: &Snapshot) -> Self {
-        let mut r = EpisodeRecorder {
-            setup,
-            poses: Vec::new(),
+impl SceneLog {
+    /// An empty log of the people with radii `people_radii` (m) and the objects' interaction
+    /// polygons `object_polygons` (world frame, m).
+    pub fn new(people_radii: Vec<f64>, object_polygons: Vec<Vec<Vec2>>) -> Self {
+        SceneLog {
+            people_radii,
+            object_polygons,
             positions: Vec::new(),
             velocities: Vec::new(),
             headings: Vec::new(),
@@ -149,19 +143,14 @@ impl EpisodeRecorder {
             link_offsets: vec![0],
             links: Vec::new(),
             active: Vec::new(),
-            contacts: Vec::new(),
-            min_robot_gap: f64::INFINITY,
-            outcome: Outcome::Running,
-        };
-        r.push(start);
-        r
+        }
     }
 
-    /// Starts a new episode as [`EpisodeRecorder::new`] does, keeping the buffers' memory (a
-    /// world reuses its robots' recorders from episode to episode).
-    pub fn restart(&mut self, setup: RecorderSetup, start: &Snapshot) {
-        self.setup = setup;
-        self.poses.clear();
+    /// Empties the log for a new episode of the people with radii `people_radii` (m), keeping
+    /// the buffers' memory (a world reuses its log from episode to episode).
+    pub fn restart(&mut self, people_radii: &[f64]) {
+        self.people_radii.clear();
+        self.people_radii.extend_from_slice(people_radii);
         self.positions.clear();
         self.velocities.clear();
         self.headings.clear();
@@ -172,16 +161,12 @@ impl EpisodeRecorder {
         self.link_offsets.push(0);
         self.links.clear();
         self.active.clear();
-        self.contacts.clear();
-        self.min_robot_gap = f64::INFINITY;
-        self.outcome = Outcome::Running;
-        self.push(start);
     }
 
-    fn push(&mut self, s: &Snapshot) {
-        let np = self.setup.people_radii.len();
-        let nm = self.setup.object_polygons.len();
-        self.poses.push(s.pose);
+    /// Appends the next instant.
+    pub fn push(&mut self, s: &Snapshot) {
+        let np = self.people_radii.len();
+        let nm = self.object_polygons.len();
         // Sizes come from the world, which builds the snapshot from the same crowd and objects;
         // pad or cut defensively so the evaluator's length checks always hold.
         let fill = |dst: &mut Vec<Vec2>, src: &[Vec2]| {
@@ -197,31 +182,83 @@ impl EpisodeRecorder {
         self.active.extend((0..nm).map(|k| s.active.get(k).copied().unwrap_or(false)));
     }
 
+    /// Instants logged.
+    pub fn instants(&self) -> usize {
+        self.ospace_offsets.len() - 1
+    }
+
+    /// The people's centres at instant `t` (m), if logged.
+    fn people_at(&self, t: usize) -> Option<&[Vec2]> {
+        let np = self.people_radii.len();
+        self.positions.get(t * np..(t + 1) * np)
+    }
+}
+
+/// Records one robot's episode and decides its outcome (see the module documentation). The scene
+/// it moves in is in a [`SceneLog`] shared by all robots, which the world extends by one instant
+/// before recording each robot's step.
+#[derive(Clone, Debug)]
+pub struct EpisodeRecorder {
+    setup: RecorderSetup,
+    poses: Vec<[f64; 3]>,
+    contacts: Vec<u8>,
+    min_robot_gap: f64,
+    outcome: Outcome,
+}
+
+impl EpisodeRecorder {
+    /// Starts an episode at the pose `start` (`[x, y, theta]`, m, m, rad) at instant 0.
+    pub fn new(setup: RecorderSetup, start: [f64; 3]) -> Self {
+        EpisodeRecorder {
+            setup,
+            poses: vec![start],
+            contacts: Vec::new(),
+            min_robot_gap: f64::INFINITY,
+            outcome: Outcome::Running,
+        }
+    }
+
+    /// Starts a new episode as [`EpisodeRecorder::new`] does, keeping the buffers' memory (a
+    /// world reuses its robots' recorders from episode to episode).
+    pub fn restart(&mut self, setup: RecorderSetup, start: [f64; 3]) {
+        self.setup = setup;
+        self.poses.clear();
+        self.poses.push(start);
+        self.contacts.clear();
+        self.min_robot_gap = f64::INFINITY;
+        self.outcome = Outcome::Running;
+    }
+
     /// Notes the surface gap (m) to the closest other robot at an instant (for `min_robot_gap`;
     /// a negative gap is a robot-robot collision, which the caller reports as `CONTACT_ROBOT`).
     pub fn observe_robot_gap(&mut self, gap: f64) {
         self.min_robot_gap = self.min_robot_gap.min(gap);
     }
 
-    /// Adds one control step ending at `s`, with the physics' `CONTACT_*` bits of the step;
-    /// returns the outcome after it. A collision (physics contact, or a negative surface gap to a
-    /// person anywhere on the relative motion swept over the step) ends the episode before the
-    /// goal does; the goal before the time limit. Steps after the end are ignored.
-    pub fn record(&mut self, s: &Snapshot, contacts: u8, out_of_time: bool) -> Outcome {
+    /// Adds one control step ending at `pose`, at the instant `log` last received, with the
+    /// physics' `CONTACT_*` bits of the step; returns the outcome after it. A collision (physics
+    /// contact, or a negative surface gap to a person anywhere on the relative motion swept over
+    /// the step) ends the episode before the goal does; the goal before the time limit. Steps
+    /// after the end are ignored.
+    pub fn record(&mut self, log: &SceneLog, pose: [f64; 3], contacts: u8, out_of_time: bool) -> Outcome {
         if self.outcome != Outcome::Running {
             return self.outcome;
         }
-        let np = self.setup.people_radii.len();
         let prev_t = self.poses.len() - 1;
         let prev = self.poses[prev_t];
-        self.push(s);
-        let (p0, p1) = (Vec2::new(prev[0], prev[1]), Vec2::new(s.pose[0], s.pose[1]));
+        self.poses.push(pose);
+        let (p0, p1) = (Vec2::new(prev[0], prev[1]), Vec2::new(pose[0], pose[1]));
         let rr = self.setup.robot_radius;
-        let swept = (0..np).any(|i| {
-            let a = self.positions[prev_t * np + i] - p0;
-            let b = self.positions[(prev_t + 1) * np + i] - p1;
-            trajectory::origin_to_segment(a, b) - rr - self.setup.people_radii[i] < 0.0
-        });
+        // A log that does not hold both instants (a caller's error) has no people to sweep past;
+        // `evaluate` reports the mismatch.
+        let swept = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
+            (Some(before), Some(after)) => before
+                .iter()
+                .zip(after)
+                .zip(&log.people_radii)
+                .any(|((&a, &b), &r)| trajectory::origin_to_segment(a - p0, b - p1) - rr - r < 0.0),
+            _ => false,
+        };
         let bits = contacts | if swept { CONTACT_PERSON } else { 0 };
         self.contacts.push(bits);
         self.outcome = if bits != 0 {
@@ -256,19 +293,30 @@ impl EpisodeRecorder {
         &self.setup.astar_path
     }
 
-    /// Evaluates the recording: every metric of [`FullMetrics`], with `clearance` the distance
-    /// from a point to the static geometry (m) and `zones` the Hall zone radii (m, centre
-    /// distance: intimate, personal, social).
+    /// Evaluates the recording in the scene `log` (its first instants, one per recorded pose):
+    /// every metric of [`FullMetrics`], with `clearance` the distance from a point to the static
+    /// geometry (m) and `zones` the Hall zone radii (m, centre distance: intimate, personal,
+    /// social).
     ///
     /// # Errors
-    /// [`crate::error::CoreError::Input`] from [`evaluate`] when a recorded value is not finite
-    /// or the zones are not non-decreasing.
+    /// [`crate::error::CoreError::Input`] when `log` holds fewer instants than the recording,
+    /// and from [`evaluate`] when a recorded value is not finite or the zones are not
+    /// non-decreasing.
     pub fn evaluate(
         &self,
+        log: &SceneLog,
         clearance: &dyn Fn(Vec2) -> f64,
         zones: [f64; 3],
         params: MetricParams,
     ) -> Result<EpisodeReport> {
+        let n = self.poses.len();
+        if log.instants() < n {
+            return Err(crate::error::CoreError::input(
+                "log",
+                format!("a scene log of at least the recording's {n} instants"),
+                format!("{} instants", log.instants()),
+            ));
+        }
         let s = &self.setup;
         let traj = Trajectory {
             dt: s.dt,
@@ -277,20 +325,22 @@ impl EpisodeRecorder {
             goal: s.goal,
             success_radius: s.success_radius,
         };
+        let np = log.people_radii.len();
         let people = PeopleTracks {
-            positions: &self.positions,
-            velocities: &self.velocities,
-            headings: &self.headings,
-            radii: &s.people_radii,
-            count: s.people_radii.len(),
+            positions: &log.positions[..n * np],
+            velocities: &log.velocities[..n * np],
+            headings: &log.headings[..n * np],
+            radii: &log.people_radii,
+            count: np,
         };
         let groups = Groups {
-            ospace_offsets: &self.ospace_offsets,
-            ospaces: &self.ospaces,
-            link_offsets: &self.link_offsets,
-            links: &self.links,
+            ospace_offsets: &log.ospace_offsets[..=n],
+            ospaces: &log.ospaces[..log.ospace_offsets[n]],
+            link_offsets: &log.link_offsets[..=n],
+            links: &log.links[..log.link_offsets[n]],
         };
-        let objects = ObjectSpaces { polygons: &s.object_polygons, active: &self.active };
+        let nm = log.object_polygons.len();
+        let objects = ObjectSpaces { polygons: &log.object_polygons, active: &log.active[..n * nm] };
         let ctx = EvalContext {
             geodesic_length: s.geodesic_length,
             astar_path: &s.astar_path,
@@ -394,28 +444,56 @@ pub fn interactions(
 mod tests {
     use super::*;
 
-    fn setup(radii: Vec<f64>) -> RecorderSetup {
+    fn setup() -> RecorderSetup {
         RecorderSetup {
             dt: 0.1,
             robot_radius: 0.25,
             goal: Vec2::new(3.0, 4.0),
             success_radius: 0.3,
-            people_radii: radii,
-            object_polygons: vec![],
             astar_path: vec![Vec2::zeros(), Vec2::new(3.0, 0.0), Vec2::new(3.0, 4.0)],
             geodesic_length: 7.0,
         }
     }
 
-    fn snap<'a>(x: f64, y: f64, people: &'a [Vec2], zeros: &'a [Vec2], h: &'a [f64]) -> Snapshot<'a> {
+    /// People standing still at `people` (at most 4), facing +x, no groups nor objects.
+    fn snapshot(people: &[Vec2]) -> Snapshot<'_> {
+        static ZEROS: [Vec2; 4] = [Vec2::new(0.0, 0.0); 4];
+        static HEADINGS: [f64; 4] = [0.0; 4];
+        let n = people.len();
         Snapshot {
-            pose: [x, y, 0.0],
             positions: people,
-            velocities: zeros,
-            headings: h,
+            velocities: &ZEROS[..n],
+            headings: &HEADINGS[..n],
             ospaces: &[],
             links: &[],
             active: &[],
+        }
+    }
+
+    /// A robot starting at (0, 0) among people standing still (radius 0.2 m each).
+    struct Run {
+        people: Vec<Vec2>,
+        log: SceneLog,
+        rec: EpisodeRecorder,
+    }
+
+    impl Run {
+        fn new(people: &[Vec2]) -> Self {
+            let mut log = SceneLog::new(vec![0.2; people.len()], vec![]);
+            log.push(&snapshot(people));
+            Run { people: people.to_vec(), log, rec: EpisodeRecorder::new(setup(), [0.0; 3]) }
+        }
+
+        /// The scene's next instant, then the robot's step to (x, y).
+        fn step(&mut self, x: f64, y: f64, contacts: u8, out_of_time: bool) -> Outcome {
+            self.log.push(&snapshot(&self.people));
+            self.rec.record(&self.log, [x, y, 0.0], contacts, out_of_time)
+        }
+
+        fn eval(&self) -> EpisodeReport {
+            self.rec
+                .evaluate(&self.log, &|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default())
+                .expect("valid")
         }
     }
 
@@ -424,15 +502,13 @@ mod tests {
         // (0,0) -> (3,0) -> (3,4): path 7 m = the A* path, so L_ratio = 1; person at (1.5, 1)
         // is 1.0 m from the robot at no sample but (1.5, 0) lies between samples: d_min is over
         // the samples, (0,0) and (3,0) are both sqrt(1.5² + 1) = 1.803 m away.
-        let far = [Vec2::new(1.5, 1.0)];
-        let z = [Vec2::zeros()];
-        let h = [0.0];
-        let mut rec = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &far, &z, &h));
-        assert_eq!(rec.record(&snap(3.0, 0.0, &far, &z, &h), 0, false), Outcome::Running);
-        assert_eq!(rec.record(&snap(3.0, 4.0, &far, &z, &h), 0, false), Outcome::Success);
-        // ignored after the end
-        assert_eq!(rec.record(&snap(9.0, 9.0, &far, &z, &h), CONTACT_STATIC, true), Outcome::Success);
-        let r = rec.evaluate(&|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        let mut run = Run::new(&[Vec2::new(1.5, 1.0)]);
+        assert_eq!(run.step(3.0, 0.0, 0, false), Outcome::Running);
+        assert_eq!(run.step(3.0, 4.0, 0, false), Outcome::Success);
+        // ignored after the end (the scene goes on)
+        assert_eq!(run.step(9.0, 9.0, CONTACT_STATIC, true), Outcome::Success);
+        assert_eq!(run.log.instants(), 4);
+        let r = run.eval();
         assert_eq!(r.outcome, Outcome::Success);
         assert_eq!(r.metrics.steps, 2);
         assert!((r.metrics.path_length - 7.0).abs() < 1e-12);
@@ -449,12 +525,9 @@ mod tests {
     fn swept_contact_ends_the_episode_as_the_evaluator_counts_it() {
         // The robot jumps from (0,0) to (2,0) through a person at (1,0): no sample overlaps, the
         // swept relative motion does; the recorder stops and the evaluator agrees (hc = 1).
-        let p = [Vec2::new(1.0, 0.0)];
-        let z = [Vec2::zeros()];
-        let h = [0.0];
-        let mut rec = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &p, &z, &h));
-        assert_eq!(rec.record(&snap(2.0, 0.0, &p, &z, &h), 0, false), Outcome::Collision);
-        let r = rec.evaluate(&|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        let mut run = Run::new(&[Vec2::new(1.0, 0.0)]);
+        assert_eq!(run.step(2.0, 0.0, 0, false), Outcome::Collision);
+        let r = run.eval();
         assert!(r.metrics.hc && r.metrics.collision && !r.metrics.success && !r.metrics.timeout);
         assert_eq!(r.metrics.hc_count, 1);
         assert_eq!(r.metrics.l_ratio, None);
@@ -462,38 +535,40 @@ mod tests {
 
     #[test]
     fn a_restarted_recorder_equals_a_new_one() {
-        let far = [Vec2::new(1.5, 1.0)];
-        let near = [Vec2::new(0.3, 0.0)];
-        let z = [Vec2::zeros()];
-        let h = [0.0];
-        let mut old = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &near, &z, &h));
-        old.observe_robot_gap(-0.1);
-        old.record(&snap(0.1, 0.0, &near, &z, &h), CONTACT_STATIC, false);
-        old.restart(setup(vec![0.2]), &snap(0.0, 0.0, &far, &z, &h));
-        let mut new = EpisodeRecorder::new(setup(vec![0.2]), &snap(0.0, 0.0, &far, &z, &h));
-        for rec in [&mut old, &mut new] {
-            assert_eq!(rec.record(&snap(3.0, 0.0, &far, &z, &h), 0, false), Outcome::Running);
-            assert_eq!(rec.record(&snap(3.0, 4.0, &far, &z, &h), 0, false), Outcome::Success);
+        let mut old = Run::new(&[Vec2::new(0.3, 0.0)]);
+        old.rec.observe_robot_gap(-0.1);
+        old.step(0.1, 0.0, CONTACT_STATIC, false);
+        old.people = vec![Vec2::new(1.5, 1.0)];
+        old.log.restart(&[0.2]);
+        old.log.push(&snapshot(&old.people));
+        old.rec.restart(setup(), [0.0; 3]);
+        let mut new = Run::new(&[Vec2::new(1.5, 1.0)]);
+        for run in [&mut old, &mut new] {
+            assert_eq!(run.step(3.0, 0.0, 0, false), Outcome::Running);
+            assert_eq!(run.step(3.0, 4.0, 0, false), Outcome::Success);
         }
-        let eval = |r: &EpisodeRecorder| {
-            let rep =
-                r.evaluate(&|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
-            serde_json::to_string(&rep).expect("json")
-        };
-        assert_eq!(eval(&old), eval(&new));
+        let json = |run: &Run| serde_json::to_string(&run.eval()).expect("json");
+        assert_eq!(json(&old), json(&new));
     }
 
     #[test]
     fn contact_bits_and_timeout() {
-        let z: [Vec2; 0] = [];
-        let mut rec = EpisodeRecorder::new(setup(vec![]), &snap(0.0, 0.0, &z, &z, &[]));
-        assert_eq!(rec.record(&snap(0.1, 0.0, &z, &z, &[]), 0, true), Outcome::Timeout);
-        let r = rec.evaluate(&|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
-        assert!(r.metrics.timeout);
-        let mut rec = EpisodeRecorder::new(setup(vec![]), &snap(0.0, 0.0, &z, &z, &[]));
-        assert_eq!(rec.record(&snap(0.1, 0.0, &z, &z, &[]), CONTACT_STATIC, false), Outcome::Collision);
-        let r = rec.evaluate(&|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default()).expect("valid");
+        let mut run = Run::new(&[]);
+        assert_eq!(run.step(0.1, 0.0, 0, true), Outcome::Timeout);
+        assert!(run.eval().metrics.timeout);
+        let mut run = Run::new(&[]);
+        assert_eq!(run.step(0.1, 0.0, CONTACT_STATIC, false), Outcome::Collision);
+        let r = run.eval();
         assert!(r.metrics.wc && !r.metrics.hc);
+    }
+
+    #[test]
+    fn a_log_shorter_than_the_recording_is_an_error() {
+        let mut run = Run::new(&[Vec2::new(1.5, 1.0)]);
+        run.step(1.0, 0.0, 0, false);
+        run.log.restart(&[0.2]);
+        let e = run.rec.evaluate(&run.log, &|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default());
+        assert!(matches!(e, Err(crate::error::CoreError::Input { .. })), "{e:?}");
     }
 
     #[test]

@@ -35,7 +35,7 @@ use crate::map::lidar::Scanner;
 use crate::math::{Vec2, wrap_angle};
 use crate::metrics::{
     EpisodeRecorder, EpisodeReport, InteractionLink, InteractionObject, MetricParams, OSpace, Outcome,
-    RecorderSetup, Snapshot, interactions,
+    RecorderSetup, SceneLog, Snapshot, interactions,
 };
 use crate::pedestrians::scripts::{Script, plan_scripts};
 use crate::pedestrians::{Crowd, GuideState, SocialForceParams};
@@ -266,6 +266,8 @@ pub struct World {
     interaction_objects: Vec<InteractionObject>,
     /// The current instant's ground-truth o-spaces, interactions and object activities.
     now: GroundTruth,
+    /// The scene since the reset, for every robot's metrics.
+    log: SceneLog,
 }
 
 /// The ground truth of one instant that the metrics need: the groups' o-spaces, the interaction
@@ -278,10 +280,9 @@ struct GroundTruth {
 }
 
 impl GroundTruth {
-    /// The recorder's view of this instant for a robot at `pose` among `crowd`.
-    fn snapshot<'a>(&'a self, crowd: &'a Crowd, pose: [f64; 3]) -> Snapshot<'a> {
+    /// This instant among `crowd`, for the scene log.
+    fn snapshot<'a>(&'a self, crowd: &'a Crowd) -> Snapshot<'a> {
         Snapshot {
-            pose,
             positions: &crowd.pos,
             velocities: &crowd.vel,
             headings: &crowd.heading,
@@ -480,8 +481,12 @@ impl World {
                 })
                 .collect(),
             now: GroundTruth::default(),
+            log: SceneLog::new(Vec::new(), Vec::new()),
             scenario,
         };
+        // The objects are the world's for good; the people's radii come with each reset.
+        world.log =
+            SceneLog::new(Vec::new(), world.interaction_objects.iter().map(|o| o.polygon.clone()).collect());
         let clear = world.start_areas();
         world.crowd = Crowd::spawn_scripted(
             &world.scenario.persons,
@@ -619,6 +624,7 @@ impl World {
             .iter()
             .map(|&i| {
                 self.robots[i].recorder.evaluate(
+                    &self.log,
                     &clearance,
                     [z.intimate, z.personal, z.social],
                     MetricParams::default(),
@@ -649,11 +655,6 @@ impl World {
         );
         let tod = self.time_of_day();
         self.social.object_activity(tod, &mut self.now.active);
-    }
-
-    /// The recorder's view of this instant for a robot at `pose`.
-    fn snapshot(&self, pose: [f64; 3]) -> Snapshot<'_> {
-        self.now.snapshot(&self.crowd, pose)
     }
 
     /// The people: positions, velocities, headings and radii.
@@ -702,6 +703,8 @@ impl World {
         let mut recorders: Vec<Option<EpisodeRecorder>> =
             self.robots.drain(..).map(|r| Some(r.recorder)).collect();
         self.observe_interactions();
+        self.log.restart(&self.crowd.radius);
+        self.log.push(&self.now.snapshot(&self.crowd));
         let jitter = self.scenario.episode.randomize.robot_start_jitter;
         for i in 0..self.statics.len() {
             let r = &self.scenario.robots[i];
@@ -743,17 +746,15 @@ impl World {
                 robot_radius: st.radius,
                 goal: st.goal,
                 success_radius: self.scenario.episode.success_radius,
-                people_radii: self.crowd.radius.clone(),
-                object_polygons: self.interaction_objects.iter().map(|o| o.polygon.clone()).collect(),
                 astar_path,
                 geodesic_length,
             };
             let recorder = match recorders.get_mut(i).and_then(Option::take) {
                 Some(mut r) => {
-                    r.restart(setup, &self.snapshot(pose));
+                    r.restart(setup, pose);
                     r
                 }
-                None => EpisodeRecorder::new(setup, &self.snapshot(pose)),
+                None => EpisodeRecorder::new(setup, pose),
             };
             self.robots.push(RobotRuntime {
                 pose,
@@ -945,6 +946,7 @@ impl World {
         self.crowd.step(dt, &robots, &self.geometry, &self.field);
         self.steps += 1;
         self.observe_interactions();
+        self.log.push(&self.now.snapshot(&self.crowd));
         self.advance_tours(dt);
         let out_of_time = self.time() >= self.scenario.episode.max_time - 1e-9;
         let stride = self.layout.stride;
@@ -962,15 +964,13 @@ impl World {
                 row[reward_off] = 0.0;
                 continue;
             }
-            // Not `self.snapshot`: the recorder is borrowed mutably beside it.
-            let snapshot = self.now.snapshot(&self.crowd, pose);
             let st = &self.statics[i];
             let rb = &mut self.robots[i];
             // Two robots overlapping at a control instant collide even if the physics missed it
             // (Francis et al.'s agent collisions, AC).
             rb.recorder.observe_robot_gap(robot_gap);
             let bits = contacts[i] | if robot_gap < 0.0 { CONTACT_ROBOT } else { 0 };
-            let outcome = rb.recorder.record(&snapshot, bits, out_of_time);
+            let outcome = rb.recorder.record(&self.log, pose, bits, out_of_time);
             rb.outcome = outcome;
             let row = &mut out[i * stride..(i + 1) * stride];
             let terms = &mut row[terms_off..terms_off + REWARD_TERMS.len()];

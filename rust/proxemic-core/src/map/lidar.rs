@@ -149,7 +149,10 @@ impl Scanner {
             return Ok(()); // inside the static geometry: every ray reads 0 already
         }
         // Discs: each only touches the rays inside its angular extent asin(r / d) around its bearing
-        // (one extra ray on each side absorbs rounding); those are intersected exactly.
+        // (both from `atan2_approx`, widened by its error and one extra ray on each side); those
+        // are intersected exactly.
+        let tol = 2.0 * ATAN2_MAX_ERROR;
+        let wrapped = heading.rem_euclid(std::f64::consts::TAU);
         for &(c, r) in discs {
             let rel = c - origin;
             let d = rel.norm();
@@ -160,8 +163,8 @@ impl Scanner {
                 out.fill(0.0);
                 continue;
             }
-            let half = (r / d).asin();
-            let bearing = rel.y.atan2(rel.x) - heading;
+            let half = atan2_approx(r, (d * d - r * r).sqrt()) + tol;
+            let bearing = atan2_approx(rel.y, rel.x) - wrapped;
             let first = ((bearing - half) / step).floor() as i64 - 1;
             let last = ((bearing + half) / step).ceil() as i64 + 1;
             let span = (last - first + 1).min(n as i64);
