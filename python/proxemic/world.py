@@ -77,7 +77,6 @@ class WorldSim:
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
         self._actions = np.full(3 * w.num_robots, np.nan)
         self._all_rows = list(range(w.num_robots))
-        self._near_cols = np.array([self.layout["near_static"][0], self.layout["near_robot"][0]])
         # The columns step_outcome() reads: reward, terminated, truncated.
         self._outcome_cols = np.array([self.layout["reward"][0], self.layout["flags"][0], self.layout["flags"][0] + 1])
         # The columns infos() reads: the reward terms, success and collision, mode, time of day.
@@ -93,6 +92,7 @@ class WorldSim:
         )
         self._command = self.sections["command"]
         self._near_static = self.sections["near_static"][:, 0]
+        self._near_robot = self.sections["near_robot"][:, 0]
         self._near_people = self._people2d[:, 3]
         self.planning = [True] * w.num_robots
         sensors = scenario["sensors"]
@@ -168,7 +168,7 @@ class WorldSim:
         sim.write_people(self._people2d)
         sim.set_hints(self._near_static, self._near_people)
         # Nothing near anything (no robot near a wall, a person or another robot): no contact.
-        possible = bool(self.rows[:, self._near_cols].any()) or bool(self._near_people.any())
+        possible = bool(self._near_static.any() or self._near_robot.any() or self._near_people.any())
         sim.step(self._command, possible)
         sim.read()
 
@@ -221,7 +221,13 @@ class WorldSim:
     # ------------------------------------------------------------------ outputs
     def observations(self, robots: bool, rows: list[int] | None = None) -> list[dict[str, np.ndarray]]:
         """The observations of the robots `rows` (default all), float32 views of one fresh copy."""
-        data = (self.rows if rows is None else self.rows[rows]).astype(np.float32)
+        if rows is None or rows == self._all_rows:
+            src = self.rows
+        elif len(rows) == 1:
+            src = self.rows[rows[0] : rows[0] + 1]  # a view: no gather for the single-robot env
+        else:
+            src = self.rows[rows]
+        data = src.astype(np.float32)
         n, lay, total = len(data), self.layout, self.num_robots
 
         def part(name: str, *shape: int) -> np.ndarray:
@@ -250,12 +256,12 @@ class WorldSim:
     def infos(self, robots: list[int]) -> list[dict[str, Any]]:
         """:meth:`info` of several robots (the buffer is read once)."""
         vals = self.rows[:, self._info_cols].tolist()
-        actions = self.sections["planner_action"].astype(np.float32)
+        actions = list(self.sections["planner_action"].astype(np.float32))
         planning, nterms = self.planning, len(REWARD_KEYS)
         out = []
         for r in robots:
             v = vals[r]
-            info: dict[str, Any] = dict(zip(REWARD_KEYS, v[:nterms], strict=True))
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, v, strict=False))  # the first nterms values
             info["is_success"] = v[nterms] != 0.0
             info["collision"] = v[nterms + 1] != 0.0
             if planning[r]:
