@@ -96,6 +96,21 @@ fn atan2_approx(y: f64, x: f64) -> f64 {
     if y < 0.0 { -a } else { a }
 }
 
+/// `x.floor() as i64` for `|x| < 2^53` without a libm call (ray indices, a few per edge and
+/// disc).
+#[inline]
+fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if t as f64 > x { t - 1 } else { t }
+}
+
+/// `x.ceil() as i64` for `|x| < 2^53` without a libm call.
+#[inline]
+fn ceil_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) < x { t + 1 } else { t }
+}
+
 #[inline]
 fn cross(u: Vec2, v: Vec2) -> f64 {
     u.x * v.y - u.y * v.x
@@ -165,8 +180,8 @@ impl Scanner {
             }
             let half = atan2_approx(r, (d * d - r * r).sqrt()) + tol;
             let bearing = atan2_approx(rel.y, rel.x) - wrapped;
-            let first = ((bearing - half) / step).floor() as i64 - 1;
-            let last = ((bearing + half) / step).ceil() as i64 + 1;
+            let first = floor_i64((bearing - half) / step) - 1;
+            let last = ceil_i64((bearing + half) / step) + 1;
             let span = (last - first + 1).min(n as i64);
             for j in 0..span {
                 let k = (first + j).rem_euclid(n as i64) as usize;
@@ -227,8 +242,8 @@ impl Scanner {
             // The edge spans the angles from pb counter-clockwise to pa (less than pi).
             let start = atan2_approx(pb.y, pb.x) - heading;
             let span = atan2_approx(-turn, pb.dot(&pa));
-            let first = ((start - tol) / step).floor() as i64;
-            let last = (((start + span + tol) / step).ceil() as i64).min(first + n - 1);
+            let first = floor_i64((start - tol) / step);
+            let last = ceil_i64((start + span + tol) / step).min(first + n - 1);
             let seg = b - a;
             for j in first..=last {
                 let k = j.rem_euclid(n) as usize;
@@ -329,6 +344,14 @@ mod tests {
         assert!(worst <= ATAN2_MAX_ERROR, "worst error {worst}");
         assert!(worst > 0.1 * ATAN2_MAX_ERROR, "the bound is tight enough to mean something: {worst}");
         assert_eq!(atan2_approx(0.0, 0.0), 0.0);
+    }
+
+    #[test]
+    fn integer_floor_and_ceil_equal_the_float_ones() {
+        for x in [-3.5, -3.0, -2.9, -0.5, -0.0, 0.0, 1e-300, 0.5, 2.0, 2.000001, 71.99999, 1e15 + 0.5] {
+            assert_eq!(floor_i64(x), x.floor() as i64, "floor {x}");
+            assert_eq!(ceil_i64(x), x.ceil() as i64, "ceil {x}");
+        }
     }
 
     #[test]

@@ -10,13 +10,18 @@
 
 use crate::math::Vec2;
 
-/// Bucket size (metres).
+/// Bucket size of the grid single rays and distance queries traverse (metres).
 pub const BUCKET: f64 = 1.0;
 
-/// Edges bucketed on a uniform grid, in compressed-row form.
+/// Bucket size of the grid [`EdgeGrid::for_each_edge_near`] visits (metres): a query of a few
+/// metres covers a handful of these instead of hundreds of fine buckets.
+pub const COARSE_BUCKET: f64 = 4.0;
+
+/// Edges bucketed on a uniform grid of square buckets, in compressed-row form.
 #[derive(Clone, Debug)]
-pub struct EdgeGrid {
+struct Buckets {
     min: Vec2,
+    size: f64,
     nx: usize,
     ny: usize,
     /// `start[c]..start[c + 1]` indexes `items` for bucket `c`.
@@ -24,23 +29,17 @@ pub struct EdgeGrid {
     items: Vec<u32>,
     /// Per edge, the lowest bucket column and row it is stored in.
     first: Vec<[u32; 2]>,
-    a: Vec<Vec2>,
-    b: Vec<Vec2>,
 }
 
-#[inline]
-fn cross(u: Vec2, v: Vec2) -> f64 {
-    u.x * v.y - u.y * v.x
-}
-
-impl EdgeGrid {
-    /// Buckets `edges` (finite segments) over the box `[min, max]` grown by one bucket.
-    pub fn new(edges: &[(Vec2, Vec2)], min: Vec2, max: Vec2) -> Self {
-        let min = min - Vec2::new(BUCKET, BUCKET);
-        let max = max + Vec2::new(BUCKET, BUCKET);
-        let nx = (((max.x - min.x) / BUCKET).ceil() as usize).max(1);
-        let ny = (((max.y - min.y) / BUCKET).ceil() as usize).max(1);
-        let cell = |p: f64, lo: f64, n: usize| (((p - lo) / BUCKET).floor().max(0.0) as usize).min(n - 1);
+impl Buckets {
+    /// Buckets of `size` metres over the box `[min, max]` grown by one bucket; every edge is
+    /// stored in every bucket its bounding box overlaps.
+    fn new(edges: &[(Vec2, Vec2)], min: Vec2, max: Vec2, size: f64) -> Self {
+        let min = min - Vec2::new(size, size);
+        let max = max + Vec2::new(size, size);
+        let nx = (((max.x - min.x) / size).ceil() as usize).max(1);
+        let ny = (((max.y - min.y) / size).ceil() as usize).max(1);
+        let cell = |p: f64, lo: f64, n: usize| (((p - lo) / size).floor().max(0.0) as usize).min(n - 1);
         let ranges: Vec<(usize, usize, usize, usize)> = edges
             .iter()
             .map(|(a, b)| {
@@ -75,13 +74,50 @@ impl EdgeGrid {
                 }
             }
         }
+        let first = ranges.iter().map(|&(x0, _, y0, _)| [x0 as u32, y0 as u32]).collect();
+        Buckets { min, size, nx, ny, start, items, first }
+    }
+
+    /// The edges of bucket (`x`, `y`).
+    #[inline]
+    fn bucket(&self, x: usize, y: usize) -> &[u32] {
+        let c = y * self.nx + x;
+        &self.items[self.start[c] as usize..self.start[c + 1] as usize]
+    }
+
+    /// The buckets `lo..=hi` of one axis (origin `min`, `n` buckets) overlapping `[from, to]`
+    /// (metres), or `None` when none does (or a bound is not finite).
+    fn span(&self, from: f64, to: f64, min: f64, n: usize) -> Option<(usize, usize)> {
+        let lo = ((from - min) / self.size).floor();
+        let hi = ((to - min) / self.size).floor();
+        if !(lo.is_finite() && hi.is_finite()) || hi < 0.0 || lo >= n as f64 {
+            return None;
+        }
+        Some((lo.max(0.0) as usize, (hi as usize).min(n - 1)))
+    }
+}
+
+/// Edges bucketed twice: on a fine grid for single rays and distances, on a coarse one for the
+/// edges near a point.
+#[derive(Clone, Debug)]
+pub struct EdgeGrid {
+    fine: Buckets,
+    coarse: Buckets,
+    a: Vec<Vec2>,
+    b: Vec<Vec2>,
+}
+
+#[inline]
+fn cross(u: Vec2, v: Vec2) -> f64 {
+    u.x * v.y - u.y * v.x
+}
+
+impl EdgeGrid {
+    /// Buckets `edges` (finite segments) over the box `[min, max]` (grown by one bucket).
+    pub fn new(edges: &[(Vec2, Vec2)], min: Vec2, max: Vec2) -> Self {
         EdgeGrid {
-            min,
-            nx,
-            ny,
-            start,
-            items,
-            first: ranges.iter().map(|&(x0, _, y0, _)| [x0 as u32, y0 as u32]).collect(),
+            fine: Buckets::new(edges, min, max, BUCKET),
+            coarse: Buckets::new(edges, min, max, COARSE_BUCKET),
             a: edges.iter().map(|e| e.0).collect(),
             b: edges.iter().map(|e| e.1).collect(),
         }
@@ -93,14 +129,14 @@ impl EdgeGrid {
         if !(p.x.is_finite() && p.y.is_finite()) {
             return 0.0;
         }
+        let g = &self.fine;
         let span = (max / BUCKET).ceil() as isize;
-        let cx = ((p.x - self.min.x) / BUCKET).floor() as isize;
-        let cy = ((p.y - self.min.y) / BUCKET).floor() as isize;
+        let cx = ((p.x - g.min.x) / BUCKET).floor() as isize;
+        let cy = ((p.y - g.min.y) / BUCKET).floor() as isize;
         let mut best = max;
-        for y in (cy - span).max(0)..=(cy + span).min(self.ny as isize - 1) {
-            for x in (cx - span).max(0)..=(cx + span).min(self.nx as isize - 1) {
-                let c = y as usize * self.nx + x as usize;
-                for &e in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+        for y in (cy - span).max(0)..=(cy + span).min(g.ny as isize - 1) {
+            for x in (cx - span).max(0)..=(cx + span).min(g.nx as isize - 1) {
+                for &e in g.bucket(x as usize, y as usize) {
                     let (a, b) = (self.a[e as usize], self.b[e as usize]);
                     let ab = b - a;
                     let len2 = ab.norm_squared();
@@ -112,40 +148,38 @@ impl EdgeGrid {
         best
     }
 
-    /// Calls `f(a, b)` once for every edge (`a` to `b`, metres) stored in a bucket that overlaps
-    /// the square of half-side `radius` (metres) around `p`: every edge within `radius` of `p`,
-    /// and some farther ones. Nothing for a non-finite `p` or `radius`.
+    /// Calls `f(a, b)` once for every edge (`a` to `b`, metres) whose bounding box overlaps the
+    /// square of half-side `radius` (metres) around `p`: every edge within `radius` of `p`, and
+    /// some farther ones. Nothing for a non-finite `p` or `radius`.
     pub fn for_each_edge_near(&self, p: Vec2, radius: f64, mut f: impl FnMut(Vec2, Vec2)) {
-        let Some((x0, x1)) = Self::bucket_span(p.x - radius, p.x + radius, self.min.x, self.nx) else {
+        let g = &self.coarse;
+        let Some((x0, x1)) = g.span(p.x - radius, p.x + radius, g.min.x, g.nx) else {
             return;
         };
-        let Some((y0, y1)) = Self::bucket_span(p.y - radius, p.y + radius, self.min.y, self.ny) else {
+        let Some((y0, y1)) = g.span(p.y - radius, p.y + radius, g.min.y, g.ny) else {
             return;
         };
+        let (lo, hi) = (p - Vec2::new(radius, radius), p + Vec2::new(radius, radius));
         for y in y0..=y1 {
             for x in x0..=x1 {
-                let c = y * self.nx + x;
-                for &e in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+                for &e in g.bucket(x, y) {
                     // An edge spans a rectangle of buckets: it is visited in the one bucket where
-                    // that rectangle's lowest corner meets the query square, so exactly once.
-                    let [ex, ey] = self.first[e as usize];
-                    if x == (ex as usize).max(x0) && y == (ey as usize).max(y0) {
-                        f(self.a[e as usize], self.b[e as usize]);
+                    // that rectangle's lowest corner meets the query's, so exactly once.
+                    let [ex, ey] = g.first[e as usize];
+                    if x != (ex as usize).max(x0) || y != (ey as usize).max(y0) {
+                        continue;
+                    }
+                    let (a, b) = (self.a[e as usize], self.b[e as usize]);
+                    if a.x.max(b.x) >= lo.x
+                        && a.x.min(b.x) <= hi.x
+                        && a.y.max(b.y) >= lo.y
+                        && a.y.min(b.y) <= hi.y
+                    {
+                        f(a, b);
                     }
                 }
             }
         }
-    }
-
-    /// The buckets `lo..=hi` of one axis (origin `min`, `n` buckets) overlapping `[from, to]`
-    /// (metres), or `None` when none does (or a bound is not finite).
-    fn bucket_span(from: f64, to: f64, min: f64, n: usize) -> Option<(usize, usize)> {
-        let lo = ((from - min) / BUCKET).floor();
-        let hi = ((to - min) / BUCKET).floor();
-        if !(lo.is_finite() && hi.is_finite()) || hi < 0.0 || lo >= n as f64 {
-            return None;
-        }
-        Some((lo.max(0.0) as usize, (hi as usize).min(n - 1)))
     }
 
     /// Distance along the unit ray `origin + t * dir` to the first edge, or `max_range`.
@@ -153,8 +187,9 @@ impl EdgeGrid {
     /// enters it (or misses everything).
     pub fn cast(&self, origin: Vec2, dir: Vec2, max_range: f64) -> f64 {
         let mut best = max_range;
-        let lo = self.min;
-        let (w, h) = (self.nx as f64 * BUCKET, self.ny as f64 * BUCKET);
+        let g = &self.fine;
+        let lo = g.min;
+        let (w, h) = (g.nx as f64 * BUCKET, g.ny as f64 * BUCKET);
         // Reciprocals once per ray: the traversal below multiplies (a zero component gives an
         // infinite reciprocal, so that axis never advances).
         let inv = Vec2::new(1.0 / dir.x, 1.0 / dir.y);
@@ -183,8 +218,8 @@ impl EdgeGrid {
             ry = (ry + dir.y * t0).clamp(0.0, h);
         }
         // Bucket of the start point (coordinates are >= 0 here, so truncation is floor).
-        let mut cx = ((rx * (1.0 / BUCKET)) as usize).min(self.nx - 1);
-        let mut cy = ((ry * (1.0 / BUCKET)) as usize).min(self.ny - 1);
+        let mut cx = ((rx * (1.0 / BUCKET)) as usize).min(g.nx - 1);
+        let mut cy = ((ry * (1.0 / BUCKET)) as usize).min(g.ny - 1);
         let (rel_x, rel_y) = (origin.x - lo.x, origin.y - lo.y);
         let (step_x, next_x) = if dir.x >= 0.0 { (1isize, (cx + 1) as f64) } else { (-1, cx as f64) };
         let (step_y, next_y) = if dir.y >= 0.0 { (1isize, (cy + 1) as f64) } else { (-1, cy as f64) };
@@ -195,8 +230,7 @@ impl EdgeGrid {
         let dt_x = if dir.x.abs() > 1e-300 { BUCKET * inv.x.abs() } else { f64::INFINITY };
         let dt_y = if dir.y.abs() > 1e-300 { BUCKET * inv.y.abs() } else { f64::INFINITY };
         loop {
-            let c = cy * self.nx + cx;
-            for &e in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
+            for &e in g.bucket(cx, cy) {
                 let (a, b) = (self.a[e as usize], self.b[e as usize]);
                 let seg = b - a;
                 let denom = cross(dir, seg);
@@ -221,7 +255,7 @@ impl EdgeGrid {
             let ny = cy as isize + if go_x { 0 } else { step_y };
             t_max_x = if go_x { t_max_x + dt_x } else { t_max_x };
             t_max_y = if go_x { t_max_y } else { t_max_y + dt_y };
-            if nx < 0 || nx >= self.nx as isize || ny < 0 || ny >= self.ny as isize {
+            if nx < 0 || nx >= g.nx as isize || ny < 0 || ny >= g.ny as isize {
                 return best;
             }
             cx = nx as usize;
