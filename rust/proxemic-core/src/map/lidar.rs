@@ -32,9 +32,9 @@ fn ray_disc(origin: Vec2, dir: Vec2, c: Vec2, r: f64, max_t: f64) -> Option<f64>
 /// `max_range` if nothing is hit within it, into `out[k]`. An origin inside a polygon or a disc
 /// reads 0 on every ray that starts inside.
 ///
-/// The static geometry is cast through its bucket grid; each disc is then intersected analytically
-/// with only the rays inside its angular extent, so the cost grows with the rays a disc covers,
-/// not with rays times discs. [`Scanner`] does the same with reusable buffers and a cache of the
+/// Every polygon edge near the origin that faces it, and every disc, is intersected exactly
+/// with only the rays inside its angular extent, so the cost grows with the rays an edge or a
+/// disc covers, not with rays times edges and discs. [`Scanner`] does the same with reusable buffers and a cache of the
 /// static part for a lidar that has not moved.
 ///
 /// Errors with [`CoreError::Input`] if `out` is empty (`out.len()` is the number of rays), if
