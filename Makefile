@@ -58,11 +58,12 @@ install-check: system-deps ## `pip install .` into a fresh venv, then gym.make f
 	  env = gym.make('proxemic/Museum-v0'); obs, _ = env.reset(seed=0); \
 	  print('installed proxemic', proxemic.__version__, 'runs from /:', {k: v.shape for k, v in obs.items()})"
 
-lint: $(VENV)/.deps ## rustfmt, clippy (warnings as errors), ruff
+lint: $(VENV)/.deps ## rustfmt, clippy (warnings as errors), ruff, mypy (settings in pyproject.toml)
 	cargo fmt --all --check
 	cargo clippy --workspace --all-targets -- -D warnings
 	$(VENV)/bin/ruff check python tests benches examples
 	$(VENV)/bin/ruff format --check python tests benches examples
+	$(VENV)/bin/mypy
 
 format: $(VENV)/.deps ## apply rustfmt and ruff format
 	cargo fmt --all

@@ -26,7 +26,7 @@ OUTCOMES = ("running", "success", "collision", "timeout")
 __all__ = ["OUTCOMES", "PLANNER_MODES", "ProxemicEnv"]
 
 
-class ProxemicEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
+class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     """## Description.
 
     A Pepper-like holonomic robot crosses a building shared with scripted people (a museum, a care

@@ -400,8 +400,7 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
                 kept[res.record["planner"]].append(res)
             bar.update(1)
     bar.close()
-    records = records.rows
-    rows = summarise(records)
+    rows = summarise(records.rows)
     (out / "summary.md").write_text(summary_markdown(rows) + "\n")
     plot_metrics_bars(rows, list(RATE_METRICS[:2] + MEAN_METRICS[:-1]), out / "metrics.png")
     for planner, results in kept.items():

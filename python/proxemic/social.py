@@ -19,6 +19,7 @@ import itertools
 import json
 import os
 import pathlib
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -127,7 +128,7 @@ class SocialMap:
         self,
         out_png: str | os.PathLike[str],
         *,
-        paths: dict[str, np.ndarray | None] | None = None,
+        paths: Mapping[str, np.ndarray | None] | None = None,
         title: str | None = None,
     ) -> pathlib.Path:
         """Writes a picture of the map: zones, groups, object spaces by R(t), and `paths`."""

@@ -56,7 +56,7 @@ def _darker(color: Sequence[int], amount: float = 0.45) -> tuple[float, float, f
 
 def _episode_colors(n: int) -> list[tuple[float, float, float]]:
     """Return ``n`` categorical colours (tab10, cycled)."""
-    base = np.asarray(colormaps["tab10"].colors, dtype=np.float64)[:, :3]
+    base = np.asarray(colormaps["tab10"](np.arange(10)), dtype=np.float64)[:, :3]  # its 10 colours, exactly
     out: list[tuple[float, float, float]] = []
     for i in range(n):
         r, g, b = (float(v) for v in base[i % len(base)])

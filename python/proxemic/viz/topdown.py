@@ -338,7 +338,7 @@ def _clip_segments(
 
 def _segment_pixels(
     p0: np.ndarray, p1: np.ndarray, height: int, width: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Vectorised DDA over many segments.
 
     Returns ``(rows, cols, seg, order)``: integer pixel coordinates of every sample, the index of the
