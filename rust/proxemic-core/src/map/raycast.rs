@@ -304,18 +304,27 @@ mod tests {
         assert_eq!(g.cast(Vec2::zeros(), Vec2::new(1.0, 0.0), 4.0), 4.0);
     }
 
+    /// Up to 39 segments starting in [-10, 10]^2, each coordinate of their extent within
+    /// `max_extent` metres.
+    fn random_edges(rng: &mut impl rand::Rng, max_extent: f64) -> Vec<(Vec2, Vec2)> {
+        (0..rng.random_range(0..40))
+            .map(|_| {
+                let a = Vec2::new(rng.random_range(-10.0..10.0), rng.random_range(-10.0..10.0));
+                let d = Vec2::new(
+                    rng.random_range(-max_extent..max_extent),
+                    rng.random_range(-max_extent..max_extent),
+                );
+                (a, a + d)
+            })
+            .collect()
+    }
+
     proptest! {
         #[test]
         fn edges_near_a_point_are_visited_once_and_none_within_range_is_missed(seed in any::<u64>()) {
             use rand::{Rng, SeedableRng};
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-            let edges: Vec<(Vec2, Vec2)> = (0..rng.random_range(0..40))
-                .map(|_| {
-                    let a = Vec2::new(rng.random_range(-10.0..10.0), rng.random_range(-10.0..10.0));
-                    let d = Vec2::new(rng.random_range(-6.0..6.0), rng.random_range(-6.0..6.0));
-                    (a, a + d)
-                })
-                .collect();
+            let edges = random_edges(&mut rng, 6.0);
             let g = EdgeGrid::new(&edges, Vec2::new(-16.0, -16.0), Vec2::new(16.0, 16.0));
             for _ in 0..10 {
                 let p = Vec2::new(rng.random_range(-25.0..25.0), rng.random_range(-25.0..25.0));
@@ -338,13 +347,7 @@ mod tests {
         fn equals_brute_force(seed in any::<u64>()) {
             use rand::{Rng, SeedableRng};
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-            let edges: Vec<(Vec2, Vec2)> = (0..rng.random_range(0..40))
-                .map(|_| {
-                    let a = Vec2::new(rng.random_range(-10.0..10.0), rng.random_range(-10.0..10.0));
-                    let d = Vec2::new(rng.random_range(-3.0..3.0), rng.random_range(-3.0..3.0));
-                    (a, a + d)
-                })
-                .collect();
+            let edges = random_edges(&mut rng, 3.0);
             let g = EdgeGrid::new(&edges, Vec2::new(-13.0, -13.0), Vec2::new(13.0, 13.0));
             for _ in 0..20 {
                 let o = Vec2::new(rng.random_range(-20.0..20.0), rng.random_range(-20.0..20.0));
