@@ -14,8 +14,11 @@ used). Three settings:
   eleven stay live (robots that drive blindly end their episodes in a few seconds, leaving steps
   with few agents: the number would measure collisions, not the env).
 
-Only ``env.step`` is timed (the policies and ``env.reset`` are not), as thread CPU time over
-several interleaved trials (the machine is shared and noisy); medians. Agent-steps count the
+The target (30,000 agent-steps/s with 11 robots; the issue asks it among 40 people, this scene
+has 56) is checked on the policies-only setting: what a learning policy pays for the env; with
+built-in planners their own cost (in ``core``) comes on top. Only ``env.step`` is timed (the
+policies and ``env.reset`` are not), as thread CPU time over several interleaved trials (the
+machine is shared and noisy); medians. Agent-steps count the
 agents live in each step. Beside each: the bare MuJoCo stepping a control step contains
 (``mj_step`` x frame_skip from the same states, on a copy of the data) for the physics model the
 env steps, and for the full visual model (the render model, which is what the physics stepped
@@ -43,7 +46,7 @@ import proxemic
 
 TRIALS = 5
 STEPS = 200
-TARGET = 30_000  # agent-steps/s with 11 robots (issue 6)
+TARGET = 30_000  # agent-steps/s with 11 robots driven by policies (issue 6): the env's own cost
 
 
 TURN = np.array([0.0, 0.0, 0.5], np.float32)
@@ -144,7 +147,7 @@ def main() -> None:
                 f"(bare {r['bare']:.0f} us, full model {r['bare_full']:.0f} us; physics {r['physics']:.0f} us, "
                 f"core {r['core']:.0f} us, Python {r['step'] - r['physics'] - r['core']:.0f} us)"
             )
-            if robots == 11:
+            if robots == 11 and not planner_actions:
                 rate = 1e6 / r["agent"]
                 print(
                     f"  {'':46s} target {TARGET} agent-steps/s with 11 robots: {'met' if rate >= TARGET else 'NOT met'}"
