@@ -9,12 +9,15 @@
 //! (3.0 rad/s^2). Acceleration is limited relative to the previous *command*, so the limit holds
 //! on what the base is asked to do whatever the physics did.
 //!
+//! Submodules: [`mode_switch`] (the mode switch of Daza 2021 Algorithm 1), [`orca`],
+//! [`social_momentum`] and [`eband`] (the local planners).
+//!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
 
 pub mod eband;
+pub mod mode_switch;
 pub mod orca;
-pub mod social;
 pub mod social_momentum;
 
 use crate::math::{Vec2, rotate, wrap_angle};

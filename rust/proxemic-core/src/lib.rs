@@ -12,8 +12,12 @@
 //! Modules:
 //! - [`scenario`]: parse and validate scenario TOML once; errors name the file and field.
 //! - [`map`]: static geometry, occupancy grid, distance field, 2D ray casting.
-//! - [`plan`]: 8-connected A* (plain and cost-aware), Dijkstra oracle, path smoothing.
-//! - [`control`]: command limits and the path follower.
+//! - [`perception`]: from people and robots to the individuals of the social map (groups,
+//!   socialization features).
+//! - [`socialmap`]: the social cost map (layers of zones, groups and object spaces).
+//! - [`plan`]: 8-connected A* (plain and cost-aware), Dijkstra oracle, path smoothing, and the
+//!   social global planner ([`plan::social`]).
+//! - [`control`]: command limits, the path follower, the local planners and the mode switch.
 //! - [`pedestrians`]: scripted people.
 //! - [`groups`]: group detection (Delaunay, density, F-formation), groups as individuals.
 //! - [`metrics`]: per-step accumulation and episode summaries.
@@ -27,10 +31,10 @@ pub mod map;
 pub mod math;
 pub mod metrics;
 pub mod pedestrians;
+pub mod perception;
 pub mod plan;
 pub mod proxemics;
 pub mod scenario;
-pub mod social;
 pub mod socialmap;
 pub mod world;
 

@@ -993,7 +993,7 @@ impl Default for RewardWeights {
     }
 }
 
-/// The social model of the scenario (`[proxemics]`), validated; see [`crate::social`].
+/// The social model of the scenario (`[proxemics]`), validated; see [`crate::perception`].
 #[derive(Clone, Debug, Serialize)]
 pub struct Proxemics {
     /// Hall's zone radii `[intimate, personal, social]` (metres, centre to centre).
@@ -1301,7 +1301,7 @@ impl Scenario {
     }
 
     /// The social model described by `[proxemics]`.
-    pub fn social_config(&self) -> crate::social::SocialConfig {
+    pub fn social_config(&self) -> crate::perception::SocialConfig {
         use crate::groups::{DelaunayParams, DensityParams, FFormationParams, FeatureAggregate, GroupMethod};
         use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, SideInfluences};
         use crate::socialmap::{CostMode, SocialCosts};
@@ -1338,7 +1338,7 @@ impl Scenario {
             _ => FeatureAggregate::Mean,
         };
         let [fi, ri, rti, li] = p.influence.clone();
-        crate::social::SocialConfig {
+        crate::perception::SocialConfig {
             zones,
             space,
             features: p.features.clone(),

@@ -14,18 +14,16 @@
 //! buffer of the people's poses and contact hints, so a step allocates nothing and crosses the
 //! language boundary once.
 
-mod social_planning;
-
-pub use social_planning::{SocialPath, SocialPlanning, Trigger};
+use crate::plan::social::{SocialPath, SocialPlanning, Trigger};
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::control::eband::{EbandParams, ElasticBand};
-use crate::control::orca::{ObstacleSet, Orca, OrcaAgent, OrcaParams};
-use crate::control::social::{
+use crate::control::mode_switch::{
     Mode, OtherRobot, Person as CtlPerson, SocialControlParams, choose_mode, social_momentum_step,
 };
+use crate::control::orca::{ObstacleSet, Orca, OrcaAgent, OrcaParams};
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
@@ -40,7 +38,7 @@ use crate::metrics::{
 use crate::pedestrians::scripts::{Script, plan_scripts};
 use crate::pedestrians::{Crowd, GuideState, SocialForceParams};
 use crate::plan::geodesic::GoalField;
-use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
+use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path, snap_to_passable};
 use crate::scenario::{Behaviour, PlannerKind, Scenario};
 
 /// Contact flag bit: the robot touched a person during the physics step.
@@ -1306,8 +1304,9 @@ impl World {
             // counts the path in samples): when what is left is already within the gain of that,
             // a search could not find a path worth changing to.
             let field = &st.fields[self.robots[i].leg];
-            let shortest =
-                field.distance(p) / GRID_DETOUR - 2.0 * field.resolution() - social_planning::SAMPLE_SPACING;
+            let shortest = field.distance(p) / GRID_DETOUR
+                - 2.0 * field.resolution()
+                - crate::plan::social::SAMPLE_SPACING;
             if left.is_finite() && (1.0 - SOCIAL_REPLAN_GAIN) * left <= shortest {
                 self.robots[i].last_plan_step = self.steps;
                 return;
@@ -1679,13 +1678,6 @@ fn segment_clear(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
             None => false,
         }
     })
-}
-
-/// Nearest passable cell to `p` within 0.5 m.
-fn snap_to_passable(grid: &CostGrid, p: Vec2) -> Option<(usize, usize)> {
-    let cell = grid.spec.cell_of(p)?;
-    let radius = (0.5 / grid.spec.resolution).ceil() as usize;
-    nearest_passable(grid, cell, radius)
 }
 
 /// Plain A* (weight 0) from `start` to `goal` on `grid`, smoothed, as world-frame waypoints

@@ -15,6 +15,7 @@
 //!   cell is already closed (a bitset) is skipped.
 
 use crate::map::grid::{DistanceField, GridSpec};
+use crate::math::Vec2;
 
 /// Cost of a cell occupied by static geometry (impassable).
 pub const LETHAL: u8 = 254;
@@ -573,10 +574,17 @@ pub fn nearest_passable(
     best.map(|(_, y, x)| (x as usize, y as usize))
 }
 
+/// The nearest passable cell to the world point `p` (metres) within 0.5 m, or `None` when `p` is
+/// off the grid or every cell within 0.5 m is impassable.
+pub fn snap_to_passable(grid: &CostGrid, p: Vec2) -> Option<(usize, usize)> {
+    let cell = grid.spec.cell_of(p)?;
+    let radius = (0.5 / grid.spec.resolution).ceil() as usize;
+    nearest_passable(grid, cell, radius)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec2;
     use proptest::prelude::*;
 
     const S2: f64 = std::f64::consts::SQRT_2;

@@ -2,11 +2,17 @@
 //! and line-of-sight path smoothing (algorithms.md §6.3).
 //!
 //! - [`astar`]: the cost grid, inflation, the search and the goal-relocation helper.
+//! - [`geodesic`]: the geodesic distance field to a goal (progress reward, re-plan bounds).
 //! - [`smooth`]: greedy line-of-sight shortcutting and polyline cost evaluation.
+//! - [`social`]: the social global planner: social A* on the social cost map and its re-planning
+//!   triggers.
 
 pub mod astar;
 pub mod geodesic;
 pub mod smooth;
+pub mod social;
 
-pub use astar::{CostGrid, GridPath, INSCRIBED, LETHAL, PathPlanner, SearchMode, nearest_passable};
+pub use astar::{
+    CostGrid, GridPath, INSCRIBED, LETHAL, PathPlanner, SearchMode, nearest_passable, snap_to_passable,
+};
 pub use smooth::{path_cost, smooth_path};

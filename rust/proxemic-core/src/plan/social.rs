@@ -1,7 +1,7 @@
 //! The social global planner: social A* on the social cost map, and its re-planning triggers.
 //!
 //! The map combines the static layer, the people who stay where they are (the individuals of
-//! [`crate::social::perceive`] whose members all move slower than [`MAP_STILL_SPEED`]: people
+//! [`crate::perception::perceive`] whose members all move slower than [`MAP_STILL_SPEED`]: people
 //! standing, sitting, talking or looking at an exhibit) and the objects' interaction spaces at
 //! R(t) from the agenda. People who walk are left to the local planner, which predicts their
 //! motion: where a walker is now says little about where they will be when the robot gets there,
@@ -20,9 +20,9 @@ use crate::error::Result;
 use crate::groups::{PersonState, RobotDisc};
 use crate::math::Vec2;
 use crate::pedestrians::Crowd;
+use crate::perception::{Individual, Perception, SocialConfig, perceive};
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path};
 use crate::scenario::Scenario;
-use crate::social::{Individual, Perception, SocialConfig, perceive};
 use crate::socialmap::SocialMap;
 
 /// Spacing of the points sampled along a path for the re-planning checks (metres).
@@ -215,8 +215,8 @@ impl SocialPlanning {
         let map = self.maps.get(k)?;
         let grid = map.grid();
         let weight = self.cfg.costs.weight();
-        let s = super::snap_to_passable(grid, start)?;
-        let g = super::snap_to_passable(grid, goal)?;
+        let s = crate::plan::snap_to_passable(grid, start)?;
+        let g = crate::plan::snap_to_passable(grid, goal)?;
         let path = planner.plan(grid, s, g, SearchMode { weight, heuristic: true })?;
         let mut points = smooth_path(grid, &path, weight);
         if let Some(first) = points.first_mut() {
@@ -299,7 +299,7 @@ impl SocialPlanning {
     }
 }
 
-fn ind_bounds(ind: &crate::social::Individual) -> [f64; 4] {
+fn ind_bounds(ind: &crate::perception::Individual) -> [f64; 4] {
     use crate::socialmap::SpaceFunction;
     ind.bounds()
 }
