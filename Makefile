@@ -77,6 +77,7 @@ bench: setup ## criterion benches of the core (medians), env, parallel env and r
 	  | grep -E '^[a-z_/0-9.]+|time:|thrpt:' || exit 1; done
 	$(PY) benches/env_bench.py
 	$(PY) benches/parallel_bench.py
+	$(PY) benches/crowd_bench.py
 	$(PY) benches/eval_bench.py
 	$(PY) benches/orca_vs_navground.py
 	$(PY) benches/pedestrians_vs_navground.py

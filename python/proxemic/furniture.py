@@ -53,8 +53,8 @@ def _shade(c: Rgba, f: float) -> Rgba:
 class _Parts:
     """Adds visual geoms to the world body in an object's frame."""
 
-    def __init__(self, wb: mujoco.MjsBody, obj: dict[str, Any]) -> None:
-        self.wb, self.name = wb, obj["name"]
+    def __init__(self, wb: mujoco.MjsBody, obj: dict[str, Any], visual: bool = True) -> None:
+        self.wb, self.name, self.visual = wb, obj["name"], visual
         self.x, self.y, self.th = (float(v) for v in obj["pose"])
         self.count = 0
 
@@ -78,6 +78,9 @@ class _Parts:
         self._add(part, mujoco.mjtGeom.mjGEOM_SPHERE, centre, [radius, 0.0, 0.0], rgba)
 
     def _add(self, part: str, kind: Any, centre: tuple[float, float, float], size: list[float], rgba: Rgba) -> None:
+        self.count += 1
+        if not self.visual:  # the physics model: counted (the collision geom's group), not added
+            return
         self.wb.add_geom(
             name=f"object/{self.name}/{part}",
             type=kind,
@@ -89,7 +92,6 @@ class _Parts:
             conaffinity=0,
             mass=0.0,
         )
-        self.count += 1
 
 
 def _legs(p: _Parts, hx: float, hy: float, top: float, r: float, rgba: Rgba) -> None:
@@ -218,23 +220,25 @@ def _round_model(p: _Parts, kind: str, r: float, h: float, c: Rgba) -> None:
         p.cylinder("cap", (0.0, 0.0, h - 0.03), r * 1.08, 0.03, _shade(c, 0.9))
 
 
-def add_object(wb: mujoco.MjsBody, obj: dict[str, Any]) -> int:
+def add_object(wb: mujoco.MjsBody, obj: dict[str, Any], *, visual: bool = True) -> int:
     """Adds an object's collision geom and its kind's visual model to the world body `wb`.
 
     Args:
         wb: The spec's world body.
         obj: A validated object of the scenario dict (``name``, ``kind``, ``pose``, ``size`` or
             ``radius``, ``height``, ``solid``).
+        visual: False for the physics model: only the collision geom of a solid object is added
+            (a non-solid object then adds nothing).
 
     Returns:
-        The number of visual parts added (0 for a kind without a model: the collision geom is
-        then shown instead).
+        The number of visual parts of the kind's model (0 for a kind without a model: the
+        collision geom is then shown instead).
     """
     x, y, th = (float(v) for v in obj["pose"])
     h = float(obj["height"])
     colour = OBJECT_COLOURS.get(obj["kind"], _DEFAULT)
     collide = 1 if obj["solid"] else 0
-    parts = _Parts(wb, obj)
+    parts = _Parts(wb, obj, visual)
     if obj["radius"] is not None:
         r = float(obj["radius"])
         _round_model(parts, obj["kind"], r, h, colour)
@@ -245,6 +249,8 @@ def add_object(wb: mujoco.MjsBody, obj: dict[str, Any]) -> int:
         if model is not None:
             model(parts, d, w, h, colour)
         shape, size = mujoco.mjtGeom.mjGEOM_BOX, [d / 2.0, w / 2.0, h / 2.0]
+    if not visual and not collide:
+        return parts.count
     wb.add_geom(
         name=f"object/{obj['name']}",
         type=shape,

@@ -90,38 +90,39 @@ def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpe
     cx, cy = (xmin + xmax) / 2.0, (ymin + ymax) / 2.0
     wb = spec.worldbody
 
-    floor_tex = spec.add_texture(
-        name="floor",
-        type=mujoco.mjtTexture.mjTEXTURE_2D,
-        builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
-        width=256,
-        height=256,
-        rgb1=[0.82, 0.8, 0.76],
-        rgb2=[0.78, 0.76, 0.72],
-    )
-    floor_mat = spec.add_material(name="floor", texrepeat=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0])
-    floor_mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = floor_tex.name
-    wb.add_geom(
-        name="floor",
-        type=mujoco.mjtGeom.mjGEOM_PLANE,
-        size=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0, 0.1],
-        pos=[cx, cy, 0.0],
-        material="floor",
-        contype=0,
-        conaffinity=0,
-    )
-    wb.add_light(
-        name="sun",
-        pos=[cx, cy, 20.0],
-        dir=[0.0, 0.0, -1.0],
-        type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
-        diffuse=[0.6, 0.6, 0.6],
-        castshadow=False,
-    )
-    # A top camera that sees the whole floor (fovy 45 degrees; aspect handled by the renderer).
-    half = max((xmax - xmin) / 2.0 * 0.75, (ymax - ymin) / 2.0) + 1.0
-    height = half / np.tan(np.radians(22.5))
-    wb.add_camera(name="top", pos=[cx, cy, height], quat=[1.0, 0.0, 0.0, 0.0], fovy=45.0)
+    if visual:  # the floor, light and top camera only matter to the render model
+        floor_tex = spec.add_texture(
+            name="floor",
+            type=mujoco.mjtTexture.mjTEXTURE_2D,
+            builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
+            width=256,
+            height=256,
+            rgb1=[0.82, 0.8, 0.76],
+            rgb2=[0.78, 0.76, 0.72],
+        )
+        floor_mat = spec.add_material(name="floor", texrepeat=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0])
+        floor_mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = floor_tex.name
+        wb.add_geom(
+            name="floor",
+            type=mujoco.mjtGeom.mjGEOM_PLANE,
+            size=[(xmax - xmin) / 2.0, (ymax - ymin) / 2.0, 0.1],
+            pos=[cx, cy, 0.0],
+            material="floor",
+            contype=0,
+            conaffinity=0,
+        )
+        wb.add_light(
+            name="sun",
+            pos=[cx, cy, 20.0],
+            dir=[0.0, 0.0, -1.0],
+            type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+            diffuse=[0.6, 0.6, 0.6],
+            castshadow=False,
+        )
+        # A top camera that sees the whole floor (fovy 45 degrees; aspect handled by the renderer).
+        half = max((xmax - xmin) / 2.0 * 0.75, (ymax - ymin) / 2.0) + 1.0
+        height = half / np.tan(np.radians(22.5))
+        wb.add_camera(name="top", pos=[cx, cy, height], quat=[1.0, 0.0, 0.0, 0.0], fovy=45.0)
 
     for i, w in enumerate(scenario["walls"]):
         (x0, y0), (x1, y1) = w["from"], w["to"]
@@ -136,14 +137,18 @@ def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpe
             rgba=[0.72, 0.72, 0.7, 1.0],
         )
     for o in scenario["objects"]:
-        add_object(wb, o)
+        add_object(wb, o, visual=visual)
 
     assets = models_dir()
-    robot_model = mujoco.MjSpec.from_file(str(assets / "pepper.xml"))
+    # The physics model attaches models already stripped of their visual parts: deleting them
+    # from the assembled spec costs a pass over the whole spec per deletion (minutes at 500 people).
+    robot_model = _asset(assets / "pepper.xml", visual)
     for i, _r in enumerate(scenario["robots"]):
         # Attached at the origin: the joints' values are the world pose (x, y, yaw).
         frame = wb.add_frame(pos=[0.0, 0.0, 0.0])
         spec.attach(robot_model, frame=frame, prefix=f"robot_{i}/")
+        if not visual:
+            continue
         colour = list(ROBOT_COLOURS[i % len(ROBOT_COLOURS)])
         for name in ("shell", "eyes"):
             spec.geom(f"robot_{i}/{name}").rgba = colour
@@ -155,42 +160,61 @@ def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpe
             mode=mujoco.mjtCamLight.mjCAMLIGHT_TRACK,
             fovy=60.0,
         )
-    person_model = mujoco.MjSpec.from_file(str(assets / "pedestrian.xml"))
+    # People are added geom by geom from the asset rather than attached: `MjSpec.attach` costs a
+    # pass over the whole spec per call, quadratic in the crowd (a 1000-person scene took minutes).
+    person_geoms = list(_asset(assets / "pedestrian.xml", visual).geoms)
     for i, p in enumerate(scenario["persons"]):
         x, y, th = p["pose"]
-        frame = wb.add_frame(pos=[x, y, 0.0], quat=_yaw_quat(th))
-        spec.attach(person_model, frame=frame, prefix=f"person_{i}/")
-        body = spec.geom(f"person_{i}/body")
-        half = max(p["height"] / 2.0 - p["radius"] - 0.12, 0.05)
-        body.size = [p["radius"], half, 0.0]
-        body.pos = [0.0, 0.0, p["radius"] + half]
-        if p["group"] is not None:
-            hue = (p["group"] * 0.618034) % 1.0
-            body.rgba = [0.35 + 0.5 * hue, 0.45, 0.85 - 0.5 * hue, 1.0]
+        root = wb.add_body(name=f"person_{i}/root", mocap=True, pos=[x, y, 0.0], quat=_yaw_quat(th))
+        for g in person_geoms:
+            geom = root.add_geom(
+                name=f"person_{i}/{g.name}",
+                type=g.type,
+                size=list(g.size),
+                pos=list(g.pos),
+                quat=list(g.quat),
+                rgba=list(g.rgba),
+                contype=g.contype,
+                conaffinity=g.conaffinity,
+            )
+            if g.name != "body":
+                continue
+            half = max(p["height"] / 2.0 - p["radius"] - 0.12, 0.05)
+            geom.size = [p["radius"], half, 0.0]
+            geom.pos = [0.0, 0.0, p["radius"] + half]
+            if p["group"] is not None:
+                hue = (p["group"] * 0.618034) % 1.0
+                geom.rgba = [0.35 + 0.5 * hue, 0.45, 0.85 - 0.5 * hue, 1.0]
     if not visual:
         _strip_to_physics(spec)
     return spec
 
 
-def _strip_to_physics(spec: mujoco.MjSpec) -> None:
-    """Strips a scene spec down to its physics model.
+def _asset(path: Path, visual: bool) -> mujoco.MjSpec:
+    """An MJCF asset as a spec; for the physics model without its non-colliding geoms.
 
-    Removes what does not collide (massless visual parts, floor), cameras and lights, and sets the
-    contact bits: static contype 2, robots and people contype = conaffinity = 1 (robots add 2 while
-    near the static geometry, see :meth:`Simulation.set_hints`).
+    Robots' visual parts are massless, and people are mocap bodies (their mass is unused), so
+    removing them changes no dynamics.
     """
-    for g in list(spec.geoms):
-        if g.contype == 0 and g.conaffinity == 0:
-            # robots' visual parts are massless; people are mocap bodies (their mass is unused)
-            spec.delete(g)
-        elif g.name.startswith(("wall_", "object/")):
+    spec = mujoco.MjSpec.from_file(str(path))
+    if not visual:
+        for g in list(spec.geoms):
+            if g.contype == 0 and g.conaffinity == 0:
+                spec.delete(g)
+    return spec
+
+
+def _strip_to_physics(spec: mujoco.MjSpec) -> None:
+    """Sets the contact bits of the physics model (built without visual parts, cameras or lights).
+
+    Static contype 2, robots and people contype = conaffinity = 1 (robots add 2 while near the
+    static geometry, see :meth:`Simulation.set_hints`).
+    """
+    for g in spec.geoms:
+        if g.name.startswith(("wall_", "object/")):
             g.contype, g.conaffinity = STATIC_BIT, 0
         else:
             g.contype, g.conaffinity = DYNAMIC_BIT, DYNAMIC_BIT | STATIC_BIT
-    for c in list(spec.cameras):
-        spec.delete(c)
-    for light in list(spec.lights):
-        spec.delete(light)
 
 
 class Simulation:
