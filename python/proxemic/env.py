@@ -16,6 +16,7 @@ from proxemic.world import (
     RENDER_MODES,
     WorldSim,
     action_space,
+    available_render_modes,
     check_overlays,
     check_render_mode,
     warn_no_render_mode,
@@ -147,7 +148,11 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)
         self.ws = WorldSim(self.core_scenario, self.scenario)
         self.world, self.sim = self.ws.world, self.ws.sim
-        self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}
+        self.metadata = {
+            **self.metadata,
+            "render_modes": available_render_modes(),  # no "human" on a headless machine
+            "render_fps": round(self.scenario["scene"]["control_hz"]),
+        }
         self.observation_space = self.ws.observation_space(robots=False)
         self.action_space = action_space()
         # The core's buffers (written in place; other robots, if any, keep their built-in planners).

@@ -14,7 +14,14 @@ from pettingzoo import ParallelEnv
 
 from proxemic import _core, scenarios
 from proxemic.errors import InputError, UnknownNameError
-from proxemic.world import RENDER_MODES, WorldSim, action_space, check_render_mode, warn_no_render_mode
+from proxemic.world import (
+    RENDER_MODES,
+    WorldSim,
+    action_space,
+    available_render_modes,
+    check_render_mode,
+    warn_no_render_mode,
+)
 
 AgentID = str
 ObsDict = dict[str, np.ndarray]
@@ -122,7 +129,11 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.scenario: dict[str, Any] = json.loads(core.to_json())
         self.ws = WorldSim(core, self.scenario)
         self.world, self.sim = self.ws.world, self.ws.sim
-        self.metadata = {**self.metadata, "render_fps": round(self.scenario["scene"]["control_hz"])}
+        self.metadata = {
+            **self.metadata,
+            "render_modes": available_render_modes(),  # no "human" on a headless machine
+            "render_fps": round(self.scenario["scene"]["control_hz"]),
+        }
 
         self.possible_agents: list[AgentID] = names
         self.agents: list[AgentID] = []

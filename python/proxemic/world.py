@@ -11,6 +11,10 @@ and the rendering live here too, so both front ends describe a robot the same wa
 
 from __future__ import annotations
 
+import functools
+import os
+import re
+import warnings
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -37,14 +41,56 @@ def action_space() -> spaces.Box:
     return spaces.Box(-1.0, 1.0, (3,), dtype=np.float32)
 
 
+@functools.cache
+def missing_display() -> str | None:
+    """Why the ``"human"`` render mode cannot open a window here, or None when it can.
+
+    The viewer needs GLFW and a display; without one, MuJoCo's viewer would print "could not
+    initialize GLFW" and end the process, so the display is probed once (GLFW's own init, which
+    fails without ending anything) before any viewer is started.
+    """
+    try:
+        import glfw
+    except ImportError as e:  # pragma: no cover - glfw is a dependency of mujoco
+        return f"the glfw package is missing ({e})"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ok = glfw.init()
+    if ok:
+        glfw.terminate()
+        return None
+    # GLFW's messages read "(65550) b'X11: The DISPLAY environment variable is missing'".
+    messages = [re.sub(r"^\(\d+\) b?['\"]?(.*?)['\"]?$", r"\1", str(w.message)) for w in caught]
+    reason = "; ".join(messages) or "GLFW could not be initialised"
+    display = os.environ.get("DISPLAY")
+    where = "DISPLAY is unset" if not display else f"DISPLAY={display!r} cannot be opened"
+    return f"{where} ({reason})"
+
+
+def available_render_modes() -> list[str]:
+    """The render modes this machine supports: :data:`RENDER_MODES` without ``"human"`` when headless."""
+    return [m for m in RENDER_MODES if m != "human" or missing_display() is None]
+
+
 def check_render_mode(render_mode: str | None) -> None:
-    """Raises :class:`InputError` unless `render_mode` is None or one of :data:`RENDER_MODES`."""
+    """Raises :class:`InputError` unless `render_mode` is None or a mode this machine can render.
+
+    ``"human"`` needs a display (see :func:`missing_display`); the message names the alternatives.
+    """
     if render_mode is not None and render_mode not in RENDER_MODES:
         raise InputError(
             f"render_mode: expected one of {list(RENDER_MODES)} or None, got {render_mode!r}",
             field="render_mode",
             expected=str(list(RENDER_MODES)),
             found=repr(render_mode),
+        )
+    if render_mode == "human" and (why := missing_display()) is not None:
+        raise InputError(
+            f"render_mode: 'human' opens a window and needs a display, but {why}; "
+            "use render_mode='rgb_array' (MuJoCo offscreen) or 'topdown' (2D view), or run under a display",
+            field="render_mode",
+            expected="a display for 'human' (or 'rgb_array' / 'topdown')",
+            found=why,
         )
 
 
