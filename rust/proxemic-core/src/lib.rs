@@ -11,6 +11,8 @@
 //!
 //! Modules:
 //! - [`scenario`]: parse and validate scenario TOML once; errors name the file and field.
+//! - [`geom`]: the 2D geometry primitives (cross product, point-segment distance, point in
+//!   polygon or triangle), one definition each.
 //! - [`map`]: static geometry, occupancy grid, distance field, 2D ray casting.
 //! - [`perception`]: from people and robots to the individuals of the social map (groups,
 //!   socialization features).
@@ -26,6 +28,7 @@
 pub mod chronemics;
 pub mod control;
 pub mod error;
+pub mod geom;
 pub mod groups;
 pub mod map;
 pub mod math;

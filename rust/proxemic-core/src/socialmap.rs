@@ -25,6 +25,7 @@
 //! Updates are incremental: moving individuals re-evaluate only the cells of their old and new
 //! bounding boxes, and a change of the clock re-evaluates only the objects whose cost changed.
 
+use crate::geom::distance_point_segment;
 use crate::map::grid::GridSpec;
 use crate::math::Vec2;
 use crate::plan::{CostGrid, INSCRIBED, LETHAL};
@@ -196,13 +197,7 @@ pub fn polygon_cells(spec: &GridSpec, polygon: &[Vec2], margin: f64) -> Vec<u32>
                 Vec2::new(spec.origin.x + (ix as f64 + 0.5) * res, spec.origin.y + (iy as f64 + 0.5) * res);
             let near = (0..polygon.len()).any(|k| {
                 let (a, b) = (polygon[k], polygon[(k + 1) % polygon.len()]);
-                let ab = b - a;
-                let t = if ab.norm_squared() > 0.0 {
-                    ((c - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                (c - (a + ab * t)).norm() <= margin
+                distance_point_segment(c, a, b) <= margin
             });
             if near {
                 cells.push(idx);

@@ -48,6 +48,7 @@
 
 use super::{GroupMethod, Groups, PersonState, UnionFind, check_positive, check_range};
 use crate::error::{CoreError, Result};
+use crate::geom::{contains_point_triangle, cross};
 use crate::math::{Real, Vec2};
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
 use std::f64::consts::PI;
@@ -128,29 +129,10 @@ impl HasPosition for Vertex {
     }
 }
 
-#[inline]
-fn cross(a: Vec2, b: Vec2) -> Real {
-    a.x * b.y - a.y * b.x
-}
-
 /// Flushes coordinates too small for spade's exact predicates (|x| < 2^-142) to zero.
 #[inline]
 fn flush(x: Real) -> Real {
     if x.abs() < 1e-40 { 0.0 } else { x }
-}
-
-/// Closed point-in-triangle test with a relative tolerance; false for (near-)degenerate triangles.
-pub(crate) fn point_in_triangle(p: Vec2, t: &[Vec2; 3]) -> bool {
-    let area2 = cross(t[1] - t[0], t[2] - t[0]);
-    let scale = (t[1] - t[0]).norm_squared().max((t[2] - t[0]).norm_squared());
-    if area2.abs() <= 1e-14 * scale || scale == 0.0 {
-        return false;
-    }
-    let tol = -1e-12;
-    let l0 = cross(t[1] - p, t[2] - p) / area2;
-    let l1 = cross(t[2] - p, t[0] - p) / area2;
-    let l2 = cross(t[0] - p, t[1] - p) / area2;
-    l0 >= tol && l1 >= tol && l2 >= tol
 }
 
 /// True when the half-line `o + s*d` (s >= 0) meets the segment `[a, b]`.
@@ -173,7 +155,7 @@ fn ray_hits_segment(o: Vec2, d: Vec2, a: Vec2, b: Vec2) -> bool {
 
 /// True when the half-line from `o` along `d` meets the closed triangle `t`.
 pub(crate) fn ray_hits_triangle(o: Vec2, d: Vec2, t: &[Vec2; 3]) -> bool {
-    point_in_triangle(o, t) || (0..3).any(|k| ray_hits_segment(o, d, t[k], t[(k + 1) % 3]))
+    contains_point_triangle(o, t) || (0..3).any(|k| ray_hits_segment(o, d, t[k], t[(k + 1) % 3]))
 }
 
 /// The per-call context: people, parameters and the moving flags.
@@ -309,7 +291,7 @@ fn orientation_rule(ctx: &Ctx<'_>, triangles: &[[usize; 3]], uf: &mut UnionFind)
         .map(|(t, &ok)| {
             ok && {
                 let c = ctx.corners(t);
-                t.iter().all(|&v| point_in_triangle(ctx.tip(v), &c))
+                t.iter().all(|&v| contains_point_triangle(ctx.tip(v), &c))
             }
         })
         .collect();

@@ -8,6 +8,9 @@
 //!   ray length 0), so that a NaN that leaks in from upstream can never make something look free.
 
 use crate::error::{CoreError, Result};
+#[cfg(test)]
+use crate::geom::cross;
+use crate::geom::{contains_point_polygon, distance_point_segment, signed_area_polygon};
 use crate::map::raycast::EdgeGrid;
 use crate::math::{Vec2, from_parry, to_parry};
 use parry2d_f64::query::{PointQuery, Ray, RayCast};
@@ -65,52 +68,12 @@ impl std::fmt::Debug for StaticGeometry {
     }
 }
 
-/// Twice the signed area of a closed polygon (positive for counter-clockwise).
-fn signed_area2(poly: &[Vec2]) -> f64 {
-    let n = poly.len();
-    (0..n)
-        .map(|i| {
-            let a = poly[i];
-            let b = poly[(i + 1) % n];
-            a.x * b.y - b.x * a.y
-        })
-        .sum()
-}
-
-/// 2D cross product `a x b` (test helper).
-#[cfg(test)]
-#[inline]
-pub(crate) fn cross(a: Vec2, b: Vec2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
-
-/// Distance from `p` to the segment `ab` (metres).
-#[inline]
-pub(crate) fn point_segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let ab = b - a;
-    let l2 = ab.norm_squared();
-    let t = if l2 > 0.0 { ((p - a).dot(&ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    (a + ab * t - p).norm()
-}
-
-/// Point-in-polygon with the boundary counted as inside (crossing number plus an on-edge test).
+/// Point-in-polygon with the boundary counted as inside (an on-edge test, then the even-odd
+/// rule).
 fn polygon_contains(poly: &[Vec2], p: Vec2) -> bool {
     let n = poly.len();
-    let mut inside = false;
-    for i in 0..n {
-        let a = poly[i];
-        let b = poly[(i + 1) % n];
-        if point_segment_distance(p, a, b) <= ON_BOUNDARY_TOL {
-            return true;
-        }
-        if (a.y > p.y) != (b.y > p.y) {
-            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-            if p.x < x {
-                inside = !inside;
-            }
-        }
-    }
-    inside
+    (0..n).any(|i| distance_point_segment(p, poly[i], poly[(i + 1) % n]) <= ON_BOUNDARY_TOL)
+        || contains_point_polygon(p, poly)
 }
 
 /// Do the closed segments `ab` and `cd` share at least one point? (test helper)
@@ -126,10 +89,10 @@ pub(crate) fn segments_intersect(a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
         return true;
     }
     // Touching or collinear cases.
-    point_segment_distance(c, a, b) <= ON_BOUNDARY_TOL
-        || point_segment_distance(d, a, b) <= ON_BOUNDARY_TOL
-        || point_segment_distance(a, c, d) <= ON_BOUNDARY_TOL
-        || point_segment_distance(b, c, d) <= ON_BOUNDARY_TOL
+    distance_point_segment(c, a, b) <= ON_BOUNDARY_TOL
+        || distance_point_segment(d, a, b) <= ON_BOUNDARY_TOL
+        || distance_point_segment(a, c, d) <= ON_BOUNDARY_TOL
+        || distance_point_segment(b, c, d) <= ON_BOUNDARY_TOL
 }
 
 impl StaticGeometry {
@@ -175,7 +138,7 @@ impl StaticGeometry {
                     format!("{} distinct vertices", clean.len()),
                 ));
             }
-            if signed_area2(&clean) < 0.0 {
+            if signed_area_polygon(&clean) < 0.0 {
                 clean.reverse();
             }
             let mut min = clean[0];
@@ -379,7 +342,7 @@ mod tests {
     #[test]
     fn polygons_are_normalised_ccw() {
         let g = unit_square();
-        assert!(signed_area2(&g.polygons()[0]) > 0.0);
+        assert!(signed_area_polygon(&g.polygons()[0]) > 0.0);
         assert_eq!(g.edges().count(), 4);
         for (a, b) in g.edges() {
             assert!((b - a).norm() > 0.0);

@@ -1,6 +1,7 @@
 //! A 2D lidar: evenly spaced range readings against the static geometry and moving discs.
 
 use crate::error::{CoreError, Result};
+use crate::geom::cross;
 use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
 
@@ -109,11 +110,6 @@ fn floor_i64(x: f64) -> i64 {
 fn ceil_i64(x: f64) -> i64 {
     let t = x as i64;
     if (t as f64) < x { t + 1 } else { t }
-}
-
-#[inline]
-fn cross(u: Vec2, v: Vec2) -> f64 {
-    u.x * v.y - u.y * v.x
 }
 
 impl Scanner {
@@ -265,7 +261,7 @@ impl Scanner {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::map::geometry::{Bounds, cross};
+    use crate::map::geometry::Bounds;
     use proptest::prelude::*;
 
     fn v(x: f64, y: f64) -> Vec2 {

@@ -8,6 +8,7 @@
 //! visits every edge near that point once ([`EdgeGrid::for_each_edge_near`]) and tests it against
 //! only the rays of its angular extent.
 
+use crate::geom::{cross, distance_point_segment};
 use crate::math::Vec2;
 
 /// Bucket size of the grid single rays and distance queries traverse (metres).
@@ -107,11 +108,6 @@ pub struct EdgeGrid {
     b: Vec<Vec2>,
 }
 
-#[inline]
-fn cross(u: Vec2, v: Vec2) -> f64 {
-    u.x * v.y - u.y * v.x
-}
-
 impl EdgeGrid {
     /// Buckets `edges` (finite segments) over the box `[min, max]` (grown by one bucket).
     pub fn new(edges: &[(Vec2, Vec2)], min: Vec2, max: Vec2) -> Self {
@@ -137,11 +133,7 @@ impl EdgeGrid {
         for y in (cy - span).max(0)..=(cy + span).min(g.ny as isize - 1) {
             for x in (cx - span).max(0)..=(cx + span).min(g.nx as isize - 1) {
                 for &e in g.bucket(x as usize, y as usize) {
-                    let (a, b) = (self.a[e as usize], self.b[e as usize]);
-                    let ab = b - a;
-                    let len2 = ab.norm_squared();
-                    let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
-                    best = best.min((a + ab * t - p).norm());
+                    best = best.min(distance_point_segment(p, self.a[e as usize], self.b[e as usize]));
                 }
             }
         }

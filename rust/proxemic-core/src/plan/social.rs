@@ -17,6 +17,7 @@
 
 use crate::chronemics::Agenda;
 use crate::error::Result;
+use crate::geom::contains_point_polygon;
 use crate::groups::{PersonState, RobotDisc};
 use crate::math::Vec2;
 use crate::pedestrians::Crowd;
@@ -68,18 +69,6 @@ pub struct SocialPlanning {
     /// The perceived individuals that stay where they are (the global map's people).
     mapped: Vec<Individual>,
     people: Vec<PersonState>,
-}
-
-fn point_in_polygon(poly: &[Vec2], p: Vec2) -> bool {
-    let mut inside = false;
-    let n = poly.len();
-    for k in 0..n {
-        let (a, b) = (poly[k], poly[(k + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-            inside = !inside;
-        }
-    }
-    inside
 }
 
 impl SocialPlanning {
@@ -194,7 +183,7 @@ impl SocialPlanning {
         }
         let mut objects: f64 = 1.0;
         for (poly, f) in self.object_polygons.iter().zip(object_factors) {
-            if point_in_polygon(poly, p) {
+            if contains_point_polygon(p, poly) {
                 objects = objects.max(*f);
             }
         }
@@ -336,12 +325,5 @@ mod tests {
         assert_eq!(s.len(), 10);
         assert!((s[4] - Vec2::new(1.0, 0.0)).norm() < 1e-12);
         assert_eq!(*s.last().expect("non-empty"), Vec2::new(1.0, 1.0));
-    }
-
-    #[test]
-    fn point_in_polygon_square() {
-        let sq = [Vec2::zeros(), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)];
-        assert!(point_in_polygon(&sq, Vec2::new(0.5, 0.5)));
-        assert!(!point_in_polygon(&sq, Vec2::new(1.5, 0.5)));
     }
 }

@@ -1,44 +1,16 @@
-//! Episode metrics (definitions: `design/metrics.md`).
-//!
-//! While an episode runs, a [`SceneLog`] keeps what every robot's metrics share (the people's
-//! tracks, the groups' o-spaces and the interaction segments, the object spaces' activity), and
-//! an [`EpisodeRecorder`] per robot keeps its poses and contacts per step and decides the
-//! episode's [`Outcome`] step by step with the same rules the evaluator applies afterwards, so
-//! the env's termination flags and the final [`FullMetrics`] always agree. At the end,
-//! [`EpisodeRecorder::evaluate`] gives the full metric set ([`EpisodeReport`]).
-//!
-//! Groups and interactions are the scenario's ground truth, the same for every planner:
-//! - a group is the people sharing a `group` id; it has an o-space while it stands gathered:
-//!   the largest set of its members standing still (speed below [`STILL_SPEED`]) within
-//!   [`GATHERED_RADIUS`] of their mean position, when it has two or more. The o-space is the
-//!   circle centred on their mean position through their mean distance to it (Kendon's o-space
-//!   as the space the members enclose). Members still walking to their places, or spread over
-//!   the floor waiting for their conversation to start, or a tour on the move, form none (an
-//!   F-formation is a standing arrangement);
-//! - a person-person interaction is the segment between two members of a gathered group;
-//! - a person-object interaction is the segment from a person standing still (speed below
-//!   [`STILL_SPEED`]) inside an object's interaction space to the object's centre (a visitor
-//!   looking at a painting, a senior watching the TV).
-
-pub mod trajectory;
+//! Recording an episode: the [`SceneLog`] every robot's metrics share, one [`EpisodeRecorder`]
+//! per robot deciding its [`Outcome`] step by step, and its [`EpisodeReport`] at the end (see
+//! the module documentation of [`crate::metrics`]).
 
 use serde::Serialize;
 
+use super::collisions::swept_gap;
+use super::{
+    CONTACT_PERSON, EvalContext, FullMetrics, Groups, InteractionLink, MetricParams, OSpace, ObjectSpaces,
+    PeopleTracks, Trajectory, evaluate,
+};
 use crate::error::Result;
 use crate::math::Vec2;
-pub use trajectory::{
-    CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, EvalContext, FullMetrics, Groups, InteractionLink,
-    LinkKind, MetricParams, OSpace, ObjectSpaces, PeopleTracks, Trajectory, evaluate,
-};
-
-/// A person moving slower than this (m/s) counts as standing still, for o-spaces and
-/// person-object interactions.
-pub const STILL_SPEED: f64 = 0.1;
-
-/// Members of a group standing farther than this (m) from the mean position of its still members
-/// are not part of its o-space: Hall's social-zone radius of 3.6 m between two people who still
-/// talk means at most 1.8 m from their centre; 2.0 m leaves room for larger circles.
-pub const GATHERED_RADIUS: f64 = 2.0;
 
 /// How an episode ended for a robot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -194,7 +166,7 @@ impl SceneLog {
     }
 }
 
-/// Records one robot's episode and decides its outcome (see the module documentation). The scene
+/// Records one robot's episode and decides its outcome (see the module documentation of [`crate::metrics`]). The scene
 /// it moves in is in a [`SceneLog`] shared by all robots, which the world extends by one instant
 /// before recording each robot's step.
 #[derive(Clone, Debug)]
@@ -256,7 +228,7 @@ impl EpisodeRecorder {
                 .iter()
                 .zip(after)
                 .zip(&log.people_radii)
-                .any(|((&a, &b), &r)| trajectory::origin_to_segment(a - p0, b - p1) - rr - r < 0.0),
+                .any(|((&a, &b), &r)| swept_gap(p0, p1, a, b, rr, r) < 0.0),
             _ => false,
         };
         let bits = contacts | if swept { CONTACT_PERSON } else { 0 };
@@ -362,87 +334,10 @@ impl EpisodeRecorder {
     }
 }
 
-/// An object whose interaction space people use, for [`interactions`].
-#[derive(Clone, Debug)]
-pub struct InteractionObject {
-    /// Interaction polygon (world frame, m).
-    pub polygon: Vec<Vec2>,
-    /// The object's centre (m), the far end of a person-object interaction segment.
-    pub centre: Vec2,
-}
-
-/// The ground-truth o-spaces and interaction segments of one instant (see the module
-/// documentation): `groups[i]` is person `i`'s group id, if any.
-pub fn interactions(
-    positions: &[Vec2],
-    velocities: &[Vec2],
-    groups: &[Option<u32>],
-    objects: &[InteractionObject],
-    ospaces: &mut Vec<OSpace>,
-    links: &mut Vec<InteractionLink>,
-) {
-    ospaces.clear();
-    links.clear();
-    // The still group members by group id (then index): one pass over the people.
-    let mut still_members: Vec<(u32, usize)> = groups
-        .iter()
-        .enumerate()
-        .filter_map(|(i, g)| g.filter(|_| velocities[i].norm() < STILL_SPEED).map(|id| (id, i)))
-        .collect();
-    still_members.sort_unstable();
-    for same in still_members.chunk_by(|a, b| a.0 == b.0) {
-        if same.len() < 2 {
-            continue;
-        }
-        let still: Vec<usize> = same.iter().map(|&(_, i)| i).collect();
-        // The largest gathering: around each still member, the still members within a circle's
-        // diameter of it, kept if within the radius of their mean position.
-        let mut members: Vec<usize> = Vec::new();
-        for &i in &still {
-            let near: Vec<usize> = still
-                .iter()
-                .copied()
-                .filter(|&j| (positions[j] - positions[i]).norm() <= 2.0 * GATHERED_RADIUS)
-                .collect();
-            let mean = near.iter().fold(Vec2::zeros(), |a, &j| a + positions[j]) / near.len() as f64;
-            let kept: Vec<usize> =
-                near.into_iter().filter(|&j| (positions[j] - mean).norm() <= GATHERED_RADIUS).collect();
-            if kept.len() > members.len() {
-                members = kept;
-            }
-        }
-        if members.len() < 2 {
-            continue;
-        }
-        let centre = members.iter().fold(Vec2::zeros(), |a, &i| a + positions[i]) / members.len() as f64;
-        let radius =
-            members.iter().map(|&i| (positions[i] - centre).norm()).sum::<f64>() / members.len() as f64;
-        ospaces.push(OSpace { centre, radius });
-        for (k, &i) in members.iter().enumerate() {
-            for &j in &members[k + 1..] {
-                links.push(InteractionLink {
-                    a: positions[i],
-                    b: positions[j],
-                    kind: LinkKind::PersonPerson,
-                });
-            }
-        }
-    }
-    for (&q, v) in positions.iter().zip(velocities) {
-        if v.norm() >= STILL_SPEED {
-            continue;
-        }
-        for o in objects {
-            if trajectory::inside_polygon(q, &o.polygon) {
-                links.push(InteractionLink { a: q, b: o.centre, kind: LinkKind::PersonObject });
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::metrics::CONTACT_STATIC;
 
     fn setup() -> RecorderSetup {
         RecorderSetup {
@@ -510,13 +405,13 @@ mod tests {
         assert_eq!(run.log.instants(), 4);
         let r = run.eval();
         assert_eq!(r.outcome, Outcome::Success);
-        assert_eq!(r.metrics.steps, 2);
-        assert!((r.metrics.path_length - 7.0).abs() < 1e-12);
+        assert_eq!(r.metrics.collisions.steps, 2);
+        assert!((r.metrics.efficiency.path_length - 7.0).abs() < 1e-12);
         assert!((r.astar_length - 7.0).abs() < 1e-12);
-        assert!((r.metrics.l_ratio.expect("success") - 1.0).abs() < 1e-12);
-        assert!((r.metrics.time_to_goal.expect("success") - 0.2).abs() < 1e-12);
+        assert!((r.metrics.papers.l_ratio.expect("success") - 1.0).abs() < 1e-12);
+        assert!((r.metrics.collisions.time_to_goal.expect("success") - 0.2).abs() < 1e-12);
         assert!((r.duration - 0.2).abs() < 1e-12);
-        let dmin = r.metrics.d_min[0].expect("sampled");
+        let dmin = r.metrics.proximity.d_min[0].expect("sampled");
         assert!((dmin - 3.25f64.sqrt()).abs() < 1e-12);
         assert_eq!(r.geodesic_length, Some(7.0));
     }
@@ -528,9 +423,14 @@ mod tests {
         let mut run = Run::new(&[Vec2::new(1.0, 0.0)]);
         assert_eq!(run.step(2.0, 0.0, 0, false), Outcome::Collision);
         let r = run.eval();
-        assert!(r.metrics.hc && r.metrics.collision && !r.metrics.success && !r.metrics.timeout);
-        assert_eq!(r.metrics.hc_count, 1);
-        assert_eq!(r.metrics.l_ratio, None);
+        assert!(
+            r.metrics.collisions.hc
+                && r.metrics.collisions.collision
+                && !r.metrics.collisions.success
+                && !r.metrics.collisions.timeout
+        );
+        assert_eq!(r.metrics.collisions.hc_count, 1);
+        assert_eq!(r.metrics.papers.l_ratio, None);
     }
 
     #[test]
@@ -555,11 +455,11 @@ mod tests {
     fn contact_bits_and_timeout() {
         let mut run = Run::new(&[]);
         assert_eq!(run.step(0.1, 0.0, 0, true), Outcome::Timeout);
-        assert!(run.eval().metrics.timeout);
+        assert!(run.eval().metrics.collisions.timeout);
         let mut run = Run::new(&[]);
         assert_eq!(run.step(0.1, 0.0, CONTACT_STATIC, false), Outcome::Collision);
         let r = run.eval();
-        assert!(r.metrics.wc && !r.metrics.hc);
+        assert!(r.metrics.collisions.wc && !r.metrics.collisions.hc);
     }
 
     #[test]
@@ -569,49 +469,5 @@ mod tests {
         run.log.restart(&[0.2]);
         let e = run.rec.evaluate(&run.log, &|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default());
         assert!(matches!(e, Err(crate::error::CoreError::Input { .. })), "{e:?}");
-    }
-
-    #[test]
-    fn ground_truth_groups_and_object_interactions() {
-        // A pair (group 7) 2 m apart, a lone walker, a still viewer inside a square space.
-        let pos = [Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0), Vec2::new(5.0, 5.0), Vec2::new(10.5, 0.5)];
-        let vel = [Vec2::zeros(), Vec2::zeros(), Vec2::new(1.0, 0.0), Vec2::new(0.05, 0.0)];
-        let groups = [Some(7), Some(7), None, None];
-        let square =
-            vec![Vec2::new(10.0, 0.0), Vec2::new(11.0, 0.0), Vec2::new(11.0, 1.0), Vec2::new(10.0, 1.0)];
-        let objects = [InteractionObject { polygon: square, centre: Vec2::new(10.5, -0.5) }];
-        let (mut os, mut ls) = (Vec::new(), Vec::new());
-        interactions(&pos, &vel, &groups, &objects, &mut os, &mut ls);
-        assert_eq!(os, vec![OSpace { centre: Vec2::new(1.0, 0.0), radius: 1.0 }]);
-        assert_eq!(ls.len(), 2);
-        assert_eq!(ls[0].kind, LinkKind::PersonPerson);
-        assert_eq!((ls[0].a, ls[0].b), (pos[0], pos[1]));
-        assert_eq!(ls[1].kind, LinkKind::PersonObject);
-        assert_eq!((ls[1].a, ls[1].b), (pos[3], Vec2::new(10.5, -0.5)));
-        // The viewer walking away is no longer interacting.
-        let vel2 = [Vec2::zeros(), Vec2::zeros(), Vec2::zeros(), Vec2::new(0.5, 0.0)];
-        interactions(&pos, &vel2, &groups, &objects, &mut os, &mut ls);
-        assert_eq!(ls.len(), 1);
-    }
-
-    #[test]
-    fn a_group_has_an_o_space_only_while_it_stands_gathered() {
-        // Group 3: two members standing 1.2 m apart, a third still far away (waiting at home).
-        let pos = [Vec2::new(0.0, 0.0), Vec2::new(1.2, 0.0), Vec2::new(12.0, 0.0)];
-        let still = [Vec2::zeros(); 3];
-        let groups = [Some(3), Some(3), Some(3)];
-        let (mut os, mut ls) = (Vec::new(), Vec::new());
-        interactions(&pos, &still, &groups, &[], &mut os, &mut ls);
-        // The far member is left out: the o-space is the pair's, not a 6 m circle over the floor.
-        assert_eq!(os, vec![OSpace { centre: Vec2::new(0.6, 0.0), radius: 0.6 }]);
-        assert_eq!(ls.len(), 1);
-        // Members spread over the floor (waiting for their conversation): no o-space.
-        let spread = [Vec2::new(0.0, 0.0), Vec2::new(7.0, 0.0), Vec2::new(14.0, 0.0)];
-        interactions(&spread, &still, &groups, &[], &mut os, &mut ls);
-        assert!(os.is_empty() && ls.is_empty());
-        // Walking together (a tour on the move): no o-space either.
-        let walking = [Vec2::new(0.8, 0.0); 3];
-        interactions(&pos, &walking, &groups, &[], &mut os, &mut ls);
-        assert!(os.is_empty() && ls.is_empty());
     }
 }

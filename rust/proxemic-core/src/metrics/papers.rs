@@ -1,0 +1,121 @@
+//! The seed papers' own metrics under their names: Daza et al. 2021's `L_ratio` (eq. 1) and
+//! `Smooth` (eq. 2) against the plain A* path, and Calderita et al.'s `d_t` (distance travelled)
+//! and `tau` (navigation time). Calderita et al.'s other metrics are the same numbers as metrics
+//! of the other families and are recorded there once: `d_min` per person and Ψ per Hall zone in
+//! [`super::ProximityMetrics`] (`d_min`, `psi_*`), CHC (H of eq. 18) in
+//! [`super::MotionMetrics::chc`], Ψ per object in [`super::ObjectMetrics`].
+
+use serde::Serialize;
+
+use super::{EvalContext, Samples};
+use crate::math::{EPS, Vec2, wrap_angle};
+
+/// The papers' own metrics of an episode.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PaperMetrics {
+    /// Daza et al. 2021 eq. 1: `L_ratio = D_A* / D_SN`, A* polyline length over the executed
+    /// path length; `None` without success, with fewer than 2 A* points, or PL < 1e-9 m.
+    pub l_ratio: Option<f64>,
+    /// Daza et al. 2021 eq. 2: `Smooth = 1/(k-1) sum_i theta_i²` over the `k` angles (rad)
+    /// between the executed step direction and the A* direction where the path leaves (last
+    /// instant within `astar_tolerance` of the A* polyline, then outside) and rejoins it; 0 for
+    /// `k = 0` and `theta_1²` for `k = 1`; `None` with fewer than 2 A* points.
+    pub smooth: Option<f64>,
+    /// Number `k` of leave/rejoin angles in `smooth`.
+    pub smooth_k: usize,
+    /// Calderita's d_t (m): distance travelled, equal to `path_length`.
+    pub d_t: f64,
+    /// Calderita's tau (s): navigation time of the recording, `T * dt`.
+    pub tau: f64,
+}
+
+/// The papers' metrics of the recording `s` (control period `dt`, s; path `path_length` m long;
+/// `success` from the outcome).
+pub(crate) fn evaluate(
+    s: &Samples,
+    dt: f64,
+    ctx: &EvalContext,
+    success: bool,
+    path_length: f64,
+) -> PaperMetrics {
+    let astar_ok = ctx.astar_path.len() >= 2;
+    let l_ratio =
+        (astar_ok && success && path_length > EPS).then(|| polyline_length(ctx.astar_path) / path_length);
+    let angles = if astar_ok {
+        leave_rejoin_angles(&s.pos, ctx.astar_path, ctx.params.astar_tolerance)
+    } else {
+        Vec::new()
+    };
+    let smooth_k = angles.len();
+    let smooth = astar_ok.then(|| {
+        let sq = angles.iter().fold(0.0, |acc, a| acc + a * a);
+        sq / (smooth_k.saturating_sub(1).max(1)) as f64
+    });
+    PaperMetrics { l_ratio, smooth, smooth_k, d_t: path_length, tau: s.steps as f64 * dt }
+}
+
+/// Closest point of a polyline (with at least one point) to `pt`: (distance, unit direction of
+/// the segment holding it, or `None` when every segment is degenerate). Segments shorter than
+/// [`EPS`] count as their first point.
+fn polyline_nearest(pt: Vec2, line: &[Vec2]) -> (f64, Option<Vec2>) {
+    let mut best = (f64::INFINITY, None);
+    if line.len() == 1 {
+        return ((pt - line[0]).norm(), None);
+    }
+    for w in line.windows(2) {
+        let d = w[1] - w[0];
+        let len = d.norm();
+        if len <= EPS {
+            let dist = (pt - w[0]).norm();
+            if dist < best.0 {
+                best = (dist, best.1);
+            }
+            continue;
+        }
+        let s = ((pt - w[0]).dot(&d) / (len * len)).clamp(0.0, 1.0);
+        let dist = (pt - (w[0] + d * s)).norm();
+        if dist < best.0 || best.1.is_none() && dist <= best.0 {
+            best = (dist, Some(d / len));
+        }
+    }
+    best
+}
+
+/// Length of a polyline (m).
+fn polyline_length(line: &[Vec2]) -> f64 {
+    line.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+/// Unsigned angle (rad, in [0, pi]) between two non-zero vectors.
+fn angle_between(a: Vec2, b: Vec2) -> f64 {
+    wrap_angle(a.y.atan2(a.x) - b.y.atan2(b.x)).abs()
+}
+
+/// Daza et al. 2021 eq. 2 angles where the path leaves and rejoins the A* polyline.
+fn leave_rejoin_angles(pos: &[Vec2], astar: &[Vec2], tol: f64) -> Vec<f64> {
+    let mut angles = Vec::new();
+    let near: Vec<(bool, Option<Vec2>)> = pos
+        .iter()
+        .map(|&p| {
+            let (d, dir) = polyline_nearest(p, astar);
+            (d <= tol, dir)
+        })
+        .collect();
+    for t in 0..pos.len().saturating_sub(1) {
+        let (on0, dir0) = near[t];
+        let (on1, dir1) = near[t + 1];
+        let step = pos[t + 1] - pos[t];
+        if step.norm() <= EPS {
+            continue;
+        }
+        let tangent = match (on0, on1) {
+            (true, false) => dir0,
+            (false, true) => dir1,
+            _ => None,
+        };
+        if let Some(tan) = tangent {
+            angles.push(angle_between(step, tan));
+        }
+    }
+    angles
+}
