@@ -125,3 +125,25 @@ def test_time_limit_truncates(write_scenario, small_room):
     assert steps == 20
     assert info["metrics"]["outcome"] == "timeout"
     env.close()
+
+
+def test_planner_actions_off_skips_the_planner_and_keeps_the_episode() -> None:
+    import gymnasium as gym
+    import numpy as np
+
+    rng = np.random.default_rng(3)
+    actions = rng.uniform(-1, 1, (120, 3)).astype(np.float32)
+    runs = []
+    for planner_actions in (True, False):
+        env = gym.make("proxemic/Museum-v0", planner_actions=planner_actions)
+        obs, info = env.reset(seed=4)
+        trace = [obs["robot"].copy()]
+        for a in actions:
+            obs, reward, terminated, truncated, info = env.step(a)
+            trace.append(np.append(obs["robot"], [reward]))
+            assert ("planner_action" in info) is planner_actions
+            if terminated or truncated:
+                break
+        runs.append(np.concatenate(trace))
+        env.close()
+    np.testing.assert_array_equal(runs[0], runs[1])

@@ -17,7 +17,15 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from proxemic import _core
-from proxemic.errors import InputError, PlanningError, ProxemicError, ScenarioError, UnknownNameError
+from proxemic.errors import (
+    EpisodeError,
+    InputError,
+    NeedsResetError,
+    PlanningError,
+    ProxemicError,
+    ScenarioError,
+    UnknownNameError,
+)
 from proxemic.registration import ENV_IDS, register_envs
 
 if TYPE_CHECKING:
@@ -40,7 +48,9 @@ def parallel_env(*args: Any, **kwargs: Any) -> ProxemicParallelEnv:
 
 __all__ = [
     "ENV_IDS",
+    "EpisodeError",
     "InputError",
+    "NeedsResetError",
     "PlanningError",
     "ProxemicError",
     "ScenarioError",

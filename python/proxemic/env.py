@@ -10,15 +10,17 @@ import gymnasium as gym
 import numpy as np
 
 from proxemic import _core, scenarios
-from proxemic.errors import InputError
+from proxemic.errors import InputError, NeedsResetError
 from proxemic.world import (
     PLANNER_MODES,
     RENDER_MODES,
     WorldSim,
     action_space,
     available_render_modes,
+    check_frame_size,
     check_overlays,
     check_render_mode,
+    check_reset_args,
     warn_no_render_mode,
 )
 
@@ -102,6 +104,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     | ``scenario`` | ``"museum"`` | bundled scenario name, path to a scenario TOML file, or a ``proxemic._core.Scenario`` |
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
+    | ``planner_actions`` | ``True`` | run the built-in planner every step to fill ``info["planner_action"]`` even while a policy acts; ``False`` skips that work (no ``planner_action`` / ``planner_mode`` in ``info``) |
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``) |
     | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
     | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
@@ -123,6 +126,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         *,
         render_mode: str | None = None,
         autopilot: bool = False,
+        planner_actions: bool = True,
         planner: str | None = None,
         eband: Mapping[str, float] | None = None,
         goal: Sequence[float] | None = None,
@@ -133,6 +137,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     ) -> None:
         """Builds the environment. See the class docstring for the arguments."""
         check_render_mode(render_mode)
+        check_frame_size(width, height)
         if camera not in ("top", "follow"):
             raise InputError(
                 f"camera: expected 'top' or 'follow', got {camera!r}",
@@ -157,22 +162,45 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         self.action_space = action_space()
         # The core's buffers (written in place; other robots, if any, keep their built-in planners).
         self._out, self._people = self.ws.out, self.ws.people
-        self._done = True
+        if not (autopilot or planner_actions):
+            # A policy drives and nobody reads the planner's command: skip that work.
+            self.ws.set_planning([False] + [True] * (self.ws.num_robots - 1))
+        self._done, self._started = True, False
 
     # ------------------------------------------------------------------ gymnasium API
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
-        """Starts an episode; the same seed gives the same episode, bit for bit."""
+        """Starts an episode; the same seed gives the same episode, bit for bit.
+
+        Args:
+            seed: None (continue the env's random stream) or an integer >= 0.
+            options: Accepted for the gymnasium API; this env takes no options (None or ``{}``).
+
+        Raises:
+            InputError: A seed that is not None or a non-negative integer, or any option.
+        """
+        check_reset_args(seed, options)
         super().reset(seed=seed)
         self.ws.reset(int(self.np_random.integers(0, 2**63 - 1)))
-        self._done = False
+        self._done, self._started = False, True
         if self.render_mode == "human":
             self.render()
         return self._observation(), self._info(final=False)
 
     def step(self, action: np.ndarray) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
-        """Advances one control step (``1 / control_hz`` seconds; ``frame_skip`` physics steps)."""
+        """Advances one control step (``1 / control_hz`` seconds; ``frame_skip`` physics steps).
+
+        Raises:
+            InputError: An action that is not 3 finite real numbers of shape (3,).
+            NeedsResetError: Before the first ``reset()``, or after the episode ended.
+        """
+        if self._done:
+            raise NeedsResetError(
+                "step() after the episode ended (terminated or truncated): call reset() first"
+                if self._started
+                else "step() before reset(): call reset() first"
+            )
         if self.autopilot:
             self.ws.step()
         else:

@@ -10,6 +10,8 @@ The compiled core raises these classes by name, so they must stay importable fro
 
 from __future__ import annotations
 
+from gymnasium.error import ResetNeeded
+
 
 class ProxemicError(Exception):
     """Base class of every proxemic error."""
@@ -56,6 +58,14 @@ class EpisodeError(ProxemicError):
     """An episode of an evaluation or tuning run failed; the finished episodes' records are kept."""
 
 
+class NeedsResetError(ProxemicError, ResetNeeded):
+    """An env was stepped before ``reset()``, or after its episode ended (terminated or truncated).
+
+    A :class:`gymnasium.error.ResetNeeded`, the error gymnasium's own order check raises for a
+    step before the first reset.
+    """
+
+
 class UnknownNameError(ProxemicError, KeyError):
     """An unknown scenario, environment or planner name."""
 
@@ -64,4 +74,12 @@ class UnknownNameError(ProxemicError, KeyError):
         return str(self.args[0]) if self.args else ""
 
 
-__all__ = ["EpisodeError", "InputError", "PlanningError", "ProxemicError", "ScenarioError", "UnknownNameError"]
+__all__ = [
+    "EpisodeError",
+    "InputError",
+    "NeedsResetError",
+    "PlanningError",
+    "ProxemicError",
+    "ScenarioError",
+    "UnknownNameError",
+]

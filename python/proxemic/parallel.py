@@ -13,13 +13,15 @@ from gymnasium.utils import seeding
 from pettingzoo import ParallelEnv
 
 from proxemic import _core, scenarios
-from proxemic.errors import InputError, UnknownNameError
+from proxemic.errors import InputError, NeedsResetError, UnknownNameError
 from proxemic.world import (
     RENDER_MODES,
     WorldSim,
     action_space,
     available_render_modes,
+    check_frame_size,
     check_render_mode,
+    check_reset_args,
     warn_no_render_mode,
 )
 
@@ -95,6 +97,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             UnknownNameError: an unknown scenario or planner name.
         """
         check_render_mode(render_mode)
+        check_frame_size(width, height)
         self._args: dict[str, Any] = {
             "scenario": scenario,
             "robots": robots,
@@ -170,7 +173,16 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
     def reset(
         self, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[AgentID, ObsDict], dict[AgentID, dict[str, Any]]]:
-        """Starts an episode; the same seed gives the same episode, bit for bit."""
+        """Starts an episode; the same seed gives the same episode, bit for bit.
+
+        Args:
+            seed: None (continue the env's random stream) or an integer >= 0.
+            options: This env takes no options; any given are ignored with a warning.
+
+        Raises:
+            InputError: A seed that is not None or a non-negative integer.
+        """
+        check_reset_args(seed, options, warn_options=True)
         if seed is not None or self._np_random is None:
             self._np_random, _ = seeding.np_random(seed)
         self.ws.reset(int(self._np_random.integers(0, 2**63 - 1)))
@@ -197,8 +209,15 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         Raises:
             InputError: an action for an agent that is not live, a missing action for a live
                 agent not on autopilot, or an action that is not 3 finite numbers.
+            NeedsResetError: before ``reset()``, or after every agent finished.
         """
         ws, index, live = self.ws, self._index, self.agents
+        if not live:
+            raise NeedsResetError(
+                "step() after every agent finished (env.agents is empty): call reset() first"
+                if self._np_random is not None
+                else "step() before reset(): call reset() first"
+            )
         if len(actions) > len(live) or not all(a in self._live for a in actions):
             extra = next(a for a in actions if a not in self._live)
             raise InputError(

@@ -94,6 +94,68 @@ def check_render_mode(render_mode: str | None) -> None:
         )
 
 
+#: Largest frame side (pixels) of the renderers.
+MAX_FRAME = 4096
+
+
+def check_frame_size(width: Any, height: Any) -> None:
+    """Raises :class:`InputError` unless `width` and `height` are integers in [1, :data:`MAX_FRAME`]."""
+    for name, value in (("width", width), ("height", height)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_FRAME:
+            raise InputError(
+                f"{name}: expected a frame size in pixels, an integer from 1 to {MAX_FRAME}, got {value!r}",
+                field=name,
+                expected=f"an integer in [1, {MAX_FRAME}]",
+                found=repr(value),
+            )
+
+
+def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> None:
+    """Raises :class:`InputError` unless `seed` is None or an integer >= 0 and `options` is empty.
+
+    With `warn_options`, options are ignored with a warning instead (PettingZoo's API test passes
+    arbitrary options to ``reset`` and expects them accepted).
+    """
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise InputError(
+            f"seed: expected None or an integer >= 0, got {seed!r}",
+            field="seed",
+            expected="None or an integer >= 0",
+            found=repr(seed),
+        )
+    if options and warn_options:
+        warnings.warn(f"reset(options={options!r}) ignored: this env takes no reset options", stacklevel=3)
+    elif options:
+        raise InputError(
+            f"options: this env takes no reset options, got {options!r}",
+            field="options",
+            expected="None or {}",
+            found=repr(options),
+        )
+
+
+def check_action(action: Any, field: str) -> np.ndarray:
+    """`action` as 3 float64 values; raises :class:`InputError` naming `field` otherwise.
+
+    Accepted: anything numpy reads as a real (integer or floating) array of shape (3,) with
+    finite values (values outside [-1, 1] are clipped by the core, as documented).
+    """
+    expected = "3 finite real numbers in [-1, 1], shape (3,)"
+    try:
+        raw = np.asarray(action)
+    except (ValueError, TypeError):
+        raw = np.asarray(None)
+    if raw.shape != (3,) or raw.dtype.kind not in "iuf":
+        what = f"shape {raw.shape} of {raw.dtype}" if raw.dtype != object else f"{action!r}"
+        raise InputError(f"{field}: expected {expected}, got {what}", field=field, expected=expected, found=what)
+    a = raw.astype(np.float64)
+    if not np.isfinite(a).all():
+        raise InputError(
+            f"{field}: expected {expected}, got {a.tolist()}", field=field, expected=expected, found=str(a.tolist())
+        )
+    return a
+
+
 class WorldSim:
     """The core ``World`` and the MuJoCo ``Simulation`` of a scenario with their shared buffers.
 
@@ -222,17 +284,10 @@ class WorldSim:
         """Stores `action` for `robot` in the actions of the next :meth:`step_actions` call.
 
         Raises:
-            InputError: not 3 finite numbers (`field` names the argument in the message).
+            InputError: not 3 finite real numbers of shape (3,) (`field` names the argument in
+                the message); booleans and complex numbers are refused, not converted.
         """
-        a = np.asarray(action, dtype=np.float64).reshape(-1)
-        if a.shape != (3,) or not np.isfinite(a).all():
-            raise InputError(
-                f"{field}: expected 3 finite numbers in [-1, 1], got {a.tolist()}",
-                field=field,
-                expected="3 finite numbers in [-1, 1]",
-                found=str(a.tolist()),
-            )
-        self._actions[3 * robot : 3 * robot + 3] = a
+        self._actions[3 * robot : 3 * robot + 3] = check_action(action, field)
 
     def act_many(self, robots: list[int], actions: list[Any], fields: Callable[[int], str]) -> None:
         """:meth:`act` for several robots at once (one array conversion).
@@ -241,10 +296,9 @@ class WorldSim:
         """
         if not robots:
             return
-        try:
-            a = np.asarray(actions, dtype=np.float64)
-        except (ValueError, TypeError):
-            a = np.empty(0)
+        # Fast path: real-valued arrays only (a list would let numpy turn booleans into numbers).
+        real = all(isinstance(x, np.ndarray) and x.dtype.kind in "iuf" and x.shape == (3,) for x in actions)
+        a = np.asarray(actions, dtype=np.float64) if real else np.empty(0)
         if a.shape != (len(robots), 3) or not np.isfinite(a).all():
             try:
                 for k, (r, action) in enumerate(zip(robots, actions, strict=True)):
