@@ -147,3 +147,21 @@ def test_planner_actions_off_skips_the_planner_and_keeps_the_episode() -> None:
         runs.append(np.concatenate(trace))
         env.close()
     np.testing.assert_array_equal(runs[0], runs[1])
+
+
+def test_env_pickles_as_its_arguments() -> None:
+    import pickle
+
+    import gymnasium as gym
+    import numpy as np
+
+    env = gym.make("proxemic/Museum-v0", planner="social", width=320, height=240)
+    copy = pickle.loads(pickle.dumps(env))
+    a, _ = env.reset(seed=2)
+    b, _ = copy.reset(seed=2)
+    for key in a:
+        np.testing.assert_array_equal(a[key], b[key])
+    assert copy.unwrapped.width == 320
+    step_a = env.step(np.array([0.5, 0.0, 0.1], np.float32))
+    step_b = copy.step(np.array([0.5, 0.0, 0.1], np.float32))
+    assert step_a[1] == step_b[1]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import pickle
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -138,6 +139,19 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         """Builds the environment. See the class docstring for the arguments."""
         check_render_mode(render_mode)
         check_frame_size(width, height)
+        self._args: dict[str, Any] = {
+            "scenario": scenario,
+            "render_mode": render_mode,
+            "autopilot": autopilot,
+            "planner_actions": planner_actions,
+            "planner": planner,
+            "eband": eband,
+            "goal": goal,
+            "width": width,
+            "height": height,
+            "camera": camera,
+            "overlays": tuple(overlays),
+        }
         if camera not in ("top", "follow"):
             raise InputError(
                 f"camera: expected 'top' or 'follow', got {camera!r}",
@@ -166,6 +180,19 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             # A policy drives and nobody reads the planner's command: skip that work.
             self.ws.set_planning([False] + [True] * (self.ws.num_robots - 1))
         self._done, self._started = True, False
+
+    def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
+        """Pickles as the constructor's arguments: a copy is a new env (episode state not carried).
+
+        Vector envs and process pools move envs this way. A scenario given as a compiled
+        ``proxemic._core.Scenario`` cannot be pickled; pass its name or file instead.
+        """
+        if isinstance(self._args["scenario"], _core.Scenario):
+            raise pickle.PicklingError(
+                "ProxemicEnv: a scenario given as a proxemic._core.Scenario cannot be pickled; "
+                "build the env from a scenario name or file path to pickle it"
+            )
+        return _rebuild, (self._args,)
 
     # ------------------------------------------------------------------ gymnasium API
     def reset(
@@ -301,6 +328,10 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     def close(self) -> None:
         """Releases rendering resources."""
         self.ws.close()
+
+
+def _rebuild(args: dict[str, Any]) -> ProxemicEnv:
+    return ProxemicEnv(**args)
 
 
 def flatten_metrics(metrics: dict[str, Any], scenario: dict[str, Any]) -> dict[str, Any]:
