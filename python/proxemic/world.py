@@ -19,7 +19,7 @@ import numpy as np
 from gymnasium import spaces
 
 from proxemic import _core
-from proxemic.errors import InputError
+from proxemic.errors import InputError, input_error
 from proxemic.sim import Simulation, ensure_gl_backend
 
 #: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
@@ -40,12 +40,7 @@ def action_space() -> spaces.Box:
 def check_render_mode(render_mode: str | None) -> None:
     """Raises :class:`InputError` unless `render_mode` is None or one of :data:`RENDER_MODES`."""
     if render_mode is not None and render_mode not in RENDER_MODES:
-        raise InputError(
-            f"render_mode: expected one of {list(RENDER_MODES)} or None, got {render_mode!r}",
-            field="render_mode",
-            expected=str(list(RENDER_MODES)),
-            found=repr(render_mode),
-        )
+        raise input_error("render_mode", f"one of {list(RENDER_MODES)} or None", render_mode)
 
 
 class WorldSim:
@@ -180,12 +175,7 @@ class WorldSim:
         """
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (3,) or not np.isfinite(a).all():
-            raise InputError(
-                f"{field}: expected 3 finite numbers in [-1, 1], got {a.tolist()}",
-                field=field,
-                expected="3 finite numbers in [-1, 1]",
-                found=str(a.tolist()),
-            )
+            raise input_error(field, "3 finite numbers in [-1, 1]", str(a.tolist()))
         self._actions[3 * robot : 3 * robot + 3] = a
 
     def act_many(self, robots: list[int], actions: list[Any], fields: Callable[[int], str]) -> None:
@@ -337,12 +327,7 @@ def check_overlays(overlays: Iterable[str] | str) -> tuple[str, ...]:
     chosen = (overlays,) if isinstance(overlays, str) else tuple(overlays)
     bad = [o for o in chosen if o not in OVERLAYS]
     if bad:
-        raise InputError(
-            f"overlays: expected names among {list(OVERLAYS)}, got {bad[0]!r}",
-            field="overlays",
-            expected=str(list(OVERLAYS)),
-            found=repr(bad[0]),
-        )
+        raise input_error("overlays", f"names among {list(OVERLAYS)}", bad[0])
     return chosen
 
 
