@@ -310,7 +310,9 @@ def check_out_dir(out: Path) -> None:
         probe.write_text("")
         probe.unlink()
     except OSError as e:
-        raise input_error("out", "a writable folder", str(out), note=str(e.strerror)) from e
+        raise input_error(
+            "out", "a writable folder", str(out), note=f"the output folder cannot be written: {e.strerror}"
+        ) from e
 
 
 class RecordWriter:
