@@ -183,8 +183,9 @@ impl PyScenario {
 
     /// A copy whose episode starts at `time` of day (`"HH:MM"`, `"HH:MM:SS"` or seconds after
     /// midnight in [0, 86400)) instead of the file's `scene.start_time`: the agenda's activities
-    /// fall at another point of the episode; times held as seconds into the episode (route
-    /// pauses, conversations) keep their value. Raises `ScenarioError` naming `scene.start_time`.
+    /// fall at another point of the episode; times the scenario holds as seconds into the
+    /// episode keep their value (a conversation's `start` and `end`, even written as times of
+    /// day in the file). Raises `InputError` naming `time_of_day` for a malformed time.
     fn with_start_time(&self, py: Python<'_>, time: TimeOfDay) -> PyResult<Self> {
         let t = time.seconds(py)?;
         let inner = enter_core(py, || self.inner.with_start_time(t))?;
@@ -524,9 +525,8 @@ impl PyWorld {
         let (s, g) = (Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1));
         let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
         let w = &mut self.inner;
-        let path = enter_core(py, move || {
-            if social { w.plan_social(robot, s, g, tod) } else { Ok(w.plan(robot, s, g)) }
-        })?;
+        let plan = move || if social { w.plan_social(robot, s, g, tod) } else { Ok(w.plan(robot, s, g)) };
+        let path = enter_core(py, plan)?;
         match path {
             Some(p) => Ok(Some(points_to_array(py, &p)?)),
             None => Ok(None),
