@@ -194,7 +194,7 @@ class Backend:
                 "backend",
                 "the ray package installed",
                 "ray not importable",
-                note="pip install 'proxemic[ray]' or pip install ray",
+                note="backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
             ) from e
         try:
             if self.ray_address:

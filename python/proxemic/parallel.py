@@ -192,7 +192,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         if missing:
             wanted = [a for a in self.agents if a not in self.autopilot]
             raise input_error(
-                "actions", f"an action for every live agent not on autopilot {wanted}", f"keys {list(actions)}"
+                "actions",
+                f"an action for every live agent not on autopilot {wanted}",
+                f"keys {list(actions)}, missing {missing}",
             )
         autopilot = self.autopilot
         acting = [a for a in actions if a not in autopilot] if autopilot else list(actions)
