@@ -9,10 +9,9 @@ Conventions: world coordinates are metres with y up; pixel coordinates are ``(co
 where pixel ``(r, c)`` covers ``[c, c + 1) x [r, r + 1)`` and its centre is ``(c + 0.5, r + 0.5)``.
 Row 0 is the top of the image, so larger world y means a smaller row.
 
-The module also provides small geometry helpers shared with :mod:`proxemic.viz.plots` that turn the
-scenario dict's walls, objects and interaction spaces into polygons (using the precomputed
-``polygon``/``footprint`` fields when present and rebuilding them from the raw parameters
-otherwise).
+The module also provides small geometry helpers shared with :mod:`proxemic.viz.plots` that read the
+polygons of the validated scenario's walls, objects and interaction spaces (the core computes them
+once, when the scenario is validated: ``polygon``, ``footprint``, ``interaction.polygon``).
 """
 
 from __future__ import annotations
@@ -23,6 +22,8 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+
+from proxemic.errors import input_error
 
 __all__ = [
     "FLOOR_COLOR",
@@ -414,13 +415,13 @@ class TopDownRenderer:
             margin: Extra world space (metres) shown around the scene bounds on every side.
 
         Raises:
-            ValueError: If ``width``, ``height`` or ``margin`` is out of range.
+            InputError: If ``width``, ``height`` or ``margin`` is out of range (a ``ValueError``).
 
         """
         if width < 1 or height < 1:
-            raise ValueError(f"image size must be positive, got {width}x{height}")
+            raise input_error("width, height", "a positive image size in pixels", f"{width}x{height}")
         if not margin >= 0.0:
-            raise ValueError(f"margin must be >= 0, got {margin}")
+            raise input_error("margin", "a margin >= 0 m", margin)
         self.width = int(width)
         self.height = int(height)
         self.margin = float(margin)
