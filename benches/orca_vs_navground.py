@@ -1,6 +1,6 @@
 """ORCA cost per agent-step: proxemic's Rust ORCA against navground 0.7.0's ORCA (RVO2), same run.
 
-The world is navground's ``Cross`` scenario as in ``shared/design/peers.md`` (Appendix A,
+The world is navground's ``Cross`` scenario (as in navground's
 ``bench_sim.py``): N agents in a square of side ``2 sqrt(N)`` m (4 m^2 per agent) shuttling between
 the mid-points of opposite sides, radius 0.25 m + 0.1 m safety margin, holonomic, max speed 1.5 m/s,
 optimal speed 1.0 m/s, neighbours within 5 m, ORCA time horizons 10 s (navground's defaults),

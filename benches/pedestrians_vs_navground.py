@@ -4,7 +4,7 @@ and SocialForce behaviours, measured in the same run.
 Ours runs the criterion bench's world in the Rust example ``pedestrian_crowd`` (N walkers on routes
 in a walled hall with pillars at the museum's density, 864 m^2 for 29 people, social force with
 groups, walls and one robot; the pyo3 layer is not involved). navground runs its ``Cross`` scenario
-(as in ``shared/design/peers.md``) at the same density: N agents of radius 0.2 m shuttling across a
+(navground's own benchmark scenario) at the same density: N agents of radius 0.2 m shuttling across a
 square of side ``sqrt(N * 864 / 29)`` m, holonomic, optimal speed 1.2 m/s, neighbours within 5 m
 (``Bounded`` state estimation), with its C++ ``HL`` behaviour and its Python ``SocialForce``
 behaviour. Both step at dt = 0.1 s after 20 warm-up steps. navground's world step also does its own

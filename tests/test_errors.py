@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import proxemic
-from proxemic import _core
+from proxemic import _core, scenarios
 from proxemic.env import ProxemicEnv
 from proxemic.errors import InputError, PlanningError, ProxemicError, ScenarioError, UnknownNameError
 
@@ -176,3 +176,52 @@ def test_a_follower_of_an_unknown_robot_names_the_field(write_scenario, small_ro
     path = write_scenario(ok)
     _, desc = proxemic.scenarios.load(path)
     assert desc["persons"][0]["guide_robot"] == 0 and len(desc["persons"][0]["tour"]) == 3
+
+
+def test_every_robot_index_is_checked_once_with_one_error():
+    core, _ = scenarios.load("museum")
+    world = _core.World(core)
+    out = np.zeros(world.num_robots * world.stride)
+    people = np.zeros(world.num_people * _core.PERSON_OUT)
+    world.reset(0, out, people)
+    bad = world.num_robots
+    calls = {
+        "plan": lambda: world.plan(bad, (1.0, 1.0), (2.0, 2.0)),
+        "plan(social)": lambda: world.plan(bad, (1.0, 1.0), (2.0, 2.0), social=True),
+        "social_layers": lambda: world.social_layers(bad),
+        "cost_grid": lambda: world.cost_grid(bad),
+        "geodesic_start_distance": lambda: world.geodesic_start_distance(bad),
+        "path": lambda: world.path(bad),
+        "astar_path": lambda: world.astar_path(bad),
+        "trajectory": lambda: world.trajectory(bad),
+        "replans": lambda: world.replans(bad),
+    }
+    for name, call in calls.items():
+        with pytest.raises(InputError) as e:
+            call()
+        assert e.value.field == "robot" and e.value.found == str(bad), name
+        assert e.value.expected == f"a robot index below {world.num_robots}", name
+    assert world.trajectory(0).shape == (1, 3)  # the start, before any step
+
+
+def test_start_time_and_time_of_day_through_the_core():
+    core, _ = scenarios.load("calderita_exp1")
+    assert core.with_start_time("09:05").to_json() == core.with_start_time(9 * 3600 + 5 * 60).to_json()
+    assert proxemic.parse_time_of_day("09:05:30") == 9 * 3600 + 5 * 60 + 30
+    for bad in ("24:00", "9h05", -1.0, 86400):
+        with pytest.raises(InputError) as e:
+            core.with_start_time(bad)
+        assert e.value.field == "time_of_day"
+        with pytest.raises(InputError):
+            proxemic.parse_time_of_day(bad)
+
+
+def test_public_names_of_the_docs_are_exported():
+    from proxemic.env import ProxemicEnv as Env
+    from proxemic.errors import EpisodeError
+
+    assert proxemic.Scenario is _core.Scenario and proxemic.PLANNERS == _core.PLANNERS
+    assert proxemic.ProxemicEnv is Env and proxemic.EpisodeError is EpisodeError
+    assert set(proxemic.__all__) <= set(dir(proxemic)) | {"ProxemicEnv", "ProxemicParallelEnv"}
+    for name in proxemic.__all__:
+        assert getattr(proxemic, name) is not None, name

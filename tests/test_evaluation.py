@@ -67,7 +67,7 @@ def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
 
 def test_cli_errors_exit_non_zero(tmp_path, capsys):
     assert main(["eval", "--planner", "teleport", "--episodes", "1", "--out", str(tmp_path)]) == 2
-    assert "unknown planner 'teleport'" in capsys.readouterr().err
+    assert 'planner: expected one of ["astar"' in (err := capsys.readouterr().err) and 'got "teleport"' in err
     assert main(["eval", "--scenario", "atlantis", "--episodes", "1", "--out", str(tmp_path)]) == 2
     blocked = tmp_path / "file"
     blocked.write_text("not a folder")
@@ -125,7 +125,8 @@ def test_a_ray_address_that_does_not_answer_is_a_clear_error(tmp_path, capsys):
     args = ["--backend", "ray", "--ray-address", address, "--episodes", "1", "--out", str(tmp_path)]
     assert main(["eval", *args]) == 2
     err = capsys.readouterr().err
-    assert f"--ray-address {address}: no Ray cluster answers there" in err and "Traceback" not in err
+    assert f"ray_address: expected the address of a running Ray cluster (host:port), got {address}" in err
+    assert "no Ray cluster answers there" in err and "Traceback" not in err
     assert main(["tune", "--trials", "1", *args]) == 2
     assert "no Ray cluster answers there" in capsys.readouterr().err
 

@@ -40,7 +40,7 @@ except proxemic.InputError as e:
 """
     result = _run(code, display)
     assert result.returncode == 0, result.stderr[-2000:]
-    assert "TYPED render_mode: 'human' opens a window and needs a display" in result.stdout
+    assert "TYPED render_mode: expected a display for 'human'" in result.stdout
     assert "rgb_array" in result.stdout and "topdown" in result.stdout
     assert ("DISPLAY is unset" if display is None else f"DISPLAY={display!r} cannot be opened") in result.stdout
 

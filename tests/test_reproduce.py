@@ -37,11 +37,13 @@ def test_daza2021_report_puts_published_beside_measured(tmp_path):
 def test_calderita_start_time_override_changes_the_scene(tmp_path):
     exp = experiments("calderita")[0]
     assert exp.start_time == "09:05"
-    from proxemic.reproduce import scene_file
+    from proxemic.reproduce import scene_of
 
-    path = scene_file(exp, tmp_path)
-    _core_scenario, desc = scenarios.load(path)
+    _, own = scenarios.load(exp.scene)
+    scene = scene_of(exp)
+    _core_scenario, desc = scenarios.load(scene)
     assert math.isclose(desc["scene"]["start_time"], 9 * 3600 + 5 * 60)
+    assert not math.isclose(own["scene"]["start_time"], desc["scene"]["start_time"])
 
 
 def test_unknown_paper_is_a_clear_error(tmp_path, capsys):

@@ -27,7 +27,9 @@ def _stub() -> dict[str, Any]:
 
 def _stub_params(fn: ast.FunctionDef) -> list[str]:
     a = fn.args
-    return [p.arg for p in (*a.posonlyargs, *a.args, *a.kwonlyargs)]
+    star = [a.vararg] if a.vararg else []
+    double_star = [a.kwarg] if a.kwarg else []
+    return [p.arg for p in (*a.posonlyargs, *a.args, *star, *a.kwonlyargs, *double_star)]
 
 
 def _runtime_params(obj: Any) -> list[str] | None:
@@ -65,3 +67,21 @@ def test_methods_and_functions_have_the_stub_parameters():
             if got is not None and got != _stub_params(described):
                 problems.append(f"{name}: compiled {got}, stub {_stub_params(described)}")
     assert problems == []
+
+
+def test_records_describe_the_dicts_the_core_returns():
+    """The TypedDicts of ``proxemic.records`` (the stub's return types) have the runtime keys."""
+    import numpy as np
+
+    from proxemic import records, scenarios
+
+    core, _ = scenarios.load("museum")
+    world = _core.World(core)
+    world.reset(0, np.zeros(world.num_robots * world.stride), np.zeros(world.num_people * _core.PERSON_OUT))
+    metrics = world.episode_metrics()[0]
+    assert set(metrics) == set(records.EpisodeMetrics.__annotations__)
+    assert set(world.social_layers(0)) == set(records.SocialLayers.__annotations__)
+    perception = world.perception()
+    assert set(perception) == records.Perception.__required_keys__ | records.Perception.__optional_keys__
+    assert set(perception["individuals"][0]) == set(records.Individual.__annotations__)
+    assert set(perception["accuracy"]) == set(records.DetectionAccuracy.__annotations__)

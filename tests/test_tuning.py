@@ -10,29 +10,40 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from proxemic import ScenarioError, UnknownNameError
+from proxemic import InputError, ScenarioError
 from proxemic.cli import main
 from proxemic.env import ProxemicEnv
 from proxemic.runner import run_episode
-from proxemic.tuning import CostWeights, TuneConfig, run_tune, run_tune_task, trajectory_terms
+from proxemic.tuning import CostWeights, TuneConfig, metric_terms, run_tune, run_tune_task
 
 TARGET = "calderita_exp1"
 
 
-def test_trajectory_terms_hand_computed():
-    # right 1 m turning to +y, up 1 m, then a turn through the -x axis (wraps: pi/2 + 0.1 rad)
-    robot = np.array([[0, 0, 0], [1, 0, math.pi / 2], [1, 1, math.pi / 2], [1, 1, -math.pi + 0.1]])
-    people = np.array([[[0.0, 1.0]], [[0.0, 1.0]], [[0.0, 1.0]], [[4.0, 5.0]]])
-    t = trajectory_terms(robot, people, 0.1)
-    assert t["H"] == pytest.approx(math.pi / 2 + math.pi / 2 + 0.1)
-    assert t["D"] == pytest.approx(2.0)
-    assert t["Q"] == pytest.approx(0.3)
-    assert t["P"] == pytest.approx((1 + math.sqrt(2) + 1 + 5) / 4)
-    assert trajectory_terms(robot, np.zeros((4, 0, 2)), 0.1)["P"] == 0.0
+def test_terms_are_the_core_metrics_and_g_weighs_them():
+    metrics = {"chc": 1.5, "d_t": 2.0, "tau": 0.3, "cp_avg": 4.25, "path_length": 2.0}
+    t = metric_terms(metrics)
+    assert t == {"H": 1.5, "D": 2.0, "Q": 0.3, "P": 4.25}
+    assert metric_terms({**metrics, "cp_avg": None})["P"] == 0.0  # no people: P = 0
     w = CostWeights(a=2, b=3, c=5, d=-7, failure_penalty=11)
-    g = 2 * t["H"] + 3 * 2.0 + 5 * 0.3 - 7 * t["P"]
+    g = 2 * 1.5 + 3 * 2.0 + 5 * 0.3 - 7 * 4.25
     assert w.cost({**t, "success": True}) == pytest.approx(g)
     assert w.cost({**t, "success": False}) == pytest.approx(g + 11)
+
+
+def test_runner_trajectory_is_the_executed_one():
+    """The record's robot poses (the core's trajectory) are the poses the env reported step by step."""
+    env = ProxemicEnv(TARGET, autopilot=True, planner="eband")
+    rec = run_episode(TARGET, 0, env=env)
+    env.reset(seed=0)
+    poses = [env.robot_pose()]
+    while True:
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample() * 0.0)
+        poses.append(env.robot_pose())
+        if terminated or truncated:
+            break
+    env.close()
+    assert rec.robot.shape == (len(poses), 3) and np.array_equal(rec.robot, np.array(poses))
+    assert rec.people.shape[:2] == (len(poses), env.world.num_people)
 
 
 def _g_recomputed(gains: dict[str, float], seeds: list[int], w: dict[str, float]) -> float:
@@ -104,8 +115,11 @@ def test_targets_send_the_robot_to_other_goals():
 def test_bad_gains_name_the_field():
     with pytest.raises(ScenarioError, match=r"eband\.contraction_gain: expected a number in \[0, 100\], got -1"):
         ProxemicEnv(TARGET, planner="eband", eband={"contraction_gain": -1.0})
-    with pytest.raises(UnknownNameError, match="unknown elastic-band gain 'kc'"):
+    with pytest.raises(ScenarioError, match=r"eband\.kc: expected an elastic-band gain among") as e:
         ProxemicEnv(TARGET, planner="eband", eband={"kc": 1.0})
+    assert e.value.field == "eband.kc" and e.value.found == '"kc"'
+    with pytest.raises(InputError, match=r"gain\.repulsion_gain: expected a range 0 <= low < high <= 100"):
+        TuneConfig(targets=[TARGET], ranges={"repulsion_gain": (2.0, 1.0)}).check()
 
 
 def test_tune_cli_bad_input_exits_non_zero(tmp_path, capsys):
@@ -117,13 +131,13 @@ def test_tune_cli_bad_input_exits_non_zero(tmp_path, capsys):
     assert main([*base, "--scenario", TARGET, "--target", "100,5"]) == 2
     assert "robot[0].goal: expected a point inside scene.bounds" in capsys.readouterr().err
     assert main([*base, "--planner", "teleport"]) == 2
-    assert "unknown planner 'teleport'" in capsys.readouterr().err
+    assert 'planner: expected one of ["astar"' in capsys.readouterr().err
     assert main([*base, "--planner", "astar"]) == 2
-    assert "planner 'astar': no tunable gains; expected one of eband" in capsys.readouterr().err
+    assert "planner: expected a planner with tunable gains, one of eband, got astar" in capsys.readouterr().err
     assert main([*base, "--gain", "kc=0:1"]) == 2
-    assert "gain 'kc'" in capsys.readouterr().err
+    assert 'eband.kc: expected an elastic-band gain among ["contraction_gain"' in capsys.readouterr().err
     assert main([*base, "--gain", "repulsion_gain=2:1"]) == 2
-    assert "expected 0 <= low < high <= 100" in capsys.readouterr().err
+    assert "expected a range 0 <= low < high <= 100" in capsys.readouterr().err
     blocked = tmp_path / "file"
     blocked.write_text("not a folder")
     assert main(["tune", "--trials", "1", "--episodes", "1", "--out", str(blocked / "sub")]) == 2

@@ -343,23 +343,6 @@ def test_render_is_deterministic(scenario: dict[str, Any]) -> None:
     np.testing.assert_array_equal(a, b)
 
 
-def test_scenario_without_precomputed_polygons() -> None:
-    sc = make_scenario()
-    for w in sc["walls"]:
-        del w["polygon"]
-    for o in sc["objects"]:
-        del o["footprint"]
-        if o["interaction"]:
-            del o["interaction"]["polygon"]
-    r = TopDownRenderer(sc)
-    ref = TopDownRenderer(make_scenario())
-    assert pix(r, r.background, 5.0, 0.0) == WALL_COLOR
-    assert pix(r, r.background, 3.0, 3.5) == OBJECT_COLORS["bench"]
-    # the rebuilt trapezoid covers the same region as the precomputed one
-    assert pix(r, r.background, 3.0, 6.0) == pix(ref, ref.background, 3.0, 6.0)
-    assert pix(r, r.background, 2.0, 7.5) == FLOOR_COLOR
-
-
 # ----------------------------------------------------------------------------------------------
 # Overlays
 # ----------------------------------------------------------------------------------------------

@@ -10,6 +10,12 @@ Usage::
 
     env = gym.make("proxemic/Museum-v0")
     obs, info = env.reset(seed=0)
+
+Public names: the environments (:class:`ProxemicEnv`, :func:`parallel_env`,
+:class:`ProxemicParallelEnv`, ``ENV_IDS``), the validated scenario of the core (:class:`Scenario`)
+and the names it accepts (``PLANNERS``, ``EBAND_GAINS``), :func:`parse_time_of_day`, and the
+exception hierarchy under :class:`ProxemicError`. The metrics are described in ``docs/metrics.md``
+and the algorithms in ``docs/algorithms.md``.
 """
 
 from __future__ import annotations
@@ -17,6 +23,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from proxemic import _core
+from proxemic._core import EBAND_GAINS, PLANNERS, Scenario, parse_time_of_day
 from proxemic.errors import (
     EpisodeError,
     InputError,
@@ -29,6 +36,7 @@ from proxemic.errors import (
 from proxemic.registration import ENV_IDS, register_envs
 
 if TYPE_CHECKING:
+    from proxemic.env import ProxemicEnv
     from proxemic.parallel import ProxemicParallelEnv
 
 __version__: str = _core.__version__
@@ -46,15 +54,34 @@ def parallel_env(*args: Any, **kwargs: Any) -> ProxemicParallelEnv:
     return make(*args, **kwargs)
 
 
+def __getattr__(name: str) -> Any:
+    """The environment classes, imported on first use (MuJoCo, and PettingZoo for the parallel one)."""
+    if name == "ProxemicEnv":
+        from proxemic.env import ProxemicEnv
+
+        return ProxemicEnv
+    if name == "ProxemicParallelEnv":
+        from proxemic.parallel import ProxemicParallelEnv
+
+        return ProxemicParallelEnv
+    raise AttributeError(f"module 'proxemic' has no attribute {name!r}")
+
+
 __all__ = [
+    "EBAND_GAINS",
     "ENV_IDS",
+    "PLANNERS",
     "EpisodeError",
     "InputError",
     "NeedsResetError",
     "PlanningError",
+    "ProxemicEnv",
     "ProxemicError",
+    "ProxemicParallelEnv",
+    "Scenario",
     "ScenarioError",
     "UnknownNameError",
     "__version__",
     "parallel_env",
+    "parse_time_of_day",
 ]

@@ -11,7 +11,8 @@ import gymnasium as gym
 import numpy as np
 
 from proxemic import _core, scenarios
-from proxemic.errors import InputError, NeedsResetError
+from proxemic.errors import NeedsResetError, input_error
+from proxemic.records import EpisodeMetrics
 from proxemic.world import (
     PLANNER_MODES,
     RENDER_MODES,
@@ -153,12 +154,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             "overlays": tuple(overlays),
         }
         if camera not in ("top", "follow"):
-            raise InputError(
-                f"camera: expected 'top' or 'follow', got {camera!r}",
-                field="camera",
-                expected="'top' or 'follow'",
-                found=repr(camera),
-            )
+            raise input_error("camera", "'top' or 'follow'", camera)
         self.render_mode = render_mode
         self.overlays: tuple[str, ...] = ()
         self.set_overlays(overlays)
@@ -256,15 +252,14 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         return info
 
     # ------------------------------------------------------------------ extras
-    def metrics(self) -> dict[str, Any]:
-        """The robot's episode metrics so far: ``outcome`` and every metric of ``design/metrics.md``.
+    def metrics(self) -> EpisodeMetrics:
+        """The robot's episode metrics so far: ``outcome`` and every metric of ``docs/metrics.md``.
 
         Undefined values are ``None`` (e.g. ``time_to_goal`` without success). ``d_min`` holds one
         value per person (scenario order) and ``psi_object`` / ``psi_object_any`` one per object
         with an interaction space (scenario order); :func:`flat_metrics` names them.
         """
-        metrics: dict[str, Any] = self.world.episode_metrics([0])[0]
-        return metrics
+        return self.world.episode_metrics([0])[0]
 
     def flat_metrics(self) -> dict[str, Any]:
         """:meth:`metrics` with the per-person and per-object lists as named scalar keys.
@@ -334,7 +329,7 @@ def _rebuild(args: dict[str, Any]) -> ProxemicEnv:
     return ProxemicEnv(**args)
 
 
-def flatten_metrics(metrics: dict[str, Any], scenario: dict[str, Any]) -> dict[str, Any]:
+def flatten_metrics(metrics: Mapping[str, Any], scenario: dict[str, Any]) -> dict[str, Any]:
     """Metrics with the per-person and per-object lists as ``<metric>_<name>`` scalar keys."""
     people = [p["name"] for p in scenario.get("persons", [])]
     objects = [o["name"] for o in scenario.get("objects", []) if o.get("interaction") is not None]

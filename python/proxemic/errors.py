@@ -67,11 +67,32 @@ class NeedsResetError(ProxemicError, ResetNeeded):
 
 
 class UnknownNameError(ProxemicError, KeyError):
-    """An unknown scenario, environment or planner name."""
+    """An unknown scenario or environment name.
+
+    A planner or gain name is part of a scenario: an unknown one is a :class:`ScenarioError`,
+    whether it is in a file or given as an argument.
+    """
 
     def __str__(self) -> str:
         """Returns the message (KeyError would otherwise quote it)."""
         return str(self.args[0]) if self.args else ""
+
+
+def input_error(field: str, expected: str, found: object, *, note: str | None = None) -> InputError:
+    """The :class:`InputError` of a bad argument, its message in the core's format.
+
+    Args:
+        field: The argument (or dotted field) name.
+        expected: What a valid value looks like.
+        found: What arrived (strings as they are, anything else as its ``repr``).
+        note: An optional hint appended to the message in parentheses (e.g. how to fix it).
+
+    Returns:
+        The error, to be raised by the caller: ``"{field}: expected {expected}, got {found} ({note})"``.
+    """
+    text = found if isinstance(found, str) else repr(found)
+    message = f"{field}: expected {expected}, got {text}" + (f" ({note})" if note else "")
+    return InputError(message, field=field, expected=expected, found=text)
 
 
 __all__ = [
@@ -82,4 +103,5 @@ __all__ = [
     "ProxemicError",
     "ScenarioError",
     "UnknownNameError",
+    "input_error",
 ]

@@ -18,8 +18,8 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from proxemic import scenarios
-from proxemic.errors import EpisodeError, InputError, ProxemicError
+from proxemic import _core, scenarios
+from proxemic.errors import EpisodeError, ProxemicError, input_error
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -93,7 +93,7 @@ _ENV_CACHE_SIZE = 8
 
 
 def cached_env(
-    scenario: str,
+    scenario: str | _core.Scenario,
     planner: str,
     eband: Mapping[str, float] | None = None,
     goal: tuple[float, float] | None = None,
@@ -111,7 +111,7 @@ def cached_env(
     return env
 
 
-def run_task(task: tuple[str, str, int], keep: bool = False) -> EpisodeResult:
+def run_task(task: tuple[str | _core.Scenario, str, int], keep: bool = False) -> EpisodeResult:
     """Runs one (scenario, planner, seed) episode in this process (envs are cached per process)."""
     from proxemic.env import flatten_metrics
     from proxemic.runner import run_episode
@@ -141,11 +141,11 @@ def _check_ray_address(address: str) -> None:
     try:
         socket.create_connection((host or "127.0.0.1", int(port)), timeout=5.0).close()
     except OSError as e:
-        raise InputError(
-            f"--ray-address {address}: no Ray cluster answers there ({e.strerror or e})",
-            field="ray_address",
-            expected="the address of a running Ray cluster (host:port)",
-            found=address,
+        raise input_error(
+            "ray_address",
+            "the address of a running Ray cluster (host:port)",
+            address,
+            note=f"no Ray cluster answers there: {e.strerror or e}",
         ) from e
 
 
@@ -160,12 +160,7 @@ class Backend:
     def __init__(self, kind: str = "process", workers: int = 1, ray_address: str | None = None) -> None:
         """Checks the backend name; nothing starts before ``with``."""
         if kind not in ("process", "ray"):
-            raise InputError(
-                f"backend: expected 'process' or 'ray', got {kind!r}",
-                field="backend",
-                expected="'process' or 'ray'",
-                found=repr(kind),
-            )
+            raise input_error("backend", "'process' or 'ray'", kind)
         self.kind, self.workers, self.ray_address = kind, max(1, workers), ray_address
         self._pool: Any = None
         self._ray: Any = None
@@ -195,11 +190,11 @@ class Backend:
         try:
             import ray
         except ImportError as e:
-            raise InputError(
-                "backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
-                field="backend",
-                expected="ray installed",
-                found="ray not importable",
+            raise input_error(
+                "backend",
+                "the ray package installed",
+                "ray not importable",
+                note="backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
             ) from e
         try:
             if self.ray_address:
@@ -207,11 +202,11 @@ class Backend:
             else:
                 ray.init(num_cpus=self.workers, ignore_reinit_error=True, log_to_driver=False, include_dashboard=False)
         except Exception as e:  # ray raises ConnectionError, RuntimeError, ... for a dead address
-            raise InputError(
-                f"ray: could not connect to {self.ray_address or 'a local cluster'}: {e}",
-                field="ray_address",
-                expected="the address of a running Ray cluster",
-                found=str(self.ray_address),
+            raise input_error(
+                "ray_address",
+                "the address of a running Ray cluster",
+                str(self.ray_address or "a local cluster"),
+                note=f"could not connect: {e}",
             ) from e
         return ray
 
@@ -315,11 +310,8 @@ def check_out_dir(out: Path) -> None:
         probe.write_text("")
         probe.unlink()
     except OSError as e:
-        raise InputError(
-            f"--out {out}: the output folder cannot be written ({e.strerror})",
-            field="out",
-            expected="a writable folder",
-            found=str(out),
+        raise input_error(
+            "out", "a writable folder", str(out), note=f"the output folder cannot be written: {e.strerror}"
         ) from e
 
 
@@ -377,16 +369,11 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
 
     from proxemic.viz.plots import plot_episodes, plot_metrics_bars
 
-    scenarios.resolve(cfg.scenario)
+    core, _ = scenarios.load(cfg.scenario)
     for p in cfg.planners:
-        scenarios.check_planner(p)
+        core.with_planner(p)  # an unknown name raises the core's ScenarioError
     if cfg.episodes < 1:
-        raise InputError(
-            f"episodes: expected at least 1, got {cfg.episodes}",
-            field="episodes",
-            expected=">= 1",
-            found=str(cfg.episodes),
-        )
+        raise input_error("episodes", "at least 1", cfg.episodes)
     out = Path(cfg.out)
     check_out_dir(out)
     _, scenario = scenarios.load(cfg.scenario)

@@ -13,7 +13,8 @@ from gymnasium.utils import seeding
 from pettingzoo import ParallelEnv
 
 from proxemic import _core, scenarios
-from proxemic.errors import InputError, NeedsResetError, UnknownNameError
+from proxemic.errors import NeedsResetError, input_error
+from proxemic.records import EpisodeMetrics
 from proxemic.world import (
     RENDER_MODES,
     WorldSim,
@@ -92,9 +93,11 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             height: Frame height (pixels).
 
         Raises:
-            InputError: `robots` below 1, an unknown agent in `planners` or `autopilot`, a bad render mode.
-            ScenarioError: more robots than the scenario defines; robots starting overlapping.
-            UnknownNameError: an unknown scenario or planner name.
+            InputError: `robots` not an integer, an unknown agent in `planners` or `autopilot`, a bad
+                render mode.
+            ScenarioError: `robots` outside [1, the scenario's robots]; an unknown planner name;
+                robots starting overlapping.
+            UnknownNameError: an unknown scenario name.
         """
         check_render_mode(render_mode)
         check_frame_size(width, height)
@@ -112,22 +115,16 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.width, self.height = width, height
         core, _ = scenarios.load(scenario)
         if robots is not None:
-            if isinstance(robots, bool) or not isinstance(robots, int) or robots < 1:
-                raise InputError(
-                    f"robots: expected a number of robots of at least 1 (and at most the scenario's "
-                    f"{core.num_robots}), got {robots!r}",
-                    field="robots",
-                    expected=f"an integer in [1, {core.num_robots}]",
-                    found=repr(robots),
-                )
+            if isinstance(robots, bool) or not isinstance(robots, int):
+                raise input_error("robots", f"an integer number of robots in [1, {core.num_robots}]", robots)
             core = core.with_robots(robots)
         names = [f"robot_{i}" for i in range(core.num_robots)]
         if isinstance(planners, str):
-            core = core.with_planner(_check_planner(planners, "planners"))
+            core = core.with_planner(planners)
         elif planners is not None:
             for agent, name in planners.items():
                 index = _agent_index(agent, names, "planners")
-                core = core.with_robot_planner(index, _check_planner(name, f"planners[{agent!r}]"))
+                core = core.with_robot_planner(index, name)
         self.core_scenario = core
         self.scenario: dict[str, Any] = json.loads(core.to_json())
         self.ws = WorldSim(core, self.scenario)
@@ -155,7 +152,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self._np_random: np.random.Generator | None = None
         self._live: frozenset[str] = frozenset()
         # Final metrics of the robots whose episode ended, by robot index.
-        self._final: dict[int, dict[str, Any]] = {}
+        self._final: dict[int, EpisodeMetrics] = {}
 
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
         """Pickles as the constructor's arguments: a copy is a new env (episode state not carried)."""
@@ -220,19 +217,14 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             )
         if len(actions) > len(live) or not all(a in self._live for a in actions):
             extra = next(a for a in actions if a not in self._live)
-            raise InputError(
-                f"actions: expected actions for live agents {live}, got one for {extra!r}",
-                field="actions",
-                expected=f"keys among {live}",
-                found=repr(extra),
-            )
+            raise input_error("actions", f"actions for live agents {live}", f"one for {extra!r}")
         missing = [a for a in live if a not in actions and a not in self.autopilot]
         if missing:
-            raise InputError(
-                f"actions: expected an action for every live agent not on autopilot, missing {missing}",
-                field="actions",
-                expected=f"keys {[a for a in self.agents if a not in self.autopilot]}",
-                found=f"keys {list(actions)}",
+            wanted = [a for a in self.agents if a not in self.autopilot]
+            raise input_error(
+                "actions",
+                f"an action for every live agent not on autopilot {wanted}",
+                f"keys {list(actions)}, missing {missing}",
             )
         autopilot = self.autopilot
         acting = [a for a in actions if a not in autopilot] if autopilot else list(actions)
@@ -281,10 +273,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         return self.ws.poses().astype(np.float32)
 
     # ------------------------------------------------------------------ extras
-    def metrics(self) -> list[dict[str, Any]]:
-        """Every robot's episode metrics so far, by robot index (see ``design/metrics.md``)."""
-        metrics: list[dict[str, Any]] = self.world.episode_metrics()
-        return metrics
+    def metrics(self) -> list[EpisodeMetrics]:
+        """Every robot's episode metrics so far, by robot index (see ``docs/metrics.md``)."""
+        return self.world.episode_metrics()
 
     def episode_metrics(self) -> dict[str, Any]:
         """The team's metrics so far.
@@ -346,23 +337,7 @@ def _rebuild(args: dict[str, Any]) -> ProxemicParallelEnv:
     return ProxemicParallelEnv(**args)
 
 
-def _check_planner(name: str, field: str) -> str:
-    if name not in _core.PLANNERS:
-        raise UnknownNameError(
-            f"{field}: unknown planner {name!r}: expected one of {', '.join(_core.PLANNERS)}",
-            field=field,
-            expected=f"one of {_core.PLANNERS}",
-            found=repr(name),
-        )
-    return name
-
-
 def _agent_index(agent: str, names: list[str], field: str) -> int:
     if agent not in names:
-        raise InputError(
-            f"{field}: unknown agent {agent!r}: expected one of {names}",
-            field=field,
-            expected=f"one of {names}",
-            found=repr(agent),
-        )
+        raise input_error(field, f"one of {names}", agent)
     return names.index(agent)

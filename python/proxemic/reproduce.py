@@ -13,13 +13,12 @@ from __future__ import annotations
 import csv
 import json
 import math
-import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from proxemic import scenarios
-from proxemic.errors import InputError
+from proxemic import _core, scenarios
+from proxemic.errors import input_error
 from proxemic.evaluation import EpisodeResult, mean_ci, run_task
 
 #: The papers `reproduce` knows.
@@ -106,12 +105,7 @@ def experiments(paper: str) -> list[Experiment]:
     """The experiments of `paper`, in the data file's order."""
     data = published()
     if paper not in data:
-        raise InputError(
-            f"paper: expected one of {', '.join(PAPERS)}, got {paper!r}",
-            field="paper",
-            expected=", ".join(PAPERS),
-            found=repr(paper),
-        )
+        raise input_error("paper", f"one of {', '.join(PAPERS)}", paper)
     return [
         Experiment(
             name=e["name"],
@@ -124,25 +118,12 @@ def experiments(paper: str) -> list[Experiment]:
     ]
 
 
-def scene_file(exp: Experiment, workdir: Path) -> str:
-    """The scene to run: the bundled name, or a copy with the experiment's start time."""
+def scene_of(exp: Experiment) -> str | _core.Scenario:
+    """The scene to run: the bundled name, or the validated scene starting at the experiment's time of day."""
     if exp.start_time is None:
         return exp.scene
-    path = scenarios.resolve(exp.scene)
-    text = Path(path).read_text()
-    text, n = re.subn(r'(?m)^start_time\s*=\s*"[^"]*"', f'start_time = "{exp.start_time}"', text)
-    if n != 1:
-        raise InputError(
-            f"{path}: scene.start_time: expected one start_time line to override, found {n}",
-            file=str(path),
-            field="scene.start_time",
-            expected="one line",
-            found=str(n),
-        )
-    workdir.mkdir(parents=True, exist_ok=True)
-    out = workdir / f"{exp.scene}_{exp.start_time.replace(':', '')}.toml"
-    out.write_text(text)
-    return str(out)
+    core, _ = scenarios.load(exp.scene)
+    return core.with_start_time(exp.start_time)
 
 
 def _fmt(mean: float, half: float, n: int) -> str:
@@ -186,7 +167,7 @@ def reproduce(paper: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str
     records: list[dict[str, Any]] = []
     summary: dict[str, list[float]] = {m: [] for m in metrics}
     for index, exp in enumerate(exps, start=1):
-        scene = scene_file(exp, out / "scenes")
+        scene = scene_of(exp)
         roles = [exp.role] if exp.role else ["planner", "baseline"]
         results: dict[str, list[EpisodeResult]] = {}
         for role in roles:

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from proxemic import _core
 from proxemic.env import ProxemicEnv
 
 
@@ -20,7 +21,8 @@ class EpisodeRecord:
     planner: str
     metrics: dict[str, Any]
     robot: np.ndarray = field(repr=False)
-    """(T + 1, 3) robot poses x, y, theta at every control instant, start included."""
+    """(T + 1, 3) robot poses x, y, theta at every control instant, start included (the core's
+    recorded trajectory, the one its metrics are computed from)."""
     people: np.ndarray = field(repr=False)
     """(T + 1, P, 2) people positions."""
     path: np.ndarray = field(repr=False)
@@ -34,7 +36,7 @@ class EpisodeRecord:
         return out
 
 
-def run_episode(scenario: str | Path, seed: int, *, env: ProxemicEnv | None = None) -> EpisodeRecord:
+def run_episode(scenario: str | Path | _core.Scenario, seed: int, *, env: ProxemicEnv | None = None) -> EpisodeRecord:
     """Runs one episode of `scenario` from `seed` with the robot's built-in planner driving.
 
     Pass an existing `env` (made with ``autopilot=True``) to reuse its compiled model.
@@ -44,14 +46,12 @@ def run_episode(scenario: str | Path, seed: int, *, env: ProxemicEnv | None = No
         env = ProxemicEnv(scenario, autopilot=True)
     try:
         env.reset(seed=seed)
-        robot = [env.robot_pose()]
         people = [env.people()[:, :2]]
         path = env.planned_path()
         total = 0.0
         while True:
             _, reward, terminated, truncated, info = env.step(env.action_space.sample() * 0.0)
             total += reward
-            robot.append(env.robot_pose())
             people.append(env.people()[:, :2])
             if terminated or truncated:
                 break
@@ -61,7 +61,7 @@ def run_episode(scenario: str | Path, seed: int, *, env: ProxemicEnv | None = No
             scenario=env.scenario["scene"]["name"],
             planner=planner,
             metrics=info["metrics"],
-            robot=np.array(robot),
+            robot=np.asarray(env.world.trajectory(0)),
             people=np.array(people),
             path=path,
             total_reward=total,

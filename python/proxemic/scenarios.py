@@ -16,7 +16,7 @@ from proxemic import _core
 from proxemic.errors import UnknownNameError
 
 #: The elastic band's tunable gains (see ``Scenario.with_eband_gains``), in order.
-EBAND_GAINS = ("contraction_gain", "repulsion_gain", "social_gain")
+EBAND_GAINS: tuple[str, ...] = tuple(_core.EBAND_GAINS)
 
 
 def envs_dir() -> Path:
@@ -51,22 +51,6 @@ def resolve(scenario: str | Path) -> Path:
     )
 
 
-def check_planner(planner: str) -> str:
-    """Returns `planner` if it names a built-in planner.
-
-    Raises:
-        UnknownNameError: an unknown planner name (the message lists the known ones).
-    """
-    if planner not in _core.PLANNERS:
-        raise UnknownNameError(
-            f"unknown planner {planner!r}: expected one of {', '.join(_core.PLANNERS)}",
-            field="planner",
-            expected=f"one of {_core.PLANNERS}",
-            found=planner,
-        )
-    return planner
-
-
 def load(
     scenario: str | Path | _core.Scenario,
     *,
@@ -76,9 +60,12 @@ def load(
 ) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
+    Planner and gain names and values are validated by the core: an unknown one raises
+    :class:`~proxemic.errors.ScenarioError` naming it, as it would in the file.
+
     Args:
         scenario: Bundled name or path of a scenario file, or an already validated scenario.
-        planner: If given, every robot uses this built-in planner instead of the file's.
+        planner: If given, every robot uses this built-in planner (one of ``PLANNERS``) instead of the file's.
         eband: If given, every robot's elastic-band gains (``contraction_gain``,
             ``repulsion_gain``, ``social_gain``; dimensionless, in [0, 100]) are replaced by these.
         goal: If given, the first robot's goal (x, y in metres) instead of the file's.
@@ -88,16 +75,8 @@ def load(
     else:
         core = _core.Scenario.from_file(str(resolve(scenario)))
     if planner is not None:
-        core = core.with_planner(check_planner(planner))
+        core = core.with_planner(planner)
     if eband:
-        unknown = sorted(set(eband) - set(EBAND_GAINS))
-        if unknown:
-            raise UnknownNameError(
-                f"unknown elastic-band gain {unknown[0]!r}: expected one of {', '.join(EBAND_GAINS)}",
-                field="eband",
-                expected=f"one of {EBAND_GAINS}",
-                found=unknown[0],
-            )
         core = core.with_eband_gains(**{k: float(v) for k, v in eband.items()})
     if goal is not None:
         core = core.with_goal((float(goal[0]), float(goal[1])))

@@ -21,45 +21,23 @@ import os
 import pathlib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from proxemic import _core, scenarios
-from proxemic.errors import InputError
+from proxemic.records import Perception, SocialLayers
 
 
-def parse_time_of_day(value: str | float | int | None) -> float | None:
+def parse_time_of_day(value: str | float | None) -> float | None:
     """Seconds after midnight from ``"HH:MM"``, ``"HH:MM:SS"`` or a number of seconds (None stays None).
 
+    Parsed by the core, as scenario files are (``proxemic._core.parse_time_of_day``).
+
     Raises:
-        InputError: a malformed time.
+        InputError: a malformed time, or seconds outside [0, 86400).
     """
-    if value is None:
-        return None
-    if isinstance(value, int | float):
-        if not (0 <= float(value) < 86400):
-            raise InputError(
-                f"time_of_day: expected seconds in [0, 86400), got {value}",
-                field="time_of_day",
-                expected="seconds in [0, 86400) or 'HH:MM'",
-                found=str(value),
-            )
-        return float(value)
-    parts = value.strip().split(":")
-    try:
-        nums = [int(p) for p in parts]
-    except ValueError:
-        nums = []
-    ok = len(nums) in (2, 3) and 0 <= nums[0] < 24 and all(0 <= n < 60 for n in nums[1:])
-    if not ok:
-        raise InputError(
-            f"time_of_day: expected 'HH:MM' or 'HH:MM:SS', got {value!r}",
-            field="time_of_day",
-            expected="'HH:MM' or 'HH:MM:SS'",
-            found=repr(value),
-        )
-    return float(nums[0] * 3600 + nums[1] * 60 + (nums[2] if len(nums) == 3 else 0))
+    return None if value is None else _core.parse_time_of_day(value)
 
 
 class SocialMap:
@@ -76,7 +54,7 @@ class SocialMap:
 
     def __init__(
         self,
-        scenario: str | Path,
+        scenario: str | Path | _core.Scenario,
         *,
         time_of_day: str | float | None = None,
         seed: int = 0,
@@ -91,8 +69,8 @@ class SocialMap:
         self.world.reset(int(seed), out, people)
         tod = parse_time_of_day(time_of_day)
         self.time_of_day = self.world.time_of_day if tod is None else tod
-        self.layers: dict[str, Any] = self.world.social_layers(robot, self.time_of_day)
-        self.perception: dict[str, Any] = self.world.perception()
+        self.layers: SocialLayers = self.world.social_layers(robot, self.time_of_day)
+        self.perception: Perception = self.world.perception()
         self.people = np.asarray(self.world.people())
 
     def plan(
@@ -109,7 +87,12 @@ class SocialMap:
         path = self.world.plan(self.robot, s, g, social=social, time_of_day=self.time_of_day)
         return None if path is None else np.asarray(path)
 
-    def factor_along(self, path: np.ndarray, layer: str = "people", spacing: float = 0.05) -> np.ndarray:
+    def factor_along(
+        self,
+        path: np.ndarray,
+        layer: Literal["people", "objects", "static", "combined"] = "people",
+        spacing: float = 0.05,
+    ) -> np.ndarray:
         """The layer's traversal factor at points every `spacing` metres along `path`."""
         ox, oy, res = self.layers["grid"]
         grid = self.layers[layer]

@@ -5,13 +5,17 @@ contraction, and ``k_r``, repulsion) by minimising a cost over the robot's execu
 
     G = a*H + b*D + c*Q + d*P
 
-- ``H``: the sum of heading changes along the path (Eq. 18), here ``sum |wrap(theta_{k+1} - theta_k)|``
-  over the control instants (rad; theta is the robot's yaw, the paper's ``H = integral of dtheta``);
-- ``D``: the distance travelled (Eq. 19), the length of the executed polyline (m);
-- ``Q``: the time used to complete the path, ``steps * control_dt`` (s);
+- ``H``: the sum of heading changes along the path (Eq. 18), ``sum |wrap(theta_{k+1} - theta_k)|``
+  over the control instants (rad; theta is the robot's yaw, the paper's ``H = integral of dtheta``):
+  the core's ``chc`` metric;
+- ``D``: the distance travelled (Eq. 19), the length of the executed polyline (m): ``d_t``;
+- ``Q``: the time used to complete the path, ``steps * control_dt`` (s): ``tau``;
 - ``P``: the mean over the control instants of the distance from the robot to the nearest person
-  (Eq. 20, printed with ``H`` on its left but defining P; centre to centre, m). The paper takes
-  the people *visible* from the robot; here every person counts (no people: ``P = 0``).
+  (Eq. 20, printed with ``H`` on its left but defining P; centre to centre, m): ``cp_avg``. The
+  paper takes the people *visible* from the robot; here every person counts (no people: ``P = 0``).
+
+The four terms are read from the episode's metrics (computed by the core, see
+``docs/metrics.md``), not recomputed here.
 
 The paper does not give ``a, b, c, d``. H, D and Q are penalties (more is worse); P is a
 distance kept from people, which is better when larger, so its weight is negative for a cost to
@@ -41,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from proxemic import scenarios
-from proxemic.errors import InputError
+from proxemic.errors import input_error
 from proxemic.evaluation import Backend, RecordWriter, cached_env, check_out_dir, mean_ci
 
 #: The Calderita scenes (the robot's targets when none are given).
@@ -80,26 +84,16 @@ class CostWeights:
         return float(g + (0.0 if terms["success"] else self.failure_penalty))
 
 
-def trajectory_terms(robot: np.ndarray, people: np.ndarray, dt: float) -> dict[str, float]:
-    """H, D, Q, P of one executed trajectory (see the module docs).
+#: Calderita's terms and the core's metrics they are (see the module docs).
+TERM_METRICS: Mapping[str, str] = {"H": "chc", "D": "d_t", "Q": "tau", "P": "cp_avg"}
 
-    Args:
-        robot: (T + 1, 3) robot poses x, y, theta at every control instant, start included.
-        people: (T + 1, N, 2) people positions at the same instants (N may be 0).
-        dt: Control period (s).
+
+def metric_terms(metrics: Mapping[str, Any]) -> dict[str, float]:
+    """H, D, Q, P of one episode from its metrics (``ProxemicEnv.metrics``; see the module docs).
+
+    ``cp_avg`` is undefined (None) without people; P is then 0.
     """
-    robot = np.asarray(robot, dtype=np.float64)
-    dtheta = np.diff(robot[:, 2])
-    heading = float(np.abs((dtheta + math.pi) % (2 * math.pi) - math.pi).sum())
-    distance = float(np.linalg.norm(np.diff(robot[:, :2], axis=0), axis=1).sum())
-    duration = (robot.shape[0] - 1) * dt
-    people = np.asarray(people, dtype=np.float64)
-    if people.ndim == 3 and people.shape[1] > 0:
-        nearest = np.linalg.norm(people - robot[:, None, :2], axis=2).min(axis=1)
-        mean_dist = float(nearest.mean())
-    else:
-        mean_dist = 0.0
-    return {"H": heading, "D": distance, "Q": duration, "P": mean_dist}
+    return {term: float(metrics[name] or 0.0) for term, name in TERM_METRICS.items()}
 
 
 @dataclass(frozen=True)
@@ -129,47 +123,32 @@ class TuneConfig:
         return [(t, None) if isinstance(t, str | Path) else (str(t[0]), t[1]) for t in self.targets]
 
     def check(self) -> None:
-        """Raises a ProxemicError for bad input (names, goals, counts, ranges)."""
+        """Raises a ProxemicError for bad input (names, goals, counts, ranges).
+
+        Planner and gain names are validated by the core (``ScenarioError`` naming them).
+        """
         from proxemic import _core
 
-        scenarios.check_planner(self.planner)
-        if self.planner not in TUNABLE_PLANNERS:
-            raise InputError(
-                f"planner {self.planner!r}: no tunable gains; expected one of {', '.join(TUNABLE_PLANNERS)}",
-                field="planner",
-                expected=f"one of {TUNABLE_PLANNERS}",
-                found=self.planner,
-            )
         if not self.targets:
-            raise InputError("targets: expected at least one", field="targets", expected="a scene", found="none")
+            raise input_error("targets", "at least one scene", "none")
         for scene, goal in self.target_list():
-            core, _ = scenarios.load(scene, goal=goal)
+            core, _ = scenarios.load(scene, planner=self.planner, goal=goal)
             if goal is not None:
                 _core.World(core)  # a goal inside a wall or object is rejected here, naming it
+        if self.planner not in TUNABLE_PLANNERS:
+            raise input_error(
+                "planner", f"a planner with tunable gains, one of {', '.join(TUNABLE_PLANNERS)}", self.planner
+            )
         for name, value in (("trials", self.trials), ("episodes", self.episodes), ("samples", self.samples)):
             if value < 1:
-                raise InputError(
-                    f"{name}: expected at least 1, got {value}", field=name, expected=">= 1", found=str(value)
-                )
+                raise input_error(name, "at least 1", value)
         if not self.ranges:
-            raise InputError(
-                "ranges: expected at least one gain to tune", field="ranges", expected="a gain", found="{}"
-            )
+            raise input_error("ranges", "at least one gain to tune", "none")
         for name, (lo, hi) in self.ranges.items():
-            if name not in scenarios.EBAND_GAINS:
-                raise InputError(
-                    f"gain {name!r}: expected one of {', '.join(scenarios.EBAND_GAINS)}",
-                    field="gain",
-                    expected=f"one of {scenarios.EBAND_GAINS}",
-                    found=name,
-                )
             if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo < hi <= 100.0):
-                raise InputError(
-                    f"gain {name} range: expected 0 <= low < high <= 100, got [{lo}, {hi}]",
-                    field=f"gain.{name}",
-                    expected="0 <= low < high <= 100",
-                    found=f"[{lo}, {hi}]",
-                )
+                raise input_error(f"gain.{name}", "a range 0 <= low < high <= 100", f"[{lo}, {hi}]")
+        # the gain names, checked by the core (its ScenarioError names an unknown one)
+        scenarios.load(self.target_list()[0][0], eband={name: lo for name, (lo, _) in self.ranges.items()})
 
 
 @dataclass
@@ -205,7 +184,7 @@ def run_tune_task(task: TuneTask) -> dict[str, Any]:
     trial, (scenario, goal), planner, seed, gains = task
     env = cached_env(scenario, planner, dict(gains), goal)
     rec = run_episode(scenario, seed, env=env)
-    terms = trajectory_terms(rec.robot, rec.people, float(env.core_scenario.control_dt))
+    terms = metric_terms(rec.metrics)
     gx, gy = env.scenario["robots"][0]["goal"]
     return {
         "trial": trial,

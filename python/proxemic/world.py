@@ -23,7 +23,7 @@ import numpy as np
 from gymnasium import spaces
 
 from proxemic import _core
-from proxemic.errors import InputError
+from proxemic.errors import InputError, input_error
 from proxemic.sim import Simulation, ensure_gl_backend
 
 #: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
@@ -78,19 +78,13 @@ def check_render_mode(render_mode: str | None) -> None:
     ``"human"`` needs a display (see :func:`missing_display`); the message names the alternatives.
     """
     if render_mode is not None and render_mode not in RENDER_MODES:
-        raise InputError(
-            f"render_mode: expected one of {list(RENDER_MODES)} or None, got {render_mode!r}",
-            field="render_mode",
-            expected=str(list(RENDER_MODES)),
-            found=repr(render_mode),
-        )
+        raise input_error("render_mode", f"one of {list(RENDER_MODES)} or None", render_mode)
     if render_mode == "human" and (why := missing_display()) is not None:
-        raise InputError(
-            f"render_mode: 'human' opens a window and needs a display, but {why}; "
-            "use render_mode='rgb_array' (MuJoCo offscreen) or 'topdown' (2D view), or run under a display",
-            field="render_mode",
-            expected="a display for 'human' (or 'rgb_array' / 'topdown')",
-            found=why,
+        raise input_error(
+            "render_mode",
+            "a display for 'human' (a window), or 'rgb_array' (MuJoCo offscreen) or 'topdown' (2D view)",
+            why,
+            note="'human' opens a window; use 'rgb_array' or 'topdown' on a headless machine",
         )
 
 
@@ -102,12 +96,7 @@ def check_frame_size(width: Any, height: Any) -> None:
     """Raises :class:`InputError` unless `width` and `height` are integers in [1, :data:`MAX_FRAME`]."""
     for name, value in (("width", width), ("height", height)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_FRAME:
-            raise InputError(
-                f"{name}: expected a frame size in pixels, an integer from 1 to {MAX_FRAME}, got {value!r}",
-                field=name,
-                expected=f"an integer in [1, {MAX_FRAME}]",
-                found=repr(value),
-            )
+            raise input_error(name, f"a frame size in pixels, an integer from 1 to {MAX_FRAME}", value)
 
 
 def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> None:
@@ -117,21 +106,11 @@ def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> 
     arbitrary options to ``reset`` and expects them accepted).
     """
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0):
-        raise InputError(
-            f"seed: expected None or an integer >= 0, got {seed!r}",
-            field="seed",
-            expected="None or an integer >= 0",
-            found=repr(seed),
-        )
+        raise input_error("seed", "None or an integer >= 0", seed)
     if options and warn_options:
         warnings.warn(f"reset(options={options!r}) ignored: this env takes no reset options", stacklevel=3)
     elif options:
-        raise InputError(
-            f"options: this env takes no reset options, got {options!r}",
-            field="options",
-            expected="None or {}",
-            found=repr(options),
-        )
+        raise input_error("options", "None or {} (this env takes no reset options)", options)
 
 
 def check_action(action: Any, field: str) -> np.ndarray:
@@ -147,12 +126,10 @@ def check_action(action: Any, field: str) -> np.ndarray:
         raw = np.asarray(None)
     if raw.shape != (3,) or raw.dtype.kind not in "iuf":
         what = f"shape {raw.shape} of {raw.dtype}" if raw.dtype != object else f"{action!r}"
-        raise InputError(f"{field}: expected {expected}, got {what}", field=field, expected=expected, found=what)
+        raise input_error(field, expected, what)
     a = raw.astype(np.float64)
     if not np.isfinite(a).all():
-        raise InputError(
-            f"{field}: expected {expected}, got {a.tolist()}", field=field, expected=expected, found=str(a.tolist())
-        )
+        raise input_error(field, expected, str(a.tolist()))
     return a
 
 
@@ -437,12 +414,7 @@ def check_overlays(overlays: Iterable[str] | str) -> tuple[str, ...]:
     chosen = (overlays,) if isinstance(overlays, str) else tuple(overlays)
     bad = [o for o in chosen if o not in OVERLAYS]
     if bad:
-        raise InputError(
-            f"overlays: expected names among {list(OVERLAYS)}, got {bad[0]!r}",
-            field="overlays",
-            expected=str(list(OVERLAYS)),
-            found=repr(bad[0]),
-        )
+        raise input_error("overlays", f"names among {list(OVERLAYS)}", bad[0])
     return chosen
 
 

@@ -9,10 +9,9 @@ Conventions: world coordinates are metres with y up; pixel coordinates are ``(co
 where pixel ``(r, c)`` covers ``[c, c + 1) x [r, r + 1)`` and its centre is ``(c + 0.5, r + 0.5)``.
 Row 0 is the top of the image, so larger world y means a smaller row.
 
-The module also provides small geometry helpers shared with :mod:`proxemic.viz.plots` that turn the
-scenario dict's walls, objects and interaction spaces into polygons (using the precomputed
-``polygon``/``footprint`` fields when present and rebuilding them from the raw parameters
-otherwise).
+The module also provides small geometry helpers shared with :mod:`proxemic.viz.plots` that read the
+polygons of the validated scenario's walls, objects and interaction spaces (the core computes them
+once, when the scenario is validated: ``polygon``, ``footprint``, ``interaction.polygon``).
 """
 
 from __future__ import annotations
@@ -23,6 +22,8 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
+
+from proxemic.errors import input_error
 
 __all__ = [
     "FLOOR_COLOR",
@@ -113,7 +114,6 @@ OBJECT_COST_ALPHA: float = 0.55
 DEFAULT_OBJECT_COLOR: RGB = (150, 150, 150)
 
 _DEFAULT_ROBOT_RADIUS = 0.24
-_CIRCLE_SEGMENTS = 48
 _RGB_ITEM = np.dtype((np.void, 3))
 
 
@@ -122,138 +122,43 @@ _RGB_ITEM = np.dtype((np.void, 3))
 # ----------------------------------------------------------------------------------------------
 
 
-def _as_polygon(points: Any) -> np.ndarray | None:
-    """Return ``points`` as an ``(N, 2)`` float array, or None when it is not a usable polygon."""
-    if points is None:
-        return None
-    arr = np.asarray(points, dtype=np.float64)
-    if arr.ndim != 2 or arr.shape[1] != 2 or arr.shape[0] < 3 or not np.all(np.isfinite(arr)):
-        return None
-    return arr
-
-
-def _rectangle(cx: float, cy: float, theta: float, depth: float, width: float) -> np.ndarray:
-    """CCW corners of a ``depth`` x ``width`` rectangle centred at ``(cx, cy)`` rotated by ``theta``."""
-    hx, hy = depth / 2.0, width / 2.0
-    local = np.array([[-hx, -hy], [hx, -hy], [hx, hy], [-hx, hy]])
-    c, s = math.cos(theta), math.sin(theta)
-    rot = np.array([[c, -s], [s, c]])
-    return local @ rot.T + np.array([cx, cy])
-
-
-def _circle(cx: float, cy: float, radius: float, segments: int = _CIRCLE_SEGMENTS) -> np.ndarray:
-    """CCW vertices of a regular polygon approximating a circle."""
-    ang = np.linspace(0.0, 2.0 * math.pi, segments, endpoint=False)
-    return np.stack([cx + radius * np.cos(ang), cy + radius * np.sin(ang)], axis=1)
+def _polygon(points: Any) -> np.ndarray:
+    """``points`` (a polygon of the validated scenario) as an ``(N, 2)`` float array."""
+    return np.asarray(points, dtype=np.float64).reshape(-1, 2)
 
 
 def wall_polygon(wall: Mapping[str, Any]) -> np.ndarray:
-    """Return a wall's world-frame footprint polygon.
+    """A wall's world-frame footprint, ``(N, 2)`` vertices in metres (the core's ``polygon``).
 
     Args:
-        wall: A wall entry of the scenario dict. Its ``polygon`` is used when present; otherwise the
-            footprint is rebuilt from ``from``, ``to`` and ``thickness`` (default 0.2 m).
-
-    Returns:
-        An ``(N, 2)`` float array of vertices in metres.
-
+        wall: A wall entry of the validated scenario dict (``scenarios.load``).
     """
-    poly = _as_polygon(wall.get("polygon"))
-    if poly is not None:
-        return poly
-    p0 = np.asarray(wall["from"], dtype=np.float64)
-    p1 = np.asarray(wall["to"], dtype=np.float64)
-    thickness = float(wall.get("thickness", 0.2))
-    d = p1 - p0
-    length = float(np.hypot(d[0], d[1]))
-    centre = (p0 + p1) / 2.0
-    theta = math.atan2(d[1], d[0]) if length > 0.0 else 0.0
-    return _rectangle(float(centre[0]), float(centre[1]), theta, length, thickness)
+    return _polygon(wall["polygon"])
 
 
 def object_polygon(obj: Mapping[str, Any]) -> np.ndarray:
-    """Return an object's world-frame footprint polygon.
+    """An object's world-frame footprint, ``(N, 2)`` vertices in metres (the core's ``footprint``).
 
     Args:
-        obj: An object entry of the scenario dict. Its ``footprint`` is used when present; otherwise
-            a circle (``radius`` set) or a ``size = [depth, width]`` rectangle at ``pose``.
-
-    Returns:
-        An ``(N, 2)`` float array of vertices in metres.
-
+        obj: An object entry of the validated scenario dict.
     """
-    poly = _as_polygon(obj.get("footprint"))
-    if poly is not None:
-        return poly
-    x, y, theta = (float(v) for v in obj["pose"])
-    radius = obj.get("radius")
-    if radius is not None:
-        return _circle(x, y, float(radius))
-    depth, width = (float(v) for v in obj["size"])
-    return _rectangle(x, y, theta, depth, width)
+    return _polygon(obj["footprint"])
 
 
 def interaction_polygon(obj: Mapping[str, Any]) -> np.ndarray | None:
-    """Return an object's interaction-space polygon, if it has one.
+    """An object's interaction-space polygon (the core's ``interaction.polygon``), or None without one.
 
     Args:
-        obj: An object entry of the scenario dict. The interaction's ``polygon`` is used when
-            present; otherwise ``circle`` spaces are rebuilt from ``radius`` and ``rectangle`` spaces
-            from the object's size grown by ``margin``. Trapezoids without a polygon are rebuilt in
-            front of the object's facing side.
-
-    Returns:
-        An ``(N, 2)`` float array of vertices in metres, or None when the object has no space.
-
+        obj: An object entry of the validated scenario dict.
     """
     inter = obj.get("interaction")
-    if not inter:
-        return None
-    poly = _as_polygon(inter.get("polygon"))
-    if poly is not None:
-        return poly
-    x, y, theta = (float(v) for v in obj["pose"])
-    shape = inter.get("shape")
-    if shape == "circle":
-        return _circle(x, y, float(inter["radius"]))
-    depth, width = (float(v) for v in obj.get("size", (0.0, 0.0)))
-    if shape == "rectangle":
-        m = float(inter.get("margin", 0.0))
-        return _rectangle(x, y, theta, depth + 2.0 * m, width + 2.0 * m)
-    if shape == "trapezoid":
-        length = float(inter["length"])
-        near, far = float(inter["near_width"]) / 2.0, float(inter["far_width"]) / 2.0
-        front = depth / 2.0
-        local = np.array([[front, -near], [front + length, -far], [front + length, far], [front, near]])
-        c, s = math.cos(theta), math.sin(theta)
-        return local @ np.array([[c, -s], [s, c]]).T + np.array([x, y])
-    return None
+    return None if not inter else _polygon(inter["polygon"])
 
 
 def scene_bounds(scenario: Mapping[str, Any]) -> tuple[float, float, float, float]:
-    """Return the scene bounds ``(xmin, ymin, xmax, ymax)`` in metres.
-
-    Args:
-        scenario: The scenario dict. ``scene.bounds`` is used when present; otherwise the bounds are
-            the bounding box of the walls, objects, people and robots (or a unit square if empty).
-
-    Returns:
-        The bounds as a tuple of four floats.
-
-    """
-    bounds = scenario.get("scene", {}).get("bounds")
-    if bounds is not None and len(bounds) == 4:
-        xmin, ymin, xmax, ymax = (float(v) for v in bounds)
-        return xmin, ymin, xmax, ymax
-    pts: list[np.ndarray] = [wall_polygon(w) for w in scenario.get("walls", [])]
-    pts += [object_polygon(o) for o in scenario.get("objects", [])]
-    pts += [np.asarray(p["pose"], dtype=np.float64)[None, :2] for p in scenario.get("persons", [])]
-    pts += [np.asarray(r["start"], dtype=np.float64)[None, :2] for r in scenario.get("robots", [])]
-    if not pts:
-        return 0.0, 0.0, 1.0, 1.0
-    allp = np.concatenate(pts, axis=0)
-    lo, hi = allp.min(axis=0), allp.max(axis=0)
-    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+    """The scene bounds ``(xmin, ymin, xmax, ymax)`` in metres (``scene.bounds`` of the validated scenario)."""
+    xmin, ymin, xmax, ymax = (float(v) for v in scenario["scene"]["bounds"])
+    return xmin, ymin, xmax, ymax
 
 
 # ----------------------------------------------------------------------------------------------
@@ -510,13 +415,13 @@ class TopDownRenderer:
             margin: Extra world space (metres) shown around the scene bounds on every side.
 
         Raises:
-            ValueError: If ``width``, ``height`` or ``margin`` is out of range.
+            InputError: If ``width``, ``height`` or ``margin`` is out of range (a ``ValueError``).
 
         """
         if width < 1 or height < 1:
-            raise ValueError(f"image size must be positive, got {width}x{height}")
+            raise input_error("width, height", "a positive image size in pixels", f"{width}x{height}")
         if not margin >= 0.0:
-            raise ValueError(f"margin must be >= 0, got {margin}")
+            raise input_error("margin", "a margin >= 0 m", margin)
         self.width = int(width)
         self.height = int(height)
         self.margin = float(margin)

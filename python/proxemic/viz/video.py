@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from proxemic.errors import InputError
+from proxemic.errors import input_error
 
 if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
@@ -49,12 +49,7 @@ def _imageio() -> Any:
 
 def _check_view(view: str) -> None:
     if view not in VIEWS:
-        raise InputError(
-            f"view: expected one of {list(VIEWS)}, got {view!r}",
-            field="view",
-            expected=str(list(VIEWS)),
-            found=repr(view),
-        )
+        raise input_error("view", f"one of {list(VIEWS)}", view)
 
 
 def render_frame(env: Any, view: str = "topdown", overlays: Iterable[str] | None = None) -> np.ndarray:
@@ -109,7 +104,7 @@ def write_video(
         ImportError: imageio or imageio-ffmpeg is not installed.
     """
     if not (fps > 0 and np.isfinite(fps)):
-        raise InputError(f"fps: expected a positive number, got {fps}", field="fps", expected="> 0", found=str(fps))
+        raise input_error("fps", "a positive number", fps)
     iio = _imageio()
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -126,23 +121,16 @@ def write_video(
             a = np.asarray(frame)
             if shape is None:
                 if a.ndim != 3 or a.shape[2] != 3 or a.dtype != np.uint8 or a.shape[0] % 2 or a.shape[1] % 2:
-                    raise InputError(
-                        f"frames[0]: expected an (H, W, 3) uint8 image with even H and W, "
-                        f"got shape {a.shape} dtype {a.dtype}",
-                        field="frames",
-                        expected="(H, W, 3) uint8, H and W even",
-                        found=f"{a.shape} {a.dtype}",
+                    raise input_error(
+                        "frames[0]", "an (H, W, 3) uint8 image with even H and W", f"shape {a.shape} dtype {a.dtype}"
                     )
                 shape = a.shape
                 writer = iio.get_writer(
                     str(out), format="FFMPEG", mode="I", fps=fps, codec="libx264", macro_block_size=1, quality=7
                 )
             elif a.shape != shape or a.dtype != np.uint8:
-                raise InputError(
-                    f"frames[{count}]: expected {shape} uint8 like the first frame, got {a.shape} {a.dtype}",
-                    field="frames",
-                    expected=f"{shape} uint8",
-                    found=f"{a.shape} {a.dtype}",
+                raise input_error(
+                    f"frames[{count}]", f"{shape} uint8 like the first frame", f"shape {a.shape} dtype {a.dtype}"
                 )
             if writer is not None:
                 writer.append_data(a)
@@ -151,7 +139,7 @@ def write_video(
         if writer is not None:
             writer.close()
     if count == 0:
-        raise InputError("frames: expected at least one frame, got none", field="frames", expected=">= 1", found="0")
+        raise input_error("frames", "at least one frame", "none")
     return out
 
 
@@ -225,20 +213,10 @@ def record_episode(
 
     _check_view(view)
     if max_steps is not None and max_steps < 0:
-        raise InputError(
-            f"max_steps: expected a number >= 0, got {max_steps}",
-            field="max_steps",
-            expected=">= 0",
-            found=str(max_steps),
-        )
+        raise input_error("max_steps", "a number >= 0", max_steps)
     for field, value in (("width", width), ("height", height)):
         if value < 2 or value % 2:
-            raise InputError(
-                f"{field}: expected an even number of pixels >= 2 (H.264 in yuv420p), got {value}",
-                field=field,
-                expected="an even number >= 2",
-                found=str(value),
-            )
+            raise input_error(field, "an even number of pixels >= 2 (H.264 in yuv420p)", value)
     name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
     env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays)
     try:

@@ -1450,6 +1450,25 @@ impl Scenario {
         Ok(s)
     }
 
+    /// A copy whose episode starts at `time` (seconds after midnight, in [0, 86400)) instead of
+    /// the file's `scene.start_time`: the agenda's activities (times of day) then fall at another
+    /// point of the episode. Times the validated scenario holds as seconds into the episode keep
+    /// their value, including a conversation's `start` and `end` written as times of day (they
+    /// were converted with the file's start time). Errors name the field `scene.start_time`.
+    pub fn with_start_time(&self, time: f64) -> Result<Self> {
+        if !(time.is_finite() && (0.0..86400.0).contains(&time)) {
+            return Err(err(
+                &self.source,
+                "scene.start_time",
+                "seconds after midnight in [0, 86400)",
+                time.to_string(),
+            ));
+        }
+        let mut s = self.clone();
+        s.scene.start_time = time;
+        Ok(s)
+    }
+
     /// JSON of the validated scenario (defaults filled in, world polygons computed).
     pub fn to_json(&self) -> String {
         serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))

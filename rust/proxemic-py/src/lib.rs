@@ -78,6 +78,9 @@ fn busy(py: Python<'_>, field: &str) -> PyErr {
     input_err(py, field, "a float64 or uint8 array not borrowed elsewhere".into(), "a borrowed array".into())
 }
 
+/// The elastic band's tunable gains, the keyword names of `Scenario.with_eband_gains`.
+const EBAND_GAINS: [&str; 3] = ["contraction_gain", "repulsion_gain", "social_gain"];
+
 /// A validated scenario (parsed once, from a TOML file or string).
 #[pyclass(module = "proxemic._core", name = "Scenario", frozen)]
 struct PyScenario {
@@ -105,19 +108,29 @@ impl PyScenario {
 
     /// A copy whose robots all use the built-in planner `name` (see `PLANNERS`).
     fn with_planner(&self, py: Python<'_>, name: &str) -> PyResult<Self> {
-        let inner = self.inner.with_planner(name).map_err(|e| to_py_err(py, e))?;
+        let inner = enter_core(py, || self.inner.with_planner(name))?;
         Ok(PyScenario { inner })
     }
 
     /// A copy whose robot `index` uses the built-in planner `name` (see `PLANNERS`).
     fn with_robot_planner(&self, py: Python<'_>, index: usize, name: &str) -> PyResult<Self> {
-        let inner = self.inner.with_robot_planner(index, name).map_err(|e| to_py_err(py, e))?;
+        let inner = enter_core(py, || self.inner.with_robot_planner(index, name))?;
         Ok(PyScenario { inner })
     }
 
     /// A copy with only the first `n` robots (1 <= n <= the file's `[[robot]]` entries).
-    fn with_robots(&self, py: Python<'_>, n: usize) -> PyResult<Self> {
-        let inner = self.inner.with_robots(n).map_err(|e| to_py_err(py, e))?;
+    /// Raises `ScenarioError` naming `robots` for any other count, negative ones included.
+    fn with_robots(&self, py: Python<'_>, n: i64) -> PyResult<Self> {
+        let inner = enter_core(py, || match usize::try_from(n) {
+            Ok(k) => self.inner.with_robots(k),
+            // The core's error for a count below 1, saying what arrived.
+            Err(_) => self.inner.with_robots(0).map_err(|e| match e {
+                CoreError::Scenario { file, field, expected, .. } => {
+                    CoreError::Scenario { file, field, expected, found: n.to_string() }
+                }
+                other => other,
+            }),
+        })?;
         Ok(PyScenario { inner })
     }
 
@@ -128,17 +141,34 @@ impl PyScenario {
     }
 
     /// A copy whose robots' elastic-band gains (dimensionless, each in [0, 100]; used by the
-    /// `eband` planner) are replaced where given. Raises `ScenarioError` naming the gain.
-    #[pyo3(signature = (contraction_gain = None, repulsion_gain = None, social_gain = None))]
+    /// `eband` planner; names in `EBAND_GAINS`) are replaced where given. Raises `ScenarioError`
+    /// naming the gain (`eband.<gain>`) for a value out of range or an unknown gain name.
+    #[pyo3(signature = (contraction_gain = None, repulsion_gain = None, social_gain = None, **unknown))]
     fn with_eband_gains(
         &self,
         py: Python<'_>,
         contraction_gain: Option<f64>,
         repulsion_gain: Option<f64>,
         social_gain: Option<f64>,
+        unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let inner =
-            enter_core(py, || self.inner.with_eband_gains(contraction_gain, repulsion_gain, social_gain))?;
+        let mut names: Vec<String> = Vec::new();
+        if let Some(d) = unknown {
+            for key in d.keys() {
+                names.push(key.str()?.to_string());
+            }
+        }
+        names.sort();
+        let source = &self.inner.source;
+        let inner = enter_core(py, || match names.first() {
+            Some(name) => Err(CoreError::Scenario {
+                file: source.clone(),
+                field: format!("eband.{name}"),
+                expected: format!("an elastic-band gain among {EBAND_GAINS:?}"),
+                found: format!("{name:?}"),
+            }),
+            None => self.inner.with_eband_gains(contraction_gain, repulsion_gain, social_gain),
+        })?;
         Ok(PyScenario { inner })
     }
 
@@ -151,9 +181,20 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose episode starts at `time` of day (`"HH:MM"`, `"HH:MM:SS"` or seconds after
+    /// midnight in [0, 86400)) instead of the file's `scene.start_time`: the agenda's activities
+    /// fall at another point of the episode; times the scenario holds as seconds into the
+    /// episode keep their value (a conversation's `start` and `end`, even written as times of
+    /// day in the file). Raises `InputError` naming `time_of_day` for a malformed time.
+    fn with_start_time(&self, py: Python<'_>, time: TimeOfDay) -> PyResult<Self> {
+        let t = time.seconds(py)?;
+        let inner = enter_core(py, || self.inner.with_start_time(t))?;
+        Ok(PyScenario { inner })
+    }
+
     /// The validated scenario as JSON (defaults filled in, world polygons computed).
-    fn to_json(&self) -> String {
-        self.inner.to_json()
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        enter_core(py, || Ok(self.inner.to_json()))
     }
 
     /// Scene name.
@@ -220,24 +261,64 @@ fn flat_mut<'a>(
 }
 
 impl PyWorld {
-    /// `points` (robot `robot`'s path of some kind) as a (K, 2) array, or an `InputError` naming
-    /// the robot index when there is none (a bad index, or before the first reset).
-    fn robot_points<'py>(
-        &self,
-        py: Python<'py>,
+    /// `robot` if it indexes a robot of the world, else an `InputError` naming `robot` (the one
+    /// index check of every binding that takes a robot).
+    fn robot(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+        let n = self.inner.num_robots();
+        if robot < n {
+            Ok(robot)
+        } else {
+            Err(input_err(py, "robot", format!("a robot index below {n}"), robot.to_string()))
+        }
+    }
+
+    /// Robot `robot`'s item `get` returns (after the index check; `None` there is a bug of the
+    /// core, reported as an internal error).
+    fn of_robot<'s, T: ?Sized>(
+        &'s self,
+        py: Python<'_>,
         robot: usize,
-        points: Option<&[Vec2]>,
-    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let points = points.ok_or_else(|| {
+        get: impl FnOnce(&'s CoreWorld, usize) -> Option<&'s T>,
+    ) -> PyResult<&'s T> {
+        let i = self.robot(py, robot)?;
+        get(&self.inner, i).ok_or_else(|| internal_error(py))
+    }
+}
+
+/// A time of day from Python: `"HH:MM"`, `"HH:MM:SS"` or seconds after midnight.
+#[derive(FromPyObject)]
+enum TimeOfDay {
+    Text(String),
+    Seconds(f64),
+}
+
+impl TimeOfDay {
+    /// Seconds after midnight in [0, 86400), or an `InputError` naming `time_of_day`.
+    fn seconds(&self, py: Python<'_>) -> PyResult<f64> {
+        let t = match self {
+            TimeOfDay::Text(s) => proxemic_core::scenario::parse_time_of_day(s),
+            TimeOfDay::Seconds(x) => Some(*x).filter(|x| x.is_finite() && (0.0..86400.0).contains(x)),
+        };
+        t.ok_or_else(|| {
+            let found = match self {
+                TimeOfDay::Text(s) => format!("{s:?}"),
+                TimeOfDay::Seconds(x) => x.to_string(),
+            };
             input_err(
                 py,
-                "robot",
-                format!("an index below {} after reset()", self.inner.num_robots()),
-                robot.to_string(),
+                "time_of_day",
+                "\"HH:MM\", \"HH:MM:SS\" or seconds after midnight in [0, 86400)".into(),
+                found,
             )
-        })?;
-        points_to_array(py, points)
+        })
     }
+}
+
+/// Seconds after midnight of `value` (`"HH:MM"`, `"HH:MM:SS"` or a number of seconds in
+/// [0, 86400)), parsed as scenario files are. Raises `InputError` naming `time_of_day`.
+#[pyfunction]
+fn parse_time_of_day(py: Python<'_>, value: TimeOfDay) -> PyResult<f64> {
+    value.seconds(py)
 }
 
 #[pymethods]
@@ -382,10 +463,11 @@ impl PyWorld {
     /// robot whose planner is off is driven only by `command` (its `planner_action` is a stop
     /// command); it saves the planner's cost when a policy drives it. Kept across resets.
     fn set_planning(&mut self, py: Python<'_>, planning: Vec<bool>) -> PyResult<()> {
-        self.inner.set_planning(&planning).map_err(|e| to_py_err(py, e))
+        let w = &mut self.inner;
+        enter_core(py, move || w.set_planning(&planning))
     }
 
-    /// Every metric of every robot's episode so far (`design/metrics.md`): a list with one dict
+    /// Every metric of every robot's episode so far (`docs/metrics.md`): a list with one dict
     /// per robot, the outcome and one key per metric (undefined values as None; `d_min` per
     /// person and `psi_object` / `psi_object_any` per object with an interaction space as lists).
     /// With `robots` (indices), only those robots' dicts, in that order.
@@ -409,12 +491,21 @@ impl PyWorld {
     /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
     /// reference path of `l_ratio` and `smooth`), as a (K, 2) float64 array.
     fn astar_path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.robot_points(py, robot, self.inner.astar_path(robot))
+        points_to_array(py, self.of_robot(py, robot, CoreWorld::astar_path)?)
+    }
+
+    /// Robot `robot`'s poses x, y, theta (m, m, rad, world frame) at every control instant of
+    /// the episode so far, the start first, as a (T + 1, 3) float64 array (what its metrics are
+    /// computed from; steps after its episode ended are not recorded).
+    fn trajectory<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let poses = self.of_robot(py, robot, CoreWorld::trajectory)?;
+        let flat: Vec<f64> = poses.iter().flatten().copied().collect();
+        PyArray1::from_vec(py, flat).reshape([poses.len(), 3])
     }
 
     /// The global path robot `robot` is following, as a (K, 2) float64 array.
     fn path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        self.robot_points(py, robot, self.inner.path(robot))
+        points_to_array(py, self.of_robot(py, robot, CoreWorld::path)?)
     }
 
     /// Plans a path for robot `robot`'s footprint: plain A* on the inflated static map, or with
@@ -430,22 +521,12 @@ impl PyWorld {
         social: bool,
         time_of_day: Option<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        if robot >= self.inner.num_robots() {
-            return Err(input_err(
-                py,
-                "robot",
-                format!("an index below {}", self.inner.num_robots()),
-                robot.to_string(),
-            ));
-        }
+        let robot = self.robot(py, robot)?;
         let (s, g) = (Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1));
-        let path = if social {
-            let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
-            let w = &mut self.inner;
-            enter_core(py, move || w.plan_social(robot, s, g, tod))?
-        } else {
-            self.inner.plan(robot, s, g)
-        };
+        let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+        let w = &mut self.inner;
+        let plan = move || if social { w.plan_social(robot, s, g, tod) } else { Ok(w.plan(robot, s, g)) };
+        let path = enter_core(py, plan)?;
         match path {
             Some(p) => Ok(Some(points_to_array(py, &p)?)),
             None => Ok(None),
@@ -464,20 +545,13 @@ impl PyWorld {
         robot: usize,
         time_of_day: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let robot = self.robot(py, robot)?;
         let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
         {
             let w = &mut self.inner;
             enter_core(py, move || w.update_social_map(robot, tod))?;
         }
-        let Some(cg) = self.inner.cost_grid(robot) else {
-            return Err(input_err(
-                py,
-                "robot",
-                format!("an index below {}", self.inner.num_robots()),
-                robot.to_string(),
-            ));
-        };
-        let spec = cg.spec;
+        let spec = self.of_robot(py, robot, CoreWorld::cost_grid)?.spec;
         let map = self.inner.social_map_of(robot).ok_or_else(|| internal_error(py))?;
         let shape = [spec.height, spec.width];
         let d = PyDict::new(py);
@@ -520,7 +594,10 @@ impl PyWorld {
         // (a detected group matches a true one with >= 2/3 of its members and <= 1/3 outsiders).
         let truth: Vec<Option<u32>> = self.inner.scenario().persons.iter().map(|p| p.group).collect();
         d.set_item("truth", truth.clone())?;
-        if let Ok(acc) = proxemic_core::groups::detection_accuracy(&per.groups.labels, &truth, 2.0 / 3.0) {
+        let labels = &per.groups.labels;
+        let accuracy =
+            enter_core(py, || Ok(proxemic_core::groups::detection_accuracy(labels, &truth, 2.0 / 3.0).ok()))?;
+        if let Some(acc) = accuracy {
             let a = PyDict::new(py);
             a.set_item("precision", acc.precision)?;
             a.set_item("recall", acc.recall)?;
@@ -540,16 +617,18 @@ impl PyWorld {
     fn object_costs<'py>(&self, py: Python<'py>, time_of_day: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
         let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
         let social = self.inner.social();
+        let costs = enter_core(py, || Ok(social.object_factors(tod)))?;
         let d = PyDict::new(py);
-        for (name, cost) in social.object_names().iter().zip(social.object_factors(tod)) {
+        for (name, cost) in social.object_names().iter().zip(costs) {
             d.set_item(name, cost)?;
         }
         Ok(d)
     }
 
     /// How many times robot `robot`'s social path was (re-)planned this episode.
-    fn replans(&self, robot: usize) -> usize {
-        self.inner.replans(robot)
+    fn replans(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+        let robot = self.robot(py, robot)?;
+        Ok(self.inner.replans(robot))
     }
 
     /// The people now: (P, 6) float64 of x, y, heading, vx, vy, radius.
@@ -572,9 +651,7 @@ impl PyWorld {
     /// Robot `robot`'s inflated cost grid as ((H, W) uint8 array, (origin_x, origin_y,
     /// resolution)); row 0 is the lowest y. 254 marks static obstacles, 253 the inflation.
     fn cost_grid<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyTuple>> {
-        let g = self.inner.cost_grid(robot).ok_or_else(|| {
-            input_err(py, "robot", format!("an index below {}", self.inner.num_robots()), robot.to_string())
-        })?;
+        let g = self.of_robot(py, robot, CoreWorld::cost_grid)?;
         let arr = PyArray1::from_slice(py, &g.cost).reshape([g.spec.height, g.spec.width])?;
         let meta = (g.spec.origin.x, g.spec.origin.y, g.spec.resolution);
         PyTuple::new(py, [arr.into_any(), meta.into_pyobject(py)?.into_any()])
@@ -582,9 +659,8 @@ impl PyWorld {
 
     /// Geodesic shortest collision-free distance from robot `robot`'s nominal start to its goal (m).
     fn geodesic_start_distance(&self, py: Python<'_>, robot: usize) -> PyResult<f64> {
-        self.inner.geodesic_start_distance(robot).ok_or_else(|| {
-            input_err(py, "robot", format!("an index below {}", self.inner.num_robots()), robot.to_string())
-        })
+        let robot = self.robot(py, robot)?;
+        self.inner.geodesic_start_distance(robot).ok_or_else(|| internal_error(py))
     }
 }
 
@@ -613,7 +689,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("PERSON_OUT", world::PERSON_OUT)?;
     m.add("CONTACT_RANGE", world::CONTACT_RANGE)?;
     m.add("PLANNERS", proxemic_core::scenario::PlannerKind::NAMES.to_vec())?;
+    m.add("EBAND_GAINS", EBAND_GAINS.to_vec())?;
     m.add_class::<PyScenario>()?;
     m.add_class::<PyWorld>()?;
+    m.add_function(wrap_pyfunction!(parse_time_of_day, m)?)?;
     Ok(())
 }
