@@ -10,11 +10,12 @@
 //! `World.reset` and `World.step` copy nothing: they borrow the numpy buffers (read-only for
 //! inputs, read-write for outputs), release the GIL while the core runs, and reacquire it before
 //! returning (`World.step` also to call the Python physics between its two halves, with no
-//! buffer borrowed). A `World` is not shared between threads (`unsendable`).
+//! buffer borrowed). A `World` can be moved to and called from any thread (vector envs and thread
+//! pools move envs); pyo3's borrow checking refuses two threads inside the same `World` at once.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadwriteArray1};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadwriteArray1};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -71,6 +72,24 @@ fn internal_error(py: Python<'_>) -> PyErr {
 
 fn input_err(py: Python<'_>, field: &str, expected: String, found: String) -> PyErr {
     to_py_err(py, CoreError::input(field, expected, found))
+}
+
+/// `obj` as a one-dimensional numpy array of `T`, or an `InputError` naming `field` that says
+/// what arrived (a float32 state buffer, a list, a 2-D array...).
+fn array_of<'py, T: numpy::Element>(
+    py: Python<'py>,
+    field: &str,
+    dtype: &str,
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyArray1<T>>> {
+    if let Ok(a) = obj.cast::<PyArray1<T>>() {
+        return Ok(a.clone());
+    }
+    let found = match (obj.getattr("dtype"), obj.getattr("ndim")) {
+        (Ok(d), Ok(n)) => format!("a {n}-dimensional {d} array"),
+        _ => format!("a {}", obj.get_type().name().map_or_else(|_| "value".into(), |n| n.to_string())),
+    };
+    Err(input_err(py, field, format!("a one-dimensional C-contiguous {dtype} numpy array"), found))
 }
 
 /// An `InputError` for a buffer that is already borrowed (the same array passed twice).
@@ -243,7 +262,7 @@ impl PyScenario {
 /// Buffers: `out` is a C-contiguous float64 array of `num_robots * stride` values (use
 /// `layout` to slice it), `people_out` a C-contiguous float64 array of `num_people * PERSON_OUT`
 /// values (x, y, heading, contact hint). Both are one-dimensional.
-#[pyclass(module = "proxemic._core", name = "World", unsendable)]
+#[pyclass(module = "proxemic._core", name = "World")]
 struct PyWorld {
     inner: CoreWorld,
     /// `step` and `reset` calls so far (see `calls`).
@@ -390,10 +409,14 @@ impl PyWorld {
         &mut self,
         py: Python<'_>,
         seed: u64,
-        mut out: PyReadwriteArray1<'_, f64>,
-        mut people_out: PyReadwriteArray1<'_, f64>,
+        out: &Bound<'_, PyAny>,
+        people_out: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
         self.calls += 1;
+        let out = array_of::<f64>(py, "out", "float64", out)?;
+        let people_out = array_of::<f64>(py, "people_out", "float64", people_out)?;
+        let mut out = out.try_readwrite().map_err(|_| busy(py, "out"))?;
+        let mut people_out = people_out.try_readwrite().map_err(|_| busy(py, "people_out"))?;
         let o = flat_mut(py, "out", &mut out)?;
         let p = flat_mut(py, "people_out", &mut people_out)?;
         let w = &mut self.inner;
@@ -413,15 +436,21 @@ impl PyWorld {
     fn step(
         &mut self,
         py: Python<'_>,
-        actions: PyReadonlyArray1<'_, f64>,
+        actions: &Bound<'_, PyAny>,
         physics: &Bound<'_, PyAny>,
-        state: &Bound<'_, PyArray1<f64>>,
-        contacts: &Bound<'_, PyArray1<u8>>,
-        out: &Bound<'_, PyArray1<f64>>,
-        people_out: &Bound<'_, PyArray1<f64>>,
+        state: &Bound<'_, PyAny>,
+        contacts: &Bound<'_, PyAny>,
+        out: &Bound<'_, PyAny>,
+        people_out: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
         self.calls += 1;
+        let actions = array_of::<f64>(py, "actions", "float64", actions)?;
+        let state = array_of::<f64>(py, "state", "float64", state)?;
+        let contacts = array_of::<u8>(py, "contacts", "uint8", contacts)?;
+        let out = array_of::<f64>(py, "out", "float64", out)?;
+        let people_out = array_of::<f64>(py, "people_out", "float64", people_out)?;
         {
+            let actions = actions.try_readonly().map_err(|_| busy(py, "actions"))?;
             let a = actions.as_slice().map_err(|_| {
                 input_err(
                     py,
