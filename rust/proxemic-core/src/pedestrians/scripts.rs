@@ -185,6 +185,18 @@ impl Router<'_> {
         pts.push(b);
         Some(pts)
     }
+
+    /// Person `p`'s path from `a` to `b`; without one, an error naming `field`.
+    fn walk(&mut self, s: &Scenario, p: &Person, field: String, a: Vec2, b: Vec2) -> Result<Vec<Vec2>> {
+        self.path(p.radius, a, b).ok_or_else(|| {
+            err(
+                s,
+                field,
+                format!("a place reachable on foot (with {:.2} m clearance)", p.radius + PATH_MARGIN),
+                format!("no path from [{:.2}, {:.2}] to [{:.2}, {:.2}]", a.x, a.y, b.x, b.y),
+            )
+        })
+    }
 }
 
 /// Plans every person's script (see the module docs). `geometry` and `field` are the scenario's
@@ -194,190 +206,201 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
     let persons = &s.persons;
     let mut out = Vec::with_capacity(persons.len());
     for (i, p) in persons.iter().enumerate() {
-        let f = format!("person[{i}]");
-        let mut walk = |field: String, a: Vec2, b: Vec2| {
-            router.path(p.radius, a, b).ok_or_else(|| {
-                err(
-                    s,
-                    field,
-                    format!("a place reachable on foot (with {:.2} m clearance)", p.radius + PATH_MARGIN),
-                    format!("no path from [{:.2}, {:.2}] to [{:.2}, {:.2}]", a.x, a.y, b.x, b.y),
-                )
-            })
-        };
         let script = match p.behaviour {
             Behaviour::Walker => Script::Walker,
             Behaviour::Standing | Behaviour::Seated => Script::Still,
-            Behaviour::Visitor => {
-                let mut places = Vec::with_capacity(p.exhibits.len());
-                for (k, &o) in p.exhibits.iter().enumerate() {
-                    let field = format!("{f}.exhibits[{k}]");
-                    places.push(viewing_spot(s, geometry, &field, &s.objects[o], i, k, p.radius)?);
-                }
-                let m = places.len();
-                let mut tasks = Vec::with_capacity(2 * m);
-                let mut starts = Vec::with_capacity(m);
-                for k in 0..m {
-                    let o = &s.objects[p.exhibits[k]];
-                    starts.push((tasks.len(), places[k]));
-                    let face = Face::Point(Vec2::new(o.pose[0], o.pose[1]));
-                    tasks.push(Task::Stay { face, until: Until::For(p.dwell) });
-                    if m > 1 {
-                        let next = (k + 1) % m;
-                        tasks.push(Task::Walk(walk(
-                            format!("{f}.exhibits[{next}]"),
-                            places[k],
-                            places[next],
-                        )?));
-                    }
-                }
-                Script::Program(Program { tasks, cyclic: true, starts })
-            }
-            Behaviour::Conversation => {
-                let (home, centre) = (v2(p.home.unwrap_or_default()), v2(p.spot.unwrap_or_default()));
-                let [t0, t1] = p.schedule.unwrap_or([0.0, 0.0]);
-                let members: Vec<usize> =
-                    (0..persons.len()).filter(|&k| persons[k].group == p.group).collect();
-                let n = members.len();
-                let rank = members.iter().position(|&k| k == i).unwrap_or(0);
-                let first_home = v2(persons[members[0]].home.unwrap_or_default()) - centre;
-                let a = first_home.y.atan2(first_home.x) + std::f64::consts::TAU * rank as f64 / n as f64;
-                let r = 0.4 + 0.1 * n as f64;
-                let slot = centre + Vec2::new(a.cos(), a.sin()) * r;
-                if !clear(geometry, slot, p.radius) {
-                    return Err(err(
-                        s,
-                        format!("{f}.spot"),
-                        format!("an o-space centre with room for {n} people on a circle of radius {r:.2} m"),
-                        format!("this person's place [{:.2}, {:.2}] hits a wall or object", slot.x, slot.y),
-                    ));
-                }
-                let there = walk(format!("{f}.spot"), home, slot)?;
-                let back = walk(format!("{f}.home"), slot, home)?;
-                let tasks = vec![
-                    Task::Stay { face: Face::Point(centre), until: Until::At(t0) },
-                    Task::Walk(there),
-                    Task::Stay { face: Face::Point(centre), until: Until::At(t1) },
-                    Task::Walk(back),
-                    Task::Stay { face: Face::Keep, until: Until::Forever },
-                ];
-                let start = if t0 <= 0.0 && t1 > 0.0 {
-                    (2, slot)
-                } else if t1 <= 0.0 {
-                    (4, home)
-                } else {
-                    (0, home)
-                };
-                Script::Program(Program { tasks, cyclic: false, starts: vec![start] })
-            }
-            Behaviour::Resident | Behaviour::Staff => {
-                let home = v2(p.home.unwrap_or_default());
-                let mut tasks = Vec::new();
-                let mut start = None;
-                let mut here = home;
-                let mut acts: Vec<(usize, usize)> = Vec::new(); // (activity, attends index)
-                for (k, &o) in p.attends.iter().enumerate() {
-                    for (a, act) in s.activities.iter().enumerate() {
-                        if act.object == s.objects[o].name {
-                            acts.push((a, k));
-                        }
-                    }
-                }
-                acts.sort_by(|x, y| s.activities[x.0].start.total_cmp(&s.activities[y.0].start));
-                let path_length = |from: Vec2, path: &[Vec2]| -> f64 {
-                    let mut last = from;
-                    path.iter().map(|&q| ((q - last).norm(), last = q).0).sum()
-                };
-                // Leave early enough to arrive `lead` before the start: the path at 80 % of the
-                // preferred speed (people slow down to pass others), plus 5 s.
-                let depart_for = |t0: f64, length: f64| t0 - p.lead - length / (0.8 * p.speed) - 5.0;
-                let mut prev_end = f64::NEG_INFINITY;
-                for (a, k) in acts {
-                    let act = &s.activities[a];
-                    let (t0, t1) = (act.start - s.scene.start_time, act.end - s.scene.start_time);
-                    if t1 <= 0.0 {
-                        continue;
-                    }
-                    let field = format!("{f}.attends[{k}]");
-                    let (place, facing) = activity_place(s, geometry, &field, p.attends[k], i)?;
-                    let mut there = walk(field.clone(), here, place)?;
-                    let mut depart = depart_for(t0, path_length(here, &there));
-                    if here != home && depart - prev_end >= 60.0 {
-                        // A minute or more between two activities: go home in between.
-                        tasks.push(Task::Walk(walk(format!("{f}.home"), here, home)?));
-                        here = home;
-                        there = walk(field.clone(), here, place)?;
-                        depart = depart_for(t0, path_length(here, &there));
-                    }
-                    if depart <= 0.0 && start.is_none() && tasks.is_empty() {
-                        start = Some((0, place)); // already there when the episode starts
-                    } else {
-                        tasks.push(Task::Stay { face: Face::Keep, until: Until::At(depart) });
-                        tasks.push(Task::Walk(there));
-                    }
-                    tasks.push(Task::Stay { face: Face::Point(facing), until: Until::At(t1) });
-                    here = place;
-                    prev_end = t1;
-                }
-                if here != home {
-                    tasks.push(Task::Walk(walk(format!("{f}.home"), here, home)?));
-                }
-                tasks.push(Task::Stay { face: Face::Keep, until: Until::Forever });
-                let start = start.unwrap_or((0, home));
-                Script::Program(Program { tasks, cyclic: false, starts: vec![start] })
-            }
+            Behaviour::Visitor => visitor(s, geometry, &mut router, i)?,
+            Behaviour::Conversation => conversation(s, geometry, &mut router, i)?,
+            Behaviour::Resident | Behaviour::Staff => attendee(s, geometry, &mut router, i)?,
             Behaviour::Guide => {
                 let followers: Vec<usize> =
                     (0..persons.len()).filter(|&k| persons[k].guide == Some(i)).collect();
                 Script::Guide { stops: p.stops.clone(), followers }
             }
             Behaviour::Follower if !p.tour.is_empty() => robot_follower(s, geometry, i)?,
-            Behaviour::Follower => {
-                let g = p.guide.unwrap_or(0);
-                let guide = &persons[g];
-                let followers: Vec<usize> =
-                    (0..persons.len()).filter(|&k| persons[k].guide == Some(g)).collect();
-                let rank = followers.iter().position(|&k| k == i).unwrap_or(0);
-                let m = followers.len() as f64;
-                let n = guide.route.len();
-                let mut slots = vec![None; n];
-                for k in (0..n).filter(|&k| guide.stops[k]) {
-                    let stop = v2(guide.route[k]);
-                    let (prev, next) = (v2(guide.route[(k + n - 1) % n]), v2(guide.route[(k + 1) % n]));
-                    let back = prev - stop;
-                    let r = p.gather_radius;
-                    // The arc is centred behind the guide (where the group comes from), one
-                    // shoulder width (0.75 m) apart, at most a half circle wide.
-                    let step = (0.75 / r).min(std::f64::consts::PI / m.max(1.0));
-                    let a = back.y.atan2(back.x) + (rank as f64 - 0.5 * (m - 1.0)) * step;
-                    let slot = stop + Vec2::new(a.cos(), a.sin()) * r;
-                    if !clear(geometry, slot, p.radius)
-                        || geometry.segment_hits(prev, slot)
-                        || geometry.segment_hits(slot, next)
-                    {
-                        return Err(err(
-                            s,
-                            format!("person[{g}].route[{k}]"),
-                            format!(
-                                "a stop with room for {m} followers on an arc of radius {r} m behind it, \
-                                 reachable from route[{}] and toward route[{}] without crossing walls or furniture",
-                                (k + n - 1) % n,
-                                (k + 1) % n
-                            ),
-                            format!(
-                                "follower {:?}'s place [{:.2}, {:.2}] does not fit",
-                                p.name, slot.x, slot.y
-                            ),
-                        ));
-                    }
-                    slots[k] = Some(slot);
-                }
-                Script::Follower { guide: g, slots }
-            }
+            Behaviour::Follower => follower(s, geometry, i)?,
         };
         out.push(script);
     }
     Ok(out)
+}
+
+/// A visitor: a viewing spot at each exhibit, stays of `dwell` seconds there facing it, and the
+/// walks between them, cyclically; it may start at any exhibit.
+fn visitor(s: &Scenario, geometry: &StaticGeometry, router: &mut Router<'_>, i: usize) -> Result<Script> {
+    let (p, f) = (&s.persons[i], format!("person[{i}]"));
+    let mut places = Vec::with_capacity(p.exhibits.len());
+    for (k, &o) in p.exhibits.iter().enumerate() {
+        let field = format!("{f}.exhibits[{k}]");
+        places.push(viewing_spot(s, geometry, &field, &s.objects[o], i, k, p.radius)?);
+    }
+    let m = places.len();
+    let mut tasks = Vec::with_capacity(2 * m);
+    let mut starts = Vec::with_capacity(m);
+    for k in 0..m {
+        let o = &s.objects[p.exhibits[k]];
+        starts.push((tasks.len(), places[k]));
+        let face = Face::Point(Vec2::new(o.pose[0], o.pose[1]));
+        tasks.push(Task::Stay { face, until: Until::For(p.dwell) });
+        if m > 1 {
+            let next = (k + 1) % m;
+            tasks.push(Task::Walk(router.walk(
+                s,
+                p,
+                format!("{f}.exhibits[{next}]"),
+                places[k],
+                places[next],
+            )?));
+        }
+    }
+    Ok(Script::Program(Program { tasks, cyclic: true, starts }))
+}
+
+/// A member of a conversation: its place on a circle around the o-space centre (by rank in the
+/// group), the walks from home and back, and the stays until the schedule's start and end.
+fn conversation(
+    s: &Scenario,
+    geometry: &StaticGeometry,
+    router: &mut Router<'_>,
+    i: usize,
+) -> Result<Script> {
+    let (p, persons, f) = (&s.persons[i], &s.persons, format!("person[{i}]"));
+    let (home, centre) = (v2(p.home.unwrap_or_default()), v2(p.spot.unwrap_or_default()));
+    let [t0, t1] = p.schedule.unwrap_or([0.0, 0.0]);
+    let members: Vec<usize> = (0..persons.len()).filter(|&k| persons[k].group == p.group).collect();
+    let n = members.len();
+    let rank = members.iter().position(|&k| k == i).unwrap_or(0);
+    let first_home = v2(persons[members[0]].home.unwrap_or_default()) - centre;
+    let a = first_home.y.atan2(first_home.x) + std::f64::consts::TAU * rank as f64 / n as f64;
+    let r = 0.4 + 0.1 * n as f64;
+    let slot = centre + Vec2::new(a.cos(), a.sin()) * r;
+    if !clear(geometry, slot, p.radius) {
+        return Err(err(
+            s,
+            format!("{f}.spot"),
+            format!("an o-space centre with room for {n} people on a circle of radius {r:.2} m"),
+            format!("this person's place [{:.2}, {:.2}] hits a wall or object", slot.x, slot.y),
+        ));
+    }
+    let there = router.walk(s, p, format!("{f}.spot"), home, slot)?;
+    let back = router.walk(s, p, format!("{f}.home"), slot, home)?;
+    let tasks = vec![
+        Task::Stay { face: Face::Point(centre), until: Until::At(t0) },
+        Task::Walk(there),
+        Task::Stay { face: Face::Point(centre), until: Until::At(t1) },
+        Task::Walk(back),
+        Task::Stay { face: Face::Keep, until: Until::Forever },
+    ];
+    let start = if t0 <= 0.0 && t1 > 0.0 {
+        (2, slot)
+    } else if t1 <= 0.0 {
+        (4, home)
+    } else {
+        (0, home)
+    };
+    Ok(Script::Program(Program { tasks, cyclic: false, starts: vec![start] }))
+}
+
+/// A resident or staff member: for each activity on the objects it attends, in time order, the
+/// walk to its place (leaving so as to arrive `lead` seconds early), the stay until the end, home
+/// in between when there is a minute or more, and home at the end.
+fn attendee(s: &Scenario, geometry: &StaticGeometry, router: &mut Router<'_>, i: usize) -> Result<Script> {
+    let (p, f) = (&s.persons[i], format!("person[{i}]"));
+    let home = v2(p.home.unwrap_or_default());
+    let mut tasks = Vec::new();
+    let mut start = None;
+    let mut here = home;
+    let mut acts: Vec<(usize, usize)> = Vec::new(); // (activity, attends index)
+    for (k, &o) in p.attends.iter().enumerate() {
+        for (a, act) in s.activities.iter().enumerate() {
+            if act.object == s.objects[o].name {
+                acts.push((a, k));
+            }
+        }
+    }
+    acts.sort_by(|x, y| s.activities[x.0].start.total_cmp(&s.activities[y.0].start));
+    let path_length = |from: Vec2, path: &[Vec2]| -> f64 {
+        let mut last = from;
+        path.iter().map(|&q| ((q - last).norm(), last = q).0).sum()
+    };
+    // Leave early enough to arrive `lead` before the start: the path at 80 % of the
+    // preferred speed (people slow down to pass others), plus 5 s.
+    let depart_for = |t0: f64, length: f64| t0 - p.lead - length / (0.8 * p.speed) - 5.0;
+    let mut prev_end = f64::NEG_INFINITY;
+    for (a, k) in acts {
+        let act = &s.activities[a];
+        let (t0, t1) = (act.start - s.scene.start_time, act.end - s.scene.start_time);
+        if t1 <= 0.0 {
+            continue;
+        }
+        let field = format!("{f}.attends[{k}]");
+        let (place, facing) = activity_place(s, geometry, &field, p.attends[k], i)?;
+        let mut there = router.walk(s, p, field.clone(), here, place)?;
+        let mut depart = depart_for(t0, path_length(here, &there));
+        if here != home && depart - prev_end >= 60.0 {
+            // A minute or more between two activities: go home in between.
+            tasks.push(Task::Walk(router.walk(s, p, format!("{f}.home"), here, home)?));
+            here = home;
+            there = router.walk(s, p, field.clone(), here, place)?;
+            depart = depart_for(t0, path_length(here, &there));
+        }
+        if depart <= 0.0 && start.is_none() && tasks.is_empty() {
+            start = Some((0, place)); // already there when the episode starts
+        } else {
+            tasks.push(Task::Stay { face: Face::Keep, until: Until::At(depart) });
+            tasks.push(Task::Walk(there));
+        }
+        tasks.push(Task::Stay { face: Face::Point(facing), until: Until::At(t1) });
+        here = place;
+        prev_end = t1;
+    }
+    if here != home {
+        tasks.push(Task::Walk(router.walk(s, p, format!("{f}.home"), here, home)?));
+    }
+    tasks.push(Task::Stay { face: Face::Keep, until: Until::Forever });
+    let start = start.unwrap_or((0, home));
+    Ok(Script::Program(Program { tasks, cyclic: false, starts: vec![start] }))
+}
+
+/// A follower of a guide (a person): its place on an arc behind the guide at each of its stops.
+fn follower(s: &Scenario, geometry: &StaticGeometry, i: usize) -> Result<Script> {
+    let (p, persons) = (&s.persons[i], &s.persons);
+    let g = p.guide.unwrap_or(0);
+    let guide = &persons[g];
+    let followers: Vec<usize> = (0..persons.len()).filter(|&k| persons[k].guide == Some(g)).collect();
+    let rank = followers.iter().position(|&k| k == i).unwrap_or(0);
+    let m = followers.len() as f64;
+    let n = guide.route.len();
+    let mut slots = vec![None; n];
+    for k in (0..n).filter(|&k| guide.stops[k]) {
+        let stop = v2(guide.route[k]);
+        let (prev, next) = (v2(guide.route[(k + n - 1) % n]), v2(guide.route[(k + 1) % n]));
+        let back = prev - stop;
+        let r = p.gather_radius;
+        // The arc is centred behind the guide (where the group comes from), one
+        // shoulder width (0.75 m) apart, at most a half circle wide.
+        let step = (0.75 / r).min(std::f64::consts::PI / m.max(1.0));
+        let a = back.y.atan2(back.x) + (rank as f64 - 0.5 * (m - 1.0)) * step;
+        let slot = stop + Vec2::new(a.cos(), a.sin()) * r;
+        if !clear(geometry, slot, p.radius)
+            || geometry.segment_hits(prev, slot)
+            || geometry.segment_hits(slot, next)
+        {
+            return Err(err(
+                s,
+                format!("person[{g}].route[{k}]"),
+                format!(
+                    "a stop with room for {m} followers on an arc of radius {r} m behind it, \
+                     reachable from route[{}] and toward route[{}] without crossing walls or furniture",
+                    (k + n - 1) % n,
+                    (k + 1) % n
+                ),
+                format!("follower {:?}'s place [{:.2}, {:.2}] does not fit", p.name, slot.x, slot.y),
+            ));
+        }
+        slots[k] = Some(slot);
+    }
+    Ok(Script::Follower { guide: g, slots })
 }
 
 /// The script of follower `i` of a robot's tour: a place on an arc of `gather_radius` behind

@@ -1,0 +1,306 @@
+//! Tests of the social force model, the crowd and its scripts.
+
+use super::scripts::Script;
+use super::*;
+use crate::map::geometry::Bounds;
+use crate::map::geometry::StaticGeometry;
+use crate::map::grid::DistanceField;
+use crate::map::grid::{GridSpec, OccupancyGrid};
+use crate::math::Vec2;
+use crate::scenario::Behaviour;
+use crate::scenario::{Person, Randomize};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+fn walker(route: &[[f64; 2]], speed: f64, dwell: f64) -> Person {
+    Person {
+        name: "p".into(),
+        behaviour: Behaviour::Walker,
+        pose: [route[0][0], route[0][1], 0.0],
+        route: route.to_vec(),
+        speed,
+        dwell,
+        radius: 0.2,
+        height: 1.7,
+        group: None,
+        aware: true,
+        features: vec![],
+        ..Person::default()
+    }
+}
+
+#[test]
+fn walkers_never_start_in_a_robot_start_area() {
+    // A 10 m out-and-back route; the robot's start area covers its first 3 m (plus the
+    // person's radius). Over many seeds no walker starts inside it, and without the area
+    // some do (the check can fail).
+    let persons = vec![walker(&[[0.0, 0.0], [10.0, 0.0]], 1.2, 0.0); 8];
+    let scripts: Vec<Script> = persons.iter().map(Script::basic).collect();
+    let random = Randomize { person_phase: true, speed_jitter: 0.0, robot_start_jitter: 0.0 };
+    let area = [(Vec2::new(0.0, 0.0), 3.0)];
+    let inside = |c: &Crowd| c.pos.iter().filter(|q| q.norm() < 3.0 + 0.2).count();
+    let (mut with_area, mut without) = (0, 0);
+    for seed in 0..50 {
+        let spawn = |clear: &[(Vec2, f64)]| {
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let params = SocialForceParams::default();
+            Crowd::spawn_scripted(&persons, &scripts, &random, params, clear, &mut rng)
+        };
+        with_area += inside(&spawn(&area));
+        without += inside(&spawn(&[]));
+    }
+    assert_eq!(with_area, 0);
+    assert!(without > 50, "{without}");
+}
+
+fn fixed() -> Randomize {
+    Randomize { person_phase: false, speed_jitter: 0.0, robot_start_jitter: 0.0 }
+}
+
+fn room() -> StaticGeometry {
+    // 20 x 10 m room with 0.2 m walls.
+    let b = Bounds { min: Vec2::new(-1.0, -1.0), max: Vec2::new(21.0, 11.0) };
+    let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)]
+    };
+    StaticGeometry::new(
+        vec![
+            rect(-0.2, -0.2, 20.2, 0.0),
+            rect(-0.2, 10.0, 20.2, 10.2),
+            rect(-0.2, 0.0, 0.0, 10.0),
+            rect(20.0, 0.0, 20.2, 10.0),
+        ],
+        b,
+    )
+    .expect("valid room")
+}
+
+struct Room {
+    geom: StaticGeometry,
+    field: DistanceField,
+}
+
+impl Room {
+    fn step(&self, c: &mut Crowd, dt: f64, robots: &[(Vec2, f64, Vec2)]) {
+        c.step(dt, robots, &self.geom, &self.field);
+    }
+}
+
+fn room_with_field() -> Room {
+    let geom = room();
+    let spec = GridSpec::covering(geom.bounds(), 0.1).expect("valid grid");
+    let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geom, spec));
+    Room { geom, field }
+}
+
+fn spawn(persons: &[Person]) -> Crowd {
+    Crowd::spawn(persons, &fixed(), SocialForceParams::default(), &mut ChaCha8Rng::seed_from_u64(0))
+}
+
+#[test]
+fn moussaid_known_answers() {
+    // Moussaid et al. 2009's interaction force with A = 4.5, the worked example of the social
+    // force model in `docs/algorithms.md`.
+    let p = SocialForceParams { cutoff: 10.0, ..SocialForceParams::default() };
+    let f =
+        interaction_force(Vec2::zeros(), Vec2::new(1.3, 0.0), Vec2::new(2.0, 0.0), Vec2::new(-1.3, 0.0), &p);
+    assert!((f.x + 1.7904).abs() < 1e-4, "{f:?}");
+    // exact symmetry: the passing convention adds a push to the right (negative y)
+    assert!(f.y < 0.0);
+    let f =
+        interaction_force(Vec2::zeros(), Vec2::new(1.3, 0.0), Vec2::new(2.0, 0.3), Vec2::new(-1.3, 0.0), &p);
+    assert!((f.x + 0.8832).abs() < 1e-4 && (f.y + 1.3415).abs() < 1e-4, "{f:?}");
+    let f = interaction_force(Vec2::zeros(), Vec2::new(1.3, 0.0), Vec2::new(1.0, 0.0), Vec2::zeros(), &p);
+    assert!((f.x + 2.0349).abs() < 1e-4, "{f:?}");
+}
+
+#[test]
+fn lone_walker_relaxes_to_its_speed() {
+    let room = room_with_field();
+    let mut c = spawn(&[walker(&[[2.0, 5.0], [18.0, 5.0]], 1.2, 0.0)]);
+    room.step(&mut c, 0.5, &[]);
+    let v = c.vel[0].norm();
+    // v(t) = v0 (1 - exp(-t / tau)) up to the Euler discretisation
+    let want = 1.2 * (1.0 - (-1.0f64).exp());
+    assert!((v - want).abs() < 0.05, "{v} vs {want}");
+    room.step(&mut c, 3.0, &[]);
+    assert!((c.vel[0].norm() - 1.2).abs() < 0.01);
+    assert!((c.heading[0]).abs() < 1e-6);
+}
+
+#[test]
+fn walkers_follow_their_routes_and_dwell() {
+    let room = room_with_field();
+    let mut c = spawn(&[walker(&[[2.0, 2.0], [8.0, 2.0], [8.0, 8.0]], 1.0, 3.0)]);
+    let mut reached_second = false;
+    let mut dwelt = 0;
+    for _ in 0..400 {
+        room.step(&mut c, 0.1, &[]);
+        if (c.pos[0] - Vec2::new(8.0, 2.0)).norm() < 0.35 {
+            reached_second = true;
+            if c.vel[0].norm() < 1e-9 {
+                dwelt += 1;
+            }
+        }
+    }
+    assert!(reached_second);
+    assert!(dwelt >= 20, "dwelt {dwelt} steps");
+}
+
+#[test]
+fn walkers_dwell_only_at_their_stops() {
+    let room = room_with_field();
+    let mut w = walker(&[[2.0, 2.0], [8.0, 2.0], [8.0, 8.0]], 1.0, 3.0);
+    w.stops = vec![false, false, true];
+    let mut c = spawn(&[w]);
+    let (mut still_at_corner, mut still_at_stop) = (0, 0);
+    for _ in 0..400 {
+        room.step(&mut c, 0.1, &[]);
+        let still = c.vel[0].norm() < 1e-9;
+        if still && (c.pos[0] - Vec2::new(8.0, 2.0)).norm() < 0.35 {
+            still_at_corner += 1;
+        }
+        if still && (c.pos[0] - Vec2::new(8.0, 8.0)).norm() < 0.35 {
+            still_at_stop += 1;
+        }
+    }
+    assert_eq!(still_at_corner, 0, "dwelt at a waypoint that is not a stop");
+    assert!(still_at_stop >= 20, "dwelt {still_at_stop} steps at the stop");
+}
+
+#[test]
+fn nobody_enters_the_walls_in_a_crowded_long_run() {
+    let room = room_with_field();
+    let mut persons = Vec::new();
+    for k in 0..30 {
+        let y = 0.5 + (k % 10) as f64 * 0.9;
+        let (a, b) = if k % 2 == 0 { ([1.0, y], [19.0, 9.5 - y]) } else { ([19.0, y], [1.0, 9.5 - y]) };
+        persons.push(walker(&[a, b], 1.0 + 0.01 * k as f64, 0.0));
+    }
+    let mut c = Crowd::spawn(
+        &persons,
+        &Randomize::default(),
+        SocialForceParams::default(),
+        &mut ChaCha8Rng::seed_from_u64(3),
+    );
+    for _ in 0..1200 {
+        room.step(&mut c, 0.1, &[]);
+        for (i, q) in c.pos.iter().enumerate() {
+            assert!(!room.geom.contains(*q), "person {i} inside the walls at {q:?}");
+            assert!(room.geom.distance(*q) >= 0.5 * c.radius[i] - 1e-9);
+        }
+    }
+}
+
+#[test]
+fn head_on_walkers_pass_on_their_right() {
+    let room = room_with_field();
+    let mut c =
+        spawn(&[walker(&[[2.0, 5.0], [18.0, 5.0]], 1.2, 0.0), walker(&[[18.0, 5.0], [2.0, 5.0]], 1.2, 0.0)]);
+    let mut min_d = f64::INFINITY;
+    for _ in 0..80 {
+        room.step(&mut c, 0.1, &[]);
+        min_d = min_d.min((c.pos[0] - c.pos[1]).norm());
+    }
+    assert!(min_d > 0.4, "they collided: {min_d}");
+    // walker 0 heads +x: its right is -y; walker 1 heads -x: its right is +y.
+    assert!(c.pos[0].y < 5.0 && c.pos[1].y > 5.0, "{:?}", c.pos);
+}
+
+#[test]
+fn aware_walker_goes_around_a_standing_robot_and_oblivious_does_not_avoid_it() {
+    let room = room_with_field();
+    let robot = [(Vec2::new(8.0, 5.0), 0.24, Vec2::zeros())];
+    let mut p = walker(&[[2.0, 5.0], [16.0, 5.0]], 1.0, 0.0);
+    let mut c = spawn(std::slice::from_ref(&p));
+    let mut min_gap = f64::INFINITY;
+    for _ in 0..200 {
+        room.step(&mut c, 0.1, &robot);
+        min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
+    }
+    assert!(min_gap >= YIELD_GAP - 1e-9, "gap {min_gap}");
+    assert!(c.pos[0].x > 10.0, "stuck behind the robot at {:?}", c.pos[0]);
+    p.aware = false;
+    let mut c = spawn(&[p]);
+    let mut min_gap = f64::INFINITY;
+    for _ in 0..200 {
+        room.step(&mut c, 0.1, &robot);
+        min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
+    }
+    assert!(min_gap < 0.0);
+}
+
+#[test]
+fn walking_group_stays_together() {
+    let room = room_with_field();
+    let mut a = walker(&[[2.0, 4.5], [18.0, 4.5]], 1.0, 0.0);
+    let mut b = walker(&[[2.0, 5.5], [18.0, 5.5]], 1.2, 0.0);
+    a.group = Some(1);
+    b.group = Some(1);
+    let mut c = spawn(&[a, b]);
+    for _ in 0..100 {
+        room.step(&mut c, 0.1, &[]);
+        assert!((c.pos[0] - c.pos[1]).norm() < 2.0);
+    }
+}
+
+#[test]
+fn same_seed_same_crowd_bit_for_bit() {
+    let room = room_with_field();
+    let persons: Vec<Person> =
+        (0..12).map(|k| walker(&[[1.0 + k as f64, 1.0], [18.0 - k as f64, 9.0]], 1.0, 1.0)).collect();
+    let run = |seed| {
+        let mut c = Crowd::spawn(
+            &persons,
+            &Randomize::default(),
+            SocialForceParams::default(),
+            &mut ChaCha8Rng::seed_from_u64(seed),
+        );
+        for _ in 0..300 {
+            room.step(&mut c, 0.1, &[]);
+        }
+        c.pos.iter().flat_map(|p| [p.x.to_bits(), p.y.to_bits()]).collect::<Vec<u64>>()
+    };
+    assert_eq!(run(4), run(4));
+    assert_ne!(run(4), run(5));
+}
+
+#[test]
+fn standing_person_stays() {
+    let room = room_with_field();
+    let p = Person {
+        name: "s".into(),
+        behaviour: Behaviour::Standing,
+        pose: [3.0, 2.0, 1.0],
+        route: vec![],
+        speed: 1.0,
+        dwell: 0.0,
+        radius: 0.2,
+        height: 1.7,
+        group: None,
+        aware: true,
+        features: vec![],
+        ..Person::default()
+    };
+    let mut c = spawn(&[p]);
+    room.step(&mut c, 1.0, &[]);
+    assert_eq!(c.pos[0], Vec2::new(3.0, 2.0));
+    assert_eq!(c.heading[0], 1.0);
+}
+
+#[test]
+fn random_phase_is_on_the_route_and_seeded() {
+    let p = walker(&[[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]], 1.0, 0.0);
+    let r = Randomize::default();
+    let sp = SocialForceParams::default();
+    let a = Crowd::spawn(std::slice::from_ref(&p), &r, sp, &mut ChaCha8Rng::seed_from_u64(7));
+    let b = Crowd::spawn(std::slice::from_ref(&p), &r, sp, &mut ChaCha8Rng::seed_from_u64(7));
+    let c = Crowd::spawn(std::slice::from_ref(&p), &r, sp, &mut ChaCha8Rng::seed_from_u64(8));
+    assert_eq!(a.pos, b.pos);
+    assert_ne!(a.pos, c.pos);
+    let q = a.pos[0];
+    let on = (q.y.abs() < 1e-9 && (0.0..=4.0).contains(&q.x))
+        || ((q.x - 4.0).abs() < 1e-9 && (0.0..=3.0).contains(&q.y))
+        || ((q.y - 0.75 * q.x).abs() < 1e-9);
+    assert!(on, "{q:?}");
+}

@@ -1,0 +1,265 @@
+//! Robots (`[[robot]]`): limits, goals or approach tasks, tours; start overlaps.
+
+use crate::error::Result;
+use crate::scenario::check::{Checker, check_unique, err};
+use crate::scenario::model::{Approach, Behaviour, EbandGains, Person, Proxemics, Robot};
+use crate::scenario::raw::{RawApproach, RawRobot};
+
+/// Checks the robots (at least one, unique names), their goals or approach tasks (to `persons`
+/// under the social model `prox`) inside the bounds `b`.
+pub(super) fn build_robots(
+    ck: &Checker<'_>,
+    raw: &[RawRobot],
+    persons: &[Person],
+    proxemics: &Proxemics,
+    b: [f64; 4],
+) -> Result<Vec<Robot>> {
+    let file = ck.file;
+    if raw.is_empty() {
+        return Err(err(file, "robot", "at least one [[robot]] table", "none"));
+    }
+    let mut robots = Vec::with_capacity(raw.len());
+    for (i, r) in raw.iter().enumerate() {
+        robots.push(build_robot(ck, i, r, persons, proxemics, b)?);
+    }
+    check_unique(file, "robot", robots.iter().map(|r| r.name.as_str()))?;
+    Ok(robots)
+}
+
+/// Robot `i`: its limits, goal or approach task, waypoints and dwell, elastic-band gains.
+fn build_robot(
+    ck: &Checker<'_>,
+    i: usize,
+    r: &RawRobot,
+    persons: &[Person],
+    proxemics: &Proxemics,
+    b: [f64; 4],
+) -> Result<Robot> {
+    let file = ck.file;
+    let f = format!("robot[{i}]");
+    ck.finite(&format!("{f}.start"), &r.start)?;
+    ck.inside(&format!("{f}.start"), [r.start[0], r.start[1]], b)?;
+    ck.range(&format!("{f}.radius"), r.radius, 0.0, 2.0, true)?;
+    ck.range(&format!("{f}.max_speed"), r.max_speed, 0.0, 5.0, true)?;
+    ck.range(&format!("{f}.max_angular_speed"), r.max_angular_speed, 0.0, 10.0, true)?;
+    ck.range(&format!("{f}.max_accel"), r.max_accel, 0.0, 20.0, true)?;
+    ck.range(&format!("{f}.inflation_margin"), r.inflation_margin, 0.0, 1.0, false)?;
+    let (goal, approach) = match (&r.goal, &r.approach) {
+        (Some(g), None) => {
+            ck.inside(&format!("{f}.goal"), *g, b)?;
+            (*g, None)
+        }
+        (None, Some(a)) => {
+            let (g, ap) = build_approach(ck, &f, a, persons, proxemics, r.radius)?;
+            ck.inside(&format!("{f}.approach"), g, b)?;
+            (g, Some(ap))
+        }
+        (Some(_), Some(_)) => {
+            return Err(err(file, format!("{f}.approach"), "either goal or approach, not both", "both"));
+        }
+        (None, None) => {
+            return Err(err(
+                file,
+                format!("{f}.goal"),
+                "goal = [x, y] (or an approach = { person = ... } task)",
+                "nothing",
+            ));
+        }
+    };
+    for (k, w) in r.waypoints.iter().enumerate() {
+        ck.inside(&format!("{f}.waypoints[{k}]"), *w, b)?;
+    }
+    ck.range(&format!("{f}.dwell"), r.dwell, 0.0, 3600.0, false)?;
+    if r.dwell > 0.0 && r.waypoints.is_empty() {
+        return Err(err(
+            file,
+            format!("{f}.dwell"),
+            "a dwell only with waypoints = [[x, y], ...] to stop at",
+            format!("dwell = {} without waypoints", r.dwell),
+        ));
+    }
+    Ok(Robot {
+        name: r.name.clone().unwrap_or_else(|| format!("robot_{i}")),
+        start: r.start,
+        goal,
+        approach,
+        planner: r.planner,
+        radius: r.radius,
+        max_speed: r.max_speed,
+        max_angular_speed: r.max_angular_speed,
+        max_accel: r.max_accel,
+        inflation_margin: r.inflation_margin,
+        eband: EbandGains::default().merged(
+            file,
+            &format!("{f}.eband"),
+            r.eband.contraction_gain,
+            r.eband.repulsion_gain,
+            r.eband.social_gain,
+        )?,
+        waypoints: r.waypoints.clone(),
+        dwell: r.dwell,
+    })
+}
+
+/// Robots must not start overlapping: every pair of start discs at least touching-free.
+pub(super) fn check_robot_starts(file: &str, robots: &[Robot]) -> Result<()> {
+    for (j, b) in robots.iter().enumerate() {
+        for (i, a) in robots[..j].iter().enumerate() {
+            let d = (a.start[0] - b.start[0]).hypot(a.start[1] - b.start[1]);
+            let need = a.radius + b.radius;
+            if d < need {
+                return Err(err(
+                    file,
+                    format!("robot[{j}].start"),
+                    format!(
+                        "a start at least {need:.2} m (the sum of the radii) from robot[{i}]'s start {:?}",
+                        [a.start[0], a.start[1]]
+                    ),
+                    format!("{:?}, {d:.2} m away (overlapping)", [b.start[0], b.start[1]]),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The goal of an approach task: the robot's centre one body radius beyond the edge of the
+/// person's (feature-adapted) personal space on the requested side, facing the person. `auto`
+/// picks, among front, left and right, the side where that edge is nearest (the side the
+/// person's features make most welcoming; never the back).
+fn build_approach(
+    ck: &Checker<'_>,
+    f: &str,
+    a: &RawApproach,
+    persons: &[Person],
+    prox: &Proxemics,
+    robot_radius: f64,
+) -> Result<([f64; 2], Approach)> {
+    use crate::proxemics::PersonalSpace;
+    let file = ck.file;
+    let members = approach_members(ck, f, a, persons)?;
+    let (centre, heading, sides) = approached_space(&members, persons, prox)?;
+    let [front, rear, right, left] = prox.sigmas;
+    // The personal zone's edge in value terms (see crate::socialmap::SpaceFunction).
+    let zone_scale = match prox.space.as_str() {
+        "calderita" => right,
+        "daza2021" => front,
+        _ => (front * rear * right * left).powf(0.25),
+    };
+    let default_level = (-(prox.zones[1] * prox.zones[1]) / (2.0 * zone_scale * zone_scale)).exp();
+    let level = a.level.unwrap_or(default_level);
+    ck.range(&format!("{f}.approach.level"), level, 0.0, 1.0, true)?;
+    let space = PersonalSpace::Asymmetric(sides);
+    let extent = |bearing: f64| space.extent(bearing, level).unwrap_or(f64::INFINITY);
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let (side, bearing) = match a.side.as_str() {
+        "front" => ("front", 0.0),
+        "left" => ("left", half_pi),
+        "right" => ("right", -half_pi),
+        "auto" => [("front", 0.0), ("left", half_pi), ("right", -half_pi)]
+            .into_iter()
+            .min_by(|x, y| extent(x.1).total_cmp(&extent(y.1)))
+            .unwrap_or(("front", 0.0)),
+        other => {
+            return Err(err(
+                file,
+                format!("{f}.approach.side"),
+                "\"front\", \"left\", \"right\" or \"auto\"",
+                format!("{other:?}"),
+            ));
+        }
+    };
+    let d = extent(bearing) + robot_radius;
+    let dir = heading + bearing;
+    let goal = [centre[0] + d * dir.cos(), centre[1] + d * dir.sin()];
+    Ok((goal, Approach { people: members, side: side.to_string(), level, face: centre }))
+}
+
+/// The people an approach task targets: one named person, or the members of a group; all of
+/// them standing.
+fn approach_members(ck: &Checker<'_>, f: &str, a: &RawApproach, persons: &[Person]) -> Result<Vec<usize>> {
+    let file = ck.file;
+    let members: Vec<usize> = match (&a.person, a.group) {
+        (Some(name), None) => {
+            let k = persons.iter().position(|p| &p.name == name).ok_or_else(|| {
+                err(file, format!("{f}.approach.person"), "the name of a [[person]]", format!("{name:?}"))
+            })?;
+            vec![k]
+        }
+        (None, Some(g)) => {
+            let m: Vec<usize> = (0..persons.len()).filter(|&k| persons[k].group == Some(g)).collect();
+            if m.len() < 2 {
+                return Err(err(
+                    file,
+                    format!("{f}.approach.group"),
+                    "the id of a group with at least 2 people",
+                    format!("group {g} with {} member(s)", m.len()),
+                ));
+            }
+            m
+        }
+        _ => {
+            return Err(err(
+                file,
+                format!("{f}.approach"),
+                "exactly one of person = \"name\" or group = id",
+                "neither or both",
+            ));
+        }
+    };
+    for &k in &members {
+        if persons[k].behaviour != Behaviour::Standing {
+            let field = if a.group.is_some() { "group" } else { "person" };
+            return Err(err(
+                file,
+                format!("{f}.approach.{field}"),
+                "standing people (approach targets do not move)",
+                format!("{:?}, a {:?}", persons[k].name, persons[k].behaviour),
+            ));
+        }
+    }
+    Ok(members)
+}
+
+/// The approached personal space: its centre, heading and per-side sigmas after the features'
+/// adaptation. One person, or the group as one individual.
+fn approached_space(
+    members: &[usize],
+    persons: &[Person],
+    prox: &Proxemics,
+) -> Result<([f64; 2], f64, crate::proxemics::Asymmetric)> {
+    use crate::proxemics::{Asymmetric, SideInfluences, adapt};
+    let [front, rear, right, left] = prox.sigmas;
+    let base = Asymmetric { front, rear, right, left };
+    let [fi, ri, rti, li] = prox.influence.clone();
+    let influence = SideInfluences { front: fi, rear: ri, right: rti, left: li };
+    // One person, or the group as one individual (Sousa 2022 §3.3.4): its centre, orientation and
+    // extents grow the base function; its features are the members' mean.
+    let (centre, heading, grown, fv) = if members.len() == 1 {
+        let p = &persons[members[0]];
+        ([p.pose[0], p.pose[1]], p.pose[2], base, p.features.clone())
+    } else {
+        use crate::groups::{FeatureAggregate, PersonState, group_as_individual};
+        use crate::math::Vec2;
+        let states: Vec<PersonState> = members
+            .iter()
+            .map(|&k| {
+                PersonState::standing(Vec2::new(persons[k].pose[0], persons[k].pose[1]), persons[k].pose[2])
+            })
+            .collect();
+        let gi = group_as_individual(&states, &vec![1.0; states.len()], FeatureAggregate::Mean)?;
+        let nf = prox.features.len();
+        let fv: Vec<f64> = (0..nf)
+            .map(|j| members.iter().map(|&k| persons[k].features[j]).sum::<f64>() / members.len() as f64)
+            .collect();
+        let grown = Asymmetric {
+            front: front + gi.front,
+            rear: rear + gi.rear,
+            right: right + gi.right,
+            left: left + gi.left,
+        };
+        ([gi.centre.x, gi.centre.y], gi.heading, grown, fv)
+    };
+    let sides = if prox.features.is_empty() { grown } else { adapt(grown, &fv, &influence)? };
+    Ok((centre, heading, sides))
+}

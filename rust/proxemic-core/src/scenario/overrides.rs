@@ -1,0 +1,117 @@
+//! The `with_*` builders: copies of a validated scenario with one setting replaced (planner,
+//! robots, elastic-band gains, goal), checked like the file values.
+
+use super::check::{Checker, err};
+use super::model::{PlannerKind, Scenario};
+use crate::error::Result;
+
+impl Scenario {
+    /// A copy with every robot's planner replaced by `name` (one of [`PlannerKind::NAMES`]).
+    pub fn with_planner(&self, name: &str) -> Result<Self> {
+        let kind = PlannerKind::parse(name).ok_or_else(|| {
+            err(&self.source, "planner", format!("one of {:?}", PlannerKind::NAMES), format!("{name:?}"))
+        })?;
+        let mut s = self.clone();
+        for r in &mut s.robots {
+            r.planner = kind;
+        }
+        Ok(s)
+    }
+
+    /// A copy with robot `index`'s planner replaced by `name` (one of [`PlannerKind::NAMES`]).
+    pub fn with_robot_planner(&self, index: usize, name: &str) -> Result<Self> {
+        let field = format!("robot[{index}].planner");
+        if index >= self.robots.len() {
+            return Err(err(
+                &self.source,
+                format!("robot[{index}]"),
+                format!("a robot index below {}", self.robots.len()),
+                index.to_string(),
+            ));
+        }
+        let kind = PlannerKind::parse(name).ok_or_else(|| {
+            err(&self.source, field, format!("one of {:?}", PlannerKind::NAMES), format!("{name:?}"))
+        })?;
+        let mut s = self.clone();
+        s.robots[index].planner = kind;
+        Ok(s)
+    }
+
+    /// A copy with only the first `n` robots (1 <= `n` <= the number of `[[robot]]` entries).
+    /// Followers of a robot that is left out stay at their place at its tour's start.
+    pub fn with_robots(&self, n: usize) -> Result<Self> {
+        if n == 0 || n > self.robots.len() {
+            return Err(err(
+                &self.source,
+                "robots",
+                format!(
+                    "a number of robots in [1, {}] (the [[robot]] entries of the file)",
+                    self.robots.len()
+                ),
+                n.to_string(),
+            ));
+        }
+        let mut s = self.clone();
+        s.robots.truncate(n);
+        for p in &mut s.persons {
+            if p.guide_robot.is_some_and(|j| j >= n) {
+                p.guide_robot = None; // the tour waits at its start for a guide that is not there
+            }
+        }
+        Ok(s)
+    }
+
+    /// A copy with every robot's elastic-band gains replaced where `Some` (each a number in
+    /// `[0, EbandGains::MAX]`; errors name the field `eband.<gain>`).
+    pub fn with_eband_gains(
+        &self,
+        contraction: Option<f64>,
+        repulsion: Option<f64>,
+        social: Option<f64>,
+    ) -> Result<Self> {
+        let mut s = self.clone();
+        for r in &mut s.robots {
+            r.eband = r.eband.merged(&self.source, "eband", contraction, repulsion, social)?;
+        }
+        Ok(s)
+    }
+
+    /// A copy whose episode starts at `time` (seconds after midnight, in [0, 86400)) instead of
+    /// the file's `scene.start_time`: the agenda's activities (times of day) then fall at another
+    /// point of the episode. Times the validated scenario holds as seconds into the episode keep
+    /// their value, including a conversation's `start` and `end` written as times of day (they
+    /// were converted with the file's start time). Errors name the field `scene.start_time`.
+    pub fn with_start_time(&self, time: f64) -> Result<Self> {
+        if !(time.is_finite() && (0.0..86400.0).contains(&time)) {
+            return Err(err(
+                &self.source,
+                "scene.start_time",
+                "seconds after midnight in [0, 86400)",
+                time.to_string(),
+            ));
+        }
+        let mut s = self.clone();
+        s.scene.start_time = time;
+        Ok(s)
+    }
+
+    /// A copy whose robot `robot` goes to `goal` (world frame, metres; inside `scene.bounds`)
+    /// instead of its file goal or approach task. Whether the goal is free space is checked when
+    /// a world is built from the scenario.
+    pub fn with_goal(&self, robot: usize, goal: [f64; 2]) -> Result<Self> {
+        let field = format!("robot[{robot}].goal");
+        if robot >= self.robots.len() {
+            return Err(err(
+                &self.source,
+                field,
+                format!("a robot index below {}", self.robots.len()),
+                format!("{robot}"),
+            ));
+        }
+        Checker { file: &self.source }.inside(&field, goal, self.scene.bounds)?;
+        let mut s = self.clone();
+        s.robots[robot].goal = goal;
+        s.robots[robot].approach = None;
+        Ok(s)
+    }
+}
