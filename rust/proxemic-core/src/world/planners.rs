@@ -3,22 +3,18 @@
 
 use super::World;
 use crate::control::eband::ElasticBand;
-use crate::control::mode_switch::{Mode, OtherRobot, Person as CtlPerson, choose_mode, social_momentum_step};
-use crate::control::orca::OrcaAgent;
-use crate::control::{FollowerParams, PathFollower, world_to_body};
+use crate::control::mode_switch::{
+    LocalPlanner, Mode, OtherRobot, Person as CtlPerson, select_mode, social_momentum_step,
+};
+use crate::control::orca_crowd::{OrcaPeople, OrcaRobot, orca_among_people};
+use crate::control::{FollowerParams, PathFollower, heading_rate, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
-use crate::math::{Vec2, wrap_angle};
+use crate::math::Vec2;
 use crate::metrics::Outcome;
 use crate::plan::social::{SocialPlanning, Trigger};
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path, snap_to_passable};
 use crate::scenario::PlannerKind;
-
-/// On an approach task the robot turns to face the person within this distance of the goal (m).
-const APPROACH_FACING_DISTANCE: f64 = 1.0;
-
-/// Added to every radius ORCA sees (metres): ORCA lets bodies touch, the physics counts a touch.
-const ORCA_MARGIN: f64 = 0.08;
 
 /// Social planners check their path every this many control steps...
 const SOCIAL_CHECK_PERIOD: usize = 3;
@@ -263,20 +259,17 @@ impl World {
     }
 
     /// Runs every robot's built-in planner: the next command (written to `command`), the same
-    /// command as a normalised action (`planner_action`) and the local planner's `mode`.
+    /// command as a normalised action (`planner_action`) and the local planner's `mode`. The
+    /// decisions are [`crate::control`]'s: the path follower, each local planner's choice of mode
+    /// ([`select_mode`], Daza et al. 2021 Algorithm 1 for the `social` planner), Social Momentum,
+    /// ORCA among people ([`orca_among_people`]) and the heading policy ([`heading_rate`]).
     pub(super) fn plan_all(&mut self, out: &mut [f64]) {
-        let stride = self.layout.stride;
-        let (cmd, act, mode_off) =
-            (self.layout.command.offset, self.layout.planner_action.offset, self.layout.mode.offset);
         let dt = self.scenario.control_dt();
         self.social_checks();
         let n = self.robots.len();
-        let local = |k: PlannerKind| {
-            matches!(k, PlannerKind::Social | PlannerKind::SocialMomentum | PlannerKind::Orca)
-        };
         if (0..n).any(|i| {
             let k = self.statics[i].planner;
-            self.planning[i] && (local(k) || k == PlannerKind::Eband)
+            self.planning[i] && (local_planner(k).is_some() || k == PlannerKind::Eband)
         }) {
             // Groups and robots joining them, as perceived now (the social planners' perception).
             let _ = self.perceive();
@@ -294,174 +287,161 @@ impl World {
                 self.robots[i].mode = Mode::Wait;
                 continue;
             }
-            let planner = self.statics[i].planner;
-            let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
-            let theta = self.robots[i].pose[2];
-            if planner == PlannerKind::Eband {
-                self.update_band(i, p);
-            }
-            // Path following: the nominal command, and the partial goal for the local planners.
-            let st = &self.statics[i];
-            let grid = &self.grids[st.grid_index].grid;
-            let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
-            let rb = &mut self.robots[i];
-            let mut o =
-                rb.follower.step_visible(p, theta, st.limits.max_speed, st.limits.max_accel, dt, &visible);
-            if o.cross_track > rb.follower.params().replan_distance && !planner.social_global() {
-                // Pushed off the path (by people or contacts): re-plan from here.
-                if let Some(path) = plan_path(&mut self.planner, grid, p, st.route[rb.leg]) {
-                    rb.follower = PathFollower::new(path, FollowerParams::default());
-                    o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
-                    if planner == PlannerKind::Eband {
-                        rb.band = ElasticBand::new(rb.follower.path(), st.eband).ok();
-                    }
-                }
-            }
-            partial_goals[i] = rb.follower.point_ahead(self.control.partial_goal);
-            desired[i] = o.velocity;
-            if !local(planner) {
-                rb.mode = Mode::FollowPath;
-                continue;
-            }
-            let people: Vec<CtlPerson> = self
-                .controller_people(st.radius)
-                .into_iter()
-                .filter(|(_, r)| *r != Some(i))
-                .map(|(q, _)| q)
-                .collect();
-            let others: Vec<OtherRobot> = (0..n)
-                .filter(|&j| j != i)
-                .map(|j| OtherRobot {
-                    pos: Vec2::new(self.robots[j].pose[0], self.robots[j].pose[1]),
-                    vel: self.robots[j].velocity,
-                    radius: self.statics[j].radius,
-                })
-                .collect();
-            let rb = &self.robots[i];
-            let mode = match planner {
-                PlannerKind::Orca => Mode::Orca,
-                PlannerKind::SocialMomentum => {
-                    let near = people.iter().any(|q| (q.pos - p).norm() <= self.control.people_range);
-                    if near { Mode::SocialMomentum } else { Mode::FollowPath }
-                }
-                _ => {
-                    let m = choose_mode(p, rb.exec_v, st.radius, &people, &others, &self.control);
-                    // Hysteresis: once avoiding robots, keep ORCA while any is still within range
-                    // (leaving it on a clear cone would steer straight back into the conflict).
-                    let robots_near = others.iter().any(|o| (o.pos - p).norm() <= self.control.robot_range);
-                    if m == Mode::FollowPath && rb.mode == Mode::Orca && robots_near { Mode::Orca } else { m }
-                }
+            (desired[i], partial_goals[i]) = self.follow_path(i, dt);
+            let mode = match local_planner(self.statics[i].planner) {
+                Some(local) => self.local_step(i, local, partial_goals[i], &mut desired[i], dt),
+                None => Mode::FollowPath,
             };
-            let mode = match mode {
-                Mode::SocialMomentum => {
-                    let (v, m) = social_momentum_step(
-                        p,
-                        rb.exec_v,
-                        st.radius,
-                        partial_goals[i],
-                        &people,
-                        &others,
-                        Some(&self.geometry),
-                        &st.limits,
-                        dt,
-                        &self.control,
-                    );
-                    desired[i] = v;
-                    m
-                }
-                Mode::Orca => {
-                    orca_active.push(i);
-                    Mode::Orca
-                }
-                m => m,
-            };
+            if mode == Mode::Orca {
+                orca_active.push(i);
+            }
             self.robots[i].mode = mode;
         }
         if !orca_active.is_empty() {
             self.orca_step(&orca_active, &partial_goals, &mut desired, dt);
         }
-        for i in 0..n {
-            let st = &self.statics[i];
-            let rb = &mut self.robots[i];
-            let (v, w) = if rb.outcome == Outcome::Running {
-                // Heading policy: face the direction of motion; on an approach task, face the
-                // person over the last metre.
-                let d = desired[i];
-                let p = Vec2::new(rb.pose[0], rb.pose[1]);
-                let gain = FollowerParams::default().heading_gain;
-                let wz = match st.face {
-                    Some(q) if (st.goal - p).norm() < APPROACH_FACING_DISTANCE => {
-                        let to = q - p;
-                        gain * wrap_angle(to.y.atan2(to.x) - rb.pose[2])
-                    }
-                    _ if d.norm() > FollowerParams::default().min_turn_speed => {
-                        gain * wrap_angle(d.y.atan2(d.x) - rb.pose[2])
-                    }
-                    _ => 0.0,
-                };
-                st.limits.apply(d, wz, rb.exec_v, rb.exec_wz, dt)
-            } else {
-                // Finished robots are commanded to stop (within the deceleration limit).
-                st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
-            };
-            rb.proposed_v = v;
-            rb.proposed_wz = w;
-            let b = world_to_body(v, rb.pose[2]);
-            let row = &mut out[i * stride..(i + 1) * stride];
-            row[cmd] = b.x;
-            row[cmd + 1] = b.y;
-            row[cmd + 2] = w;
-            row[act] = (b.x / st.limits.max_speed).clamp(-1.0, 1.0);
-            row[act + 1] = (b.y / st.limits.max_speed).clamp(-1.0, 1.0);
-            row[act + 2] = (w / st.limits.max_angular_speed).clamp(-1.0, 1.0);
-            row[mode_off] = f64::from(rb.mode.code());
+        let stride = self.layout.stride;
+        for (i, &d) in desired.iter().enumerate() {
+            self.write_command(i, d, dt, &mut out[i * stride..(i + 1) * stride]);
         }
     }
 
-    /// ORCA for the robots in `active` (one batched call): every robot reciprocates, people do
-    /// not (the robot takes the whole avoidance); static geometry as obstacle edges.
-    fn orca_step(&mut self, active: &[usize], partial_goals: &[Vec2], desired: &mut [Vec2], dt: f64) {
-        let mut agents: Vec<OrcaAgent> = Vec::with_capacity(self.robots.len() + self.crowd.len());
-        for (j, (rb, st)) in self.robots.iter().zip(&self.statics).enumerate() {
-            let p = Vec2::new(rb.pose[0], rb.pose[1]);
-            let pref = if active.contains(&j) {
-                // Toward the partial goal at the speed the path follower wanted (it brakes at the end).
-                let to = partial_goals[j] - p;
-                let speed = desired[j].norm().min(st.limits.max_speed);
-                if to.norm() > 1e-9 { to * (speed / to.norm()) } else { Vec2::zeros() }
-            } else {
-                rb.exec_v
-            };
-            agents.push(OrcaAgent {
-                pos: p,
-                vel: rb.exec_v,
-                pref_vel: pref,
-                // A safety margin: ORCA lets discs touch, the physics counts touching as contact.
-                radius: st.radius + ORCA_MARGIN,
-                max_speed: st.limits.max_speed,
-                // Only robots computing ORCA this step take their share of the avoidance.
-                reciprocal: active.contains(&j),
-                id: j as u64,
-            });
+    /// Robot `i`'s path following this step (after the elastic band's update, eband planner):
+    /// the follower's desired velocity and the partial goal for the local planners. A robot
+    /// pushed off its path (by people or contacts) re-plans it from where it is, unless its
+    /// global planner is social (which has its own triggers).
+    fn follow_path(&mut self, i: usize, dt: f64) -> (Vec2, Vec2) {
+        let planner = self.statics[i].planner;
+        let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+        let theta = self.robots[i].pose[2];
+        if planner == PlannerKind::Eband {
+            self.update_band(i, p);
         }
-        let intimate = self.social.config().zones.intimate;
-        for k in 0..self.crowd.len() {
-            agents.push(OrcaAgent {
-                pos: self.crowd.pos[k],
-                vel: self.crowd.vel[k],
-                pref_vel: self.crowd.vel[k],
-                radius: self.crowd.radius[k].max(intimate - 0.24) + ORCA_MARGIN,
-                max_speed: 2.5,
-                reciprocal: false,
-                id: 1_000_000 + k as u64,
-            });
-        }
-        let mut out = vec![Vec2::zeros(); agents.len()];
-        if self.orca.compute(&agents, active, &self.obstacles, dt, self.steps as u64, &mut out).is_ok() {
-            for &i in active {
-                desired[i] = out[i];
+        let st = &self.statics[i];
+        let grid = &self.grids[st.grid_index].grid;
+        let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
+        let rb = &mut self.robots[i];
+        let mut o =
+            rb.follower.step_visible(p, theta, st.limits.max_speed, st.limits.max_accel, dt, &visible);
+        if o.cross_track > rb.follower.params().replan_distance
+            && !planner.social_global()
+            && let Some(path) = plan_path(&mut self.planner, grid, p, st.route[rb.leg])
+        {
+            rb.follower = PathFollower::new(path, FollowerParams::default());
+            o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
+            if planner == PlannerKind::Eband {
+                rb.band = ElasticBand::new(rb.follower.path(), st.eband).ok();
             }
         }
+        (o.velocity, rb.follower.point_ahead(self.control.partial_goal))
+    }
+
+    /// Robot `i`'s local planner `local` this step: its mode among the people and the other
+    /// robots, and with Social Momentum the new `desired` velocity. ORCA's velocity comes later,
+    /// in one batch for all robots in ORCA mode ([`World::orca_step`]).
+    fn local_step(
+        &self,
+        i: usize,
+        local: LocalPlanner,
+        partial_goal: Vec2,
+        desired: &mut Vec2,
+        dt: f64,
+    ) -> Mode {
+        let st = &self.statics[i];
+        let rb = &self.robots[i];
+        let p = Vec2::new(rb.pose[0], rb.pose[1]);
+        let people: Vec<CtlPerson> = self
+            .controller_people(st.radius)
+            .into_iter()
+            .filter(|(_, r)| *r != Some(i))
+            .map(|(q, _)| q)
+            .collect();
+        let others: Vec<OtherRobot> = (0..self.robots.len())
+            .filter(|&j| j != i)
+            .map(|j| OtherRobot {
+                pos: Vec2::new(self.robots[j].pose[0], self.robots[j].pose[1]),
+                vel: self.robots[j].velocity,
+                radius: self.statics[j].radius,
+            })
+            .collect();
+        let mode = select_mode(local, p, rb.exec_v, st.radius, rb.mode, &people, &others, &self.control);
+        if mode != Mode::SocialMomentum {
+            return mode;
+        }
+        let (v, m) = social_momentum_step(
+            p,
+            rb.exec_v,
+            st.radius,
+            partial_goal,
+            &people,
+            &others,
+            Some(&self.geometry),
+            &st.limits,
+            dt,
+            &self.control,
+        );
+        *desired = v;
+        m
+    }
+
+    /// Limits robot `i`'s `desired` velocity (a stop once its episode has ended), turns it by
+    /// the heading policy, and writes the command, the planner action and the mode into `row`.
+    fn write_command(&mut self, i: usize, desired: Vec2, dt: f64, row: &mut [f64]) {
+        let lay = self.layout;
+        let st = &self.statics[i];
+        let rb = &mut self.robots[i];
+        let (v, w) = if rb.outcome == Outcome::Running {
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            let wz = heading_rate(p, rb.pose[2], desired, st.face, st.goal, &FollowerParams::default());
+            st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt)
+        } else {
+            // Finished robots are commanded to stop (within the deceleration limit).
+            st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
+        };
+        rb.proposed_v = v;
+        rb.proposed_wz = w;
+        let b = world_to_body(v, rb.pose[2]);
+        let (cmd, act) = (lay.command.offset, lay.planner_action.offset);
+        row[cmd] = b.x;
+        row[cmd + 1] = b.y;
+        row[cmd + 2] = w;
+        row[act] = (b.x / st.limits.max_speed).clamp(-1.0, 1.0);
+        row[act + 1] = (b.y / st.limits.max_speed).clamp(-1.0, 1.0);
+        row[act + 2] = (w / st.limits.max_angular_speed).clamp(-1.0, 1.0);
+        row[lay.mode.offset] = f64::from(rb.mode.code());
+    }
+
+    /// ORCA for the robots in `active`, among the people and the static geometry.
+    fn orca_step(&mut self, active: &[usize], partial_goals: &[Vec2], desired: &mut [Vec2], dt: f64) {
+        let robots: Vec<OrcaRobot> = self
+            .robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(rb, st)| OrcaRobot {
+                pos: Vec2::new(rb.pose[0], rb.pose[1]),
+                vel: rb.exec_v,
+                radius: st.radius,
+                max_speed: st.limits.max_speed,
+            })
+            .collect();
+        let people = OrcaPeople {
+            pos: &self.crowd.pos,
+            vel: &self.crowd.vel,
+            radius: &self.crowd.radius,
+            intimate: self.social.config().zones.intimate,
+        };
+        let step = self.steps as u64;
+        orca_among_people(
+            &mut self.orca,
+            &self.obstacles,
+            &robots,
+            people,
+            active,
+            partial_goals,
+            desired,
+            dt,
+            step,
+        );
     }
 
     /// Moves robot `i`'s elastic band one optimisation pass and follows it.
@@ -479,6 +459,16 @@ impl World {
             band.update(&clearance, Some(&social));
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         }
+    }
+}
+
+/// The local planner of a built-in planner, if it has one.
+fn local_planner(kind: PlannerKind) -> Option<LocalPlanner> {
+    match kind {
+        PlannerKind::Social => Some(LocalPlanner::ModeSwitch),
+        PlannerKind::SocialMomentum => Some(LocalPlanner::SocialMomentum),
+        PlannerKind::Orca => Some(LocalPlanner::Orca),
+        _ => None,
     }
 }
 
