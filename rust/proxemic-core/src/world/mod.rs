@@ -269,7 +269,7 @@ impl World {
         Ok(())
     }
 
-    /// Every metric of every robot's episode so far (`design/metrics.md`; the zones are the
+    /// Every metric of every robot's episode so far (`docs/metrics.md`; the zones are the
     /// scenario's Hall zones, the thresholds [`MetricParams::default`]).
     ///
     /// # Errors

@@ -6,8 +6,9 @@ use super::{
 };
 use crate::math::Vec2;
 
-/// The half-plane of agent `a` against neighbour `b` (§1.3 of the spec). `ia`, `ib` are their
-/// indices, used only for the coincident-agents fallback.
+/// The half-plane of agent `a` against neighbour `b` (van den Berg et al. 2011, restated in
+/// `docs/algorithms.md`). `ia`, `ib` are their indices, used only for the coincident-agents
+/// fallback.
 pub(super) fn agent_line(
     a: &OrcaAgent,
     b: &OrcaAgent,

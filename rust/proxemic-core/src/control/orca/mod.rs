@@ -3,7 +3,7 @@
 //! The algorithm is the one of J. van den Berg, S. J. Guy, M. Lin and D. Manocha, "Reciprocal n-body
 //! collision avoidance", Robotics Research (ISRR 2009), Springer STAR 70, 2011, pp. 3-19, as
 //! published in the authors' RVO2 library. This module is an independent implementation written from
-//! the restated spec in `shared/design/algorithms.md` §1 (no code was copied), in `f64`.
+//! the paper and the restatement in `docs/algorithms.md` (ORCA) (no code was copied), in `f64`.
 //!
 //! # One step
 //! [`Orca::compute`] reads a snapshot of all agents (positions, current and preferred velocities)

@@ -273,7 +273,8 @@ impl Stamps {
     }
 }
 
-/// Appends the half-plane (if any) of agent `a` against obstacle edge `e1` -> next (§1.4).
+/// Appends the half-plane (if any) of agent `a` against obstacle edge `e1` -> next (van den
+/// Berg et al. 2011 as in RVO2, restated in `docs/algorithms.md`).
 pub(super) fn obstacle_line(
     a: &OrcaAgent,
     obstacles: &ObstacleSet,
