@@ -99,17 +99,9 @@ impl World {
     pub(super) fn observe_all(&mut self, out: &mut [f64]) {
         let stride = self.layout.stride;
         let lay = self.layout;
-        let (o_robot, o_people, o_mask, o_lidar, o_pose) = (
-            lay.obs_robot.offset,
-            lay.obs_people.offset,
-            lay.obs_people_mask.offset,
-            lay.obs_lidar.offset,
-            lay.pose.offset,
-        );
-        let (o_peers, o_peer_mask) = (lay.obs_robots.offset, lay.obs_robots_mask.offset);
-        let others = self.robots.len().saturating_sub(1);
+        let (o_robot, o_people, o_mask, o_pose) =
+            (lay.obs_robot.offset, lay.obs_people.offset, lay.obs_people_mask.offset, lay.pose.offset);
         let k = self.scenario.sensors.k_nearest;
-        let rays = self.scenario.sensors.lidar_rays;
         let range = self.scenario.sensors.lidar_range;
         let diag = self.obs_position_bound();
         for i in 0..self.robots.len() {
@@ -154,49 +146,65 @@ impl World {
                 mask[slot] = 1.0;
             }
             row[o_mask..o_mask + k].copy_from_slice(&mask[..k]);
-            // The other robots within sensor range, nearest first (ties by index), with their ids.
-            self.scratch_people.clear();
-            for (j, o) in self.robots.iter().enumerate() {
-                let d = (Vec2::new(o.pose[0], o.pose[1]) - p).norm();
-                if j != i && d <= range {
-                    self.scratch_people.push((d, j));
-                }
-            }
-            self.scratch_people.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            let peers = &mut row[o_peers..o_peers + others * PEER_FEATURES];
-            peers.fill(0.0);
-            for (slot, &(_, j)) in self.scratch_people.iter().enumerate() {
-                let o = &self.robots[j];
-                let rel = world_to_body(Vec2::new(o.pose[0], o.pose[1]) - p, th);
-                let vel = world_to_body(o.velocity, th);
-                let f = &mut peers[slot * PEER_FEATURES..(slot + 1) * PEER_FEATURES];
-                f[0] = j as f64;
-                f[1] = rel.x.clamp(-range, range);
-                f[2] = rel.y.clamp(-range, range);
-                f[3] = vel.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
-                f[4] = vel.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
-                f[5] = self.statics[j].radius;
-                f[6] = f64::from(u8::from(o.outcome == Outcome::Running));
-            }
-            let seen = self.scratch_people.len();
-            let peer_mask = &mut row[o_peer_mask..o_peer_mask + others];
-            peer_mask.fill(0.0);
-            peer_mask[..seen].fill(1.0);
-            // Lidar sees the static world, the people and the other robots.
-            self.scratch_discs.clear();
-            for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
-                self.scratch_discs.push((*q, *r));
-            }
-            for (j, (other, ost)) in self.robots.iter().zip(&self.statics).enumerate() {
-                if j != i {
-                    self.scratch_discs.push((Vec2::new(other.pose[0], other.pose[1]), ost.radius));
-                }
-            }
-            let scan = &mut row[o_lidar..o_lidar + rays];
-            // Failures are an empty buffer or non-finite inputs, which the layout and the checks
-            // of `step` rule out.
-            let _ = self.scanners[i].scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
+            self.observe_peers(i, row);
+            self.scan(i, row);
         }
+    }
+
+    /// The other robots within sensor range of robot `i`, nearest first (ties by index), with
+    /// their ids, into the `obs_robots` and `obs_robots_mask` sections of `row`
+    /// ([`PEER_FEATURES`] values per slot).
+    fn observe_peers(&mut self, i: usize, row: &mut [f64]) {
+        let lay = self.layout;
+        let range = self.scenario.sensors.lidar_range;
+        let (p, th) = (Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]), self.robots[i].pose[2]);
+        self.scratch_people.clear();
+        for (j, o) in self.robots.iter().enumerate() {
+            let d = (Vec2::new(o.pose[0], o.pose[1]) - p).norm();
+            if j != i && d <= range {
+                self.scratch_people.push((d, j));
+            }
+        }
+        self.scratch_people.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let peers = &mut row[lay.obs_robots.range()];
+        peers.fill(0.0);
+        for (slot, &(_, j)) in self.scratch_people.iter().enumerate() {
+            let o = &self.robots[j];
+            let rel = world_to_body(Vec2::new(o.pose[0], o.pose[1]) - p, th);
+            let vel = world_to_body(o.velocity, th);
+            let f = &mut peers[slot * PEER_FEATURES..(slot + 1) * PEER_FEATURES];
+            f[0] = j as f64;
+            f[1] = rel.x.clamp(-range, range);
+            f[2] = rel.y.clamp(-range, range);
+            f[3] = vel.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+            f[4] = vel.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
+            f[5] = self.statics[j].radius;
+            f[6] = f64::from(u8::from(o.outcome == Outcome::Running));
+        }
+        let seen = self.scratch_people.len();
+        let mask = &mut row[lay.obs_robots_mask.range()];
+        mask.fill(0.0);
+        mask[..seen].fill(1.0);
+    }
+
+    /// Robot `i`'s lidar scan into the `obs_lidar` section of `row`: it sees the static world,
+    /// the people and the other robots.
+    fn scan(&mut self, i: usize, row: &mut [f64]) {
+        let scan = &mut row[self.layout.obs_lidar.range()];
+        let range = self.scenario.sensors.lidar_range;
+        let (p, th) = (Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]), self.robots[i].pose[2]);
+        self.scratch_discs.clear();
+        for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
+            self.scratch_discs.push((*q, *r));
+        }
+        for (j, (other, ost)) in self.robots.iter().zip(&self.statics).enumerate() {
+            if j != i {
+                self.scratch_discs.push((Vec2::new(other.pose[0], other.pose[1]), ost.radius));
+            }
+        }
+        // Failures are an empty buffer or non-finite inputs, which the layout and the checks
+        // of `step` rule out.
+        let _ = self.scanners[i].scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
     }
 
     /// Bound on goal offsets in observations: the diagonal of the map, rounded up (metres).
