@@ -1,6 +1,9 @@
-//! The reward of one control step: five weighted terms, reported separately and summed.
+//! The reward of one control step: five weighted terms, reported separately and summed; and
+//! each robot's record of the step (metrics, outcome, reward, flags).
 
-use crate::metrics::Outcome;
+use super::World;
+use crate::math::Vec2;
+use crate::metrics::{CONTACT_ROBOT, Outcome};
 use crate::scenario::RewardWeights;
 
 /// Names of the reward terms, in the order they are summed.
@@ -55,6 +58,45 @@ impl RewardTerms {
             total += t;
         }
         total
+    }
+}
+
+impl World {
+    /// Records robot `i`'s step in its metrics (with the physics' `contacts` bits) and writes
+    /// its reward terms, reward and flags into its `row`. A robot whose episode has ended gets
+    /// zero reward terms and keeps its flags.
+    pub(super) fn record(&mut self, i: usize, contacts: u8, out_of_time: bool, row: &mut [f64]) {
+        let lay = &self.layout;
+        let pose = self.robots[i].pose;
+        let p = Vec2::new(pose[0], pose[1]);
+        let d = self.closest_person(p);
+        let robot_gap = self.closest_robot_gap(i);
+        if self.robots[i].outcome != Outcome::Running {
+            row[lay.reward_terms.range()].fill(0.0);
+            row[lay.reward.offset] = 0.0;
+            return;
+        }
+        let st = &self.statics[i];
+        let rb = &mut self.robots[i];
+        // Two robots overlapping at a control instant collide even if the physics missed it
+        // (Francis et al.'s agent collisions, AC).
+        rb.recorder.observe_robot_gap(robot_gap);
+        let bits = contacts | if robot_gap < 0.0 { CONTACT_ROBOT } else { 0 };
+        let outcome = rb.recorder.record(&self.log, pose, bits, out_of_time);
+        rb.outcome = outcome;
+        let geo = st.fields[rb.leg].distance(p);
+        let progress = if geo.is_finite() && rb.geodesic.is_finite() { rb.geodesic - geo } else { 0.0 };
+        if geo.is_finite() {
+            rb.geodesic = geo;
+        }
+        let terms = RewardTerms::new(&self.scenario.reward, progress, outcome, d);
+        row[lay.reward_terms.range()].copy_from_slice(&terms.values());
+        row[lay.reward.offset] = terms.total();
+        let flags = &mut row[lay.flags.range()];
+        flags[0] = f64::from(u8::from(matches!(outcome, Outcome::Success | Outcome::Collision)));
+        flags[1] = f64::from(u8::from(outcome == Outcome::Timeout));
+        flags[2] = f64::from(u8::from(outcome == Outcome::Success));
+        flags[3] = f64::from(u8::from(outcome == Outcome::Collision));
     }
 }
 
