@@ -57,8 +57,7 @@ impl Sim {
     fn reset(&mut self) {
         self.seed += 1;
         self.world.reset(self.seed, &mut self.out, &mut self.people).expect("reset");
-        let (stride, pose) =
-            (self.world.layout().stride, self.world.layout().section("pose").expect("pose").offset);
+        let (stride, pose) = (self.world.layout().stride, self.world.layout().pose.offset);
         for i in 0..self.world.num_robots() {
             self.state[6 * i..6 * i + 3].copy_from_slice(&self.out[i * stride + pose..i * stride + pose + 3]);
             self.state[6 * i + 3..6 * i + 6].fill(0.0);
@@ -68,11 +67,7 @@ impl Sim {
     /// One control step; returns whether every robot has finished.
     fn step(&mut self) -> bool {
         let lay = self.world.layout();
-        let (stride, cmd, flags) = (
-            lay.stride,
-            lay.section("command").expect("command").offset,
-            lay.section("flags").expect("flags").offset,
-        );
+        let (stride, cmd, flags) = (lay.stride, lay.command.offset, lay.flags.offset);
         let n = self.world.num_robots();
         let dt = 0.1;
         self.world.command(&self.actions, &mut self.out).expect("command");

@@ -3,11 +3,20 @@
 //! The pure-Rust core of proxemic. Every per-step computation of the gym lives here; the Python
 //! package only moves arrays in and out and steps MuJoCo.
 //!
-//! One control step of [`world::World`] does, in order:
-//! 1. ingest the robots' poses, velocities and contact flags read from the physics;
-//! 2. accumulate the step's metrics ([`metrics`]) and reward terms, and build the observations;
-//! 3. advance the scripted pedestrians ([`pedestrians`]) to the next control instant;
-//! 4. run each robot's built-in planner ([`plan`], [`control`]) to get its next command.
+//! One control step is one call from Python (the binding's `World.step`), in which the binding
+//! runs [`world::World::command`] (the policies' actions become limited commands), calls back
+//! into Python for the physics (MuJoCo, the only part with the GIL held), then runs
+//! [`world::World::step`], which in order:
+//! 1. ingests the robots' poses, velocities and contact flags read from the physics;
+//! 2. advances the scripted people ([`pedestrians`]) to the same instant and logs the scene's
+//!    ground truth (groups, interactions, object activities), then advances the robots' tours;
+//! 3. records each running robot's metrics ([`metrics`]), its outcome and reward terms;
+//! 4. builds the observations;
+//! 5. runs each robot's built-in planner ([`plan`], [`control`]) for its next command;
+//! 6. writes the people's poses and the physics' contact hints.
+//!
+//! Outputs go into caller-owned buffers (no output array is allocated per step); the core still
+//! allocates small working vectors during a step.
 //!
 //! Modules:
 //! - [`scenario`]: parse and validate scenario TOML once; errors name the file and field.
@@ -23,7 +32,8 @@
 //! - [`pedestrians`]: scripted people.
 //! - [`groups`]: group detection (Delaunay, density, F-formation), groups as individuals.
 //! - [`metrics`]: per-step accumulation and episode summaries.
-//! - [`world`]: ties these together behind one `step`.
+//! - [`world`]: ties these together: construction, reset, `command` and `step`, with the
+//!   output layout, rewards, observations, tours and the built-in planners' dispatch.
 
 pub mod chronemics;
 pub mod control;

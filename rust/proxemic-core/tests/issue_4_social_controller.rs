@@ -4,8 +4,9 @@
 
 use proxemic_core::control::body_to_world;
 use proxemic_core::math::Vec2;
+use proxemic_core::metrics::{CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC};
 use proxemic_core::scenario::Scenario;
-use proxemic_core::world::{CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, World};
+use proxemic_core::world::World;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -28,9 +29,9 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
     let mut world = World::new(scenario).expect("valid world");
     let n = world.num_robots();
     let stride = world.layout().stride;
-    let cmd = world.layout().section("command").expect("command").offset;
-    let pose_off = world.layout().section("pose").expect("pose").offset;
-    let flags = world.layout().section("flags").expect("flags").offset;
+    let cmd = world.layout().command.offset;
+    let pose_off = world.layout().pose.offset;
+    let flags = world.layout().flags.offset;
     let mut out = vec![0.0; stride * n];
     let mut people_out = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
     world.reset(seed, &mut out, &mut people_out).expect("reset");

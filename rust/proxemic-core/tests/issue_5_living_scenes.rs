@@ -29,7 +29,7 @@ fn run(s: &Scenario, seed: u64, steps: usize, mut check: impl FnMut(&World, usiz
     let mut world = World::new(s.clone()).expect("valid world");
     let n = world.num_robots();
     let stride = world.layout().stride;
-    let pose_off = world.layout().section("pose").expect("pose").offset;
+    let pose_off = world.layout().pose.offset;
     let mut out = vec![0.0; stride * n];
     let mut people = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
     world.reset(seed, &mut out, &mut people).expect("reset");

@@ -107,9 +107,8 @@ fn run(s: &Scenario, seed: u64, steps: usize) -> Vec<Step> {
     let dt = s.control_dt();
     let mut world = World::new(s.clone()).expect("valid world");
     let n = world.num_robots();
-    let lay = world.layout().clone();
-    let off = |name: &str| lay.section(name).expect("section").offset;
-    let (cmd, pose, mode, flags) = (off("command"), off("pose"), off("mode"), off("flags"));
+    let lay = *world.layout();
+    let (cmd, pose, mode, flags) = (lay.command.offset, lay.pose.offset, lay.mode.offset, lay.flags.offset);
     let stride = lay.stride;
     let mut out = vec![0.0; stride * n];
     let mut people = vec![0.0; world.num_people() * PERSON_OUT];

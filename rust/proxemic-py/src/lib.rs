@@ -362,8 +362,8 @@ impl PyWorld {
     #[getter]
     fn layout<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for (name, s) in &self.inner.layout().sections {
-            d.set_item(*name, (s.offset, s.len))?;
+        for (name, s) in self.inner.layout().sections() {
+            d.set_item(name, (s.offset, s.len))?;
         }
         Ok(d)
     }
@@ -706,9 +706,9 @@ fn points_to_array<'py>(py: Python<'py>, pts: &[Vec2]) -> PyResult<Bound<'py, Py
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("CONTACT_PERSON", world::CONTACT_PERSON)?;
-    m.add("CONTACT_STATIC", world::CONTACT_STATIC)?;
-    m.add("CONTACT_ROBOT", world::CONTACT_ROBOT)?;
+    m.add("CONTACT_PERSON", proxemic_core::metrics::CONTACT_PERSON)?;
+    m.add("CONTACT_STATIC", proxemic_core::metrics::CONTACT_STATIC)?;
+    m.add("CONTACT_ROBOT", proxemic_core::metrics::CONTACT_ROBOT)?;
     m.add("REWARD_TERMS", world::REWARD_TERMS.to_vec())?;
     m.add("PERSON_FEATURES", world::PERSON_FEATURES)?;
     m.add("ROBOT_FEATURES", world::ROBOT_FEATURES)?;

@@ -3,7 +3,7 @@
 //!
 //! After Quinlan and Khatib, "Elastic bands: connecting path planning and control" (ICRA 1993),
 //! as used by Calderita et al. (seed 003, §5.3-5.4) on top of a social global planner, with the
-//! social cost as an extra repulsion source. Spec: `design/algorithms.md` §3.
+//! social cost as an extra repulsion source. Restated in `docs/algorithms.md` (elastic band).
 //!
 //! # Bubbles
 //! The band is a sequence of points `b_0 … b_n`; `b_0` and `b_n` never move. The bubble radius

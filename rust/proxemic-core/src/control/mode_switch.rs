@@ -181,6 +181,49 @@ pub fn social_momentum_step(
     }
 }
 
+/// The local planner a built-in planner runs on top of its global path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LocalPlanner {
+    /// Algorithm 1's switch ([`choose_mode`]): Social Momentum among people, ORCA against a
+    /// robot in the collision cone, else the global path (the `social` planner).
+    ModeSwitch,
+    /// Social Momentum while people are within [`SocialControlParams::people_range`], else the
+    /// global path (the `social_momentum` planner).
+    SocialMomentum,
+    /// ORCA every step (the `orca` planner).
+    Orca,
+}
+
+/// What `planner` does this step for a robot at `pos` moving at `vel` (m/s) whose mode was
+/// `previous`, among `people` and the other `robots`. With [`LocalPlanner::ModeSwitch`], a
+/// robot avoiding robots keeps ORCA while any robot is still within
+/// [`SocialControlParams::robot_range`] (hysteresis: leaving ORCA on a clear cone would steer
+/// straight back into the conflict).
+#[allow(clippy::too_many_arguments)]
+pub fn select_mode(
+    planner: LocalPlanner,
+    pos: Vec2,
+    vel: Vec2,
+    radius: f64,
+    previous: Mode,
+    people: &[Person],
+    robots: &[OtherRobot],
+    params: &SocialControlParams,
+) -> Mode {
+    match planner {
+        LocalPlanner::Orca => Mode::Orca,
+        LocalPlanner::SocialMomentum => {
+            let near = people.iter().any(|q| (q.pos - pos).norm() <= params.people_range);
+            if near { Mode::SocialMomentum } else { Mode::FollowPath }
+        }
+        LocalPlanner::ModeSwitch => {
+            let m = choose_mode(pos, vel, radius, people, robots, params);
+            let robots_near = robots.iter().any(|o| (o.pos - pos).norm() <= params.robot_range);
+            if m == Mode::FollowPath && previous == Mode::Orca && robots_near { Mode::Orca } else { m }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -220,6 +263,26 @@ mod tests {
         assert_eq!(choose_mode(Vec2::zeros(), v, 0.24, &[], &[robot], &params), Mode::Orca);
         assert_eq!(choose_mode(Vec2::zeros(), v, 0.24, &[], &[far_robot], &params), Mode::FollowPath);
         assert_eq!(choose_mode(Vec2::zeros(), v, 0.24, &[], &[], &params), Mode::FollowPath);
+    }
+
+    #[test]
+    fn mode_switch_keeps_orca_while_a_robot_is_near() {
+        let params = SocialControlParams::default();
+        let v = Vec2::new(0.5, 0.0);
+        // Moving away from a robot 2 m behind: not in the cone, but within range.
+        let behind = OtherRobot { pos: Vec2::new(-2.0, 0.0), vel: Vec2::zeros(), radius: 0.24 };
+        let sel = |prev| {
+            select_mode(LocalPlanner::ModeSwitch, Vec2::zeros(), v, 0.24, prev, &[], &[behind], &params)
+        };
+        assert_eq!(sel(Mode::FollowPath), Mode::FollowPath);
+        assert_eq!(sel(Mode::Orca), Mode::Orca);
+        let far = OtherRobot { pos: Vec2::new(-9.0, 0.0), ..behind };
+        let sel_far =
+            select_mode(LocalPlanner::ModeSwitch, Vec2::zeros(), v, 0.24, Mode::Orca, &[], &[far], &params);
+        assert_eq!(sel_far, Mode::FollowPath);
+        let alone =
+            select_mode(LocalPlanner::SocialMomentum, Vec2::zeros(), v, 0.24, Mode::Orca, &[], &[], &params);
+        assert_eq!(alone, Mode::FollowPath);
     }
 
     #[test]

@@ -1,4 +1,5 @@
-//! Tests of ORCA: the known-answer cases of algorithms.md §1.10, properties, and scenarios.
+//! Tests of ORCA: known-answer cases (hand-worked geometry of van den Berg et al. 2011's half-planes,
+//! restated in `docs/algorithms.md`), properties, and scenarios.
 
 use super::*;
 use proptest::prelude::*;
@@ -36,7 +37,7 @@ fn assert_close(a: Vec2, b: Vec2, tol: f64) {
     assert!((a - b).norm() <= tol, "{a:?} != {b:?} (tol {tol})");
 }
 
-// ---------------------------------------------------------------- known answers (§1.10)
+// ---------------------------------------------------------------- known answers
 
 #[test]
 fn kat1_exact_head_on_takes_the_right_leg() {
@@ -121,7 +122,7 @@ fn kat_non_reciprocal_neighbour_gets_full_responsibility() {
     assert_eq!(out[1], Vec2::zeros(), "inactive entries are left untouched");
 }
 
-// ---------------------------------------------------------------- LP properties (§1.10 1-2)
+// ---------------------------------------------------------------- LP properties
 
 /// Brute force over a dense polar grid of the speed disk: the feasible point closest to `opt`.
 fn brute_lp(lines: &[Line], speed: f64, opt: Vec2) -> Option<f64> {
@@ -216,7 +217,7 @@ proptest! {
     }
 }
 
-// ---------------------------------------------------------------- symmetry properties (§1.10 3-4)
+// ---------------------------------------------------------------- symmetry properties
 
 fn random_scene(seed: u64, n: usize) -> Vec<OrcaAgent> {
     let mut s = seed;
@@ -796,7 +797,7 @@ fn clearance(p: Vec2, polys: &[Vec<Vec2>]) -> f64 {
 
 #[test]
 fn pairwise_random_crossings_never_overlap_when_feasible() {
-    // §1.10 property 5: two agents crossing at random angles and offsets, 1000 steps in all.
+    // Collision-free property: two agents crossing at random angles and offsets, 1000 steps in all.
     let mut s = 12345u64;
     let mut rnd = || {
         s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);

@@ -9,8 +9,9 @@
 //! (3.0 rad/s^2). Acceleration is limited relative to the previous *command*, so the limit holds
 //! on what the base is asked to do whatever the physics did.
 //!
-//! Submodules: [`mode_switch`] (the mode switch of Daza 2021 Algorithm 1), [`orca`],
-//! [`social_momentum`] and [`eband`] (the local planners).
+//! Submodules: [`mode_switch`] (the mode switch of Daza 2021 Algorithm 1 and each local
+//! planner's choice of mode), [`orca`], [`social_momentum`] and [`eband`] (the local planners),
+//! and [`orca_crowd`] (ORCA as the robots run it among people).
 //!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
@@ -18,6 +19,7 @@
 pub mod eband;
 pub mod mode_switch;
 pub mod orca;
+pub mod orca_crowd;
 pub mod social_momentum;
 
 use crate::math::{Vec2, rotate, wrap_angle};
@@ -100,6 +102,33 @@ pub struct FollowerParams {
 impl Default for FollowerParams {
     fn default() -> Self {
         FollowerParams { lookahead: 0.8, heading_gain: 2.5, replan_distance: 1.0, min_turn_speed: 0.05 }
+    }
+}
+
+/// On an approach task the robot turns to face the person within this distance of the goal (m).
+pub const APPROACH_FACING_DISTANCE: f64 = 1.0;
+
+/// The built-in planners' heading policy: the angular velocity (rad/s, before limits) of a robot
+/// at `pos` with heading `theta` (rad) moving at `desired` (world frame, m/s). It faces the
+/// direction of motion, or holds its heading below `params.min_turn_speed`; on an approach task
+/// (`face`, the person approached) it faces the person within [`APPROACH_FACING_DISTANCE`] of
+/// `goal`.
+pub fn heading_rate(
+    pos: Vec2,
+    theta: f64,
+    desired: Vec2,
+    face: Option<Vec2>,
+    goal: Vec2,
+    params: &FollowerParams,
+) -> f64 {
+    let gain = params.heading_gain;
+    match face {
+        Some(q) if (goal - pos).norm() < APPROACH_FACING_DISTANCE => {
+            let to = q - pos;
+            gain * wrap_angle(to.y.atan2(to.x) - theta)
+        }
+        _ if desired.norm() > params.min_turn_speed => gain * wrap_angle(desired.y.atan2(desired.x) - theta),
+        _ => 0.0,
     }
 }
 

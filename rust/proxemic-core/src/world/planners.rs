@@ -1,0 +1,507 @@
+//! The built-in planners' bookkeeping: perception, the social global planner's re-planning
+//! triggers, and the per-step dispatch to the local planners of [`crate::control`].
+
+use super::World;
+use crate::control::eband::ElasticBand;
+use crate::control::mode_switch::{
+    LocalPlanner, Mode, OtherRobot, Person as CtlPerson, select_mode, social_momentum_step,
+};
+use crate::control::orca_crowd::{OrcaPeople, OrcaRobot, orca_among_people};
+use crate::control::{FollowerParams, PathFollower, heading_rate, world_to_body};
+use crate::error::{CoreError, Result};
+use crate::groups::RobotDisc;
+use crate::math::Vec2;
+use crate::metrics::Outcome;
+use crate::plan::social::{SocialPlanning, Trigger};
+use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path, snap_to_passable};
+use crate::scenario::PlannerKind;
+
+/// Social planners check their path every this many control steps...
+const SOCIAL_CHECK_PERIOD: usize = 3;
+/// ...and re-plan at most once per this many steps.
+const SOCIAL_MIN_REPLAN: usize = 10;
+/// Without a trigger, a social path is re-planned every this many steps anyway, and replaced
+/// when the new one is cheaper (see [`SOCIAL_REPLAN_GAIN`]): a way that people blocked when the
+/// path was made may have cleared.
+const SOCIAL_REFRESH: usize = 20;
+/// A re-planned social path replaces the current one only when it costs at least this fraction
+/// less than what is left of the current one on the same map (or the current one is blocked):
+/// without it, two ways of nearly equal cost (around a gallery or along the corridor) took turns
+/// as people moved and the robot wandered between them.
+const SOCIAL_REPLAN_GAIN: f64 = 0.15;
+/// The largest ratio of the shortest 8-connected grid path to the straight line between its
+/// ends, `cos 22.5° + (sqrt 2 - 1) sin 22.5°` (at 22.5°): a grid geodesic divided by it never
+/// exceeds the true one.
+const GRID_DETOUR: f64 = 1.082_392_200_292_394;
+
+impl World {
+    /// The robots as discs for perception (position, radius, velocity).
+    fn robot_discs(&self) -> Vec<RobotDisc> {
+        self.robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(r, s)| RobotDisc {
+                pos: Vec2::new(r.pose[0], r.pose[1]),
+                radius: s.radius,
+                vel: r.velocity,
+            })
+            .collect()
+    }
+
+    /// Perceives the people's groups and individuals now.
+    pub fn perceive(&mut self) -> Result<()> {
+        let discs = self.robot_discs();
+        self.social.perceive(&self.crowd, &discs)
+    }
+
+    /// The social model, maps and planner.
+    pub fn social(&self) -> &SocialPlanning {
+        &self.social
+    }
+
+    /// The index of robot `i`'s inflated grid (and social map), or an input error.
+    fn grid_of(&self, i: usize) -> Result<usize> {
+        self.statics.get(i).map(|st| st.grid_index).ok_or_else(|| {
+            CoreError::input("robot", format!("an index below {}", self.statics.len()), i.to_string())
+        })
+    }
+
+    /// Updates robot `i`'s social map for the current people and the agenda at `time_of_day`.
+    pub fn update_social_map(&mut self, i: usize, time_of_day: f64) -> Result<()> {
+        let k = self.grid_of(i)?;
+        if self.social.perception().is_none() {
+            self.perceive()?;
+        }
+        self.social.update_map(k, time_of_day);
+        Ok(())
+    }
+
+    /// Plans a social A* path for robot `i`'s footprint between two points at `time_of_day`,
+    /// with the people as perceived now.
+    pub fn plan_social(
+        &mut self,
+        i: usize,
+        start: Vec2,
+        goal: Vec2,
+        time_of_day: f64,
+    ) -> Result<Option<Vec<Vec2>>> {
+        let k = self.grid_of(i)?;
+        self.perceive()?;
+        Ok(self.social.plan(&mut self.planner, k, start, goal, time_of_day).map(|p| p.points))
+    }
+
+    /// Robot `i`'s social map (as last updated).
+    pub fn social_map_of(&self, i: usize) -> Option<&crate::socialmap::SocialMap> {
+        self.social.map(self.statics.get(i)?.grid_index)
+    }
+
+    /// Number of times robot `i`'s social path was re-planned (and changed) this episode.
+    pub fn replans(&self, i: usize) -> usize {
+        self.robots.get(i).map_or(0, |r| r.replans)
+    }
+
+    /// (Re-)plans robot `i`'s social path from `p`; falls back to the plain path when the goal
+    /// is unreachable on the social map (for example inside someone's intimate zone). A new
+    /// social path replaces the current one only when it is [`SOCIAL_REPLAN_GAIN`] cheaper.
+    pub(super) fn social_plan(&mut self, i: usize, p: Vec2, time_of_day: f64) {
+        let st = &self.statics[i];
+        let k = st.grid_index;
+        let goal = st.route[self.robots[i].leg];
+        let left = self.robots[i].social_path.as_ref().map(|old| {
+            let grid = &self.grids[k].grid;
+            self.social.remaining_cost(old, p, time_of_day, |a, b| segment_clear(grid, a, b))
+        });
+        if let Some(left) = left {
+            // No path can cost less than the way's length, and none is shorter than the geodesic
+            // distance (the 8-connected field overestimates it by at most 8.24%, and the cost
+            // counts the path in samples): when what is left is already within the gain of that,
+            // a search could not find a path worth changing to.
+            let field = &st.fields[self.robots[i].leg];
+            let shortest = field.distance(p) / GRID_DETOUR
+                - 2.0 * field.resolution()
+                - crate::plan::social::SAMPLE_SPACING;
+            if left.is_finite() && (1.0 - SOCIAL_REPLAN_GAIN) * left <= shortest {
+                self.robots[i].last_plan_step = self.steps;
+                return;
+            }
+        }
+        let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
+        if let (Some(new), Some(left)) = (&plan, left)
+            && left.is_finite()
+            && SocialPlanning::planned_cost(new) > (1.0 - SOCIAL_REPLAN_GAIN) * left
+        {
+            // Not worth a change of way: keep the current path, look again later.
+            self.robots[i].last_plan_step = self.steps;
+            return;
+        }
+        let rb = &mut self.robots[i];
+        match plan {
+            Some(sp) => {
+                rb.follower = PathFollower::new(sp.points.clone(), FollowerParams::default());
+                rb.social_path = Some(sp);
+            }
+            None => {
+                let grid = &self.grids[k].grid;
+                if let Some(path) = plan_path(&mut self.planner, grid, p, goal) {
+                    rb.follower = PathFollower::new(path, FollowerParams::default());
+                }
+                rb.social_path = None;
+            }
+        }
+        rb.last_plan_step = self.steps;
+        rb.replans += 1;
+    }
+
+    /// Re-planning triggers of the social planners (every few steps).
+    fn social_checks(&mut self) {
+        let due: Vec<usize> = (0..self.robots.len())
+            .filter(|&i| {
+                let rb = &self.robots[i];
+                self.statics[i].planner.social_global()
+                    && self.planning[i]
+                    && rb.outcome == Outcome::Running
+                    && !rb.dwelling
+                    && self.steps > 0
+                    && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
+                    && self.steps >= rb.last_plan_step + SOCIAL_MIN_REPLAN
+            })
+            .collect();
+        if due.is_empty() {
+            return;
+        }
+        if self.perceive().is_err() {
+            return;
+        }
+        let tod = self.time_of_day();
+        for i in due {
+            let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+            let off_path = self.robots[i].follower.step_preview_cross_track(p) > 1.0;
+            let trigger = match &self.robots[i].social_path {
+                Some(path) => self.social.check(path, p, tod),
+                None => Trigger::Blocked, // on the plain fallback: try the social map again
+            };
+            let stale = self.steps >= self.robots[i].last_plan_step + SOCIAL_REFRESH;
+            if trigger != Trigger::None || off_path || stale {
+                self.social_plan(i, p, tod);
+            }
+        }
+    }
+
+    /// The people (and robots that joined human interactions) as the local planners see them:
+    /// each person keeps the robot's centre out of their intimate zone; each group adds one
+    /// heavier individual covering its o-space. Entries carry the robot index they stand for,
+    /// if any, so a robot does not avoid itself.
+    fn controller_people(&self, robot_radius: f64) -> Vec<(CtlPerson, Option<usize>)> {
+        let intimate = self.social.config().zones.intimate;
+        let personal = self.social.config().zones.personal;
+        let keep = |r: f64| r.max(intimate - robot_radius);
+        let c = &self.crowd;
+        let mut out: Vec<(CtlPerson, Option<usize>)> = Vec::with_capacity(c.len() + 4);
+        let per = self.social.perception();
+        let group_of =
+            |k: usize| per.map(|p| p.groups.members[p.groups.labels[k]].len() > 1).unwrap_or(false);
+        for k in 0..c.len() {
+            let weight = if group_of(k) { self.control.group_weight } else { 1.0 };
+            out.push((
+                CtlPerson {
+                    pos: c.pos[k],
+                    vel: c.vel[k],
+                    keep_out: keep(c.radius[k]),
+                    weight,
+                    comfort: personal,
+                },
+                None,
+            ));
+        }
+        if let Some(p) = per {
+            for ind in &p.individuals {
+                if ind.members.len() + ind.robots.len() < 2 {
+                    continue;
+                }
+                let mut pts: Vec<Vec2> = ind.members.iter().map(|&k| c.pos[k]).collect();
+                pts.extend(
+                    ind.robots
+                        .iter()
+                        .filter_map(|&r| self.robots.get(r))
+                        .map(|r| Vec2::new(r.pose[0], r.pose[1])),
+                );
+                let ospace = pts.iter().map(|q| (q - ind.centre).norm()).sum::<f64>() / pts.len() as f64;
+                let vel = ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k])
+                    / ind.members.len().max(1) as f64;
+                out.push((
+                    CtlPerson {
+                        pos: ind.centre,
+                        vel,
+                        keep_out: ospace,
+                        weight: self.control.group_weight,
+                        comfort: 0.0,
+                    },
+                    None,
+                ));
+                for &r in &ind.robots {
+                    if let (Some(rb), Some(st)) = (self.robots.get(r), self.statics.get(r)) {
+                        let q = Vec2::new(rb.pose[0], rb.pose[1]);
+                        out.push((
+                            CtlPerson {
+                                pos: q,
+                                vel: rb.velocity,
+                                keep_out: keep(st.radius),
+                                weight: 1.0,
+                                comfort: personal,
+                            },
+                            Some(r),
+                        ));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Runs every robot's built-in planner: the next command (written to `command`), the same
+    /// command as a normalised action (`planner_action`) and the local planner's `mode`. The
+    /// decisions are [`crate::control`]'s: the path follower, each local planner's choice of mode
+    /// ([`select_mode`], Daza et al. 2021 Algorithm 1 for the `social` planner), Social Momentum,
+    /// ORCA among people ([`orca_among_people`]) and the heading policy ([`heading_rate`]).
+    pub(super) fn plan_all(&mut self, out: &mut [f64]) {
+        let dt = self.scenario.control_dt();
+        self.social_checks();
+        let n = self.robots.len();
+        if (0..n).any(|i| {
+            let k = self.statics[i].planner;
+            self.planning[i] && (local_planner(k).is_some() || k == PlannerKind::Eband)
+        }) {
+            // Groups and robots joining them, as perceived now (the social planners' perception).
+            let _ = self.perceive();
+        }
+        let mut desired: Vec<Vec2> = vec![Vec2::zeros(); n];
+        let mut orca_active: Vec<usize> = Vec::new();
+        let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
+        for i in 0..n {
+            if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
+                self.robots[i].mode = Mode::FollowPath;
+                continue;
+            }
+            if self.robots[i].dwelling {
+                // At a tour stop: stand still (the desired velocity stays zero).
+                self.robots[i].mode = Mode::Wait;
+                continue;
+            }
+            (desired[i], partial_goals[i]) = self.follow_path(i, dt);
+            let mode = match local_planner(self.statics[i].planner) {
+                Some(local) => self.local_step(i, local, partial_goals[i], &mut desired[i], dt),
+                None => Mode::FollowPath,
+            };
+            if mode == Mode::Orca {
+                orca_active.push(i);
+            }
+            self.robots[i].mode = mode;
+        }
+        if !orca_active.is_empty() {
+            self.orca_step(&orca_active, &partial_goals, &mut desired, dt);
+        }
+        let stride = self.layout.stride;
+        for (i, &d) in desired.iter().enumerate() {
+            self.write_command(i, d, dt, &mut out[i * stride..(i + 1) * stride]);
+        }
+    }
+
+    /// Robot `i`'s path following this step (after the elastic band's update, eband planner):
+    /// the follower's desired velocity and the partial goal for the local planners. A robot
+    /// pushed off its path (by people or contacts) re-plans it from where it is, unless its
+    /// global planner is social (which has its own triggers).
+    fn follow_path(&mut self, i: usize, dt: f64) -> (Vec2, Vec2) {
+        let planner = self.statics[i].planner;
+        let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
+        let theta = self.robots[i].pose[2];
+        if planner == PlannerKind::Eband {
+            self.update_band(i, p);
+        }
+        let st = &self.statics[i];
+        let grid = &self.grids[st.grid_index].grid;
+        let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
+        let rb = &mut self.robots[i];
+        let mut o =
+            rb.follower.step_visible(p, theta, st.limits.max_speed, st.limits.max_accel, dt, &visible);
+        if o.cross_track > rb.follower.params().replan_distance
+            && !planner.social_global()
+            && let Some(path) = plan_path(&mut self.planner, grid, p, st.route[rb.leg])
+        {
+            rb.follower = PathFollower::new(path, FollowerParams::default());
+            o = rb.follower.step(p, theta, st.limits.max_speed, st.limits.max_accel, dt);
+            if planner == PlannerKind::Eband {
+                rb.band = ElasticBand::new(rb.follower.path(), st.eband).ok();
+            }
+        }
+        (o.velocity, rb.follower.point_ahead(self.control.partial_goal))
+    }
+
+    /// Robot `i`'s local planner `local` this step: its mode among the people and the other
+    /// robots, and with Social Momentum the new `desired` velocity. ORCA's velocity comes later,
+    /// in one batch for all robots in ORCA mode ([`World::orca_step`]).
+    fn local_step(
+        &self,
+        i: usize,
+        local: LocalPlanner,
+        partial_goal: Vec2,
+        desired: &mut Vec2,
+        dt: f64,
+    ) -> Mode {
+        let st = &self.statics[i];
+        let rb = &self.robots[i];
+        let p = Vec2::new(rb.pose[0], rb.pose[1]);
+        let people: Vec<CtlPerson> = self
+            .controller_people(st.radius)
+            .into_iter()
+            .filter(|(_, r)| *r != Some(i))
+            .map(|(q, _)| q)
+            .collect();
+        let others: Vec<OtherRobot> = (0..self.robots.len())
+            .filter(|&j| j != i)
+            .map(|j| OtherRobot {
+                pos: Vec2::new(self.robots[j].pose[0], self.robots[j].pose[1]),
+                vel: self.robots[j].velocity,
+                radius: self.statics[j].radius,
+            })
+            .collect();
+        let mode = select_mode(local, p, rb.exec_v, st.radius, rb.mode, &people, &others, &self.control);
+        if mode != Mode::SocialMomentum {
+            return mode;
+        }
+        let (v, m) = social_momentum_step(
+            p,
+            rb.exec_v,
+            st.radius,
+            partial_goal,
+            &people,
+            &others,
+            Some(&self.geometry),
+            &st.limits,
+            dt,
+            &self.control,
+        );
+        *desired = v;
+        m
+    }
+
+    /// Limits robot `i`'s `desired` velocity (a stop once its episode has ended), turns it by
+    /// the heading policy, and writes the command, the planner action and the mode into `row`.
+    fn write_command(&mut self, i: usize, desired: Vec2, dt: f64, row: &mut [f64]) {
+        let lay = self.layout;
+        let st = &self.statics[i];
+        let rb = &mut self.robots[i];
+        let (v, w) = if rb.outcome == Outcome::Running {
+            let p = Vec2::new(rb.pose[0], rb.pose[1]);
+            let wz = heading_rate(p, rb.pose[2], desired, st.face, st.goal, &FollowerParams::default());
+            st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt)
+        } else {
+            // Finished robots are commanded to stop (within the deceleration limit).
+            st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
+        };
+        rb.proposed_v = v;
+        rb.proposed_wz = w;
+        let b = world_to_body(v, rb.pose[2]);
+        let (cmd, act) = (lay.command.offset, lay.planner_action.offset);
+        row[cmd] = b.x;
+        row[cmd + 1] = b.y;
+        row[cmd + 2] = w;
+        row[act] = (b.x / st.limits.max_speed).clamp(-1.0, 1.0);
+        row[act + 1] = (b.y / st.limits.max_speed).clamp(-1.0, 1.0);
+        row[act + 2] = (w / st.limits.max_angular_speed).clamp(-1.0, 1.0);
+        row[lay.mode.offset] = f64::from(rb.mode.code());
+    }
+
+    /// ORCA for the robots in `active`, among the people and the static geometry.
+    fn orca_step(&mut self, active: &[usize], partial_goals: &[Vec2], desired: &mut [Vec2], dt: f64) {
+        let robots: Vec<OrcaRobot> = self
+            .robots
+            .iter()
+            .zip(&self.statics)
+            .map(|(rb, st)| OrcaRobot {
+                pos: Vec2::new(rb.pose[0], rb.pose[1]),
+                vel: rb.exec_v,
+                radius: st.radius,
+                max_speed: st.limits.max_speed,
+            })
+            .collect();
+        let people = OrcaPeople {
+            pos: &self.crowd.pos,
+            vel: &self.crowd.vel,
+            radius: &self.crowd.radius,
+            intimate: self.social.config().zones.intimate,
+        };
+        let step = self.steps as u64;
+        orca_among_people(
+            &mut self.orca,
+            &self.obstacles,
+            &robots,
+            people,
+            active,
+            partial_goals,
+            desired,
+            dt,
+            step,
+        );
+    }
+
+    /// Moves robot `i`'s elastic band one optimisation pass and follows it.
+    fn update_band(&mut self, i: usize, p: Vec2) {
+        let field = &self.field;
+        // The band's bubbles are free space for the robot's centre: clearance minus its footprint.
+        let body = self.statics[i].radius + self.scenario.robots[i].inflation_margin;
+        let clearance = |q: Vec2| field.at(q) - body;
+        let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
+        let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
+        let rb = &mut self.robots[i];
+        if let Some(band) = rb.band.as_mut()
+            && band.set_start(p).is_ok()
+        {
+            band.update(&clearance, Some(&social));
+            rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
+        }
+    }
+}
+
+/// The local planner of a built-in planner, if it has one.
+fn local_planner(kind: PlannerKind) -> Option<LocalPlanner> {
+    match kind {
+        PlannerKind::Social => Some(LocalPlanner::ModeSwitch),
+        PlannerKind::SocialMomentum => Some(LocalPlanner::SocialMomentum),
+        PlannerKind::Orca => Some(LocalPlanner::Orca),
+        _ => None,
+    }
+}
+
+/// Whether the straight segment `ab` crosses only passable cells of `grid` (sampled every half
+/// cell; cells the segment starts in are allowed, so a robot already in the inflation can leave).
+fn segment_clear(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
+    let len = (b - a).norm();
+    let n = (len / (0.5 * grid.spec.resolution)).ceil() as usize;
+    let start = grid.spec.cell_of(a);
+    (1..=n).all(|k| {
+        let q = a + (b - a) * (k as f64 / n as f64);
+        match grid.spec.cell_of(q) {
+            Some(c) => Some(c) == start || grid.passable(c.0, c.1),
+            None => false,
+        }
+    })
+}
+
+/// Plain A* (weight 0) from `start` to `goal` on `grid`, smoothed, as world-frame waypoints
+/// that start at `start` and end exactly at `goal`.
+pub(super) fn plan_path(
+    planner: &mut PathPlanner,
+    grid: &CostGrid,
+    start: Vec2,
+    goal: Vec2,
+) -> Option<Vec<Vec2>> {
+    let s = snap_to_passable(grid, start)?;
+    let g = snap_to_passable(grid, goal)?;
+    let path = planner.plan(grid, s, g, SearchMode { weight: 0.0, heuristic: true })?;
+    let mut pts = smooth_path(grid, &path, 0.0);
+    if let Some(first) = pts.first_mut() {
+        *first = start;
+    }
+    pts.push(goal);
+    Some(pts)
+}
