@@ -21,6 +21,7 @@ from proxemic.errors import InputError, PlanningError, ProxemicError, ScenarioEr
 from proxemic.registration import ENV_IDS, register_envs
 
 if TYPE_CHECKING:
+    from proxemic.evaluation import EvalResult
     from proxemic.parallel import ProxemicParallelEnv
 
 __version__: str = _core.__version__
@@ -38,6 +39,13 @@ def parallel_env(*args: Any, **kwargs: Any) -> ProxemicParallelEnv:
     return make(*args, **kwargs)
 
 
+def evaluate(policy: Any = None, **kwargs: Any) -> EvalResult:
+    """A policy (and built-in planners) on seeded episodes; see :func:`proxemic.evaluation.evaluate`."""
+    from proxemic.evaluation import evaluate as run
+
+    return run(policy, **kwargs)
+
+
 __all__ = [
     "ENV_IDS",
     "InputError",
@@ -46,5 +54,6 @@ __all__ = [
     "ScenarioError",
     "UnknownNameError",
     "__version__",
+    "evaluate",
     "parallel_env",
 ]

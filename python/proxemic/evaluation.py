@@ -84,15 +84,15 @@ METRICS: dict[str, MetricInfo] = {
     "path_length": MetricInfo("path length", "m", 0.0, fmt=".1f"),
     "path_length_ratio": MetricInfo("path length ratio", "x geodesic", 0.0),
     "spl": MetricInfo("SPL", "", 0.0, 1.0),
-    "l_ratio": MetricInfo("L_ratio (Daza 2021)", "", 0.0),
-    "smooth": MetricInfo("Smooth (Daza 2021)", "rad²", 0.0, fmt=".3f"),
-    "chc": MetricInfo("CHC (Calderita)", "rad", 0.0, fmt=".1f"),
+    "l_ratio": MetricInfo("L_ratio", "", 0.0),
+    "smooth": MetricInfo("Smooth", "rad²", 0.0, fmt=".3f"),
+    "chc": MetricInfo("CHC", "rad", 0.0, fmt=".1f"),
     "dist_person_min": MetricInfo("closest person", "m", 0.0),
     "psi_intimate": _pct("intimate-zone time"),
     "psi_personal": _pct("personal-zone time"),
     "ospace_pct": _pct("o-space time"),
     "interaction_crossings": MetricInfo("o-space crossings", "/episode", 0.0, fmt=".1f"),
-    "psi_objects": _pct("object-space time (Calderita)"),
+    "psi_objects": _pct("object-space time"),
     "reward": MetricInfo("return", "", fmt=".1f"),
 }
 
@@ -101,7 +101,10 @@ METRIC_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("outcome", ("success", "hc", "wc", "timeout")),
     ("efficiency", ("time_to_goal", "path_length", "path_length_ratio", "spl", "reward")),
     ("social", ("dist_person_min", "psi_intimate", "psi_personal", "ospace_pct", "interaction_crossings")),
-    ("papers' metrics", ("l_ratio", "smooth", "chc", "psi_objects")),
+    (
+        "papers' metrics (Daza 2021: L_ratio, Smooth; Calderita et al.: CHC, object-space time Psi)",
+        ("l_ratio", "smooth", "chc", "psi_objects"),
+    ),
 )
 
 #: The columns of the headline table (terminal and top of ``summary.md``); "collision" is HC or WC.
@@ -194,8 +197,8 @@ def cached_env(
 #: Policy objects given to :func:`evaluate` (not import paths), by label: read in this process and
 #: in worker processes forked after they were put here.
 _LOCAL_POLICIES: dict[str, Any] = {}
-#: (scenario, policy label) -> (env, actor), per process.
-_POLICY_CACHE: dict[tuple[str, str], tuple[Any, PolicyActor]] = {}
+#: (scenario, policy label, import path) -> (env, actor), per process, for the run under way.
+_POLICY_CACHE: dict[tuple[str, str, str], tuple[Any, PolicyActor]] = {}
 
 
 def policy_env(scenario: str, ref: PolicyRef) -> tuple[Any, PolicyActor]:
@@ -206,7 +209,7 @@ def policy_env(scenario: str, ref: PolicyRef) -> tuple[Any, PolicyActor]:
     """
     from proxemic.env import ProxemicEnv
 
-    key = (scenario, ref.name)
+    key = (scenario, ref.name, ref.target)
     cached = _POLICY_CACHE.get(key)
     if cached is None:
         env = ProxemicEnv(scenario, autopilot=False)
@@ -278,7 +281,7 @@ def check_policies(cfg: EvalConfig) -> None:
         actor.reset(cfg.seed)
         actor(obs)
         if cfg.workers > 1 or cfg.backend == "ray":
-            _POLICY_CACHE.pop((cfg.scenario, ref.name))[0].close()  # the workers build their own
+            _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target))[0].close()  # the workers build their own
 
 
 def _run_task_kw(args: tuple[tuple[str, str | PolicyRef, int], bool]) -> EpisodeResult:
@@ -455,18 +458,22 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     return rows
 
 
+def _is_rate(m: str) -> bool:
+    return m in (*RATE_METRICS, "collision")
+
+
 def _cell(row: Mapping[str, Any], m: str) -> str:
-    """One summary cell: a rate as p [lo, hi], a mean as m ± ci (n)."""
+    """One summary cell: a rate or a mean and its 95% interval within the metric's bounds, as m [lo, hi]."""
     info = METRICS[m]
-    if m in (*RATE_METRICS, "collision"):
+    if _is_rate(m):
         return f"{row[m]:.0%} [{row[m + '_lo']:.0%}, {row[m + '_hi']:.0%}]"
-    mean, ci, n = row[m], row[m + "_ci"], row[m + "_n"]
+    mean, lo, hi, n = row[m], row[m + "_lo"], row[m + "_hi"], row[m + "_n"]
     if math.isnan(mean):
         return "n/a"
-    if math.isnan(ci):
+    if math.isnan(lo):
         return f"{mean:{info.fmt}} (n={n})"
     partial = f" (n={n})" if n < row["episodes"] else ""
-    return f"{mean:{info.fmt}} ± {ci:{info.fmt}}{partial}"
+    return f"{mean:{info.fmt}} [{lo:{info.fmt}}, {hi:{info.fmt}}]{partial}"
 
 
 def _header(m: str) -> str:
@@ -493,7 +500,7 @@ def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
 
 
 def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
-    """The full summary as a markdown table: rates as p [lo, hi] (Wilson), means as m ± ci (t)."""
+    """The full summary as a markdown table: rates and means as m [lo, hi] (Wilson, Student t)."""
     return _table(rows, [*RATE_METRICS, "collision", *MEAN_METRICS])
 
 
@@ -525,8 +532,18 @@ def paired_ratio(a: Sequence[float], b: Sequence[float], seed: int = 0) -> tuple
     return float(x.mean() / y.mean()), float(lo), float(hi)
 
 
-def _change(r: float) -> str:
-    return f"{abs(r - 1):.0%} {'less' if r < 1 else 'more'}"
+def _change(r: float, lo: float, hi: float) -> str:
+    """A ratio of means and its interval in words: ``55% less X [33-73% less]``."""
+
+    def pct(x: float) -> str:
+        return f"{abs(x - 1):.0%}"
+
+    said = f"{pct(r)} {'less' if r < 1 else 'more'}"
+    if hi < 1 or lo > 1:
+        a, b = sorted((pct(lo), pct(hi)), key=lambda t: float(t[:-1]))
+        word = "less" if hi < 1 else "more"
+        return f"{said} [{a} {word}]" if a == b else f"{said} [{a[:-1]}-{b} {word}]"
+    return f"{said} [{pct(lo)} less to {pct(hi)} more]"
 
 
 def verdict(records: Sequence[Mapping[str, Any]], a: str, b: str) -> str:
@@ -569,7 +586,8 @@ def verdict(records: Sequence[Mapping[str, Any]], a: str, b: str) -> str:
         elif how == "times":
             said.append(f"{r:.2f}x {label} [{lo:.2f}x, {hi:.2f}x]")
         else:
-            said.append(f"{_change(r)} {label} [{_change(lo)}, {_change(hi)}]")
+            words = _change(r, lo, hi)
+            said.append(words.replace(" [", f" {label} [", 1))
     parts.append(f"over the {len(ok)} seeds both reached the goal: " + ", ".join(said) + ".")
     return "; ".join(parts)
 
@@ -592,8 +610,8 @@ def summary_report(rows: Sequence[dict[str, Any]], verdict_lines: Sequence[str])
     """The markdown summary: headline table, verdicts, then the full table."""
     parts = [
         headline_markdown(rows),
-        "Rates: % of episodes [95% Wilson interval]; means ± 95% t half-width, (n=) when only n episodes "
-        "have a value (time to goal: successes only).",
+        "Rates: % of episodes [95% Wilson interval]; means [95% Student t interval, clipped to the metric's "
+        "range]; (n=) when only n episodes have a value (time to goal: successes only).",
     ]
     if verdict_lines:
         parts += [
@@ -744,9 +762,10 @@ def evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
                 bar.update(1)
     finally:
         bar.close()
-        for ref in cfg.policies:
-            if not ref.target:
-                _POLICY_CACHE.pop((cfg.scenario, ref.name), (None,))  # the object is the caller's
+        for ref in cfg.policies:  # a later run builds its policies afresh
+            cached = _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target), None)
+            if cached is not None:
+                cached[0].close()
     rows = summarise(records)
     result = EvalResult(records, rows, verdicts(records, cfg.labels, len(cfg.policies)), out)
     if out is not None:
@@ -761,7 +780,10 @@ def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dic
     (out / "summary.md").write_text(result.summary_markdown() + "\n")
     plot_metrics_grid(
         result.summary,
-        [(name, [(m, METRICS[m].label, METRICS[m].unit) for m in ms]) for name, ms in METRIC_GROUPS],
+        [
+            (name, [(m, METRICS[m].label, "rate" if _is_rate(m) else METRICS[m].unit) for m in ms])
+            for name, ms in METRIC_GROUPS
+        ],
         out / "metrics.png",
         title=f"{cfg.scenario}: {cfg.episodes} seeded episodes each (seeds {cfg.seed}-{cfg.seed + cfg.episodes - 1}); "
         "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means)",

@@ -430,7 +430,7 @@ def plot_metrics_grid(
     Each panel is a horizontal bar chart (planners on the y axis, the same colour in every panel)
     with a whisker from ``<metric>_lo`` to ``<metric>_hi`` (the 95% interval, already clipped to
     the metric's bounds) and the value written beside it. A metric with unit ``"%"`` and values
-    within [0, 1] is drawn as a percentage.
+    ``"rate"`` (a fraction of episodes in [0, 1]) is drawn as a percentage on a 0-100 axis.
 
     Args:
         table: One row per planner with ``<metric>``, ``<metric>_lo`` and ``<metric>_hi``.
@@ -473,7 +473,7 @@ def plot_metrics_grid(
             values = np.array([_as_float(row.get(metric)) for row in table])
             lo = np.array([_as_float(row.get(f"{metric}_lo")) for row in table])
             hi = np.array([_as_float(row.get(f"{metric}_hi")) for row in table])
-            pct = unit == "%" and bool(np.all(np.nan_to_num(np.r_[values, hi], nan=0.0) <= 1.0))
+            pct = unit == "rate"
             scale = 100.0 if pct else 1.0
             values, lo, hi = values * scale, lo * scale, hi * scale
             ax.barh(y, np.nan_to_num(values), color=colors, edgecolor="black", linewidth=0.5, height=0.7)
@@ -497,6 +497,8 @@ def plot_metrics_grid(
                 x0 = r if np.isfinite(r) else 0.0
                 ax.text(x0 + 0.03 * span, yi, text, va="center", ha="left", fontsize=8)
             ax.set_xlim(min(0.0, float(np.nanmin(np.r_[lo, finite, 0.0]))) * 1.15, span * 1.35)
+            if pct:
+                ax.set_xticks([0, 25, 50, 75, 100])
             ax.set_yticks(y, names if k == 0 else [""] * n, fontsize=9)
             ax.tick_params(axis="x", labelsize=8)
             unit_text = "%" if pct else unit
