@@ -1,8 +1,9 @@
 """A hand-written policy to evaluate beside the built-in planners: ``proxemic eval --policy``.
 
-The robot heads straight for its goal and is pushed away from what its lidar sees closer than
-1 m and from people closer than 1.5 m (a reactive potential field; no map, no global plan, so
-walls between it and the goal can trap it: that is what an evaluation is for).
+The robot heads straight for its goal, is pushed away from what its lidar sees closer than 1 m
+and from people closer than 1.5 m, slides along what pushes it and slows down near obstacles (a
+reactive potential field; no map, no global plan, so the museum's walls between it and the goal
+trap or stop it: that is what an evaluation shows).
 
 Run from the repository root::
 
@@ -54,7 +55,14 @@ class GoalSeeker:
             if 1e-6 < d < PERSON_RANGE:
                 push -= (1.0 / d - 1.0 / PERSON_RANGE) * p / d
         v = pull + self.repulsion * push
-        v *= min(1.0, dist) / max(float(np.linalg.norm(v)), 1e-6)
+        norm_push = float(np.linalg.norm(push))
+        if norm_push > 1e-6:  # slide along what pushes: the tangent on the goal's side (left on a tie)
+            tangent = np.array([-push[1], push[0]]) / norm_push
+            tangent *= 1.0 if tangent @ pull >= 0.0 else -1.0
+            v += min(norm_push, 1.0) * tangent
+        closest = float(ranges.min()) if ranges.size else OBSTACLE_RANGE
+        slow = float(np.clip((closest - 0.3) / (OBSTACLE_RANGE - 0.3), 0.2, 1.0))
+        v *= slow * min(1.0, dist) / max(float(np.linalg.norm(v)), 1e-6)
         wz = np.clip(self.turn_gain * np.arctan2(goal[1], goal[0]), -1.0, 1.0)
         return np.array([v[0], v[1], wz], dtype=np.float32)
 
