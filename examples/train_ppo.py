@@ -13,7 +13,7 @@ is used as it is.
 
 Train (the model is written to ``OUT/ppo_<scene>.zip``)::
 
-    python examples/train_ppo.py --scenario daza2021_path3 --steps 200000 --out out/ppo
+    python examples/train_ppo.py --scenario daza2021_path3 --steps 150000 --out out/ppo
 
 Evaluate it beside the planners, on the same seeds (``PROXEMIC_PPO_MODEL`` names the model;
 default ``out/ppo/ppo_daza2021_path3.zip``)::
@@ -45,17 +45,23 @@ def make_env(scenario: str) -> Any:
     return flat_observation_env(ProxemicEnv(scenario))
 
 
-def train(scenario: str, steps: int, out: Path, seed: int = 0, n_envs: int = 2) -> Path:
-    """Trains PPO for `steps` env steps on `n_envs` copies of the env; returns the saved model's path."""
+def train(scenario: str, steps: int, out: Path, seed: int = 0, n_envs: int = 2, n_steps: int = 1024) -> Path:
+    """Trains PPO for `steps` env steps on `n_envs` copies of the env; returns the saved model's path.
+
+    `n_steps` is the rollout length per env between updates.
+    """
+    import torch
     from stable_baselines3 import PPO
     from stable_baselines3.common.env_util import make_vec_env
 
+    torch.set_num_threads(1)  # a small MLP: threads only contend on a shared machine
     vec = make_vec_env(lambda: make_env(scenario), n_envs=n_envs, seed=seed)
     model = PPO(
         "MlpPolicy",
         vec,
-        n_steps=512,
-        batch_size=128,
+        n_steps=n_steps,
+        batch_size=min(256, n_steps * n_envs),
+        n_epochs=5,
         learning_rate=3e-4,
         gamma=0.99,
         ent_coef=0.0,
@@ -78,8 +84,10 @@ class PPOPolicy:
 
     def __init__(self, model_path: str | os.PathLike[str], observation_space: Any) -> None:
         """Loads the model (on the CPU) and the observation flattener of the env's space."""
+        import torch
         from stable_baselines3 import PPO
 
+        torch.set_num_threads(1)
         self.model = PPO.load(model_path, device="cpu")
         self.flat = FlatObservation(observation_space)
 
@@ -101,7 +109,7 @@ def main() -> None:
     """Trains, then evaluates the model against astar and social on the same seeds."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenario", default=DEFAULT_SCENE)
-    ap.add_argument("--steps", type=int, default=200_000, help="training env steps (default: 200000)")
+    ap.add_argument("--steps", type=int, default=150_000, help="training env steps (default: 150000)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--episodes", type=int, default=20, help="evaluation episodes per policy (default: 20)")
     ap.add_argument("--out", default="out/ppo")

@@ -24,7 +24,7 @@ def _example():
 
 def test_ppo_trains_a_few_hundred_steps_and_is_evaluated_like_a_planner(tmp_path, monkeypatch):
     example = _example()
-    model = example.train("daza2021_path3", 256, tmp_path, seed=0, n_envs=1)
+    model = example.train("daza2021_path3", 256, tmp_path, seed=0, n_envs=1, n_steps=128)
     assert model.is_file()
     monkeypatch.setenv("PROXEMIC_PPO_MODEL", str(model))
     monkeypatch.chdir(ROOT)
