@@ -18,9 +18,9 @@ from proxemic.evaluation import (
     HEADLINE,
     METRICS,
     EvalConfig,
-    evaluation,
     headline_markdown,
     paired_ratio,
+    run_evaluation,
     summarise,
     verdict,
 )
@@ -216,7 +216,7 @@ def test_metrics_png_is_a_grid_of_at_most_five_columns(tmp_path):
     from PIL import Image
 
     cfg = EvalConfig(scenario=SCENE, planners=["astar", "social"], episodes=2, out=tmp_path, workers=1)
-    evaluation(cfg, progress=False)
+    run_evaluation(cfg, progress=False)
     width, height = Image.open(tmp_path / "metrics.png").size
     assert width <= 1500 and height > 400  # five 2.9-inch panels per row at 100 dpi, four rows
     summary = (tmp_path / "summary.md").read_text()

@@ -25,7 +25,7 @@ DEMO_PLANNERS = ("astar", "social_astar", "social")
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, evaluation, headline_markdown
+    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -42,7 +42,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
             workers=args.workers,
         )
         t0 = time.perf_counter()
-        result = evaluation(cfg)
+        result = run_evaluation(cfg)
         print()
         print(
             f"## {scenario}: {', '.join(planners)}, {args.episodes} seeded episodes each "
@@ -78,7 +78,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, evaluation, headline_markdown
+    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
     from proxemic.policy import PolicyRef
 
     policies = []
@@ -100,7 +100,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
         policies=policies,
     )
     t0 = time.perf_counter()
-    result = evaluation(cfg)
+    result = run_evaluation(cfg)
     print()
     print(headline_markdown(result.summary))
     for v in result.verdicts:

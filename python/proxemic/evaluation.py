@@ -730,7 +730,7 @@ def _check_config(cfg: EvalConfig) -> None:
         )
 
 
-def evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
+def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
     """Runs the evaluation of `cfg`; with ``cfg.out`` writes records, summary and plots there.
 
     Raises:
@@ -806,7 +806,7 @@ def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dic
 
 def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
     """Runs the evaluation and writes records, summary and plots into `cfg.out`; returns the summary."""
-    return evaluation(cfg, progress=progress).summary
+    return run_evaluation(cfg, progress=progress).summary
 
 
 def evaluate(
@@ -867,7 +867,7 @@ def evaluate(
         policies=refs,
     )
     try:
-        return evaluation(cfg, progress=progress)
+        return run_evaluation(cfg, progress=progress)
     finally:
         for ref in refs:
             if not ref.target:

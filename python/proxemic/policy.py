@@ -28,7 +28,7 @@ import inspect
 import os
 import sys
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
@@ -72,19 +72,19 @@ class PolicyRef:
     """A user policy in an evaluation: its label and where it comes from.
 
     ``target`` is an import path ``"module:factory"`` (built in each worker, so any backend works)
-    or a policy object (run in this process and in forked worker processes only). ``search_path``
+    or ``""`` for a policy object given to :func:`proxemic.evaluate` (run in this process and in
+    forked worker processes only). ``search_path``
     is put on ``sys.path`` before importing (the directory the CLI ran from, so that
     ``examples.my_policy:make`` imports from the repository root in every worker).
     """
 
     name: str
-    target: Any = field(compare=False)
+    target: str = ""
     search_path: str | None = None
 
     def __repr__(self) -> str:
         """The label, as tasks print it in error messages."""
-        target = self.target if isinstance(self.target, str) else type(self.target).__name__
-        return f"policy {self.name!r} ({target})"
+        return f"policy {self.name!r} ({self.target or 'a policy object'})"
 
 
 def _policy_error(message: str, *, field: str, expected: str, found: str) -> InputError:
