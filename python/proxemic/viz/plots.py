@@ -20,6 +20,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.patches import Polygon as PolygonPatch
+from matplotlib.ticker import MaxNLocator
 
 from .topdown import (
     DEFAULT_OBJECT_COLOR,
@@ -491,7 +492,8 @@ def plot_metrics_grid(
                 )
             finite = values[np.isfinite(values)]
             reach = np.where(whisker, hi, values)
-            span = max(float(np.nanmax(np.abs(np.r_[reach, finite, 0.0]))), 1e-9)
+            span = float(np.nanmax(np.abs(np.r_[reach, finite, 0.0])))
+            span = span if span > 1e-9 else 1.0  # all zero: a plain 0-1 axis
             for yi, v, r in zip(y, values, reach, strict=True):
                 text = "n/a" if not np.isfinite(v) else (f"{v:.0f}%" if pct else f"{v:.3g}")
                 x0 = r if np.isfinite(r) else 0.0
@@ -499,6 +501,8 @@ def plot_metrics_grid(
             ax.set_xlim(min(0.0, float(np.nanmin(np.r_[lo, finite, 0.0]))) * 1.15, span * 1.35)
             if pct:
                 ax.set_xticks([0, 25, 50, 75, 100])
+            else:
+                ax.xaxis.set_major_locator(MaxNLocator(nbins=4))
             ax.set_yticks(y, names if k == 0 else [""] * n, fontsize=9)
             ax.tick_params(axis="x", labelsize=8)
             unit_text = "%" if pct else unit
