@@ -79,6 +79,7 @@ bench: setup ## criterion benches of the core (medians), env, parallel env and r
 	$(PY) benches/parallel_bench.py
 	$(PY) benches/crowd_bench.py
 	$(PY) benches/eval_bench.py
+	$(PY) benches/vector_bench.py
 	$(PY) benches/orca_vs_navground.py
 	$(PY) benches/pedestrians_vs_navground.py
 

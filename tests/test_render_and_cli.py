@@ -68,8 +68,12 @@ def test_demo_writes_tables_and_plots(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "| astar |" in text and "| social_astar |" in text and "| social |" in text
     for scenario in ("museum", "care_center"):
-        # header, separator, one row per planner
-        assert (tmp_path / scenario / "summary.md").read_text().count("\n") == 2 + len(DEMO_PLANNERS)
+        # the headline table (header, separator, one row per planner), then a verdict per pair, then all metrics
+        summary = (tmp_path / scenario / "summary.md").read_text()
+        assert summary.split("\n\n")[0].count("\n") == 1 + len(DEMO_PLANNERS)
+        assert summary.count("\n- ") == 3 and "social vs astar" in summary
+        all_metrics = summary.split("## All metrics\n\n")[1]
+        assert all_metrics.count("\n") == 2 + len(DEMO_PLANNERS)
         assert (tmp_path / scenario / "trajectories_social_map.png").stat().st_size > 10_000
         for planner in DEMO_PLANNERS:
             assert (tmp_path / scenario / f"trajectories_{planner}.png").stat().st_size > 10_000

@@ -37,6 +37,7 @@ from proxemic.registration import ENV_IDS, register_envs
 
 if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
+    from proxemic.evaluation import EvalResult
     from proxemic.parallel import ProxemicParallelEnv
 
 __version__: str = _core.__version__
@@ -67,6 +68,13 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'proxemic' has no attribute {name!r}")
 
 
+def evaluate(policy: Any = None, **kwargs: Any) -> EvalResult:
+    """A policy (and built-in planners) on seeded episodes; see :func:`proxemic.evaluation.evaluate`."""
+    from proxemic.evaluation import evaluate as run
+
+    return run(policy, **kwargs)
+
+
 __all__ = [
     "EBAND_GAINS",
     "ENV_IDS",
@@ -82,6 +90,7 @@ __all__ = [
     "ScenarioError",
     "UnknownNameError",
     "__version__",
+    "evaluate",
     "parallel_env",
     "parse_time_of_day",
 ]

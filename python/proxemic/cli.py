@@ -25,32 +25,36 @@ DEMO_PLANNERS = ("astar", "social_astar", "social")
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, run_eval, summary_markdown
+    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
     from proxemic.social import SocialMap
 
     out = Path(args.out)
     planners = args.planner or list(DEMO_PLANNERS)
     written: list[Path] = []
     for scenario in args.scenario or ["museum", "care_center"]:
+        scene_out = out / Path(scenario).stem
         cfg = EvalConfig(
             scenario=scenario,
             planners=planners,
             episodes=args.episodes,
             seed=args.seed,
-            out=out / Path(scenario).stem,
+            out=scene_out,
             workers=args.workers,
         )
         t0 = time.perf_counter()
-        rows = run_eval(cfg)
+        result = run_evaluation(cfg)
         print()
         print(
             f"## {scenario}: {', '.join(planners)}, {args.episodes} seeded episodes each "
-            f"({time.perf_counter() - t0:.1f} s)"
+            f"({time.perf_counter() - t0:.1f} s; all metrics in {scene_out}/summary.md)"
         )
         print()
-        print(summary_markdown(rows))
-        written += [cfg.out / "summary.md", cfg.out / "metrics.png"]
-        written += [cfg.out / f"trajectories_{p}.png" for p in planners] + [cfg.out / "trajectories_social_map.png"]
+        print(headline_markdown(result.summary))
+        for v in result.verdicts:
+            print()
+            print(v)
+        written += [scene_out / "summary.md", scene_out / "metrics.png"]
+        written += [scene_out / f"trajectories_{p}.png" for p in planners] + [scene_out / "trajectories_social_map.png"]
     print()
     print("## social maps: plain A* vs social A* paths")
     print()
@@ -73,35 +77,48 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 def cmd_eval(args: argparse.Namespace) -> int:
-    """Seeded comparison of planners: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, run_eval, summary_markdown
+    """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
+    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
+    from proxemic.policy import PolicyRef
 
+    policies = []
+    if args.policy:
+        name = args.policy_name or args.policy.partition(":")[0].rpartition(".")[2].removesuffix(".py")
+        policies.append(PolicyRef(name.rpartition("/")[2], args.policy, os.getcwd()))
+    elif args.policy_name:
+        print("proxemic: error: --policy-name labels a --policy; no --policy given", file=sys.stderr)
+        return 2
     cfg = EvalConfig(
         scenario=args.scenario,
-        planners=args.planner or ["astar"],
+        planners=args.planner or ([] if policies else ["astar"]),
         episodes=args.episodes,
         seed=args.seed,
         out=Path(args.out),
         workers=args.workers,
         backend=args.backend,
         ray_address=args.ray_address,
+        policies=policies,
     )
     t0 = time.perf_counter()
-    rows = run_eval(cfg)
+    result = run_evaluation(cfg)
     print()
-    print(summary_markdown(rows))
+    print(headline_markdown(result.summary))
+    for v in result.verdicts:
+        print()
+        print(v)
     print()
     print(
         f"{len(cfg.tasks())} episodes in {time.perf_counter() - t0:.1f} s; wrote {cfg.out}/episodes.csv, "
-        f"episodes.parquet, summary.md and plots"
+        f"episodes.parquet, summary.md (all metrics) and plots"
     )
     if args.video:
         from proxemic.viz.video import record_episode
 
-        # The same (planner, seed) episodes again, deterministic: the videos show what was measured.
+        # The same (planner, seed) episodes again, deterministic: the videos show what was measured
+        # (the built-in planners' episodes; a user policy is not recorded).
         for planner in cfg.planners:
             for seed in range(cfg.seed, cfg.seed + min(args.video, cfg.episodes)):
-                mp4 = cfg.out / "videos" / f"{planner}_seed{seed}.mp4"
+                mp4 = Path(args.out) / "videos" / f"{planner}_seed{seed}.mp4"
                 record_episode(
                     cfg.scenario, planner, seed, mp4, view=args.view, overlays=args.overlay or ("path",), progress=True
                 )
@@ -251,9 +268,19 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
-    e = sub.add_parser("eval", help="seeded comparison of planners with summaries and plots")
+    e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
     e.add_argument("--scenario", default="museum", help="bundled scenario name or TOML path (default: museum)")
-    e.add_argument("--planner", action="append", help="a built-in planner; repeat to compare (default: astar)")
+    e.add_argument(
+        "--planner", action="append", help="a built-in planner; repeat to compare (default: astar without --policy)"
+    )
+    e.add_argument(
+        "--policy",
+        default=None,
+        metavar="MODULE:FACTORY",
+        help="your policy: the import path of a factory make(observation_space, action_space) returning a "
+        "callable obs -> action or an object with predict(obs, deterministic=True) (e.g. examples.my_policy:make)",
+    )
+    e.add_argument("--policy-name", default=None, help="the policy's label in tables and plots (default: its module)")
     e.add_argument("--episodes", type=int, default=20, help="episodes per planner (default: 20)")
     e.add_argument("--seed", type=int, default=0, help="first seed; every planner runs the same seeds (default: 0)")
     e.add_argument("--out", default="out/eval", help="output folder (default: out/eval)")

@@ -8,6 +8,7 @@ and rates with Wilson score intervals.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import math
 import os
@@ -20,6 +21,7 @@ import numpy as np
 
 from proxemic import _core, scenarios
 from proxemic.errors import EpisodeError, ProxemicError, input_error
+from proxemic.policy import PolicyActor, PolicyRef, build_policy, check_policy
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -29,13 +31,15 @@ R = TypeVar("R")
 RATE_METRICS = ("success", "hc", "wc", "timeout")
 
 #: Metrics summarised as means with t intervals (None values are left out): efficiency (time to
-#: goal, path length, SPL, Daza 2021's L_ratio and Smooth), motion (CHC), distance to people
-#: (closest centre distance), and time shares (%) in people's intimate and personal zones, inside
-#: groups' o-spaces and inside object spaces while their activity is on (Calderita's Psi), plus
-#: interaction crossings (person-person and person-object) per episode.
+#: goal, path length, path length ratio to the geodesic, SPL, Daza 2021's L_ratio and Smooth),
+#: motion (CHC), distance to people (closest centre distance), and time shares (%) in people's
+#: intimate and personal zones, inside groups' o-spaces and inside object spaces while their
+#: activity is on (Calderita's Psi), plus interaction crossings (person-person and person-object)
+#: per episode.
 MEAN_METRICS = (
     "time_to_goal",
     "path_length",
+    "path_length_ratio",
     "spl",
     "l_ratio",
     "smooth",
@@ -49,6 +53,73 @@ MEAN_METRICS = (
     "reward",
 )
 
+
+@dataclass(frozen=True)
+class MetricInfo:
+    """How a summarised metric is labelled and bounded (intervals are clipped to the bounds)."""
+
+    label: str
+    unit: str = ""
+    low: float = -math.inf
+    high: float = math.inf
+    fmt: str = ".2f"
+
+
+def _rate(label: str) -> MetricInfo:
+    return MetricInfo(label, "%", 0.0, 1.0, ".0%")
+
+
+def _pct(label: str) -> MetricInfo:
+    return MetricInfo(label, "%", 0.0, 100.0, ".1f")
+
+
+#: Label, unit and bounds of every summarised metric.
+METRICS: dict[str, MetricInfo] = {
+    "success": _rate("success"),
+    "hc": _rate("collision with a person"),
+    "wc": _rate("collision with walls/furniture"),
+    "timeout": _rate("timeout"),
+    "collision": _rate("collisions"),
+    "time_to_goal": MetricInfo("time to goal", "s", 0.0, fmt=".1f"),
+    "path_length": MetricInfo("path length", "m", 0.0, fmt=".1f"),
+    "path_length_ratio": MetricInfo("path length ratio", "x geodesic", 0.0),
+    "spl": MetricInfo("SPL", "", 0.0, 1.0),
+    "l_ratio": MetricInfo("L_ratio", "", 0.0),
+    "smooth": MetricInfo("Smooth", "rad²", 0.0, fmt=".3f"),
+    "chc": MetricInfo("CHC", "rad", 0.0, fmt=".1f"),
+    "dist_person_min": MetricInfo("closest person", "m", 0.0),
+    "psi_intimate": _pct("intimate-zone time"),
+    "psi_personal": _pct("personal-zone time"),
+    "ospace_pct": _pct("o-space time"),
+    "interaction_crossings": MetricInfo("o-space crossings", "/episode", 0.0, fmt=".1f"),
+    "psi_objects": _pct("object-space time"),
+    "reward": MetricInfo("return", "", fmt=".1f"),
+}
+
+#: The panels of ``metrics.png``, in rows: outcome, efficiency, social, the papers' own metrics.
+METRIC_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
+    ("outcome", ("success", "hc", "wc", "timeout")),
+    ("efficiency", ("time_to_goal", "path_length", "path_length_ratio", "spl", "reward")),
+    ("social", ("dist_person_min", "psi_intimate", "psi_personal", "ospace_pct", "interaction_crossings")),
+    (
+        "papers' metrics (Daza 2021: L_ratio, Smooth; Calderita et al.: CHC, object-space time Psi)",
+        ("l_ratio", "smooth", "chc", "psi_objects"),
+    ),
+)
+
+#: The columns of the headline table (terminal and top of ``summary.md``); "collision" is HC or WC.
+#: "o-space crossings" are the robot's crossings of the segments joining people in interaction
+#: (person-person, i.e. through a group's o-space, and person-object).
+HEADLINE = (
+    "success",
+    "collision",
+    "time_to_goal",
+    "path_length_ratio",
+    "psi_personal",
+    "interaction_crossings",
+    "psi_objects",
+)
+
 # Two-sided 95% Student t quantiles for 1..30 degrees of freedom (Fisher & Yates tables).
 _T95 = (
     12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
@@ -59,22 +130,34 @@ _T95 = (
 
 @dataclass(frozen=True)
 class EvalConfig:
-    """What to evaluate and where to write it."""
+    """What to evaluate and where to write it.
+
+    `policies` are user policies (:class:`proxemic.policy.PolicyRef`) evaluated beside the
+    built-in `planners`, on the same seeds; both are "planners" in the records' ``planner`` column.
+    With ``out=None`` nothing is written.
+    """
 
     scenario: str
     planners: Sequence[str]
     episodes: int = 20
     seed: int = 0
-    out: Path = Path("out/eval")
+    out: Path | None = Path("out/eval")
     workers: int = 2
     backend: str = "process"
     ray_address: str | None = None
     keep_trajectories: int = 5
     """Episodes per planner whose trajectories are kept for the trajectory plot."""
+    policies: Sequence[PolicyRef] = ()
 
-    def tasks(self) -> list[tuple[str, str, int]]:
-        """(scenario, planner, seed) of every episode, planner-major."""
-        return [(self.scenario, p, self.seed + k) for p in self.planners for k in range(self.episodes)]
+    @property
+    def labels(self) -> list[str]:
+        """The label of every evaluated policy and planner, in task order."""
+        return [p.name for p in self.policies] + list(self.planners)
+
+    def tasks(self) -> list[tuple[str, str | PolicyRef, int]]:
+        """(scenario, planner or policy, seed) of every episode, policies then planners, planner-major."""
+        who: list[str | PolicyRef] = [*self.policies, *self.planners]
+        return [(self.scenario, p, self.seed + k) for p in who for k in range(self.episodes)]
 
 
 @dataclass
@@ -111,22 +194,91 @@ def cached_env(
     return env
 
 
-def run_task(task: tuple[str | _core.Scenario, str, int], keep: bool = False) -> EpisodeResult:
-    """Runs one (scenario, planner, seed) episode in this process (envs are cached per process)."""
+#: Policy objects given to :func:`evaluate` (not import paths), by label: read in this process and
+#: in worker processes forked after they were put here.
+_LOCAL_POLICIES: dict[str, Any] = {}
+#: (scenario, policy label, import path) -> (env, actor), per process, for the run under way.
+_POLICY_CACHE: dict[tuple[str | _core.Scenario, str, str], tuple[Any, PolicyActor]] = {}
+
+
+def policy_env(scenario: str | _core.Scenario, ref: PolicyRef) -> tuple[Any, PolicyActor]:
+    """An action-driven env of `scenario` and the policy of `ref` built for it, cached per process.
+
+    An import-path policy is built here from its factory (so every worker has its own); a policy
+    object is taken from those given to :func:`evaluate`.
+    """
+    from proxemic.env import ProxemicEnv
+
+    key = (scenario, ref.name, ref.target)
+    cached = _POLICY_CACHE.get(key)
+    if cached is None:
+        env = ProxemicEnv(scenario, autopilot=False)
+        if ref.target:
+            policy = build_policy(ref.target, env.observation_space, env.action_space, ref.search_path)
+        elif ref.name in _LOCAL_POLICIES:
+            policy = _LOCAL_POLICIES[ref.name]
+        else:
+            env.close()
+            raise input_error(
+                "policy",
+                "an import path 'module:factory'",
+                "a policy object",
+                note=f"policy {ref.name!r} runs only in this process and in forked worker processes; "
+                "an import path runs anywhere (e.g. on Ray)",
+            )
+        cached = (env, PolicyActor(policy, tuple(env.action_space.shape or (3,)), ref.name))
+        _POLICY_CACHE[key] = cached
+    return cached
+
+
+def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool = False) -> EpisodeResult:
+    """Runs one (scenario, planner or policy, seed) episode in this process (envs cached per process)."""
     from proxemic.env import flatten_metrics
     from proxemic.runner import run_episode
 
     scenario, planner, seed = task
-    env = cached_env(scenario, planner)
-    rec = run_episode(scenario, seed, env=env)
-    record = {"scenario": env.scenario["scene"]["name"], "planner": planner, "seed": seed, "reward": rec.total_reward}
+    if isinstance(planner, PolicyRef):
+        env, actor = policy_env(scenario, planner)
+        rec = run_episode(scenario, seed, env=env, policy=actor)
+        label = planner.name
+    else:
+        env = cached_env(scenario, planner)
+        rec = run_episode(scenario, seed, env=env)
+        label = planner
+    record = {"scenario": env.scenario["scene"]["name"], "planner": label, "seed": seed, "reward": rec.total_reward}
     record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
         return EpisodeResult(record, rec.robot, rec.people, rec.path)
     return EpisodeResult(record)
 
 
-def _run_task_kw(args: tuple[tuple[str, str, int], bool]) -> EpisodeResult:
+def check_policies(cfg: EvalConfig) -> None:
+    """Builds each user policy here and asks it for one action, so a bad one fails before any episode.
+
+    Raises:
+        InputError: A factory that does not load, a policy that is not callable, an action of the
+            wrong shape, a duplicated label, or a policy object on a backend that cannot run it.
+    """
+    labels = cfg.labels
+    for ref in cfg.policies:
+        if labels.count(ref.name) > 1:
+            raise input_error("policy_name", f"a label no other policy or planner has (taken: {labels})", ref.name)
+        if not ref.target and (cfg.backend == "ray" or (cfg.workers > 1 and not hasattr(os, "fork"))):
+            raise input_error(
+                "policy",
+                "an import path 'module:factory' (built in each worker)",
+                "a policy object",
+                note=f"policy {ref.name!r} cannot be sent to backend {cfg.backend!r}",
+            )
+        env, actor = policy_env(cfg.scenario, ref)
+        obs, _ = env.reset(seed=cfg.seed)
+        actor.reset(cfg.seed)
+        actor(obs)
+        if cfg.workers > 1 or cfg.backend == "ray":
+            _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target))[0].close()  # the workers build their own
+
+
+def _run_task_kw(args: tuple[tuple[str, str | PolicyRef, int], bool]) -> EpisodeResult:
     return run_task(args[0], args[1])
 
 
@@ -260,46 +412,203 @@ def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float, f
     return p, centre - half, centre + half
 
 
+def _collided(record: Mapping[str, Any]) -> bool:
+    """A collision of any kind (with a person, walls or furniture, another robot)."""
+    return record.get("outcome") == "collision" or any(bool(record.get(k)) for k in ("hc", "wc", "ac"))
+
+
 def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    """One row per planner: rates with Wilson intervals, means with t intervals."""
+    """One row per planner: rates with Wilson intervals, means with t intervals.
+
+    Rates ``m`` have ``m_lo``/``m_hi``; means have ``m_ci`` (half-width), ``m_n`` (episodes with
+    a value) and ``m_lo``/``m_hi``: the interval clipped to the metric's bounds (:data:`METRICS`).
+    ``collision`` is the rate of episodes with any collision.
+    """
     rows = []
     planners = list(dict.fromkeys(r["planner"] for r in records))
     for planner in planners:
         recs = [r for r in records if r["planner"] == planner]
         row: dict[str, Any] = {"planner": planner, "episodes": len(recs)}
-        for m in RATE_METRICS:
-            k = sum(bool(r.get(m)) for r in recs)
+        for m in (*RATE_METRICS, "collision"):
+            k = sum(_collided(r) if m == "collision" else bool(r.get(m)) for r in recs)
             p, lo, hi = wilson(k, len(recs))
             row[m] = p
             row[f"{m}_lo"] = lo
             row[f"{m}_hi"] = hi
         for m in MEAN_METRICS:
             mean, half, n = mean_ci(r.get(m) for r in recs)
+            info = METRICS[m]
             row[m] = mean
             row[f"{m}_ci"] = half
             row[f"{m}_n"] = n
+            row[f"{m}_lo"] = max(mean - half, info.low) if math.isfinite(half) else math.nan
+            row[f"{m}_hi"] = min(mean + half, info.high) if math.isfinite(half) else math.nan
         rows.append(row)
     return rows
 
 
-def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
-    """The summary as a markdown table: rates as p [lo, hi], means as m ± ci."""
-    cols = ["planner", "episodes", *RATE_METRICS, *MEAN_METRICS]
+def _is_rate(m: str) -> bool:
+    return m in (*RATE_METRICS, "collision")
+
+
+def _cell(row: Mapping[str, Any], m: str) -> str:
+    """One summary cell: a rate or a mean and its 95% interval within the metric's bounds, as m [lo, hi]."""
+    info = METRICS[m]
+    if _is_rate(m):
+        return f"{row[m]:.0%} [{row[m + '_lo']:.0%}, {row[m + '_hi']:.0%}]"
+    mean, lo, hi, n = row[m], row[m + "_lo"], row[m + "_hi"], row[m + "_n"]
+    if math.isnan(mean):
+        return "n/a"
+    if math.isnan(lo):
+        return f"{mean:{info.fmt}} (n={n})"
+    partial = f" (n={n})" if n < row["episodes"] else ""
+    return f"{mean:{info.fmt}} [{lo:{info.fmt}}, {hi:{info.fmt}}]{partial}"
+
+
+def _header(m: str) -> str:
+    info = METRICS[m]
+    return f"{info.label} ({info.unit})" if info.unit else info.label
+
+
+def _table(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str]) -> str:
+    cols = ["planner", "episodes", *(_header(m) for m in metrics)]
     lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
     for r in rows:
-        cells = [str(r["planner"]), str(r["episodes"])]
-        for m in RATE_METRICS:
-            cells.append(f"{r[m]:.2f} [{r[m + '_lo']:.2f}, {r[m + '_hi']:.2f}]")
-        for m in MEAN_METRICS:
-            mean, ci = r[m], r[m + "_ci"]
-            if math.isnan(mean):
-                cells.append("n/a")
-            elif math.isnan(ci):
-                cells.append(f"{mean:.2f} (n={r[m + '_n']})")
-            else:
-                cells.append(f"{mean:.2f} ± {ci:.2f} (n={r[m + '_n']})")
+        cells = [str(r["planner"]), str(r["episodes"]), *(_cell(r, m) for m in metrics)]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
+    """The headline table with units and 95% intervals.
+
+    Success, collisions, time to goal, path length ratio, personal-zone time, o-space crossings
+    and object-space time (:data:`HEADLINE`).
+    """
+    return _table(rows, HEADLINE)
+
+
+def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
+    """The full summary as a markdown table: rates and means as m [lo, hi] (Wilson, Student t)."""
+    return _table(rows, [*RATE_METRICS, "collision", *MEAN_METRICS])
+
+
+#: The metrics of a verdict: (metric, how a ratio is said: "times" as 1.2x, "share" as 55% less).
+VERDICT_METRICS: tuple[tuple[str, str], ...] = (
+    ("time_to_goal", "times"),
+    ("path_length", "times"),
+    ("psi_personal", "share"),
+    ("ospace_pct", "share"),
+    ("interaction_crossings", "share"),
+    ("psi_objects", "share"),
+)
+BOOTSTRAP_SAMPLES = 2000
+
+
+def paired_ratio(a: Sequence[float], b: Sequence[float], seed: int = 0) -> tuple[float, float, float]:
+    """mean(a) / mean(b) over paired samples and its 95% percentile bootstrap interval (pairs resampled).
+
+    Returns NaNs when b's mean is 0 (or a resample's is: those resamples are left out).
+    """
+    x, y = np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64)
+    if x.size == 0 or y.mean() == 0:
+        return math.nan, math.nan, math.nan
+    idx = np.random.default_rng(seed).integers(0, x.size, size=(BOOTSTRAP_SAMPLES, x.size))
+    num, den = x[idx].mean(axis=1), y[idx].mean(axis=1)
+    ok = den > 0
+    ratios = num[ok] / den[ok]
+    lo, hi = np.percentile(ratios, [2.5, 97.5]) if ratios.size else (math.nan, math.nan)
+    return float(x.mean() / y.mean()), float(lo), float(hi)
+
+
+def _change(r: float, lo: float, hi: float) -> str:
+    """A ratio of means and its interval in words: ``55% less X [33-73% less]``."""
+
+    def pct(x: float) -> str:
+        return f"{abs(x - 1):.0%}"
+
+    said = f"{pct(r)} {'less' if r < 1 else 'more'}"
+    if hi < 1 or lo > 1:
+        a, b = sorted((pct(lo), pct(hi)), key=lambda t: float(t[:-1]))
+        word = "less" if hi < 1 else "more"
+        return f"{said} [{a} {word}]" if a == b else f"{said} [{a[:-1]}-{b} {word}]"
+    return f"{said} [{pct(lo)} less to {pct(hi)} more]"
+
+
+def verdict(records: Sequence[Mapping[str, Any]], a: str, b: str) -> str:
+    """One plain-language paragraph comparing planner `a` with `b` on the seeds both ran.
+
+    Success and collision counts over all shared seeds; then, over the seeds where both reached the
+    goal, ratios of means of time to goal, path length and the social time shares with 95%
+    bootstrap intervals (pairs of episodes resampled).
+    """
+    by = {p: {r["seed"]: r for r in records if r["planner"] == p} for p in (a, b)}
+    seeds = sorted(set(by[a]) & set(by[b]))
+    if not seeds:
+        return f"{a} vs {b}: no seed in common."
+
+    def count(p: str, pred: Callable[[Mapping[str, Any]], bool]) -> int:
+        return sum(pred(by[p][s]) for s in seeds)
+
+    ok = [s for s in seeds if by[a][s].get("success") and by[b][s].get("success")]
+    parts = [
+        f"{a} vs {b} on {len(seeds)} seeds: success {count(a, lambda r: bool(r.get('success')))} vs "
+        f"{count(b, lambda r: bool(r.get('success')))}, collisions {count(a, _collided)} vs {count(b, _collided)}"
+    ]
+    if len(ok) < 2:
+        parts.append(f"only {len(ok)} seed(s) where both reached the goal, too few to compare further.")
+        return "; ".join(parts)
+    said = []
+    for m, how in VERDICT_METRICS:
+        raw = [(by[a][s].get(m), by[b][s].get(m)) for s in ok]
+        pairs = [(float(x), float(y)) for x, y in raw if x is not None and y is not None]
+        if len(pairs) < 2:
+            continue
+        xs, ys = [p[0] for p in pairs], [p[1] for p in pairs]
+        label = METRICS[m].label
+        r, lo, hi = paired_ratio(xs, ys)
+        if math.isnan(r):
+            if np.mean(xs) == 0:
+                said.append(f"no {label} for either")
+            else:
+                said.append(f"{label} {np.mean(xs):{METRICS[m].fmt}} {METRICS[m].unit} vs none")
+        elif how == "times":
+            said.append(f"{r:.2f}x {label} [{lo:.2f}x, {hi:.2f}x]")
+        else:
+            words = _change(r, lo, hi)
+            said.append(words.replace(" [", f" {label} [", 1))
+    parts.append(f"over the {len(ok)} seeds both reached the goal: " + ", ".join(said) + ".")
+    return "; ".join(parts)
+
+
+def verdicts(records: Sequence[Mapping[str, Any]], labels: Sequence[str], policies: int = 0) -> list[str]:
+    """A :func:`verdict` for every pair of `labels`.
+
+    The first `policies` labels (user policies) come first against every later label, then each
+    later planner against each earlier one (``social vs astar``).
+    """
+    out = []
+    for i in range(len(labels)):
+        for j in range(i + 1, len(labels)):
+            a, b = (labels[i], labels[j]) if i < policies else (labels[j], labels[i])
+            out.append(verdict(records, a, b))
+    return out
+
+
+def summary_report(rows: Sequence[dict[str, Any]], verdict_lines: Sequence[str]) -> str:
+    """The markdown summary: headline table, verdicts, then the full table."""
+    parts = [
+        headline_markdown(rows),
+        "Rates: % of episodes [95% Wilson interval]; means [95% Student t interval, clipped to the metric's "
+        "range]; (n=) when only n episodes have a value (time to goal: successes only).",
+    ]
+    if verdict_lines:
+        parts += [
+            "Verdicts (ratios of means over the seeds both reached the goal, [95% paired bootstrap interval]):",
+            "\n".join(f"- {v}" for v in verdict_lines),
+        ]
+    parts += ["## All metrics", summary_markdown(rows)]
+    return "\n\n".join(parts)
 
 
 def check_out_dir(out: Path) -> None:
@@ -363,33 +672,98 @@ class RecordWriter:
         ) from exc
 
 
-def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
-    """Runs the evaluation and writes records, summary and plots into `cfg.out`; returns the summary."""
-    from tqdm import tqdm
+@dataclass
+class EvalResult:
+    """What an evaluation produced: the per-episode records, the summary and the verdicts."""
 
-    from proxemic.viz.plots import plot_episodes, plot_metrics_bars
+    records: list[dict[str, Any]]
+    """One dict per episode (the columns of ``episodes.csv``)."""
+    summary: list[dict[str, Any]]
+    """One row per planner or policy (:func:`summarise`)."""
+    verdicts: list[str]
+    """One paragraph per pair (:func:`verdicts`)."""
+    out: Path | None = None
+    """Where records, summary and plots were written (None: nowhere)."""
 
+    def table(self) -> Any:
+        """The records as a ``pyarrow.Table`` (``.to_pandas()`` gives a DataFrame if pandas is installed)."""
+        import pyarrow as pa
+
+        return pa.Table.from_pylist(self.records)
+
+    def summary_markdown(self) -> str:
+        """Headline table, verdicts and full table, as written to ``summary.md``."""
+        return summary_report(self.summary, self.verdicts)
+
+
+def _check_config(cfg: EvalConfig) -> None:
     core, _ = scenarios.load(cfg.scenario)
     for p in cfg.planners:
         core.with_planner(p)  # an unknown name raises the core's ScenarioError
     if cfg.episodes < 1:
         raise input_error("episodes", "at least 1", cfg.episodes)
-    out = Path(cfg.out)
-    check_out_dir(out)
+    if not cfg.labels:
+        raise input_error("planners", "at least one planner or policy", "none", note="nothing to evaluate")
+
+
+def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
+    """Runs the evaluation of `cfg`; with ``cfg.out`` writes records, summary and plots there.
+
+    Raises:
+        InputError: A bad scenario, planner, policy (checked on one action before any episode),
+            episode count, backend or output folder.
+        EpisodeError: An episode failed (the finished ones are kept in ``episodes.csv``).
+    """
+    from tqdm import tqdm
+
+    _check_config(cfg)
+    out = None if cfg.out is None else Path(cfg.out)
+    if out is not None:
+        check_out_dir(out)
+    check_policies(cfg)
     _, scenario = scenarios.load(cfg.scenario)
-    kept: dict[str, list[EpisodeResult]] = {p: [] for p in cfg.planners}
+    kept: dict[str, list[EpisodeResult]] = {p: [] for p in cfg.labels}
     tasks = cfg.tasks()
-    bar = tqdm(total=len(tasks), desc=f"{cfg.scenario}: {', '.join(cfg.planners)}", unit="ep", disable=not progress)
-    with RecordWriter(out / "episodes.csv", out / "episodes.parquet", tasks) as records:
-        for res in iter_results(cfg):
-            records.write(res.record)
-            if res.robot is not None:
-                kept[res.record["planner"]].append(res)
-            bar.update(1)
-    bar.close()
-    rows = summarise(records.rows)
-    (out / "summary.md").write_text(summary_markdown(rows) + "\n")
-    plot_metrics_bars(rows, list(RATE_METRICS[:2] + MEAN_METRICS[:-1]), out / "metrics.png")
+    bar = tqdm(total=len(tasks), desc=f"{cfg.scenario}: {', '.join(cfg.labels)}", unit="ep", disable=not progress)
+    records: list[dict[str, Any]] = []
+    writer = RecordWriter(out / "episodes.csv", out / "episodes.parquet", tasks) if out is not None else None
+    try:
+        with writer if writer is not None else contextlib.nullcontext():
+            for res in iter_results(cfg):
+                records.append(res.record)
+                if writer is not None:
+                    writer.write(res.record)
+                if res.robot is not None:
+                    kept[res.record["planner"]].append(res)
+                bar.update(1)
+    finally:
+        bar.close()
+        for ref in cfg.policies:  # a later run builds its policies afresh
+            cached = _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target), None)
+            if cached is not None:
+                cached[0].close()
+    rows = summarise(records)
+    result = EvalResult(records, rows, verdicts(records, cfg.labels, len(cfg.policies)), out)
+    if out is not None:
+        _write_outputs(cfg, result, scenario, kept)
+    return result
+
+
+def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dict[str, list[EpisodeResult]]) -> None:
+    from proxemic.viz.plots import plot_episodes, plot_metrics_grid
+
+    out = Path(cfg.out or ".")
+    (out / "summary.md").write_text(result.summary_markdown() + "\n")
+    plot_metrics_grid(
+        result.summary,
+        [
+            (name, [(m, METRICS[m].label, "rate" if _is_rate(m) else METRICS[m].unit) for m in ms])
+            for name, ms in METRIC_GROUPS
+        ],
+        out / "metrics.png",
+        title=f"{cfg.scenario}: {cfg.episodes} seeded episodes each (seeds {cfg.seed}-{cfg.seed + cfg.episodes - 1}); "
+        "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means)",
+    )
     for planner, results in kept.items():
         episodes = [
             {
@@ -404,7 +778,76 @@ def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
         if episodes:
             plot_episodes(scenario, episodes, out / f"trajectories_{planner}.png", title=f"{cfg.scenario}: {planner}")
     plot_planners_on_social_map(cfg.scenario, cfg.seed, kept, out / "trajectories_social_map.png")
-    return rows
+
+
+def run_eval(cfg: EvalConfig, *, progress: bool = True) -> list[dict[str, Any]]:
+    """Runs the evaluation and writes records, summary and plots into `cfg.out`; returns the summary."""
+    return run_evaluation(cfg, progress=progress).summary
+
+
+def evaluate(
+    policy: Any = None,
+    *,
+    scenario: str = "museum",
+    episodes: int = 20,
+    seed: int = 0,
+    planners: Sequence[str] = ("astar",),
+    name: str | None = None,
+    out: str | Path | None = None,
+    workers: int = 1,
+    backend: str = "process",
+    ray_address: str | None = None,
+    progress: bool = False,
+) -> EvalResult:
+    """Evaluates a policy beside built-in planners on the same seeds.
+
+    Args:
+        policy: A policy (see :mod:`proxemic.policy`: a callable ``obs -> action`` or an object with
+            ``predict``), or the import path ``"module:factory"`` of a factory
+            ``make(observation_space, action_space)`` (needed for the Ray backend), or None for
+            planners only.
+        scenario: Bundled scenario name or TOML path.
+        episodes: Episodes per policy and planner; seeds ``seed .. seed + episodes - 1``.
+        seed: First seed.
+        planners: Built-in planners run on the same seeds.
+        name: The policy's label (default: the factory's module, or the policy's class or function name).
+        out: Folder for ``episodes.csv``/``.parquet``, ``summary.md`` and plots (default: write nothing).
+        workers: Processes (policy objects reach them by fork).
+        backend: ``"process"`` or ``"ray"``.
+        ray_address: An existing Ray cluster.
+        progress: Show a progress bar.
+
+    Returns:
+        The records (``result.table()`` is a pyarrow Table, ``.to_pandas()`` a DataFrame), the summary
+        rows and the verdicts.
+    """
+    refs: list[PolicyRef] = []
+    label = name
+    if isinstance(policy, str):
+        label = label or policy.partition(":")[0].rpartition(".")[2].removesuffix(".py").rpartition("/")[2]
+        refs.append(PolicyRef(label, policy, os.getcwd()))
+    elif policy is not None:
+        check_policy(policy)
+        label = label or getattr(policy, "__name__", None) or type(policy).__name__
+        refs.append(PolicyRef(label, ""))
+        _LOCAL_POLICIES[label] = policy
+    cfg = EvalConfig(
+        scenario=scenario,
+        planners=list(planners),
+        episodes=episodes,
+        seed=seed,
+        out=None if out is None else Path(out),
+        workers=workers,
+        backend=backend,
+        ray_address=ray_address,
+        policies=refs,
+    )
+    try:
+        return run_evaluation(cfg, progress=progress)
+    finally:
+        for ref in refs:
+            if not ref.target:
+                _LOCAL_POLICIES.pop(ref.name, None)
 
 
 def plot_planners_on_social_map(

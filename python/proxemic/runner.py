@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,21 +37,32 @@ class EpisodeRecord:
         return out
 
 
-def run_episode(scenario: str | Path | _core.Scenario, seed: int, *, env: ProxemicEnv | None = None) -> EpisodeRecord:
+def run_episode(
+    scenario: str | Path | _core.Scenario,
+    seed: int,
+    *,
+    env: ProxemicEnv | None = None,
+    policy: Callable[[dict[str, np.ndarray]], np.ndarray] | None = None,
+) -> EpisodeRecord:
     """Runs one episode of `scenario` from `seed` with the robot's built-in planner driving.
 
-    Pass an existing `env` (made with ``autopilot=True``) to reuse its compiled model.
+    Pass an existing `env` (made with ``autopilot=True``) to reuse its compiled model. With a
+    `policy` (``obs -> action``, e.g. a :class:`proxemic.policy.PolicyActor`; its ``reset(seed)`` is
+    called first if it has one) the policy drives instead, in an env made with ``autopilot=False``.
     """
     own = env is None
     if env is None:
-        env = ProxemicEnv(scenario, autopilot=True)
+        env = ProxemicEnv(scenario, autopilot=policy is None)
     try:
-        env.reset(seed=seed)
+        obs, _ = env.reset(seed=seed)
+        if policy is not None and callable(getattr(policy, "reset", None)):
+            policy.reset(seed)  # type: ignore[attr-defined]
         people = [env.people()[:, :2]]
         path = env.planned_path()
         total = 0.0
         while True:
-            _, reward, terminated, truncated, info = env.step(env.action_space.sample() * 0.0)
+            action = env.action_space.sample() * 0.0 if policy is None else policy(obs)
+            obs, reward, terminated, truncated, info = env.step(action)
             total += reward
             people.append(env.people()[:, :2])
             if terminated or truncated:

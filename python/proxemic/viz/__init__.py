@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from .topdown import TopDownRenderer
 
 if TYPE_CHECKING:
-    from .plots import format_table, plot_episodes, plot_metrics_bars
+    from .plots import format_table, plot_episodes, plot_metrics_bars, plot_metrics_grid
     from .video import record_episode, render_frame, write_video
 
 __all__ = [
@@ -24,6 +24,7 @@ __all__ = [
     "format_table",
     "plot_episodes",
     "plot_metrics_bars",
+    "plot_metrics_grid",
     "record_episode",
     "render_frame",
     "write_video",
@@ -33,6 +34,7 @@ _LAZY = {
     "format_table": ".plots",
     "plot_episodes": ".plots",
     "plot_metrics_bars": ".plots",
+    "plot_metrics_grid": ".plots",
     "record_episode": ".video",
     "render_frame": ".video",
     "write_video": ".video",

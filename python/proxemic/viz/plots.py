@@ -20,6 +20,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 from matplotlib.patches import Polygon as PolygonPatch
+from matplotlib.ticker import MaxNLocator
 
 from .topdown import (
     DEFAULT_OBJECT_COLOR,
@@ -33,7 +34,14 @@ from .topdown import (
     wall_polygon,
 )
 
-__all__ = ["format_table", "plot_episodes", "plot_metrics_bars", "plot_social_map", "plot_tune"]
+__all__ = [
+    "format_table",
+    "plot_episodes",
+    "plot_metrics_bars",
+    "plot_metrics_grid",
+    "plot_social_map",
+    "plot_tune",
+]
 
 #: End-of-trajectory marker per episode outcome.
 OUTCOME_MARKERS: Mapping[str, str] = {"success": "*", "collision": "X", "timeout": "s"}
@@ -401,6 +409,109 @@ def plot_metrics_bars(
         ax.grid(True, axis="y", linewidth=0.3, alpha=0.6)
         ax.set_axisbelow(True)
         ax.margins(y=0.15)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, format="png", metadata={"Software": None})
+    return out
+
+
+#: Panels per row of :func:`plot_metrics_grid`.
+GRID_COLUMNS = 5
+
+
+def plot_metrics_grid(
+    table: Sequence[Mapping[str, Any]],
+    groups: Sequence[tuple[str, Sequence[tuple[str, str, str]]]],
+    out_png: str | os.PathLike[str],
+    *,
+    group_key: str = "planner",
+    title: str | None = None,
+) -> pathlib.Path:
+    """Small multiples of aggregated metrics: one row of panels per group, one bar per planner.
+
+    Each panel is a horizontal bar chart (planners on the y axis, the same colour in every panel)
+    with a whisker from ``<metric>_lo`` to ``<metric>_hi`` (the 95% interval, already clipped to
+    the metric's bounds) and the value written beside it. A metric with unit ``"%"`` and values
+    ``"rate"`` (a fraction of episodes in [0, 1]) is drawn as a percentage on a 0-100 axis.
+
+    Args:
+        table: One row per planner with ``<metric>``, ``<metric>_lo`` and ``<metric>_hi``.
+        groups: ``(group name, [(metric, label, unit), ...])`` in row order; a group of more than
+            :data:`GRID_COLUMNS` metrics wraps onto further rows.
+        out_png: Output PNG path; parent directories are created.
+        group_key: The row key naming the planner.
+        title: Figure title.
+
+    Returns:
+        The path written.
+
+    Raises:
+        ValueError: If `groups` has no metric.
+    """
+    rows_of_panels: list[tuple[str, list[tuple[str, str, str]]]] = []
+    for name, metrics in groups:
+        metrics = list(metrics)
+        for k in range(0, len(metrics), GRID_COLUMNS):
+            rows_of_panels.append((name if k == 0 else f"{name} (cont.)", metrics[k : k + GRID_COLUMNS]))
+    if not rows_of_panels:
+        raise ValueError("groups must name at least one metric")
+    out = pathlib.Path(out_png)
+    names = [str(row.get(group_key, "?")) for row in table]
+    colors = _episode_colors(len(names))
+    n = len(names)
+    panel_h = 0.9 + 0.32 * n
+    fig = Figure(figsize=(2.9 * GRID_COLUMNS, panel_h * len(rows_of_panels) + 0.9), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    subfigs = fig.subfigures(len(rows_of_panels), 1, squeeze=False)[:, 0]
+    y = np.arange(n, dtype=np.float64)[::-1]
+    for subfig, (group, metrics) in zip(subfigs, rows_of_panels, strict=True):
+        subfig.suptitle(group, x=0.0, ha="left", fontsize=11, fontweight="bold")
+        axes = subfig.subplots(1, GRID_COLUMNS, squeeze=False)[0]
+        for k, ax in enumerate(axes):
+            if k >= len(metrics):
+                ax.set_visible(False)
+                continue
+            metric, label, unit = metrics[k]
+            values = np.array([_as_float(row.get(metric)) for row in table])
+            lo = np.array([_as_float(row.get(f"{metric}_lo")) for row in table])
+            hi = np.array([_as_float(row.get(f"{metric}_hi")) for row in table])
+            pct = unit == "rate"
+            scale = 100.0 if pct else 1.0
+            values, lo, hi = values * scale, lo * scale, hi * scale
+            ax.barh(y, np.nan_to_num(values), color=colors, edgecolor="black", linewidth=0.5, height=0.7)
+            whisker = np.isfinite(values) & np.isfinite(lo) & np.isfinite(hi)
+            if np.any(whisker):
+                err = np.vstack([values - lo, hi - values])[:, whisker]
+                ax.errorbar(
+                    values[whisker],
+                    y[whisker],
+                    xerr=np.clip(err, 0.0, None),
+                    fmt="none",
+                    ecolor="black",
+                    elinewidth=1.0,
+                    capsize=3,
+                )
+            finite = values[np.isfinite(values)]
+            reach = np.where(whisker, hi, values)
+            span = float(np.nanmax(np.abs(np.r_[reach, finite, 0.0])))
+            span = span if span > 1e-9 else 1.0  # all zero: a plain 0-1 axis
+            for yi, v, r in zip(y, values, reach, strict=True):
+                text = "n/a" if not np.isfinite(v) else (f"{v:.0f}%" if pct else f"{v:.3g}")
+                x0 = r if np.isfinite(r) else 0.0
+                ax.text(x0 + 0.03 * span, yi, text, va="center", ha="left", fontsize=8)
+            ax.set_xlim(min(0.0, float(np.nanmin(np.r_[lo, finite, 0.0]))) * 1.15, span * 1.35)
+            if pct:
+                ax.set_xticks([0, 25, 50, 75, 100])
+            else:
+                ax.xaxis.set_major_locator(MaxNLocator(nbins=4))
+            ax.set_yticks(y, names if k == 0 else [""] * n, fontsize=9)
+            ax.tick_params(axis="x", labelsize=8)
+            unit_text = "%" if pct else unit
+            ax.set_title(f"{label}" + (f" ({unit_text})" if unit_text else ""), fontsize=9)
+            ax.grid(True, axis="x", linewidth=0.3, alpha=0.6)
+            ax.set_axisbelow(True)
+            ax.set_ylim(-0.6, n - 0.4)
+    if title:
+        fig.suptitle(title, fontsize=10)
     out.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(out, format="png", metadata={"Software": None})
     return out
