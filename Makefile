@@ -11,7 +11,7 @@ export MUJOCO_GL ?= egl
 CARGO_FLAGS := --workspace --release
 
 .DEFAULT_GOAL := help
-.PHONY: help setup system-deps build demo test test-full test-rust test-python install-check lint format bench soak clean
+.PHONY: help setup system-deps build demo test test-full test-rust test-python install-check lint format bench soak fuzz clean
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  make %-12s %s\n", $$1, $$2}'
@@ -85,6 +85,10 @@ bench: setup ## criterion benches of the core (medians), env, parallel env and r
 
 soak: setup ## 1M museum env steps and 200k 4-robot parallel steps, random actions: fails if RSS grows >5% after warm-up or an observation leaves its space
 	$(PY) tests/soak.py
+
+FUZZ_SECONDS ?= 600
+fuzz: ## mutation fuzzer of the scenario parser and world builder for FUZZ_SECONDS (default 600): fails on any panic
+	cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds $(FUZZ_SECONDS)
 
 clean: ## remove build products and the venv
 	rm -rf target $(VENV) $(OUT) python/proxemic/_core*.so

@@ -464,3 +464,27 @@ fn approach_bad_input() {
     let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\napproach = { person = \"person_1\" }");
     assert_eq!(scenario_err(&text).1, "robot[0].approach");
 }
+
+#[test]
+fn grid_too_large_names_bounds_and_resolution() {
+    // 1000 x 1000 m at 0.1 m: 1e8 cells, which aborted on an 800 MB allocation.
+    let big = MINIMAL.replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 1000, 1000]");
+    assert!(big.contains("1000, 1000"), "the test's scenario changed");
+    let (_, field, expected, found) = scenario_err(&big);
+    assert_eq!(field, "scene.resolution", "{expected}");
+    assert!(expected.contains("scene.bounds [0.0, 0.0, 1000.0, 1000.0]"), "{expected}");
+    assert!(found.contains("0.1 m (100000000 cells)"), "{found}");
+    // A thin strip passes the area check but not the grid size at 0.01 m.
+    let fine = MINIMAL
+        .replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 900, 60]")
+        .replace("[scene]", "[scene]\nresolution = 0.01");
+    let (_, field, expected, found2) = scenario_err(&fine);
+    assert_eq!(field, "scene.resolution");
+    assert!(expected.contains("scene.bounds") && expected.contains("a resolution of at least"), "{expected}");
+    assert!(found2.contains("0.01 m"), "{found2}");
+    // A side longer than the limit, whatever the area.
+    let long = MINIMAL.replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 100000000, 0.001]");
+    let (_, field, expected, _) = scenario_err(&long);
+    assert_eq!(field, "scene.bounds");
+    assert!(expected.contains("at most 1000 m"), "{expected}");
+}

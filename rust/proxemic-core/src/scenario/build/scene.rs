@@ -6,6 +6,40 @@ use crate::scenario::check::{Checker, err, parse_time_of_day};
 use crate::scenario::model::{Scene, Wall};
 use crate::scenario::raw::{RawScene, RawWall};
 
+/// The longest side of a scene's bounds (m): the static geometry is bucketed in 1 m cells.
+pub const MAX_SCENE_SIDE: f64 = 1000.0;
+/// The most cells a scene's grid may have (2^24, e.g. 400 x 400 m at 0.1 m): every robot's
+/// inflated map, distance field and social map is a grid of this size.
+pub const MAX_GRID_CELLS: f64 = 16_777_216.0;
+
+/// Checks that `bounds` and `resolution` make a grid the core can hold (see [`MAX_SCENE_SIDE`]
+/// and [`MAX_GRID_CELLS`]); the error names both fields, and the resolution that would fit.
+fn check_grid_size(file: &str, b: [f64; 4], res: f64) -> Result<()> {
+    let (w, h) = (b[2] - b[0], b[3] - b[1]);
+    if w > MAX_SCENE_SIDE || h > MAX_SCENE_SIDE {
+        return Err(err(
+            file,
+            "scene.bounds",
+            format!("sides of at most {MAX_SCENE_SIDE} m"),
+            format!("{b:?} ({w} x {h} m)"),
+        ));
+    }
+    let cells = (w / res).ceil() * (h / res).ceil();
+    if cells > MAX_GRID_CELLS {
+        let finest = (w * h / MAX_GRID_CELLS).sqrt();
+        return Err(err(
+            file,
+            "scene.resolution",
+            format!(
+                "a grid of at most {MAX_GRID_CELLS} cells over scene.bounds {b:?} ({w} x {h} m): \
+                 a resolution of at least {finest:.3} m"
+            ),
+            format!("{res} m ({cells} cells)"),
+        ));
+    }
+    Ok(())
+}
+
 /// Checks `[scene]`: bounds, grid resolution, start time, rates, wall height, name.
 pub(super) fn build_scene(ck: &Checker<'_>, s: &RawScene) -> Result<Scene> {
     let file = ck.file;
@@ -23,6 +57,7 @@ pub(super) fn build_scene(ck: &Checker<'_>, s: &RawScene) -> Result<Scene> {
         return Err(err(file, "scene.bounds", "an area of at most 1 km^2", format!("{b:?}")));
     }
     ck.range("scene.resolution", s.resolution, 0.0, 1.0, true)?;
+    check_grid_size(file, b, s.resolution)?;
     let start_time = parse_time_of_day(&s.start_time).ok_or_else(|| {
         err(
             file,
