@@ -191,78 +191,76 @@ fn mutate(text: &str, rng: &mut StdRng) -> String {
 fn mutate_once(text: &str, rng: &mut StdRng) -> String {
     let lines: Vec<&str> = text.lines().collect();
     match rng.random_range(0..9) {
-        0 | 1 | 2 => {
-            let spans = number_spans(text);
-            if spans.is_empty() {
-                return text.to_string();
-            }
-            let (s, e) = spans[rng.random_range(0..spans.len())];
-            format!("{}{}{}", &text[..s], NUMBERS[rng.random_range(0..NUMBERS.len())], &text[e..])
-        }
-        3 => {
-            let spans = string_spans(text);
-            if spans.is_empty() {
-                return text.to_string();
-            }
-            let (s, e) = spans[rng.random_range(0..spans.len())];
-            format!("{}{}{}", &text[..s], NAMES[rng.random_range(0..NAMES.len())], &text[e..])
-        }
+        0..=2 => replace_span(text, &number_spans(text), NUMBERS, rng),
+        3 => replace_span(text, &string_spans(text), NAMES, rng),
         4 if !lines.is_empty() => {
-            let k = rng.random_range(0..lines.len());
             let mut v = lines.clone();
-            v.remove(k);
+            v.remove(rng.random_range(0..lines.len()));
             v.join("\n")
         }
-        5 if !lines.is_empty() => {
-            let k = rng.random_range(0..lines.len());
-            let n = rng.random_range(1..=6).min(lines.len() - k);
-            let mut v = lines.clone();
-            let block: Vec<&str> = lines[k..k + n].to_vec();
-            let at = rng.random_range(0..=v.len());
-            for (j, l) in block.into_iter().enumerate() {
-                v.insert(at + j, l);
-            }
-            v.join("\n")
-        }
+        5 if !lines.is_empty() => duplicate_block(&lines, rng),
         6 if lines.len() > 1 => {
             let mut v = lines.clone();
             let (a, b) = (rng.random_range(0..v.len()), rng.random_range(0..v.len()));
             v.swap(a, b);
             v.join("\n")
         }
-        7 => {
-            // An array grows or shrinks by one element.
-            let opens: Vec<usize> =
-                text.match_indices('[').map(|(i, _)| i).filter(|&i| i + 1 < text.len()).collect();
-            if opens.is_empty() {
-                return text.to_string();
-            }
-            let at = opens[rng.random_range(0..opens.len())] + 1;
-            if rng.random_bool(0.5) {
-                format!("{}{}, {}", &text[..at], NUMBERS[rng.random_range(0..NUMBERS.len())], &text[at..])
-            } else {
-                match text[at..].find(',') {
-                    Some(c) if !text[at..at + c].contains(['[', ']', '\n']) => {
-                        format!("{}{}", &text[..at], &text[at + c + 1..])
-                    }
-                    _ => text.to_string(),
-                }
-            }
-        }
-        _ => {
-            let mut bytes = text.as_bytes().to_vec();
-            if !bytes.is_empty() && rng.random_bool(0.3) {
-                bytes.truncate(rng.random_range(0..bytes.len()));
-            } else {
-                let at = rng.random_range(0..=bytes.len());
-                let junk: &[u8] =
-                    [b"=".as_slice(), b"[[person]]\n", b"\"", b"]", b"\n[", b"\xff", b"#", b"{", b"."]
-                        [rng.random_range(0..9)];
-                bytes.splice(at..at, junk.iter().copied());
-            }
-            String::from_utf8_lossy(&bytes).into_owned()
-        }
+        7 => resize_array(text, rng),
+        _ => corrupt_bytes(text, rng),
     }
+}
+
+/// One of `spans` replaced by one of `values`.
+fn replace_span(text: &str, spans: &[(usize, usize)], values: &[&str], rng: &mut StdRng) -> String {
+    if spans.is_empty() {
+        return text.to_string();
+    }
+    let (s, e) = spans[rng.random_range(0..spans.len())];
+    format!("{}{}{}", &text[..s], values[rng.random_range(0..values.len())], &text[e..])
+}
+
+/// A block of up to 6 lines copied elsewhere.
+fn duplicate_block(lines: &[&str], rng: &mut StdRng) -> String {
+    let k = rng.random_range(0..lines.len());
+    let n = rng.random_range(1..=6).min(lines.len() - k);
+    let mut v = lines.to_vec();
+    let at = rng.random_range(0..=v.len());
+    for (j, l) in lines[k..k + n].iter().enumerate() {
+        v.insert(at + j, l);
+    }
+    v.join("\n")
+}
+
+/// An array grows or shrinks by one element.
+fn resize_array(text: &str, rng: &mut StdRng) -> String {
+    let opens: Vec<usize> = text.match_indices('[').map(|(i, _)| i).filter(|&i| i + 1 < text.len()).collect();
+    if opens.is_empty() {
+        return text.to_string();
+    }
+    let at = opens[rng.random_range(0..opens.len())] + 1;
+    if rng.random_bool(0.5) {
+        return format!("{}{}, {}", &text[..at], NUMBERS[rng.random_range(0..NUMBERS.len())], &text[at..]);
+    }
+    match text[at..].find(',') {
+        Some(c) if !text[at..at + c].contains(['[', ']', '\n']) => {
+            format!("{}{}", &text[..at], &text[at + c + 1..])
+        }
+        _ => text.to_string(),
+    }
+}
+
+/// The text truncated, or a fragment of TOML syntax (or an invalid byte) inserted.
+fn corrupt_bytes(text: &str, rng: &mut StdRng) -> String {
+    let mut bytes = text.as_bytes().to_vec();
+    if !bytes.is_empty() && rng.random_bool(0.3) {
+        bytes.truncate(rng.random_range(0..bytes.len()));
+    } else {
+        let at = rng.random_range(0..=bytes.len());
+        let junk: &[u8] = [b"=".as_slice(), b"[[person]]\n", b"\"", b"]", b"\n[", b"\xff", b"#", b"{", b"."]
+            [rng.random_range(0..9)];
+        bytes.splice(at..at, junk.iter().copied());
+    }
+    String::from_utf8_lossy(&bytes).into_owned()
 }
 
 /// Parses, builds and resets one input; `Err` carries the panic message.

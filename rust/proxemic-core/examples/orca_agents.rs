@@ -2,7 +2,7 @@
 //!
 //! usage: `cargo run --release --example orca_agents -- N STEPS [REPS [SEED0]]`
 //!
-//! The world mirrors the navground bench (`shared/design/peers.md`, Appendix A): N agents placed at
+//! The world mirrors navground's `Cross` scenario: N agents placed at
 //! random without overlap in a square of side `2 sqrt(N)` m (4 m^2 per agent), agent `k` shuttling
 //! between the mid-points of two opposite sides (four groups: +x, -x, +y, -y, switching target within
 //! 0.5 m), radius 0.25 m + 0.1 m safety margin, maximum speed 1.5 m/s, preferred speed 1.0 m/s,

@@ -1,4 +1,4 @@
-//! The cost grid and the one 8-connected A* of algorithms.md §6.3 (plain, cost-aware, Dijkstra).
+//! The cost grid and the one 8-connected A* of `docs/algorithms.md` §5 (plain, cost-aware, Dijkstra).
 //!
 //! Conventions:
 //! - cell costs are `u8`: 0 free, 1..=252 graded cost, [`INSCRIBED`] (253) and [`LETHAL`] (254)

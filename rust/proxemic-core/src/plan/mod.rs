@@ -1,5 +1,5 @@
 //! Grid path planning: one 8-connected A* with two modes (plain and cost-aware), a Dijkstra oracle,
-//! and line-of-sight path smoothing (algorithms.md §6.3).
+//! and line-of-sight path smoothing (`docs/algorithms.md` §5).
 //!
 //! - [`astar`]: the cost grid, inflation, the search and the goal-relocation helper.
 //! - [`geodesic`]: the geodesic distance field to a goal (progress reward, re-plan bounds).

@@ -173,7 +173,7 @@ impl PersonalSpace {
                 let dx = point.x - person.x;
                 let dy = point.y - person.y;
                 let theta = person.theta;
-                // Kirby's front/rear choice (thesis; algorithms.md §5.1): alpha = atan2(dy, dx) -
+                // Kirby's front/rear choice (Kirby's thesis; `docs/algorithms.md` §2): alpha = atan2(dy, dx) -
                 // theta + pi/2 wrapped into (-pi, pi]; the rear sigma for alpha <= 0, else the front.
                 let alpha = wrap_angle(dy.atan2(dx) - theta + FRAC_PI_2);
                 let sigma = if alpha <= 0.0 { sigma_r } else { sigma_h };
@@ -408,7 +408,7 @@ mod tests {
 
     #[test]
     fn kirby_known_answers() {
-        // algorithms.md §5.1 (sigma_h = 2, sigma_s = 4/3, sigma_r = 1, theta = 0).
+        // `docs/algorithms.md` §2 (sigma_h = 2, sigma_s = 4/3, sigma_r = 1, theta = 0).
         let k = PersonalSpace::CALDERITA;
         let o = Pose::new(0.0, 0.0, 0.0);
         let cases = [
