@@ -145,7 +145,8 @@ def test_a_bad_policy_is_a_one_line_error(at_root, tmp_path, capsys, policy, mes
 def test_policy_labels_must_differ(at_root, tmp_path, capsys):
     args = ["eval", "--policy", MY_POLICY, "--policy-name", "astar", "--planner", "astar", "--out", str(tmp_path)]
     assert main(args) == 2
-    assert "the label is used twice" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "policy_name: expected a label no other policy or planner has" in err and "got astar" in err
 
 
 def test_a_policy_object_cannot_go_to_ray():

@@ -8,6 +8,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -256,16 +257,46 @@ def cmd_scenes(args: argparse.Namespace) -> int:
     return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr (exit code 2), naming the argument."""
+
+    def error(self, message: str) -> NoReturn:
+        """Prints ``<prog>: error: <message> (see <prog> --help)`` and exits with code 2."""
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def _positive_int(text: str) -> int:
+    """An argparse type: an integer of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer of at least 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected an integer of at least 1, got {value}")
+    return value
+
+
+def _finite_float(text: str) -> float:
+    """An argparse type: a finite number."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``proxemic`` command."""
-    p = argparse.ArgumentParser(prog="proxemic", description="Evaluation gym for socially-aware robot navigation.")
+    p = _Parser(prog="proxemic", description="Evaluation gym for socially-aware robot navigation.")
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("demo", help="planners compared in the museum and the care center, with plots")
     d.add_argument("--scenario", action="append", help="scenario(s) to run (default: museum and care_center)")
     d.add_argument("--planner", action="append", help="planner(s) to compare (default: astar, social_astar and social)")
-    d.add_argument("--episodes", type=int, default=10, help="seeded episodes per planner (default: 10)")
+    d.add_argument("--episodes", type=_positive_int, default=10, help="seeded episodes per planner (default: 10)")
     d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
-    d.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    d.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
     e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
@@ -281,10 +312,10 @@ def build_parser() -> argparse.ArgumentParser:
         "callable obs -> action or an object with predict(obs, deterministic=True) (e.g. examples.my_policy:make)",
     )
     e.add_argument("--policy-name", default=None, help="the policy's label in tables and plots (default: its module)")
-    e.add_argument("--episodes", type=int, default=20, help="episodes per planner (default: 20)")
+    e.add_argument("--episodes", type=_positive_int, default=20, help="episodes per planner (default: 20)")
     e.add_argument("--seed", type=int, default=0, help="first seed; every planner runs the same seeds (default: 0)")
     e.add_argument("--out", default="out/eval", help="output folder (default: out/eval)")
-    e.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    e.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     e.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
     e.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
     e.add_argument(
@@ -315,10 +346,14 @@ def build_parser() -> argparse.ArgumentParser:
         help="a goal for the robot in every scene, repeat for several (default: each scene's own goal)",
     )
     t.add_argument("--planner", default="eband", help="the planner whose gains are tuned (default: eband)")
-    t.add_argument("--trials", type=int, default=20, help="gain points evaluated at most (default: 20)")
-    t.add_argument("--episodes", type=int, default=3, help="seeded episodes per target and gain point (default: 3)")
+    t.add_argument("--trials", type=_positive_int, default=20, help="gain points evaluated at most (default: 20)")
+    t.add_argument(
+        "--episodes", type=_positive_int, default=3, help="seeded episodes per target and gain point (default: 3)"
+    )
     t.add_argument("--seed", type=int, default=0, help="first episode seed and the search's seed (default: 0)")
-    t.add_argument("--samples", type=int, default=4, help="values of one gain tried per search step (default: 4)")
+    t.add_argument(
+        "--samples", type=_positive_int, default=4, help="values of one gain tried per search step (default: 4)"
+    )
     t.add_argument(
         "--gain",
         action="append",
@@ -334,15 +369,19 @@ def build_parser() -> argparse.ArgumentParser:
         help="G's weights on heading change (/rad), distance (/m), time (/s), mean distance to people (/m) "
         "(default: 1,1,1,-1)",
     )
-    t.add_argument("--failure-penalty", type=float, default=100.0, help="added to G per failed episode (default: 100)")
+    t.add_argument(
+        "--failure-penalty", type=_finite_float, default=100.0, help="added to G per failed episode (default: 100)"
+    )
     t.add_argument("--out", default="out/tune", help="output folder (default: out/tune)")
-    t.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: all cores)")
+    t.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     t.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
     t.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
     t.set_defaults(func=cmd_tune)
     r = sub.add_parser("reproduce", help="a paper's experiments: our metrics beside the published ones")
     r.add_argument("paper", choices=["daza2021", "sousa2022", "calderita"], help="which paper")
-    r.add_argument("--episodes", type=int, default=5, help="seeded episodes per planner and scene (default: 5)")
+    r.add_argument(
+        "--episodes", type=_positive_int, default=5, help="seeded episodes per planner and scene (default: 5)"
+    )
     r.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
     r.add_argument("--out", default="out/reproduce", help="output folder; the paper's name is appended")
     r.set_defaults(func=cmd_reproduce)
