@@ -24,6 +24,10 @@
 //!    `radius + safety_margin` of a wall edge (exact segment-segment distance). A pair that is
 //!    *already* closer than its bound does not reject a sample that does not bring it closer (the
 //!    minimum over the horizon is at `t = 0`), so a robot inside a margin can always back away.
+//!    With [`social_momentum_shaped`] an agent may instead be an [`AgentShape::Gaussian`]
+//!    (Sousa et al. 2022 §4.5): its fully asymmetric Gaussian's keep-out region is tested the same
+//!    way, exactly (see [`GaussianSpace`] and the `gaussian` submodule's docs for the choices
+//!    where the paper is silent).
 //! 3. **Score.** Efficiency `E(v) = -|pos + v * projection_time - partial_goal|`. For each person
 //!    in the reactive set (within `sensing_range` and within `field_of_view` about the robot's
 //!    heading), the pairwise angular momentum about the pair's midpoint with unit masses is
@@ -73,6 +77,9 @@
 use crate::control::{Limits, clamp_norm};
 use crate::map::StaticGeometry;
 use crate::math::Vec2;
+
+mod gaussian;
+pub use gaussian::{AgentShape, GaussianSpace};
 
 /// Sign of the pairwise angular momentum `L` that corresponds to passing on the right
 /// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
@@ -243,7 +250,32 @@ pub fn social_momentum(
     dt: f64,
     params: &SocialMomentumParams,
 ) -> Option<Vec2> {
-    if !inputs_valid(pos, vel, radius, partial_goal, others, limits, dt, params) {
+    social_momentum_shaped(pos, vel, radius, partial_goal, others, &[], geom, limits, dt, params)
+}
+
+/// [`social_momentum`] with a keep-out shape per agent: `shapes[i]` is the shape of `others[i]`
+/// ([`AgentShape::Disc`], or [`AgentShape::Gaussian`] for Sousa et al. 2022 §4.5: the people's
+/// and groups' fully asymmetric Gaussians with their socialization features, a group as one
+/// individual; see [`gaussian`](self::GaussianSpace) for how a Gaussian enters the collision
+/// filter). An empty `shapes` means every agent is a disc, which is exactly
+/// [`social_momentum`]. Returns `None` (stop) also when `shapes` is neither empty nor as long as
+/// `others`.
+#[allow(clippy::too_many_arguments)]
+pub fn social_momentum_shaped(
+    pos: Vec2,
+    vel: Vec2,
+    radius: f64,
+    partial_goal: Vec2,
+    others: &[Agent],
+    shapes: &[AgentShape],
+    geom: Option<&StaticGeometry>,
+    limits: &Limits,
+    dt: f64,
+    params: &SocialMomentumParams,
+) -> Option<Vec2> {
+    if !inputs_valid(pos, vel, radius, partial_goal, others, limits, dt, params)
+        || !(shapes.is_empty() || shapes.len() == others.len())
+    {
         return None;
     }
     let vmax = limits.max_speed;
@@ -260,7 +292,7 @@ pub fn social_momentum(
     } else {
         None
     };
-    let (near, reactive) = people_sets(pos, vel, radius, heading, others, vmax, params);
+    let (near, reactive) = people_sets(pos, vel, radius, heading, others, shapes, vmax, params);
     let goal_dir = if to_goal.norm() > 1e-9 {
         to_goal / to_goal.norm()
     } else {
@@ -275,7 +307,7 @@ pub fn social_momentum(
     }
     // Inside someone's keep-out bound already (they came up to the robot, or the robot was
     // pushed): get out first. Waiting there deadlocks with a person who yields to the robot.
-    let intruded: Vec<&Near> = near.iter().filter(|a| (pos - a.pos).norm_squared() < a.bound2).collect();
+    let intruded: Vec<&Near> = near.iter().filter(|a| a.contains(pos - a.pos)).collect();
     if !intruded.is_empty() {
         return escape(pos, &intruded, &feasible, params.projection_time);
     }
@@ -343,6 +375,37 @@ struct Near {
     vel: Vec2,
     /// Squared keep-out bound `(radius + r_i + safety_margin)²` (m²).
     bound2: f64,
+    /// A Gaussian keep-out region and its exponent level (safety margin included).
+    gaussian: Option<(GaussianSpace, f64)>,
+}
+
+impl Near {
+    /// Whether the robot at offset `d0` from the agent is inside its keep-out region now.
+    fn contains(&self, d0: Vec2) -> bool {
+        d0.norm_squared() < self.bound2 || self.gaussian.is_some_and(|(g, level)| g.exponent(d0) < level)
+    }
+
+    /// Whether holding the relative velocity `dv` over `horizon` brings the robot at offset `d0`
+    /// into the keep-out region (the minimum over the horizon lies after `t = 0` and inside).
+    fn brought_inside(&self, d0: Vec2, dv: Vec2, horizon: f64) -> bool {
+        let dd = dv.norm_squared();
+        let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
+        (t > 0.0 && (d0 + dv * t).norm_squared() < self.bound2)
+            || self.gaussian.is_some_and(|(g, level)| {
+                let (q, t) = g.min_along(d0, dv, horizon);
+                t > 0.0 && q < level
+            })
+    }
+
+    /// The gap (m) the robot at `p` leaves to the agent's centre after `tau` seconds: the
+    /// centre distance for a disc, the zone distance for a Gaussian.
+    fn gap(&self, p: Vec2, tau: f64) -> f64 {
+        let d = p - self.pos - self.vel * tau;
+        match self.gaussian {
+            None => d.norm(),
+            Some((g, _)) => g.zone_distance(d),
+        }
+    }
 }
 
 /// A person in the momentum term.
@@ -359,12 +422,14 @@ struct Reactive {
 
 /// The people that could be met within the horizon (collision filter) and the reactive set
 /// (momentum term, with normalised inverse-distance weights and required rotation senses).
+#[allow(clippy::too_many_arguments)]
 fn people_sets(
     pos: Vec2,
     vel: Vec2,
     radius: f64,
     heading: Option<Vec2>,
     others: &[Agent],
+    shapes: &[AgentShape],
     vmax: f64,
     params: &SocialMomentumParams,
 ) -> (Vec<Near>, Vec<Reactive>) {
@@ -373,12 +438,17 @@ fn people_sets(
     let mut reactive: Vec<Reactive> = Vec::new();
     let cos_half_fov = (0.5 * params.field_of_view).cos();
     let mut weight_sum = 0.0;
-    for a in others {
+    for (i, a) in others.iter().enumerate() {
         let d0 = pos - a.pos;
         let dist = d0.norm();
         let bound = radius + a.radius + params.safety_margin;
-        if dist - bound <= (vmax + a.vel.norm()) * horizon {
-            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound });
+        let gaussian = match shapes.get(i) {
+            Some(AgentShape::Gaussian(g)) => Some((*g, g.level(params.safety_margin))),
+            _ => None,
+        };
+        let reach = gaussian.map_or(bound, |(g, _)| bound.max(g.reach(params.safety_margin)));
+        if dist - reach <= (vmax + a.vel.norm()) * horizon {
+            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound, gaussian });
         }
         let in_fov = match heading {
             Some(h) => params.field_of_view >= std::f64::consts::TAU || (-d0).dot(&h) >= dist * cos_half_fov,
@@ -522,13 +592,7 @@ struct Scored {
 /// person's keep-out bound or within `wall_bound` of a wall edge (closer than it is now).
 fn collides(scene: &Scene, v: Vec2, horizon: f64) -> bool {
     let pos = scene.pos;
-    let hits_person = scene.near.iter().any(|a| {
-        let d0 = pos - a.pos;
-        let dv = v - a.vel;
-        let dd = dv.norm_squared();
-        let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
-        t > 0.0 && (d0 + dv * t).norm_squared() < a.bound2
-    });
+    let hits_person = scene.near.iter().any(|a| a.brought_inside(pos - a.pos, v - a.vel, horizon));
     if hits_person {
         return true;
     }
@@ -573,9 +637,7 @@ fn feasible_samples(
 /// Step 5 of [`social_momentum`]: the feasible sample that opens the smallest gap to the intruded
 /// people most over the projection time `tau` (s); `None` if it would stand still.
 fn escape(pos: Vec2, intruded: &[&Near], feasible: &[Scored], tau: f64) -> Option<Vec2> {
-    let gap = |v: Vec2| {
-        intruded.iter().map(|a| (pos + v * tau - a.pos - a.vel * tau).norm()).fold(f64::INFINITY, f64::min)
-    };
+    let gap = |v: Vec2| intruded.iter().map(|a| a.gap(pos + v * tau, tau)).fold(f64::INFINITY, f64::min);
     let mut best: Option<(Vec2, f64)> = None;
     for s in feasible {
         let g = gap(s.v);
