@@ -242,13 +242,13 @@ fn point_ahead(path: &[Vec2], pos: Vec2, distance: f64) -> Vec2 {
     }
     let mut left = distance;
     let mut from = path[best_seg] + (path[best_seg + 1] - path[best_seg]) * best_t;
-    for k in best_seg + 1..path.len() {
-        let step = (path[k] - from).norm();
+    for &next in &path[best_seg + 1..] {
+        let step = (next - from).norm();
         if step >= left {
-            return from + (path[k] - from) * (left / step);
+            return from + (next - from) * (left / step);
         }
         left -= step;
-        from = path[k];
+        from = next;
     }
     path[path.len() - 1]
 }
