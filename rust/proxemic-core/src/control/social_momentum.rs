@@ -78,7 +78,7 @@ use crate::control::{Limits, clamp_norm};
 use crate::map::StaticGeometry;
 use crate::math::Vec2;
 
-mod gaussian;
+pub mod gaussian;
 pub use gaussian::{AgentShape, GaussianSpace};
 
 /// Sign of the pairwise angular momentum `L` that corresponds to passing on the right
@@ -256,7 +256,7 @@ pub fn social_momentum(
 /// [`social_momentum`] with a keep-out shape per agent: `shapes[i]` is the shape of `others[i]`
 /// ([`AgentShape::Disc`], or [`AgentShape::Gaussian`] for Sousa et al. 2022 §4.5: the people's
 /// and groups' fully asymmetric Gaussians with their socialization features, a group as one
-/// individual; see [`gaussian`](self::GaussianSpace) for how a Gaussian enters the collision
+/// individual; see [`GaussianSpace`] for how a Gaussian enters the collision
 /// filter). An empty `shapes` means every agent is a disc, which is exactly
 /// [`social_momentum`]. Returns `None` (stop) also when `shapes` is neither empty nor as long as
 /// `others`.
