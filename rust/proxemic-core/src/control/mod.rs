@@ -16,6 +16,7 @@
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
 
+pub mod daza2021;
 pub mod eband;
 pub mod mode_switch;
 pub mod orca;

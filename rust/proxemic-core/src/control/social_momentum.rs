@@ -24,6 +24,10 @@
 //!    `radius + safety_margin` of a wall edge (exact segment-segment distance). A pair that is
 //!    *already* closer than its bound does not reject a sample that does not bring it closer (the
 //!    minimum over the horizon is at `t = 0`), so a robot inside a margin can always back away.
+//!    With [`social_momentum_shaped`] an agent may instead be an [`AgentShape::Gaussian`]
+//!    (Sousa et al. 2022 §4.5): its fully asymmetric Gaussian's keep-out region is tested the same
+//!    way, exactly (see [`GaussianSpace`] and the `gaussian` submodule's docs for the choices
+//!    where the paper is silent).
 //! 3. **Score.** Efficiency `E(v) = -|pos + v * projection_time - partial_goal|`. For each person
 //!    in the reactive set (within `sensing_range` and within `field_of_view` about the robot's
 //!    heading), the pairwise angular momentum about the pair's midpoint with unit masses is
@@ -73,6 +77,9 @@
 use crate::control::{Limits, clamp_norm};
 use crate::map::StaticGeometry;
 use crate::math::Vec2;
+
+pub mod gaussian;
+pub use gaussian::{AgentShape, GaussianSpace};
 
 /// Sign of the pairwise angular momentum `L` that corresponds to passing on the right
 /// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
@@ -243,8 +250,83 @@ pub fn social_momentum(
     dt: f64,
     params: &SocialMomentumParams,
 ) -> Option<Vec2> {
-    // ---- input validation: anything non-finite or out of range stops the robot.
-    let valid = finite2(pos)
+    social_momentum_shaped(pos, vel, radius, partial_goal, others, &[], geom, limits, dt, params)
+}
+
+/// [`social_momentum`] with a keep-out shape per agent: `shapes[i]` is the shape of `others[i]`
+/// ([`AgentShape::Disc`], or [`AgentShape::Gaussian`] for Sousa et al. 2022 §4.5: the people's
+/// and groups' fully asymmetric Gaussians with their socialization features, a group as one
+/// individual; see [`GaussianSpace`] for how a Gaussian enters the collision
+/// filter). An empty `shapes` means every agent is a disc, which is exactly
+/// [`social_momentum`]. Returns `None` (stop) also when `shapes` is neither empty nor as long as
+/// `others`.
+#[allow(clippy::too_many_arguments)]
+pub fn social_momentum_shaped(
+    pos: Vec2,
+    vel: Vec2,
+    radius: f64,
+    partial_goal: Vec2,
+    others: &[Agent],
+    shapes: &[AgentShape],
+    geom: Option<&StaticGeometry>,
+    limits: &Limits,
+    dt: f64,
+    params: &SocialMomentumParams,
+) -> Option<Vec2> {
+    if !inputs_valid(pos, vel, radius, partial_goal, others, limits, dt, params)
+        || !(shapes.is_empty() || shapes.len() == others.len())
+    {
+        return None;
+    }
+    let vmax = limits.max_speed;
+    // Beyond |vel| + vmax the acceleration disc contains the whole speed disc: cap it there so an
+    // infinite acceleration limit stays finite.
+    let reach = (limits.max_accel * dt).min(vel.norm() + vmax);
+    let wall_bound = radius + params.safety_margin;
+    let edges = nearby_edges(pos, geom, vmax * params.horizon + wall_bound)?;
+    let to_goal = partial_goal - pos;
+    let heading = if vel.norm() > 1e-6 {
+        Some(vel / vel.norm())
+    } else if to_goal.norm() > 1e-9 {
+        Some(to_goal / to_goal.norm())
+    } else {
+        None
+    };
+    let (near, reactive) = people_sets(pos, vel, radius, heading, others, shapes, vmax, params);
+    let goal_dir = if to_goal.norm() > 1e-9 {
+        to_goal / to_goal.norm()
+    } else {
+        heading.unwrap_or_else(|| Vec2::new(1.0, 0.0))
+    };
+    let samples = action_set(vel, to_goal, goal_dir, reach, vmax, params);
+    let comfort = Comfort::new(pos, vel, goal_dir, others, limits, dt, params);
+    let scene = Scene { pos, partial_goal, wall_bound, edges: &edges, near: &near, reactive: &reactive };
+    let feasible = feasible_samples(&scene, &samples, &comfort, params);
+    if feasible.is_empty() {
+        return None;
+    }
+    // Inside someone's keep-out bound already (they came up to the robot, or the robot was
+    // pushed): get out first. Waiting there deadlocks with a person who yields to the robot.
+    let intruded: Vec<&Near> = near.iter().filter(|a| a.contains(pos - a.pos)).collect();
+    if !intruded.is_empty() {
+        return escape(pos, &intruded, &feasible, params.projection_time);
+    }
+    best_score(&feasible, params)
+}
+
+/// Step 0 of [`social_momentum`]: anything non-finite or out of range stops the robot.
+#[allow(clippy::too_many_arguments)]
+fn inputs_valid(
+    pos: Vec2,
+    vel: Vec2,
+    radius: f64,
+    partial_goal: Vec2,
+    others: &[Agent],
+    limits: &Limits,
+    dt: f64,
+    params: &SocialMomentumParams,
+) -> bool {
+    finite2(pos)
         && finite2(vel)
         && finite2(partial_goal)
         && radius.is_finite()
@@ -255,25 +337,19 @@ pub fn social_momentum(
         && limits.max_speed >= 0.0
         && limits.max_accel >= 0.0 // false for NaN; +inf allowed
         && params.is_valid()
-        && others.iter().all(Agent::is_valid);
-    if !valid {
-        return None;
-    }
-    let vmax = limits.max_speed;
-    // Beyond |vel| + vmax the acceleration disc contains the whole speed disc: cap it there so an
-    // infinite acceleration limit stays finite.
-    let reach = (limits.max_accel * dt).min(vel.norm() + vmax);
-    let horizon = params.horizon;
-    let tau = params.projection_time;
+        && others.iter().all(Agent::is_valid)
+}
 
-    // ---- static geometry: the edges the robot could reach within the horizon.
-    let wall_bound = radius + params.safety_margin;
-    let mut edges: Vec<(Vec2, Vec2, f64)> = Vec::new();
+/// A wall edge `(a, b)` the robot could reach within the horizon, with its distance now (m).
+type Edge = (Vec2, Vec2, f64);
+
+/// The static edges within `range` (m) of `pos`; `None` when `pos` is inside a polygon.
+fn nearby_edges(pos: Vec2, geom: Option<&StaticGeometry>, range: f64) -> Option<Vec<Edge>> {
+    let mut edges: Vec<Edge> = Vec::new();
     if let Some(g) = geom {
         if g.contains(pos) {
             return None;
         }
-        let range = vmax * horizon + wall_bound;
         for (poly, bb) in g.polygons().iter().zip(g.polygon_bounds()) {
             let dx = (bb.min.x - pos.x).max(pos.x - bb.max.x).max(0.0);
             let dy = (bb.min.y - pos.y).max(pos.y - bb.max.y).max(0.0);
@@ -290,41 +366,89 @@ pub fn social_momentum(
             }
         }
     }
+    Some(edges)
+}
 
-    // ---- people: those that could be met within the horizon, and the reactive set.
-    struct Near {
-        pos: Vec2,
-        vel: Vec2,
-        bound2: f64,
+/// A person the robot could meet within the collision horizon.
+struct Near {
+    pos: Vec2,
+    vel: Vec2,
+    /// Squared keep-out bound `(radius + r_i + safety_margin)²` (m²).
+    bound2: f64,
+    /// A Gaussian keep-out region and its exponent level (safety margin included).
+    gaussian: Option<(GaussianSpace, f64)>,
+}
+
+impl Near {
+    /// Whether the robot at offset `d0` from the agent is inside its keep-out region now.
+    fn contains(&self, d0: Vec2) -> bool {
+        d0.norm_squared() < self.bound2 || self.gaussian.is_some_and(|(g, level)| g.exponent(d0) < level)
     }
-    struct Reactive {
-        /// pos - p_i
-        d0: Vec2,
-        /// ½ det(d0, v_i)
-        k: f64,
-        /// Required rotation sense (±1).
-        sign: f64,
-        /// Normalised weight.
-        w: f64,
+
+    /// Whether holding the relative velocity `dv` over `horizon` brings the robot at offset `d0`
+    /// into the keep-out region (the minimum over the horizon lies after `t = 0` and inside).
+    fn brought_inside(&self, d0: Vec2, dv: Vec2, horizon: f64) -> bool {
+        let dd = dv.norm_squared();
+        let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
+        (t > 0.0 && (d0 + dv * t).norm_squared() < self.bound2)
+            || self.gaussian.is_some_and(|(g, level)| {
+                let (q, t) = g.min_along(d0, dv, horizon);
+                t > 0.0 && q < level
+            })
     }
+
+    /// The gap (m) the robot at `p` leaves to the agent's centre after `tau` seconds: the
+    /// centre distance for a disc, the zone distance for a Gaussian.
+    fn gap(&self, p: Vec2, tau: f64) -> f64 {
+        let d = p - self.pos - self.vel * tau;
+        match self.gaussian {
+            None => d.norm(),
+            Some((g, _)) => g.zone_distance(d),
+        }
+    }
+}
+
+/// A person in the momentum term.
+struct Reactive {
+    /// pos - p_i
+    d0: Vec2,
+    /// ½ det(d0, v_i)
+    k: f64,
+    /// Required rotation sense (±1).
+    sign: f64,
+    /// Normalised weight.
+    w: f64,
+}
+
+/// The people that could be met within the horizon (collision filter) and the reactive set
+/// (momentum term, with normalised inverse-distance weights and required rotation senses).
+#[allow(clippy::too_many_arguments)]
+fn people_sets(
+    pos: Vec2,
+    vel: Vec2,
+    radius: f64,
+    heading: Option<Vec2>,
+    others: &[Agent],
+    shapes: &[AgentShape],
+    vmax: f64,
+    params: &SocialMomentumParams,
+) -> (Vec<Near>, Vec<Reactive>) {
+    let horizon = params.horizon;
     let mut near: Vec<Near> = Vec::new();
     let mut reactive: Vec<Reactive> = Vec::new();
-    let to_goal = partial_goal - pos;
-    let heading = if vel.norm() > 1e-6 {
-        Some(vel / vel.norm())
-    } else if to_goal.norm() > 1e-9 {
-        Some(to_goal / to_goal.norm())
-    } else {
-        None
-    };
     let cos_half_fov = (0.5 * params.field_of_view).cos();
     let mut weight_sum = 0.0;
-    for a in others {
+    for (i, a) in others.iter().enumerate() {
         let d0 = pos - a.pos;
         let dist = d0.norm();
         let bound = radius + a.radius + params.safety_margin;
-        if dist - bound <= (vmax + a.vel.norm()) * horizon {
-            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound });
+        let gaussian = match shapes.get(i) {
+            Some(AgentShape::Gaussian(g)) => Some((*g, g.level(params.safety_margin))),
+            _ => None,
+        };
+        let reach = gaussian.map_or(bound, |(g, _)| bound.max(g.reach(params.safety_margin)));
+        if dist - reach <= (vmax + a.vel.norm()) * horizon {
+            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound, gaussian });
         }
         let in_fov = match heading {
             Some(h) => params.field_of_view >= std::f64::consts::TAU || (-d0).dot(&h) >= dist * cos_half_fov,
@@ -345,13 +469,20 @@ pub fn social_momentum(
             r.w /= weight_sum;
         }
     }
+    (near, reactive)
+}
 
-    // ---- the action set.
-    let goal_dir = if to_goal.norm() > 1e-9 {
-        to_goal / to_goal.norm()
-    } else {
-        heading.unwrap_or_else(|| Vec2::new(1.0, 0.0))
-    };
+/// Step 1 of [`social_momentum`]: the goal-seeking, coasting and braking samples, then the polar
+/// grid, each projected onto the dynamic window.
+fn action_set(
+    vel: Vec2,
+    to_goal: Vec2,
+    goal_dir: Vec2,
+    reach: f64,
+    vmax: f64,
+    params: &SocialMomentumParams,
+) -> Vec<Vec2> {
+    let tau = params.projection_time;
     let project = |w: Vec2| project_window(w, vel, reach, vmax);
     let mut samples: Vec<Vec2> = Vec::with_capacity(3 + params.n_speeds * params.n_headings);
     samples.push(project(to_goal / tau));
@@ -368,69 +499,126 @@ pub fn social_momentum(
             }
         }
     }
+    samples
+}
 
-    // ---- filter and score.
-    // ---- agents whose comfort zone the robot could enter within the comfort horizon.
-    let t_c = params.comfort_horizon;
-    let comfort: Vec<(Vec2, Vec2, f64)> = if params.comfort_weight > 0.0 && t_c > 0.0 {
-        others
-            .iter()
-            .filter(|a| a.comfort > 0.0 && (pos - a.pos).norm() - a.comfort <= (vmax + a.vel.norm()) * t_c)
-            .map(|a| (pos - a.pos, a.vel, a.comfort))
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let accel = limits.max_accel.min(1e3);
-    let intrusion = |v: Vec2| -> f64 {
+/// Step 4 of [`social_momentum`]: the agents whose comfort zone the robot could enter within the
+/// comfort horizon, and what a sample's intrusion into them is.
+struct Comfort {
+    /// `(pos - p_i, v_i, R_i)` per agent.
+    agents: Vec<(Vec2, Vec2, f64)>,
+    vel: Vec2,
+    goal_dir: Vec2,
+    accel: f64,
+    vmax: f64,
+    dt: f64,
+    horizon: f64,
+}
+
+impl Comfort {
+    fn new(
+        pos: Vec2,
+        vel: Vec2,
+        goal_dir: Vec2,
+        others: &[Agent],
+        limits: &Limits,
+        dt: f64,
+        params: &SocialMomentumParams,
+    ) -> Self {
+        let vmax = limits.max_speed;
+        let t_c = params.comfort_horizon;
+        let agents: Vec<(Vec2, Vec2, f64)> = if params.comfort_weight > 0.0 && t_c > 0.0 {
+            others
+                .iter()
+                .filter(|a| {
+                    a.comfort > 0.0 && (pos - a.pos).norm() - a.comfort <= (vmax + a.vel.norm()) * t_c
+                })
+                .map(|a| (pos - a.pos, a.vel, a.comfort))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Comfort { agents, vel, goal_dir, accel: limits.max_accel.min(1e3), vmax, dt, horizon: t_c }
+    }
+
+    /// Mean intrusion (m) of the sample `v` into the comfort zones over the comfort horizon.
+    fn intrusion(&self, v: Vec2) -> f64 {
+        if self.agents.is_empty() {
+            return 0.0;
+        }
         // The sample's way over the horizon: it keeps accelerating the way it turned (at the
         // acceleration limit, up to the speed limit), so a step aside shows where it leads.
-        let dv0 = v - vel;
+        let dv0 = v - self.vel;
         let turn = if dv0.norm() > 1e-9 { dv0 / dv0.norm() } else { Vec2::zeros() };
-        let h = t_c / COMFORT_SAMPLES as f64;
+        let h = self.horizon / COMFORT_SAMPLES as f64;
         let mut q = Vec2::zeros();
         let mut c = 0.0;
         for k in 0..COMFORT_SAMPLES {
             let t = (k as f64 + 1.0) * h;
-            let mut w = clamp_norm(v + turn * accel * (t - dt).max(0.0), vmax);
+            let mut w = clamp_norm(v + turn * self.accel * (t - self.dt).max(0.0), self.vmax);
             // Backing away from the partial goal counts as standing still: the robot may slow
             // down or sidestep for someone's comfort, but it does not retreat along its way.
-            w -= goal_dir * w.dot(&goal_dir).min(0.0);
+            w -= self.goal_dir * w.dot(&self.goal_dir).min(0.0);
             q += w * h;
-            for &(d0, vi, r) in &comfort {
+            for &(d0, vi, r) in &self.agents {
                 c += (r - (d0 + q - vi * t).norm()).max(0.0);
             }
         }
         c / COMFORT_SAMPLES as f64
-    };
+    }
+}
 
-    let mut feasible: Vec<(Vec2, f64, f64, f64)> = Vec::with_capacity(samples.len());
-    for &v in &samples {
-        if !finite2(v) {
+/// What the collision filter and the scores of one step look at.
+struct Scene<'a> {
+    pos: Vec2,
+    partial_goal: Vec2,
+    /// `radius + safety_margin` (m).
+    wall_bound: f64,
+    edges: &'a [Edge],
+    near: &'a [Near],
+    reactive: &'a [Reactive],
+}
+
+/// A collision-free sample with its raw efficiency, momentum and comfort terms.
+#[derive(Clone, Copy)]
+struct Scored {
+    v: Vec2,
+    e: f64,
+    sm: f64,
+    c: f64,
+}
+
+/// Step 2 of [`social_momentum`]: `true` if holding `v` over the horizon brings the robot inside a
+/// person's keep-out bound or within `wall_bound` of a wall edge (closer than it is now).
+fn collides(scene: &Scene, v: Vec2, horizon: f64) -> bool {
+    let pos = scene.pos;
+    let hits_person = scene.near.iter().any(|a| a.brought_inside(pos - a.pos, v - a.vel, horizon));
+    if hits_person {
+        return true;
+    }
+    let end = pos + v * horizon;
+    scene.edges.iter().any(|&(a, b, d_now)| {
+        let d = segment_segment_distance(pos, end, a, b);
+        d < scene.wall_bound && d < d_now
+    })
+}
+
+/// Steps 2-4 of [`social_momentum`]: the collision-free samples with their raw scores.
+fn feasible_samples(
+    scene: &Scene,
+    samples: &[Vec2],
+    comfort: &Comfort,
+    params: &SocialMomentumParams,
+) -> Vec<Scored> {
+    let mut feasible: Vec<Scored> = Vec::with_capacity(samples.len());
+    for &v in samples {
+        if !finite2(v) || collides(scene, v, params.horizon) {
             continue;
         }
-        let hits_person = near.iter().any(|a| {
-            let d0 = pos - a.pos;
-            let dv = v - a.vel;
-            let dd = dv.norm_squared();
-            let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
-            t > 0.0 && (d0 + dv * t).norm_squared() < a.bound2
-        });
-        if hits_person {
-            continue;
-        }
-        let end = pos + v * horizon;
-        let hits_wall = edges.iter().any(|&(a, b, d_now)| {
-            let d = segment_segment_distance(pos, end, a, b);
-            d < wall_bound && d < d_now
-        });
-        if hits_wall {
-            continue;
-        }
-        let e = -(pos + v * tau - partial_goal).norm();
+        let e = -(scene.pos + v * params.projection_time - scene.partial_goal).norm();
         let mut sm = 0.0;
         let mut all_kept = true;
-        for r in &reactive {
+        for r in scene.reactive {
             let l = 0.5 * det(r.d0, v) - r.k;
             if l * r.sign > 0.0 {
                 sm += r.w * l.abs();
@@ -441,51 +629,47 @@ pub fn social_momentum(
         if !params.per_agent_mask && !all_kept {
             sm = 0.0;
         }
-        let c = if comfort.is_empty() { 0.0 } else { intrusion(v) };
-        feasible.push((v, e, sm, c));
+        feasible.push(Scored { v, e, sm, c: comfort.intrusion(v) });
     }
-    if feasible.is_empty() {
-        return None;
-    }
-    // Inside someone's keep-out bound already (they came up to the robot, or the robot was
-    // pushed): get out first, along the feasible sample that opens the smallest such gap most
-    // over the projection time. Waiting there deadlocks with a person who yields to the robot.
-    let intruded: Vec<&Near> = near.iter().filter(|a| (pos - a.pos).norm_squared() < a.bound2).collect();
-    if !intruded.is_empty() {
-        let gap = |v: Vec2| {
-            intruded
-                .iter()
-                .map(|a| (pos + v * tau - a.pos - a.vel * tau).norm())
-                .fold(f64::INFINITY, f64::min)
-        };
-        let mut best: Option<(Vec2, f64)> = None;
-        for &(v, ..) in &feasible {
-            let g = gap(v);
-            if best.is_none_or(|(_, b)| g > b) {
-                best = Some((v, g));
-            }
+    feasible
+}
+
+/// Step 5 of [`social_momentum`]: the feasible sample that opens the smallest gap to the intruded
+/// people most over the projection time `tau` (s); `None` if it would stand still.
+fn escape(pos: Vec2, intruded: &[&Near], feasible: &[Scored], tau: f64) -> Option<Vec2> {
+    let gap = |v: Vec2| intruded.iter().map(|a| a.gap(pos + v * tau, tau)).fold(f64::INFINITY, f64::min);
+    let mut best: Option<(Vec2, f64)> = None;
+    for s in feasible {
+        let g = gap(s.v);
+        if best.is_none_or(|(_, b)| g > b) {
+            best = Some((s.v, g));
         }
-        return best.map(|(v, _)| v).filter(|v| finite2(*v) && v.norm() > 1e-9);
     }
+    best.map(|(v, _)| v).filter(|v| finite2(*v) && v.norm() > 1e-9)
+}
+
+/// Step 3 of [`social_momentum`]: normalise the terms over the feasible samples and take the
+/// sample maximising `E + λ SM − μ C` (the first wins a tie).
+fn best_score(feasible: &[Scored], params: &SocialMomentumParams) -> Option<Vec2> {
     let (mut e_min, mut e_max, mut sm_max) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
     let (mut c_min, mut c_max) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &(_, e, sm, c) in &feasible {
-        e_min = e_min.min(e);
-        e_max = e_max.max(e);
-        sm_max = sm_max.max(sm);
-        c_min = c_min.min(c);
-        c_max = c_max.max(c);
+    for s in feasible {
+        e_min = e_min.min(s.e);
+        e_max = e_max.max(s.e);
+        sm_max = sm_max.max(s.sm);
+        c_min = c_min.min(s.c);
+        c_max = c_max.max(s.c);
     }
     let e_range = e_max - e_min;
     let c_range = (c_max - c_min).max(COMFORT_SCALE);
     let mut best: Option<(Vec2, f64)> = None;
-    for &(v, e, sm, c) in &feasible {
-        let e_n = if e_range > 1e-12 { (e - e_min) / e_range } else { 1.0 };
-        let sm_n = if sm_max > 1e-12 { sm / sm_max } else { 0.0 };
-        let c_n = (c - c_min) / c_range;
+    for s in feasible {
+        let e_n = if e_range > 1e-12 { (s.e - e_min) / e_range } else { 1.0 };
+        let sm_n = if sm_max > 1e-12 { s.sm / sm_max } else { 0.0 };
+        let c_n = (s.c - c_min) / c_range;
         let score = e_n + params.lambda * sm_n - params.comfort_weight * c_n;
-        if best.is_none_or(|(_, s)| score > s) {
-            best = Some((v, score));
+        if best.is_none_or(|(_, sc)| score > sc) {
+            best = Some((s.v, score));
         }
     }
     best.map(|(v, _)| v).filter(|v| finite2(*v))

@@ -22,9 +22,11 @@
 //! deterministic `f64` and never panic; bad parameters are reported by the constructors and
 //! `validate` methods as [`CoreError::Input`] naming the field.
 
+pub mod density_zones;
 pub mod features;
 mod space;
 
+pub use density_zones::DensityZones;
 pub use features::{
     EMOTIONAL_STATES, InfluenceValues, MAX_VARIANCE_SCALE, SideInfluences, adapt, emotional_state_value,
     influence_values, variance_scale,
