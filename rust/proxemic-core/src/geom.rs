@@ -27,10 +27,16 @@ pub fn signed_area_polygon(poly: &[Vec2]) -> f64 {
 /// segment is a point (`a == b`).
 #[inline]
 pub fn distance_point_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
+    distance_squared_point_segment(p, a, b).sqrt()
+}
+
+/// The square of [`distance_point_segment`] (m²), without the square root (ORCA's static
+/// obstacles compare squared distances).
+pub fn distance_squared_point_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
     let ab = b - a;
     let l2 = ab.norm_squared();
     let t = if l2 > 0.0 { ((p - a).dot(&ab) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    (a + ab * t - p).norm()
+    (a + ab * t - p).norm_squared()
 }
 
 /// Whether the point `p` is inside the polygon `poly` by the even-odd (crossing number) rule: a

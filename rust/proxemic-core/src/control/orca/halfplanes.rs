@@ -2,7 +2,7 @@
 //! closest to the preferred one inside them (van den Berg et al. 2011, as in RVO2).
 
 use super::{
-    LP_EPS, Line, OrcaAgent, PASS_ON_RIGHT, PASS_TILT_FADE, TINY_SQ, det, left_normal, normalize_or,
+    LP_EPS, Line, OrcaAgent, PASS_ON_RIGHT, PASS_TILT_FADE, TINY_SQ, cross, left_normal, normalize_or,
 };
 use crate::math::Vec2;
 
@@ -53,7 +53,7 @@ pub(super) fn agent_line(
             u = n * push;
         } else {
             let leg = (dist2 - r2).sqrt();
-            dir = if det(p, w) > 0.0 {
+            dir = if cross(p, w) > 0.0 {
                 // Left leg.
                 Vec2::new(p.x * leg - p.y * r, p.x * r + p.y * leg) / dist2
             } else {
@@ -94,8 +94,8 @@ pub(super) fn lp1(lines: &[Line], i: usize, speed: f64, opt: Vec2, dir_opt: bool
     let mut t_left = -b - sq;
     let mut t_right = -b + sq;
     for lj in &lines[..i] {
-        let den = det(li.dir, lj.dir);
-        let num = det(lj.dir, li.point - lj.point);
+        let den = cross(li.dir, lj.dir);
+        let num = cross(lj.dir, li.point - lj.point);
         if den.abs() <= LP_EPS {
             if num < 0.0 {
                 return false;
@@ -133,7 +133,7 @@ pub(super) fn lp2(lines: &[Line], speed: f64, opt: Vec2, dir_opt: bool, result: 
         opt
     };
     for (i, l) in lines.iter().enumerate() {
-        if det(l.dir, l.point - *result) > 0.0 {
+        if cross(l.dir, l.point - *result) > 0.0 {
             let before = *result;
             if !lp1(lines, i, speed, opt, dir_opt, result) {
                 *result = before;
@@ -157,18 +157,18 @@ pub(super) fn lp3(
     let mut dist = 0.0;
     for i in begin..lines.len() {
         let li = lines[i];
-        if det(li.dir, li.point - *result) > dist {
+        if cross(li.dir, li.point - *result) > dist {
             proj.clear();
             proj.extend_from_slice(&lines[..n_obst]);
             for lj in &lines[n_obst..i] {
-                let den = det(li.dir, lj.dir);
+                let den = cross(li.dir, lj.dir);
                 let point = if den.abs() <= LP_EPS {
                     if li.dir.dot(&lj.dir) > 0.0 {
                         continue;
                     }
                     (li.point + lj.point) * 0.5
                 } else {
-                    li.point + li.dir * (det(lj.dir, li.point - lj.point) / den)
+                    li.point + li.dir * (cross(lj.dir, li.point - lj.point) / den)
                 };
                 proj.push(Line { point, dir: normalize_or(lj.dir - li.dir, left_normal(li.dir)) });
             }
@@ -177,7 +177,7 @@ pub(super) fn lp3(
                 // Only through rounding: keep the previous point.
                 *result = before;
             }
-            dist = det(li.dir, li.point - *result);
+            dist = cross(li.dir, li.point - *result);
         }
     }
 }

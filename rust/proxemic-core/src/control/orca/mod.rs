@@ -56,11 +56,12 @@ mod obstacles;
 mod tree;
 
 use crate::error::{CoreError, Result};
+use crate::geom::cross;
+#[cfg(test)]
+use crate::geom::distance_squared_point_segment;
 use crate::math::Vec2;
 use halfplanes::{agent_line, lp2, lp3};
 pub use obstacles::ObstacleSet;
-#[cfg(test)]
-use obstacles::seg_dist_sq;
 use obstacles::{Stamps, obstacle_line};
 use tree::{Neighbor, Node, TreeAgent};
 
@@ -187,7 +188,7 @@ impl OrcaAgent {
     }
 }
 
-/// A directed line in velocity space: the feasible half-plane is `{x : det(dir, x - point) >= 0}`,
+/// A directed line in velocity space: the feasible half-plane is `{x : cross(dir, x - point) >= 0}`,
 /// the left side of `dir`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Line {
@@ -195,11 +196,6 @@ pub struct Line {
     pub point: Vec2,
     /// Unit direction of the line.
     pub dir: Vec2,
-}
-
-#[inline]
-fn det(a: Vec2, b: Vec2) -> f64 {
-    a.x * b.y - a.y * b.x
 }
 
 #[inline]

@@ -1,8 +1,9 @@
 //! Static obstacles for ORCA: the polygon index ([`ObstacleSet`]) and the half-plane of an agent
 //! against one obstacle edge (van den Berg et al. 2011, as in RVO2).
 
-use super::{LP_EPS, Line, OrcaAgent, TINY_SQ, det, left_normal, normalize_or};
+use super::{LP_EPS, Line, OrcaAgent, TINY_SQ, cross, left_normal, normalize_or};
 use crate::error::{CoreError, Result};
+use crate::geom::distance_squared_point_segment;
 use crate::math::Vec2;
 
 /// One vertex of an obstacle polygon, also the start of the edge to `next`.
@@ -76,7 +77,7 @@ impl ObstacleSet {
                 ));
             }
             if pts.len() >= 3 {
-                let area2: f64 = (0..pts.len()).map(|i| det(pts[i], pts[(i + 1) % pts.len()])).sum();
+                let area2: f64 = (0..pts.len()).map(|i| cross(pts[i], pts[(i + 1) % pts.len()])).sum();
                 if area2 < 0.0 {
                     pts.reverse();
                 }
@@ -90,7 +91,7 @@ impl ObstacleSet {
                     true
                 } else {
                     // The polygon turns left (or goes straight) at vertex i.
-                    det(pts[i] - pts[prev], pts[next] - pts[i]) >= 0.0
+                    cross(pts[i] - pts[prev], pts[next] - pts[i]) >= 0.0
                 };
                 vertices.push(Vertex {
                     point: pts[i],
@@ -157,7 +158,7 @@ impl ObstacleSet {
                     for cx in x0..=x1 {
                         // Keep only cells the segment actually comes near (conservative by half a cell).
                         let c = lo + Vec2::new((cx as f64 + 0.5) * cell, (cy as f64 + 0.5) * cell);
-                        if seg_dist_sq(c, v.point, p2) > 0.5 * cell * cell + 1e-12 {
+                        if distance_squared_point_segment(c, v.point, p2) > 0.5 * cell * cell + 1e-12 {
                             continue;
                         }
                         let k = cy * nx + cx;
@@ -190,10 +191,10 @@ impl ObstacleSet {
             let e_vec = p2 - v.point;
             // Back-face culling: only edges with the agent on their right (free) side or on their line
             // (RVO2 drops the latter; we keep it so an agent touching a wall cannot step into it).
-            if det(e_vec, pos - v.point) > 0.0 {
+            if cross(e_vec, pos - v.point) > 0.0 {
                 return;
             }
-            let d2 = seg_dist_sq(pos, v.point, p2);
+            let d2 = distance_squared_point_segment(pos, v.point, p2);
             if d2 < range_sq {
                 out.push((d2, e as u32));
             }
@@ -243,15 +244,6 @@ impl ObstacleSet {
     }
 }
 
-/// Squared distance from `p` to the segment `a`-`b`.
-#[inline]
-pub(super) fn seg_dist_sq(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let e = b - a;
-    let l2 = e.norm_squared();
-    let s = if l2 > 0.0 { ((p - a).dot(&e) / l2).clamp(0.0, 1.0) } else { 0.0 };
-    (p - (a + e * s)).norm_squared()
-}
-
 /// Visit marks for de-duplicating edges found in several grid cells.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Stamps {
@@ -296,7 +288,7 @@ pub(super) fn obstacle_line(
     let c2 = q2 * inv_tau;
     if lines
         .iter()
-        .any(|l| det(c1 - l.point, l.dir) - ir >= -LP_EPS && det(c2 - l.point, l.dir) - ir >= -LP_EPS)
+        .any(|l| cross(c1 - l.point, l.dir) - ir >= -LP_EPS && cross(c2 - l.point, l.dir) - ir >= -LP_EPS)
     {
         return;
     }
@@ -325,7 +317,7 @@ pub(super) fn obstacle_line(
     }
     if s > 1.0 && d2 <= r2 {
         // Colliding with the second vertex; the next edge handles it unless this one must.
-        if o2.convex && det(q2, o2.dir) >= 0.0 {
+        if o2.convex && cross(q2, o2.dir) >= 0.0 {
             lines.push(away_line(q2, o2));
         }
         return;
@@ -371,11 +363,11 @@ pub(super) fn obstacle_line(
     let prev_dir = verts[o1.prev as usize].dir;
     let mut left_foreign = false;
     let mut right_foreign = false;
-    if o1.convex && det(left, -prev_dir) >= 0.0 {
+    if o1.convex && cross(left, -prev_dir) >= 0.0 {
         left = -prev_dir;
         left_foreign = true;
     }
-    if o2.convex && det(right, o2.dir) <= 0.0 {
+    if o2.convex && cross(right, o2.dir) <= 0.0 {
         right = o2.dir;
         right_foreign = true;
     }

@@ -133,7 +133,7 @@ fn brute_lp(lines: &[Line], speed: f64, opt: Vec2) -> Option<f64> {
         for ia in 0..na {
             let th = std::f64::consts::TAU * ia as f64 / na as f64;
             let x = v(rr * th.cos(), rr * th.sin());
-            if lines.iter().all(|l| det(l.dir, l.point - x) <= 1e-9) {
+            if lines.iter().all(|l| cross(l.dir, l.point - x) <= 1e-9) {
                 let d = (x - opt).norm();
                 best = Some(best.map_or(d, |b: f64| b.min(d)));
             }
@@ -160,7 +160,7 @@ proptest! {
         if fail == lines.len() {
             prop_assert!(x.norm() <= 1.0 + 1e-9);
             for l in &lines {
-                prop_assert!(det(l.dir, l.point - x) <= 1e-9, "violates {:?}", l);
+                prop_assert!(cross(l.dir, l.point - x) <= 1e-9, "violates {:?}", l);
             }
             if let Some(b) = brute {
                 // Dense sampling resolution is about 2.5e-3 at the rim.
@@ -198,9 +198,9 @@ proptest! {
         lp3(&lines, n_obst, fail, speed, &mut x, &mut proj);
         prop_assert!(x.norm() <= speed + 1e-9);
         for l in &obst {
-            prop_assert!(det(l.dir, l.point - x) <= 1e-7, "obstacle line violated");
+            prop_assert!(cross(l.dir, l.point - x) <= 1e-7, "obstacle line violated");
         }
-        let max_viol = |x: Vec2| agent.iter().map(|l| det(l.dir, l.point - x)).fold(0.0f64, f64::max);
+        let max_viol = |x: Vec2| agent.iter().map(|l| cross(l.dir, l.point - x)).fold(0.0f64, f64::max);
         // Brute-force minimax over feasible points of the obstacle lines.
         let mut best = f64::INFINITY;
         for ir in 0..=200 {
@@ -208,7 +208,7 @@ proptest! {
             for ia in 0..360 {
                 let th = std::f64::consts::TAU * ia as f64 / 360.0;
                 let y = v(rr * th.cos(), rr * th.sin());
-                if obst.iter().all(|l| det(l.dir, l.point - y) <= 0.0) {
+                if obst.iter().all(|l| cross(l.dir, l.point - y) <= 0.0) {
                     best = best.min(max_viol(y));
                 }
             }
@@ -331,8 +331,8 @@ proptest! {
             let mut slow: Vec<(f64, u32)> = (0..set.num_edges()).filter_map(|e| {
                 let a = set.vertices[e].point;
                 let b = set.vertices[set.vertices[e].next as usize].point;
-                let d2 = seg_dist_sq(p, a, b);
-                (det(b - a, p - a) <= 0.0 && d2 < r * r).then_some((d2, e as u32))
+                let d2 = distance_squared_point_segment(p, a, b);
+                (cross(b - a, p - a) <= 0.0 && d2 < r * r).then_some((d2, e as u32))
             }).collect();
             slow.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             prop_assert_eq!(fast, slow);
@@ -464,7 +464,7 @@ fn obstacle_set_orientation_and_convexity() {
     let cw = vec![v(0.0, 0.0), v(0.0, 2.0), v(1.0, 2.0), v(1.0, 1.0), v(2.0, 1.0), v(2.0, 0.0), v(0.0, 0.0)];
     let set = ObstacleSet::new(&[cw]).expect("L");
     assert_eq!(set.num_edges(), 6, "closing vertex dropped");
-    let area2: f64 = (0..6).map(|i| det(set.vertices[i].point, set.vertices[(i + 1) % 6].point)).sum();
+    let area2: f64 = (0..6).map(|i| cross(set.vertices[i].point, set.vertices[(i + 1) % 6].point)).sum();
     assert!(area2 > 0.0);
     let reflex: Vec<Vec2> = set.vertices.iter().filter(|x| !x.convex).map(|x| x.point).collect();
     assert_eq!(reflex, vec![v(1.0, 1.0)]);
@@ -785,8 +785,8 @@ fn clearance(p: Vec2, polys: &[Vec<Vec2>]) -> f64 {
         let mut d = f64::INFINITY;
         for i in 0..n {
             let (a, b) = (poly[i], poly[(i + 1) % n]);
-            d = d.min(seg_dist_sq(p, a, b).sqrt());
-            if n >= 3 && det(b - a, p - a) < 0.0 {
+            d = d.min(distance_squared_point_segment(p, a, b).sqrt());
+            if n >= 3 && cross(b - a, p - a) < 0.0 {
                 inside = false; // CCW convex polygons only: right of an edge means outside
             }
         }
@@ -840,7 +840,7 @@ fn walls_are_never_penetrated() {
     let mut convex = polys.clone();
     convex.push(vec![v(2.0, -5.0), v(5.0, -5.0), v(5.0, -4.0), v(2.0, -4.0)]);
     convex.push(vec![v(2.0, -4.0), v(3.0, -4.0), v(3.0, -2.0), v(2.0, -2.0)]);
-    let thin_clear = |p: Vec2| seg_dist_sq(p, thin[0], thin[1]).sqrt();
+    let thin_clear = |p: Vec2| distance_squared_point_segment(p, thin[0], thin[1]).sqrt();
     for seed in 0..6u64 {
         let (mut agents, _) = circle(12, 8.0, 0.3, 1.0);
         for (k, a) in agents.iter_mut().enumerate() {

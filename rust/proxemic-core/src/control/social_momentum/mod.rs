@@ -6,7 +6,7 @@
 //! Knepper, "Social Momentum: Design and Evaluation of a Framework for Socially Competent Robot
 //! Navigation" (ACM THRI 2022); used near people and groups, with a partial goal on the global path,
 //! by Daza et al. 2021 (Algorithm 1, lines 14-19). No official code exists; this follows the spec in
-//! `design/algorithms.md` §2. The paper's weight λ and action set are unverified, so every parameter
+//! `docs/algorithms.md` §8. The paper's weight λ and action set are unverified, so every parameter
 //! is in [`SocialMomentumParams`].
 //!
 //! # One step
@@ -75,6 +75,7 @@
 //! the function returns `None` (stop). It never panics and never returns a non-finite velocity.
 
 use crate::control::{Limits, clamp_norm};
+use crate::geom::{cross, distance_point_segment};
 use crate::map::StaticGeometry;
 use crate::math::Vec2;
 
@@ -96,9 +97,9 @@ pub const COMFORT_SCALE: f64 = 0.05;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SocialMomentumParams {
     /// Weight λ of the normalised momentum term against the normalised efficiency term
-    /// (dimensionless, `>= 0`); default 2.0. The paper's value is unverified;
-    /// `design/algorithms.md` §2.3 suggests sweeping 0.1, 0.3, 1, but with the action set confined
-    /// to the one-step acceleration window those turn too late: a Pepper-limited robot
+    /// (dimensionless, `>= 0`); default 2.0. The paper's value is unverified. The values usually
+    /// swept (0.1, 0.3, 1) turn too late with the action set confined to the one-step
+    /// acceleration window: a Pepper-limited robot
     /// (0.55 m/s, 0.55 m/s², dt = 0.1 s) meeting a non-reactive person walking head-on at 1 m/s
     /// from 8 m was run over for λ <= 1 and cleared the person for λ >= 2 (horizon 1.5 s).
     /// With the comfort term on, λ = 2 also took less time than 3 in the comparison suites'
@@ -220,7 +221,7 @@ impl Agent {
 /// for a pass on the right; translation invariant. Example: robot at the origin moving at (1, 0),
 /// person at (4, 1) moving at (-1, 0): `L = 1.0`; exact head-on: `L = 0`.
 pub fn angular_momentum(p_r: Vec2, v_r: Vec2, p_i: Vec2, v_i: Vec2) -> f64 {
-    0.5 * det(p_r - p_i, v_r - v_i)
+    0.5 * cross(p_r - p_i, v_r - v_i)
 }
 
 /// Chooses the robot's velocity with Social Momentum (see the module docs for the algorithm).
@@ -359,7 +360,7 @@ fn nearby_edges(pos: Vec2, geom: Option<&StaticGeometry>, range: f64) -> Option<
             let n = poly.len();
             for k in 0..n {
                 let (a, b) = (poly[k], poly[(k + 1) % n]);
-                let d = point_segment_distance(pos, a, b);
+                let d = distance_point_segment(pos, a, b);
                 if d <= range {
                     edges.push((a, b, d));
                 }
@@ -455,13 +456,13 @@ fn people_sets(
             None => true,
         };
         if dist <= params.sensing_range && in_fov && a.weight > 0.0 {
-            let l_now = 0.5 * det(d0, vel - a.vel);
+            let l_now = 0.5 * cross(d0, vel - a.vel);
             let sign =
                 if l_now.abs() >= params.min_momentum { l_now.signum() } else { PASSING_MOMENTUM_SIGN };
             // Inverse distance, guarded against coincident centres.
             let w = a.weight / dist.max(1e-6);
             weight_sum += w;
-            reactive.push(Reactive { d0, k: 0.5 * det(d0, a.vel), sign, w });
+            reactive.push(Reactive { d0, k: 0.5 * cross(d0, a.vel), sign, w });
         }
     }
     if weight_sum > 0.0 {
@@ -619,7 +620,7 @@ fn feasible_samples(
         let mut sm = 0.0;
         let mut all_kept = true;
         for r in scene.reactive {
-            let l = 0.5 * det(r.d0, v) - r.k;
+            let l = 0.5 * cross(r.d0, v) - r.k;
             if l * r.sign > 0.0 {
                 sm += r.w * l.abs();
             } else {
@@ -681,10 +682,6 @@ fn finite2(v: Vec2) -> bool {
 }
 
 #[inline]
-fn det(a: Vec2, b: Vec2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
-
 /// The point of `{|v| <= vmax} ∩ {|v - c| <= r}` closest to `w` (exact). When the two discs are
 /// disjoint the speed bound wins: the point of the speed disc closest to the acceleration disc.
 fn project_window(w: Vec2, c: Vec2, r: f64, vmax: f64) -> Vec2 {
@@ -719,465 +716,22 @@ fn project_window(w: Vec2, c: Vec2, r: f64, vmax: f64) -> Vec2 {
     clamp_norm(p2, vmax)
 }
 
-/// Distance (m) from `p` to the segment `ab`.
-fn point_segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    let t = if len2 > 0.0 { ((p - a).dot(&ab) / len2).clamp(0.0, 1.0) } else { 0.0 };
-    (p - (a + ab * t)).norm()
-}
-
 /// Minimum distance (m) between the segments `pq` and `ab` (0 if they cross).
 fn segment_segment_distance(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let d1 = det(q - p, a - p);
-    let d2 = det(q - p, b - p);
-    let d3 = det(b - a, p - a);
-    let d4 = det(b - a, q - a);
+    let d1 = cross(q - p, a - p);
+    let d2 = cross(q - p, b - p);
+    let d3 = cross(b - a, p - a);
+    let d4 = cross(b - a, q - a);
     if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
         && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
     {
         return 0.0;
     }
-    point_segment_distance(p, a, b)
-        .min(point_segment_distance(q, a, b))
-        .min(point_segment_distance(a, p, q))
-        .min(point_segment_distance(b, p, q))
+    distance_point_segment(p, a, b)
+        .min(distance_point_segment(q, a, b))
+        .min(distance_point_segment(a, p, q))
+        .min(distance_point_segment(b, p, q))
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::map::Bounds;
-    use rand::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
-
-    const DT: f64 = 0.1;
-    const R: f64 = 0.3;
-
-    fn v(x: f64, y: f64) -> Vec2 {
-        Vec2::new(x, y)
-    }
-
-    fn person(pos: Vec2, vel: Vec2) -> Agent {
-        Agent { pos, vel, radius: 0.3, weight: 1.0, comfort: 0.0 }
-    }
-
-    fn step(
-        pos: Vec2,
-        vel: Vec2,
-        goal: Vec2,
-        others: &[Agent],
-        params: &SocialMomentumParams,
-    ) -> Option<Vec2> {
-        social_momentum(pos, vel, R, goal, others, None, &Limits::PEPPER, DT, params)
-    }
-
-    fn check_limits(out: Vec2, vel: Vec2, l: &Limits, dt: f64) {
-        assert!(out.norm() <= l.max_speed + 1e-12, "speed {} > {}", out.norm(), l.max_speed);
-        assert!((out - vel).norm() <= l.max_accel * dt + 1e-12, "accel {:?} from {:?}", out, vel);
-    }
-
-    #[test]
-    fn angular_momentum_known_answers() {
-        let l = angular_momentum(v(0.0, 0.0), v(1.0, 0.0), v(4.0, 1.0), v(-1.0, 0.0));
-        assert!((l - 1.0).abs() < 1e-12, "{l}");
-        assert_eq!(angular_momentum(v(0.0, 0.0), v(1.0, 0.0), v(4.0, 0.0), v(-1.0, 0.0)), 0.0);
-        // Midpoint form of design §2.2 gives the same value.
-        let (pr, vr, pi, vi) = (v(0.3, -1.2), v(0.4, 0.1), v(2.5, 0.7), v(-0.8, 0.3));
-        let c = (pr + pi) * 0.5;
-        let mid = det(pr - c, vr) + det(pi - c, vi);
-        assert!((angular_momentum(pr, vr, pi, vi) - mid).abs() < 1e-12);
-        // Translation invariance.
-        let s = v(10.0, -7.0);
-        assert!((angular_momentum(pr + s, vr, pi + s, vi) - mid).abs() < 1e-12);
-        // Mirroring across x flips the sign.
-        let m = |a: Vec2| v(a.x, -a.y);
-        assert!((angular_momentum(m(pr), m(vr), m(pi), m(vi)) + mid).abs() < 1e-12);
-    }
-
-    #[test]
-    fn alone_it_heads_straight_to_the_goal_at_max_speed() {
-        let p = SocialMomentumParams::default();
-        let l = Limits::PEPPER;
-        let goal = v(20.0, 5.0);
-        let dir = goal.normalize();
-        let (mut pos, mut vel) = (Vec2::zeros(), Vec2::zeros());
-        for k in 0..40 {
-            let out = step(pos, vel, goal, &[], &p).expect("free space");
-            check_limits(out, vel, &l, DT);
-            let expected = (l.max_accel * DT * (k + 1) as f64).min(l.max_speed);
-            assert!((out.norm() - expected).abs() < 1e-9, "step {k}: {} vs {expected}", out.norm());
-            assert!((out.normalize() - dir).norm() < 1e-9, "step {k}: direction {out:?}");
-            vel = out;
-            pos += vel * DT;
-        }
-        assert!((vel.norm() - l.max_speed).abs() < 1e-12);
-    }
-
-    /// Head-on encounter with a scripted person walking straight at the robot; returns the robot's
-    /// trajectory and the minimum centre distance.
-    fn head_on(params: &SocialMomentumParams, mirror: bool) -> (Vec<Vec2>, f64) {
-        let sy = if mirror { -1.0 } else { 1.0 };
-        let (mut pos, mut vel) = (Vec2::zeros(), v(0.55, 0.0));
-        let mut ped = v(8.0, 0.0);
-        let ped_vel = v(-1.0, 0.0);
-        let mut traj = vec![pos];
-        let mut min_d = f64::INFINITY;
-        for _ in 0..120 {
-            // Partial goal: 2 m ahead on the global path y = 0.
-            let goal = v(pos.x + 2.0, 0.0);
-            let others = [person(v(ped.x, sy * ped.y), ped_vel)];
-            // None: stop, through the limits like any command.
-            let out = step(pos, vel, goal, &others, params)
-                .unwrap_or_else(|| Limits::PEPPER.apply(Vec2::zeros(), 0.0, vel, 0.0, DT).0);
-            check_limits(out, vel, &Limits::PEPPER, DT);
-            vel = out;
-            pos += vel * DT;
-            ped += ped_vel * DT;
-            min_d = min_d.min((pos - ped).norm());
-            traj.push(pos);
-        }
-        (traj, min_d)
-    }
-
-    #[test]
-    fn inside_a_persons_bound_it_backs_out_instead_of_waiting() {
-        // A person standing 0.5 m ahead, between the robot and its goal: closer than the bound
-        // (0.3 + 0.3 + 0.1 = 0.7 m). The robot opens the gap rather than stopping there.
-        let p = SocialMomentumParams::default();
-        let ped = person(v(0.5, 0.0), Vec2::zeros());
-        let mut pos = Vec2::zeros();
-        let mut vel = Vec2::zeros();
-        for _ in 0..30 {
-            let out = step(pos, vel, v(5.0, 0.0), &[ped], &p).expect("a way out");
-            check_limits(out, vel, &Limits::PEPPER, DT);
-            vel = out;
-            pos += vel * DT;
-        }
-        assert!((pos - ped.pos).norm() >= 0.7, "still inside the bound at {pos:?}");
-    }
-
-    #[test]
-    fn head_on_it_passes_on_the_right_deterministically() {
-        let p = SocialMomentumParams::default();
-        let (traj, min_d) = head_on(&p, false);
-        let (traj2, _) = head_on(&p, false);
-        assert_eq!(traj, traj2, "not deterministic");
-        let min_y = traj.iter().map(|q| q.y).fold(f64::INFINITY, f64::min);
-        let max_y = traj.iter().map(|q| q.y).fold(f64::NEG_INFINITY, f64::max);
-        assert!(min_y < -0.2, "did not move right: min y {min_y}");
-        assert!(max_y < 1e-9, "moved left: max y {max_y}");
-        assert!(min_d >= 0.6 - 1e-9, "collided: {min_d}");
-        // It kept going: the robot is past the person and back near the path.
-        let end = traj[traj.len() - 1];
-        assert!(end.x > 4.0, "stalled at {end:?}");
-    }
-
-    #[test]
-    fn mirrored_scene_gives_mirrored_action() {
-        let m = |a: Vec2| v(a.x, -a.y);
-        let p = SocialMomentumParams::default();
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let mut compared = 0;
-        for _ in 0..100 {
-            let vel = v(rng.random_range(-0.4..0.55), rng.random_range(-0.3..0.3));
-            let goal = v(rng.random_range(2.0..5.0), rng.random_range(-2.0..2.0));
-            let others: Vec<Agent> = (0..3)
-                .map(|_| {
-                    person(
-                        v(rng.random_range(1.0..4.0), rng.random_range(-2.0..2.0)),
-                        v(rng.random_range(-1.0..0.5), rng.random_range(-0.5..0.5)),
-                    )
-                })
-                .collect();
-            let mirrored: Vec<Agent> =
-                others.iter().map(|a| Agent { pos: m(a.pos), vel: m(a.vel), ..*a }).collect();
-            // Skip scenes where a person's rotation sense is undecided (the convention breaks the
-            // mirror symmetry there on purpose).
-            if others.iter().any(|a| angular_momentum(Vec2::zeros(), vel, a.pos, a.vel).abs() < 0.1) {
-                continue;
-            }
-            let a = step(Vec2::zeros(), vel, goal, &others, &p);
-            let b = step(Vec2::zeros(), m(vel), m(goal), &mirrored, &p);
-            match (a, b) {
-                (Some(a), Some(b)) => {
-                    assert!((m(a) - b).norm() < 1e-9, "{a:?} vs mirrored {b:?}");
-                    compared += 1;
-                }
-                (None, None) => {}
-                _ => panic!("one side stopped: {a:?} {b:?}"),
-            }
-        }
-        assert!(compared > 20, "{compared}");
-    }
-
-    #[test]
-    fn crossing_from_the_left_keeps_its_rotation_sense_and_arrives() {
-        let p = SocialMomentumParams::default();
-        let l = Limits::PEPPER;
-        let goal = v(8.0, 0.0);
-        let (mut pos, mut vel) = (Vec2::zeros(), Vec2::zeros());
-        let mut ped = v(3.5, 3.5);
-        let ped_vel = v(0.0, -0.8);
-        let mut sign = 0.0;
-        let mut min_d = f64::INFINITY;
-        for _ in 0..400 {
-            let partial = pos + clamp_norm(goal - pos, 2.0);
-            let others = [person(ped, ped_vel)];
-            let out = step(pos, vel, partial, &others, &p)
-                .unwrap_or_else(|| l.apply(Vec2::zeros(), 0.0, vel, 0.0, DT).0);
-            check_limits(out, vel, &l, DT);
-            let lm = angular_momentum(pos, out, ped, ped_vel);
-            let ahead = (ped - pos).dot(&out) > 0.0 && (ped - pos).norm() < p.sensing_range;
-            if ahead && lm.abs() >= p.min_momentum {
-                if sign == 0.0 {
-                    sign = lm.signum();
-                }
-                assert_eq!(lm.signum(), sign, "switched sides at {pos:?}, person {ped:?}");
-            }
-            vel = out;
-            pos += vel * DT;
-            ped += ped_vel * DT;
-            min_d = min_d.min((pos - ped).norm());
-        }
-        assert!(sign != 0.0);
-        assert!(min_d >= 0.6, "collided: {min_d}");
-        assert!((pos - goal).norm() < 0.1, "did not arrive: {pos:?}");
-    }
-
-    #[test]
-    fn passing_side_follows_rotation_already_under_way() {
-        // The person is offset to the robot's right (y = -0.5) and the pass is already clockwise
-        // (L < 0, robot passing on the left): Social Momentum keeps that sense rather than
-        // crossing in front of the person.
-        let p = SocialMomentumParams::default();
-        let pos = Vec2::zeros();
-        let vel = v(0.55, 0.0);
-        let others = [person(v(3.0, -0.5), v(-1.0, 0.0))];
-        let l = angular_momentum(pos, vel, others[0].pos, others[0].vel);
-        assert!(l < -p.min_momentum, "{l}");
-        let out = step(pos, vel, v(5.0, 0.0), &others, &p).expect("free");
-        assert!(angular_momentum(pos, out, others[0].pos, others[0].vel) < 0.0);
-        assert!(out.y >= 0.0, "{out:?}");
-    }
-
-    #[test]
-    fn lambda_increases_the_momentum_terms_influence() {
-        let pos = Vec2::zeros();
-        let vel = v(0.5, 0.0);
-        let goal = v(5.0, 0.0);
-        let others = [person(v(3.0, 0.4), v(-0.8, 0.0))];
-        let sm_of = |out: Vec2| angular_momentum(pos, out, others[0].pos, others[0].vel);
-        let mut last: Option<(Vec2, f64)> = None;
-        for lambda in [0.0, 0.3, 3.0] {
-            let p = SocialMomentumParams { lambda, ..Default::default() };
-            let out = step(pos, vel, goal, &others, &p).expect("free");
-            let sm = sm_of(out);
-            if let Some((prev, prev_sm)) = last {
-                assert!(sm >= prev_sm - 1e-12, "lambda {lambda}: {sm} < {prev_sm}");
-                if lambda == 3.0 {
-                    assert!((out - prev).norm() > 1e-3, "no measurable change: {out:?} vs {prev:?}");
-                }
-            }
-            last = Some((out, sm));
-        }
-        // λ = 0 is the pure-efficiency choice: straight at the goal.
-        let p0 = SocialMomentumParams { lambda: 0.0, ..Default::default() };
-        let out0 = step(pos, vel, goal, &others, &p0).expect("free");
-        assert!((out0 - v(0.55, 0.0)).norm() < 1e-12, "{out0:?}");
-    }
-
-    #[test]
-    fn never_exceeds_speed_or_acceleration() {
-        let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let p = SocialMomentumParams::default();
-        for _ in 0..300 {
-            let l = Limits {
-                max_speed: rng.random_range(0.1..1.5),
-                max_angular_speed: 2.0,
-                max_accel: rng.random_range(0.1..3.0),
-                max_angular_accel: 3.0,
-            };
-            let dt = rng.random_range(0.02..0.5);
-            let speed = rng.random_range(0.0..l.max_speed);
-            let ang: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-            let vel = v(ang.cos(), ang.sin()) * speed;
-            let goal = v(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0));
-            let others: Vec<Agent> = (0..rng.random_range(0..6))
-                .map(|_| {
-                    person(
-                        v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0)),
-                        v(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)),
-                    )
-                })
-                .collect();
-            if let Some(out) = social_momentum(Vec2::zeros(), vel, R, goal, &others, None, &l, dt, &p) {
-                check_limits(out, vel, &l, dt);
-            }
-        }
-        // A current velocity above the limit: the speed bound wins, decelerating at most a*dt.
-        let l = Limits::PEPPER;
-        let out =
-            social_momentum(Vec2::zeros(), v(0.6, 0.0), R, v(5.0, 0.0), &[], None, &l, DT, &p).expect("free");
-        check_limits(out, v(0.6, 0.0), &l, DT);
-        let out =
-            social_momentum(Vec2::zeros(), v(2.0, 0.0), R, v(5.0, 0.0), &[], None, &l, DT, &p).expect("free");
-        assert!(out.norm() <= l.max_speed + 1e-12, "{out:?}");
-    }
-
-    #[test]
-    fn boxed_in_returns_none() {
-        // Eight people on a 1.2 m ring walking straight at the robot.
-        let others: Vec<Agent> = (0..8)
-            .map(|k| {
-                let a = k as f64 * std::f64::consts::TAU / 8.0;
-                let u = v(a.cos(), a.sin());
-                person(u * 1.2, -u * 1.0)
-            })
-            .collect();
-        let p = SocialMomentumParams::default();
-        assert_eq!(step(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &others, &p), None);
-        // One person farther away leaves room to side-step.
-        let one = [person(v(2.5, 0.0), v(-1.0, 0.0))];
-        assert!(step(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &one, &p).is_some());
-    }
-
-    fn room() -> StaticGeometry {
-        let rect = |x0: f64, y0: f64, x1: f64, y1: f64| vec![v(x0, y0), v(x1, y0), v(x1, y1), v(x0, y1)];
-        let polys = vec![
-            rect(-5.0, -5.0, 5.0, -4.8),
-            rect(-5.0, 4.8, 5.0, 5.0),
-            rect(-5.0, -5.0, -4.8, 5.0),
-            rect(4.8, -5.0, 5.0, 5.0),
-            rect(1.0, -1.0, 1.5, 3.0),
-            rect(-2.0, -3.0, 0.0, -2.5),
-        ];
-        let bounds = Bounds { min: v(-5.0, -5.0), max: v(5.0, 5.0) };
-        match StaticGeometry::new(polys, bounds) {
-            Ok(g) => g,
-            Err(e) => panic!("{e}"),
-        }
-    }
-
-    #[test]
-    fn chosen_samples_never_collide_within_the_horizon() {
-        let geom = room();
-        let p = SocialMomentumParams::default();
-        let l = Limits::PEPPER;
-        let mut rng = ChaCha8Rng::seed_from_u64(11);
-        let mut checked = 0;
-        let mut stopped = 0;
-        for _ in 0..400 {
-            let pos = v(rng.random_range(-4.3..4.3), rng.random_range(-4.3..4.3));
-            if geom.distance(pos) < R + p.safety_margin || geom.contains(pos) {
-                continue;
-            }
-            let ang: f64 = rng.random_range(0.0..std::f64::consts::TAU);
-            let vel = v(ang.cos(), ang.sin()) * rng.random_range(0.0..0.55);
-            let goal = v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0));
-            let others: Vec<Agent> = (0..6)
-                .map(|_| {
-                    person(
-                        v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5)),
-                        v(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2)),
-                    )
-                })
-                .filter(|a| (a.pos - pos).norm() >= R + a.radius + p.safety_margin)
-                .collect();
-            match social_momentum(pos, vel, R, goal, &others, Some(&geom), &l, DT, &p) {
-                None => stopped += 1,
-                Some(out) => {
-                    checked += 1;
-                    // Dense time sampling, independent of the closed form.
-                    for k in 0..=400 {
-                        let t = p.horizon * k as f64 / 400.0;
-                        let q = pos + out * t;
-                        for a in &others {
-                            let d = (q - (a.pos + a.vel * t)).norm();
-                            assert!(d >= R + a.radius + p.safety_margin - 1e-9, "person hit at t={t}: {d}");
-                        }
-                        assert!(geom.distance(q) >= R + p.safety_margin - 1e-9, "wall hit at t={t}");
-                    }
-                }
-            }
-        }
-        assert!(checked > 100, "only {checked} checked ({stopped} stopped)");
-    }
-
-    #[test]
-    fn inside_a_margin_it_can_back_away() {
-        let geom = room();
-        let p = SocialMomentumParams::default();
-        // 0.32 m from the wall face at x = 1.0 (bound 0.4), goal straight through the wall.
-        let pos = v(0.68, 1.0);
-        let out =
-            social_momentum(pos, Vec2::zeros(), R, v(3.0, 1.0), &[], Some(&geom), &Limits::PEPPER, DT, &p)
-                .expect("can move away or along");
-        assert!(out.x <= 1e-12, "{out:?}");
-    }
-
-    #[test]
-    fn nan_inputs_stop_the_robot() {
-        let p = SocialMomentumParams::default();
-        let l = Limits::PEPPER;
-        let nan = f64::NAN;
-        let ok = person(v(3.0, 0.0), v(-1.0, 0.0));
-        let call = |pos: Vec2,
-                    vel: Vec2,
-                    goal: Vec2,
-                    others: &[Agent],
-                    l: &Limits,
-                    dt: f64,
-                    p: &SocialMomentumParams| {
-            social_momentum(pos, vel, R, goal, others, None, l, dt, p)
-        };
-        assert!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &p).is_some());
-        assert_eq!(call(v(nan, 0.0), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &p), None);
-        assert_eq!(call(Vec2::zeros(), v(0.0, nan), v(5.0, 0.0), &[ok], &l, DT, &p), None);
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(f64::INFINITY, 0.0), &[ok], &l, DT, &p), None);
-        let bad = Agent { pos: v(nan, 1.0), ..ok };
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok, bad], &l, DT, &p), None);
-        let bad = Agent { vel: v(1.0, f64::INFINITY), ..ok };
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[bad], &l, DT, &p), None);
-        let bad = Agent { radius: nan, ..ok };
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[bad], &l, DT, &p), None);
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, nan, &p), None);
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, 0.0, &p), None);
-        let bl = Limits { max_speed: nan, ..l };
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &bl, DT, &p), None);
-        let bp = SocialMomentumParams { lambda: nan, ..p };
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &bp), None);
-        let bp = SocialMomentumParams { horizon: f64::INFINITY, ..p };
-        assert_eq!(call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[ok], &l, DT, &bp), None);
-        assert_eq!(
-            social_momentum(Vec2::zeros(), Vec2::zeros(), nan, v(5.0, 0.0), &[ok], None, &l, DT, &p),
-            None
-        );
-        // An infinite acceleration limit is allowed and stays finite.
-        let il = Limits { max_accel: f64::INFINITY, ..l };
-        let out = call(Vec2::zeros(), Vec2::zeros(), v(5.0, 0.0), &[], &il, DT, &p).expect("free");
-        assert!((out - v(0.55, 0.0)).norm() < 1e-12, "{out:?}");
-        // A goal on the robot, and degenerate action sets, still give finite answers.
-        let g0 = SocialMomentumParams { n_speeds: 0, n_headings: 0, ..p };
-        let out = call(Vec2::zeros(), v(0.2, 0.0), Vec2::zeros(), &[ok], &l, DT, &g0).expect("free");
-        assert!(out.x.is_finite() && out.y.is_finite());
-    }
-
-    #[test]
-    fn inside_an_obstacle_stops() {
-        let geom = room();
-        let p = SocialMomentumParams::default();
-        let out = social_momentum(
-            v(1.2, 0.0),
-            Vec2::zeros(),
-            R,
-            v(3.0, 0.0),
-            &[],
-            Some(&geom),
-            &Limits::PEPPER,
-            DT,
-            &p,
-        );
-        assert_eq!(out, None);
-    }
-}
+mod tests;
