@@ -22,6 +22,8 @@ from matplotlib.patches import Patch
 from matplotlib.patches import Polygon as PolygonPatch
 from matplotlib.ticker import MaxNLocator
 
+from proxemic.errors import input_error
+
 from .topdown import (
     DEFAULT_OBJECT_COLOR,
     FLOOR_COLOR,
@@ -184,7 +186,7 @@ def plot_episodes(
         The path written.
 
     Raises:
-        ValueError: If an episode's ``robot`` or ``people`` array has the wrong shape.
+        InputError: If an episode's ``robot`` or ``people`` array has the wrong shape.
 
     """
     out = pathlib.Path(out_png)
@@ -208,13 +210,15 @@ def plot_episodes(
         if robot.size == 0:
             robot = np.zeros((0, 3))
         if robot.ndim != 2 or robot.shape[1] < 2:
-            raise ValueError(f"episode {i} ({label!r}): robot must have shape (T, 3), got {robot.shape}")
+            raise input_error(f"episodes[{i}].robot", f"shape (T, 3) (episode {label!r})", f"shape {robot.shape}")
 
         people_raw = ep.get("people")
         people = np.zeros((0, 0, 2)) if people_raw is None else np.asarray(people_raw, dtype=np.float64)
         if people.size > 0:
             if people.ndim != 3 or people.shape[2] < 2:
-                raise ValueError(f"episode {i} ({label!r}): people must have shape (T, P, 2), got {people.shape}")
+                raise input_error(
+                    f"episodes[{i}].people", f"shape (T, P, 2) (episode {label!r})", f"shape {people.shape}"
+                )
             any_people = True
             for p in range(people.shape[1]):
                 traj = people[:, p, :2]
@@ -356,11 +360,11 @@ def plot_metrics_bars(
         The path written.
 
     Raises:
-        ValueError: If ``metrics`` is empty.
+        InputError: If ``metrics`` is empty.
 
     """
     if not metrics:
-        raise ValueError("metrics must name at least one metric")
+        raise input_error("metrics", "at least one metric name", "none")
     out = pathlib.Path(out_png)
     groups = [str(row.get(group_key, "?")) for row in table]
     colors = _episode_colors(len(groups))
@@ -445,7 +449,7 @@ def plot_metrics_grid(
         The path written.
 
     Raises:
-        ValueError: If `groups` has no metric.
+        InputError: If `groups` has no metric.
     """
     rows_of_panels: list[tuple[str, list[tuple[str, str, str]]]] = []
     for name, metrics in groups:
@@ -453,7 +457,7 @@ def plot_metrics_grid(
         for k in range(0, len(metrics), GRID_COLUMNS):
             rows_of_panels.append((name if k == 0 else f"{name} (cont.)", metrics[k : k + GRID_COLUMNS]))
     if not rows_of_panels:
-        raise ValueError("groups must name at least one metric")
+        raise input_error("groups", "at least one metric name", "none")
     out = pathlib.Path(out_png)
     names = [str(row.get(group_key, "?")) for row in table]
     colors = _episode_colors(len(names))

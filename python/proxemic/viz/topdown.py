@@ -797,5 +797,5 @@ def _rows(arr: Any, ncols: int, name: str) -> np.ndarray:
     if a.ndim == 1 and a.shape[0] == ncols:
         a = a[None, :]
     if a.ndim != 2 or a.shape[1] != ncols:
-        raise ValueError(f"{name} must have shape (N, {ncols}), got {a.shape}")
+        raise input_error(name, f"shape (N, {ncols})", f"shape {a.shape}")
     return a
