@@ -432,6 +432,64 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
     ("api-planner-unknown", "museum(planner='rrt')", "ScenarioError", None),
     ("api-goal-outside", "museum(goal=(1000, 1000))", "ScenarioError", None),
     ("api-eband-unknown", "museum(planner='eband', eband={'spring': 1.0})", "ScenarioError", None),
+    (
+        "core-plan-nan-start",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.plan(0, (float('nan'), 1.0), (5.0, 5.0), False)",
+        "InputError",
+        "start",
+    ),
+    (
+        "core-plan-inf-goal",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.plan(0, (2.0, 2.0), (float('inf'), 5.0), True)",
+        "InputError",
+        "goal",
+    ),
+    (
+        "core-plan-nan-time",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.plan(0, (2.0, 2.0), (5.0, 5.0), True, float('nan'))",
+        "InputError",
+        "time_of_day",
+    ),
+    (
+        "core-layers-time",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.social_layers(0, 90000.0)",
+        "InputError",
+        "time_of_day",
+    ),
+    (
+        "core-object-costs-nan",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('care_center')))\nw.object_costs(float('nan'))",
+        "InputError",
+        "time_of_day",
+    ),
+    ("api-goal-one-number", "museum(goal=[1.0])", "InputError", "goal"),
+    ("api-goal-string", "museum(goal='here')", "InputError", "goal"),
+    ("api-goal-nan", "museum(goal=[float('nan'), 1.0])", "ScenarioError", None),
+    ("api-eband-list", "museum(planner='eband', eband=[1, 2])", "InputError", "eband"),
+    (
+        "api-eband-string-value",
+        "museum(planner='eband', eband={'contraction_gain': 'high'})",
+        "InputError",
+        "eband.contraction_gain",
+    ),
+    (
+        "api-eband-nan",
+        "museum(planner='eband', eband={'contraction_gain': float('nan')})",
+        "ScenarioError",
+        "eband.contraction_gain",
+    ),
+    (
+        "video-out-directory",
+        "from proxemic.viz.video import write_video\nwrite_video([np.zeros((8, 8, 3), np.uint8)], tempfile.mkdtemp())",
+        "InputError",
+        "out",
+    ),
+    (
+        "scn-wall-far-outside",
+        "proxemic.env.ProxemicEnv(scen(\"[scene]\\nname='x'\\nbounds=[0,0,5,5]\\n[[wall]]\\nfrom=[-9223372036854775808,0]\\nto=[5,0]\\n[[robot]]\\nstart=[1,1,0]\\ngoal=[4,4]\"))",
+        "ScenarioError",
+        "wall[0].from",
+    ),
 ]
 
 #: (id, argv of ``python -m proxemic.cli``, the field the message names)
@@ -466,6 +524,7 @@ CLI_CASES: list[tuple[str, list[str], str]] = [
     ("cli-tune-penalty-inf", ["tune", "--failure-penalty", "inf"], "--failure-penalty"),
     ("cli-tune-trials-zero", ["tune", "--trials", "0"], "--trials"),
     ("cli-demo-episodes-zero", ["demo", "--episodes", "0"], "--episodes"),
+    ("cli-video-out-directory", ["video", "--max-steps", "2", "--out", "/tmp"], "out"),
 ]
 
 

@@ -59,7 +59,7 @@ def test_actor_accepts_callables_and_predict_and_checks_the_action_shape():
     actor = PolicyActor(still)
     actor.reset(7)
     assert still.seeds == [7] and actor({}).shape == (3,)
-    with pytest.raises(InputError, match=r"returned an action of shape \(2,\); expected an action of shape \(3,\)"):
+    with pytest.raises(InputError, match=r"expected an action of shape \(3,\).*, got an action of shape \(2,\)"):
         PolicyActor(lambda obs: [0.0, 0.0], name="short")({})
     with pytest.raises(InputError, match="expected a callable obs -> action, or an object with predict"):
         PolicyActor(42)
@@ -128,9 +128,9 @@ def test_cli_policy_gives_the_same_records_on_processes_and_ray(at_root, tmp_pat
         ("no_such_module_xyz:make", "cannot import 'no_such_module_xyz'"),
         ("examples.my_policy", "expected an import path 'module:factory'"),
         ("examples.my_policy:nothing", "has no attribute 'nothing'"),
-        ("examples.my_policy:OBSTACLE_RANGE", "is a float, not callable; expected a factory"),
-        ("tests/bad_policies.py:short_action", r"action of shape \(2,\); expected an action of shape \(3,\)"),
-        ("tests/bad_policies.py:not_a_policy", "the factory returned a int; expected a callable obs -> action"),
+        ("examples.my_policy:OBSTACLE_RANGE", "got 'OBSTACLE_RANGE', a float (--policy"),
+        ("tests/bad_policies.py:short_action", r"got an action of shape \(2,\)"),
+        ("tests/bad_policies.py:not_a_policy", "expected a callable obs -> action"),
         ("tests/bad_policies.py:no_arguments", "the factory must take (observation_space, action_space)"),
     ],
 )

@@ -34,7 +34,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from proxemic.errors import InputError
+from proxemic.errors import input_error
 
 __all__ = [
     "FlatObservation",
@@ -87,10 +87,6 @@ class PolicyRef:
         return f"policy {self.name!r} ({self.target or 'a policy object'})"
 
 
-def _policy_error(message: str, *, field: str, expected: str, found: str) -> InputError:
-    return InputError(message, field=field, expected=expected, found=found)
-
-
 def load_factory(path: str, search_path: str | None = None) -> Callable[..., Any]:
     """The factory named by ``"module:attr"`` or ``"file.py:attr"``.
 
@@ -105,12 +101,7 @@ def load_factory(path: str, search_path: str | None = None) -> Callable[..., Any
     """
     module_name, sep, attr = path.partition(":")
     if not sep or not module_name or not attr:
-        raise _policy_error(
-            f"--policy {path!r}: expected {_EXPECTED_FACTORY}, e.g. examples.my_policy:make",
-            field="policy",
-            expected=_EXPECTED_FACTORY,
-            found=path,
-        )
+        raise input_error("policy", _EXPECTED_FACTORY, path, note="e.g. examples.my_policy:make")
     where = search_path or os.getcwd()
     if where not in sys.path:
         sys.path.insert(0, where)
@@ -127,29 +118,20 @@ def load_factory(path: str, search_path: str | None = None) -> Callable[..., Any
         else:
             module = importlib.import_module(module_name)
     except ImportError as e:
-        raise _policy_error(
-            f"--policy {path!r}: cannot import {module_name!r} ({e}); expected {_EXPECTED_FACTORY}",
-            field="policy",
-            expected=_EXPECTED_FACTORY,
-            found=path,
-        ) from e
+        raise input_error("policy", _EXPECTED_FACTORY, path, note=f"cannot import {module_name!r}: {e}") from e
     obj: Any = module
     for part in attr.split("."):
         if not hasattr(obj, part):
-            raise _policy_error(
-                f"--policy {path!r}: module {module_name!r} has no attribute {attr!r}; expected {_EXPECTED_FACTORY}",
-                field="policy",
-                expected=_EXPECTED_FACTORY,
-                found=path,
+            raise input_error(
+                "policy", _EXPECTED_FACTORY, path, note=f"module {module_name!r} has no attribute {attr!r}"
             )
         obj = getattr(obj, part)
     if not callable(obj):
-        raise _policy_error(
-            f"--policy {path!r}: {attr!r} is a {type(obj).__name__}, not callable; expected a factory "
-            "make(observation_space, action_space) -> policy",
-            field="policy",
-            expected="a callable factory make(observation_space, action_space)",
-            found=type(obj).__name__,
+        raise input_error(
+            "policy",
+            "a callable factory make(observation_space, action_space) -> policy",
+            f"{attr!r}, a {type(obj).__name__}",
+            note=f"--policy {path!r}: not callable",
         )
     return obj
 
@@ -164,11 +146,11 @@ def build_policy(path: str, observation_space: Any, action_space: Any, search_pa
     try:
         inspect.signature(factory).bind(observation_space, action_space)
     except TypeError as e:
-        raise _policy_error(
-            f"--policy {path!r}: the factory must take (observation_space, action_space) ({e})",
-            field="policy",
-            expected="a factory make(observation_space, action_space) -> policy",
-            found=str(inspect.signature(factory)),
+        raise input_error(
+            "policy",
+            "a factory make(observation_space, action_space) -> policy",
+            f"a factory {inspect.signature(factory)}",
+            note=f"--policy {path!r}: the factory must take (observation_space, action_space): {e}",
         ) from e
     except ValueError:
         pass  # a builtin without a signature: let the call decide
@@ -180,12 +162,7 @@ def build_policy(path: str, observation_space: Any, action_space: Any, search_pa
 def check_policy(policy: Any, what: str = "policy") -> None:
     """Raises :class:`InputError` unless `policy` is a callable or has ``predict``."""
     if not (callable(policy) or callable(getattr(policy, "predict", None))):
-        raise _policy_error(
-            f"{what} a {type(policy).__name__}; expected {_EXPECTED_POLICY}",
-            field="policy",
-            expected=_EXPECTED_POLICY,
-            found=type(policy).__name__,
-        )
+        raise input_error("policy", _EXPECTED_POLICY, f"{what} a {type(policy).__name__}")
 
 
 class PolicyActor:
@@ -230,20 +207,14 @@ class PolicyActor:
         try:
             a = np.asarray(action, dtype=np.float32)
         except (TypeError, ValueError) as e:
-            raise _policy_error(
-                f"policy {self.name!r} returned {type(action).__name__} {action!r}; expected {expected}",
-                field="policy",
-                expected=expected,
-                found=type(action).__name__,
+            raise input_error(
+                "policy", expected, f"{type(action).__name__} {action!r}", note=f"returned by policy {self.name!r}"
             ) from e
         if a.shape == (1, *self.action_shape):
             a = a[0]
         if a.shape != self.action_shape:
-            raise _policy_error(
-                f"policy {self.name!r} returned an action of shape {a.shape}; expected {expected}",
-                field="policy",
-                expected=expected,
-                found=f"shape {a.shape}",
+            raise input_error(
+                "policy", expected, f"an action of shape {a.shape}", note=f"returned by policy {self.name!r}"
             )
         return a
 
@@ -269,11 +240,11 @@ def joint_policy(
     if isinstance(policies, Mapping):
         missing, unknown = sorted(set(agents) - set(policies)), sorted(set(policies) - set(agents))
         if missing or unknown:
-            raise _policy_error(
-                f"policies: expected one policy per agent {agents}; missing {missing}, unknown {unknown}",
-                field="policies",
-                expected=f"a policy for each of {agents}",
-                found=str(sorted(policies)),
+            raise input_error(
+                "policies",
+                f"a policy for each of {agents}",
+                str(sorted(policies)),
+                note=f"missing {missing}, unknown {unknown}",
             )
         actors = {a: PolicyActor(policies[a], action_shape, a) for a in agents}
     else:

@@ -12,8 +12,10 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from proxemic import _core
-from proxemic.errors import UnknownNameError
+from proxemic.errors import UnknownNameError, input_error
 
 #: The elastic band's tunable gains (see ``Scenario.with_eband_gains``), in order.
 EBAND_GAINS: tuple[str, ...] = tuple(_core.EBAND_GAINS)
@@ -77,7 +79,27 @@ def load(
     if planner is not None:
         core = core.with_planner(planner)
     if eband:
-        core = core.with_eband_gains(**{k: float(v) for k, v in eband.items()})
+        if not isinstance(eband, Mapping):
+            raise input_error("eband", "a mapping of gain names to numbers", eband)
+        core = core.with_eband_gains(**{k: _number(v, f"eband.{k}") for k, v in eband.items()})
     if goal is not None:
-        core = core.with_goal((float(goal[0]), float(goal[1])))
+        core = core.with_goal(_point(goal, "goal"))
     return core, json.loads(core.to_json())
+
+
+def _number(value: object, field: str) -> float:
+    """`value` as a float, or an :class:`InputError` naming `field`."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise input_error(field, "a number", value)
+    return float(value)
+
+
+def _point(value: object, field: str) -> tuple[float, float]:
+    """`value` as a point (x, y) of two numbers, or an :class:`InputError` naming `field`."""
+    try:
+        xs = list(value)  # type: ignore[call-overload]
+    except TypeError:
+        raise input_error(field, "a point (x, y) of two numbers in metres", value) from None
+    if len(xs) != 2 or isinstance(value, str):
+        raise input_error(field, "a point (x, y) of two numbers in metres", value)
+    return (_number(xs[0], field), _number(xs[1], field))

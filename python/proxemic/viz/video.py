@@ -100,11 +100,14 @@ def write_video(
         The path written.
 
     Raises:
-        InputError: A non-positive fps, no frames, or a frame of the wrong shape, dtype or size.
+        InputError: A non-positive fps, a path that is a directory, no frames, or a frame of the
+            wrong shape, dtype or size.
         ImportError: imageio or imageio-ffmpeg is not installed.
     """
     if not (fps > 0 and np.isfinite(fps)):
         raise input_error("fps", "a positive number", fps)
+    if Path(path).is_dir():
+        raise input_error("out", "the path of an .mp4 file to write", f"{os.fspath(path)!r}, a directory")
     iio = _imageio()
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)

@@ -279,7 +279,36 @@ fn flat_mut<'a>(
     })
 }
 
+/// `p` as a point, or an `InputError` naming `field` when a coordinate is not finite.
+fn finite_point(py: Python<'_>, field: &str, p: (f64, f64)) -> PyResult<Vec2> {
+    if p.0.is_finite() && p.1.is_finite() {
+        Ok(Vec2::new(p.0, p.1))
+    } else {
+        Err(input_err(
+            py,
+            field,
+            "a point (x, y) of finite numbers (m)".into(),
+            format!("({}, {})", p.0, p.1),
+        ))
+    }
+}
+
 impl PyWorld {
+    /// `time_of_day` (seconds after midnight in [0, 86400)) or, when `None`, the world's time of
+    /// day now; an `InputError` naming `time_of_day` otherwise (a NaN gave NaN costs).
+    fn time_of_day_or_now(&self, py: Python<'_>, time_of_day: Option<f64>) -> PyResult<f64> {
+        match time_of_day {
+            None => Ok(self.inner.time_of_day()),
+            Some(t) if t.is_finite() && (0.0..86400.0).contains(&t) => Ok(t),
+            Some(t) => Err(input_err(
+                py,
+                "time_of_day",
+                "seconds after midnight in [0, 86400)".into(),
+                t.to_string(),
+            )),
+        }
+    }
+
     /// `robot` if it indexes a robot of the world, else an `InputError` naming `robot` (the one
     /// index check of every binding that takes a robot).
     fn robot(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
@@ -551,8 +580,8 @@ impl PyWorld {
         time_of_day: Option<f64>,
     ) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
         let robot = self.robot(py, robot)?;
-        let (s, g) = (Vec2::new(start.0, start.1), Vec2::new(goal.0, goal.1));
-        let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+        let (s, g) = (finite_point(py, "start", start)?, finite_point(py, "goal", goal)?);
+        let tod = self.time_of_day_or_now(py, time_of_day)?;
         let w = &mut self.inner;
         let plan = move || if social { w.plan_social(robot, s, g, tod) } else { Ok(w.plan(robot, s, g)) };
         let path = enter_core(py, plan)?;
@@ -575,7 +604,7 @@ impl PyWorld {
         time_of_day: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let robot = self.robot(py, robot)?;
-        let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+        let tod = self.time_of_day_or_now(py, time_of_day)?;
         {
             let w = &mut self.inner;
             enter_core(py, move || w.update_social_map(robot, tod))?;
@@ -644,7 +673,7 @@ impl PyWorld {
     /// activities, up to its active cost during one (Calderita: 1.5 and 3.5).
     #[pyo3(signature = (time_of_day = None))]
     fn object_costs<'py>(&self, py: Python<'py>, time_of_day: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
-        let tod = time_of_day.unwrap_or_else(|| self.inner.time_of_day());
+        let tod = self.time_of_day_or_now(py, time_of_day)?;
         let social = self.inner.social();
         let costs = enter_core(py, || Ok(social.object_factors(tod)))?;
         let d = PyDict::new(py);

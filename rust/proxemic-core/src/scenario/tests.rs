@@ -488,3 +488,14 @@ fn grid_too_large_names_bounds_and_resolution() {
     assert_eq!(field, "scene.bounds");
     assert!(expected.contains("at most 1000 m"), "{expected}");
 }
+
+#[test]
+fn wall_far_outside_the_bounds_is_named() {
+    // Found by the fuzzer: a wall end at -9.2e18 m made the static geometry's bucket grid
+    // overflow its capacity (a panic).
+    let text = MINIMAL.replace("from = [0, 0]", "from = [-9223372036854775808, 0]");
+    assert!(text.contains("-9223372036854775808"), "the test's scenario changed");
+    let (_, field, expected, _) = scenario_err(&text);
+    assert_eq!(field, "wall[0].from");
+    assert!(expected.contains("inside scene.bounds"), "{expected}");
+}

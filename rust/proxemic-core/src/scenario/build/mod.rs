@@ -21,7 +21,7 @@ pub(super) fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
     let ck = Checker { file };
     let scene = scene::build_scene(&ck, &raw.scene)?;
     let b = scene.bounds;
-    let walls = scene::build_walls(&ck, &raw.wall, scene.wall_height)?;
+    let walls = scene::build_walls(&ck, &raw.wall, scene.wall_height, scene.bounds)?;
     let objects = objects::build_objects(&ck, &raw.object, b)?;
     let mut persons = people::build_people(&ck, &raw.person, &objects, scene.start_time, b)?;
 

@@ -94,13 +94,23 @@ pub(super) fn build_scene(ck: &Checker<'_>, s: &RawScene) -> Result<Scene> {
 }
 
 /// Checks the walls and computes their footprints (`wall_height` is the scene's default height).
-pub(super) fn build_walls(ck: &Checker<'_>, raw: &[RawWall], wall_height: f64) -> Result<Vec<Wall>> {
+/// How far past `scene.bounds` a wall's end points may lie (m): walls are drawn along the bounds.
+pub const WALL_BOUNDS_MARGIN: f64 = 1.0;
+
+pub(super) fn build_walls(
+    ck: &Checker<'_>,
+    raw: &[RawWall],
+    wall_height: f64,
+    bounds: [f64; 4],
+) -> Result<Vec<Wall>> {
     let file = ck.file;
     let mut walls = Vec::with_capacity(raw.len());
     for (i, w) in raw.iter().enumerate() {
         let f = format!("wall[{i}]");
-        ck.finite(&format!("{f}.from"), &w.from)?;
-        ck.finite(&format!("{f}.to"), &w.to)?;
+        let m = WALL_BOUNDS_MARGIN;
+        let grown = [bounds[0] - m, bounds[1] - m, bounds[2] + m, bounds[3] + m];
+        ck.inside(&format!("{f}.from"), w.from, grown)?;
+        ck.inside(&format!("{f}.to"), w.to, grown)?;
         ck.range(&format!("{f}.thickness"), w.thickness, 0.0, 5.0, true)?;
         let height = w.height.unwrap_or(wall_height);
         ck.range(&format!("{f}.height"), height, 0.0, 20.0, true)?;
