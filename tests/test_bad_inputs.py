@@ -490,6 +490,30 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "ScenarioError",
         "wall[0].from",
     ),
+    (
+        "scn-start-is-goal",
+        "proxemic.env.ProxemicEnv(scen(ROOM + '[[robot]]\\nstart = [1.5, 4, 0]\\ngoal = [1.6, 4]'))",
+        "ScenarioError",
+        "robot[0].goal",
+    ),
+    (
+        "scn-person-on-start",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + '[[person]]\\nbehaviour = \"standing\"\\npose = [1.6, 4, 0]'))",
+        "ScenarioError",
+        "person[0].pose",
+    ),
+    (
+        "scn-people-same-pose",
+        'proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + \'[[person]]\\nbehaviour = "standing"\\npose = [5, 5, 0]\\n[[person]]\\nbehaviour = "standing"\\npose = [5, 5, 1]\'))',
+        "ScenarioError",
+        "person[1].pose",
+    ),
+    (
+        "scn-jitter-outside",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + '[episode.randomize]\\nrobot_start_jitter = 2.0'))",
+        "ScenarioError",
+        "episode.randomize.robot_start_jitter",
+    ),
 ]
 
 #: (id, argv of ``python -m proxemic.cli``, the field the message names)

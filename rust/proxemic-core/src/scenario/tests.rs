@@ -499,3 +499,31 @@ fn wall_far_outside_the_bounds_is_named() {
     assert_eq!(field, "wall[0].from");
     assert!(expected.contains("inside scene.bounds"), "{expected}");
 }
+
+#[test]
+fn starts_goals_jitter_and_standing_people_are_checked() {
+    // The goal on the start: the episode would be won at once.
+    let (_, field, ..) = scenario_err(&MINIMAL.replace("goal = [9, 4]", "goal = [1.1, 4]"));
+    assert_eq!(field, "robot[0].goal");
+    // A standing person on the robot's start.
+    let (_, field, ..) = scenario_err(&MINIMAL.replace("pose = [3, 3, 0]", "pose = [1.2, 4.1, 0]"));
+    assert_eq!(field, "person[1].pose");
+    // Two standing people at the same place.
+    let twin = format!("{MINIMAL}\n[[person]]\nbehaviour = \"standing\"\npose = [3.1, 3, 0]\n");
+    let (_, field, ..) = scenario_err(&twin);
+    assert_eq!(field, "person[2].pose");
+    // A jitter that can put the robot outside the bounds (its start is 1 m from the edge).
+    let out = format!("{MINIMAL}\n[episode.randomize]\nrobot_start_jitter = 1.5\n");
+    let (_, field, expected, _) = scenario_err(&out);
+    assert_eq!(field, "episode.randomize.robot_start_jitter");
+    assert!(expected.contains("inside scene.bounds"), "{expected}");
+    // A jitter under which two robots could overlap.
+    let two = format!(
+        "{MINIMAL}\n[[robot]]\nstart = [2, 4, 0]\ngoal = [9, 6]\n[episode.randomize]\nrobot_start_jitter = 0.3\n"
+    );
+    let (_, field, expected, _) = scenario_err(&two);
+    assert_eq!(field, "episode.randomize.robot_start_jitter");
+    assert!(expected.contains("cannot overlap"), "{expected}");
+    // The same scenes without the fault are valid.
+    assert!(parse(&format!("{MINIMAL}\n[episode.randomize]\nrobot_start_jitter = 0.5\n")).is_ok());
+}

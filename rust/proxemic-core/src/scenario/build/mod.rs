@@ -37,6 +37,15 @@ pub(super) fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
 
     check_settings(&ck, &raw.episode, &raw.sensors, &raw.reward)?;
     let e = &raw.episode;
+    robots::check_start_clearances(
+        file,
+        &robots,
+        &persons,
+        e.randomize.robot_start_jitter,
+        e.success_radius,
+        b,
+    )?;
+    robots::check_people_apart(file, &persons)?;
     Ok(Scenario {
         source: file.to_string(),
         scene,

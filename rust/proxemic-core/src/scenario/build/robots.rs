@@ -123,6 +123,99 @@ pub(super) fn check_robot_starts(file: &str, robots: &[Robot]) -> Result<()> {
     Ok(())
 }
 
+/// Where the robots start, against their goals, the people standing still and the start jitter:
+/// a goal (without waypoints) at least `success_radius` from the start (else the episode is won
+/// before it begins); no standing person's body over a robot's start disc; the jitter square
+/// (`start ± jitter`) inside `scene.bounds`; and two robots' starts apart by their radii plus the
+/// jitter square's diagonal, so no draw can make them overlap.
+pub(super) fn check_start_clearances(
+    file: &str,
+    robots: &[Robot],
+    persons: &[Person],
+    jitter: f64,
+    success_radius: f64,
+    bounds: [f64; 4],
+) -> Result<()> {
+    for (i, r) in robots.iter().enumerate() {
+        let (sx, sy) = (r.start[0], r.start[1]);
+        let d = (r.goal[0] - sx).hypot(r.goal[1] - sy);
+        if r.waypoints.is_empty() && r.approach.is_none() && d < success_radius {
+            return Err(err(
+                file,
+                format!("robot[{i}].goal"),
+                format!(
+                    "a goal at least episode.success_radius ({success_radius} m) from the start {:?}",
+                    [sx, sy]
+                ),
+                format!("{:?}, {d:.2} m away", r.goal),
+            ));
+        }
+        if sx - jitter < bounds[0]
+            || sx + jitter > bounds[2]
+            || sy - jitter < bounds[1]
+            || sy + jitter > bounds[3]
+        {
+            return Err(err(
+                file,
+                "episode.randomize.robot_start_jitter",
+                format!(
+                    "a jitter that keeps robot[{i}]'s start {:?} inside scene.bounds {bounds:?}",
+                    [sx, sy]
+                ),
+                format!("{jitter} m"),
+            ));
+        }
+        for (k, p) in persons.iter().enumerate() {
+            let gap = (p.pose[0] - sx).hypot(p.pose[1] - sy) - p.radius - r.radius;
+            if p.behaviour == Behaviour::Standing && gap < 0.0 {
+                return Err(err(
+                    file,
+                    format!("person[{k}].pose"),
+                    format!("a place clear of robot[{i}]'s start {:?} (radius {} m)", [sx, sy], r.radius),
+                    format!("{:?}, overlapping it by {:.2} m", [p.pose[0], p.pose[1]], -gap),
+                ));
+            }
+        }
+        for (j, q) in robots[..i].iter().enumerate() {
+            let d = (q.start[0] - sx).hypot(q.start[1] - sy);
+            let need = q.radius + r.radius + 2.0 * std::f64::consts::SQRT_2 * jitter;
+            if jitter > 0.0 && d < need {
+                return Err(err(
+                    file,
+                    "episode.randomize.robot_start_jitter",
+                    format!(
+                        "a jitter under which robot[{j}] and robot[{i}] cannot overlap (starts {d:.2} m apart need \
+                         {:.2} m or less)",
+                        ((d - q.radius - r.radius) / (2.0 * std::f64::consts::SQRT_2)).max(0.0)
+                    ),
+                    format!("{jitter} m"),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Standing people may not overlap each other (two people at the same place).
+pub(super) fn check_people_apart(file: &str, persons: &[Person]) -> Result<()> {
+    let standing: Vec<(usize, &Person)> =
+        persons.iter().enumerate().filter(|(_, p)| p.behaviour == Behaviour::Standing).collect();
+    for (n, &(j, b)) in standing.iter().enumerate() {
+        for &(i, a) in &standing[..n] {
+            let d = (a.pose[0] - b.pose[0]).hypot(a.pose[1] - b.pose[1]);
+            if d < a.radius + b.radius {
+                return Err(err(
+                    file,
+                    format!("person[{j}].pose"),
+                    format!("a place clear of person[{i}] at {:?}", [a.pose[0], a.pose[1]]),
+                    format!("{:?}, {d:.2} m away (overlapping)", [b.pose[0], b.pose[1]]),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The goal of an approach task: the robot's centre one body radius beyond the edge of the
 /// person's (feature-adapted) personal space on the requested side, facing the person. `auto`
 /// picks, among front, left and right, the side where that edge is nearest (the side the
