@@ -12,7 +12,7 @@ import pytest
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "python"))
 
-from proxemic.viz import TopDownRenderer, format_table, plot_episodes, plot_metrics_bars
+from proxemic.viz import TopDownRenderer, format_table, plot_episodes
 from proxemic.viz.topdown import (
     FLOOR_COLOR,
     INTERACTION_COLOR,
@@ -466,19 +466,3 @@ def test_format_table_exact() -> None:
     assert format_table(rows[:1], ["time", "missing"], floatfmt=".1f") == (
         "| time | missing |\n| --- | --- |\n| 12.3 | \u2013 |"
     )
-
-
-def test_plot_metrics_bars_writes_png(tmp_path: pathlib.Path) -> None:
-    import matplotlib.image as mpimg
-
-    table = [
-        {"planner": "astar", "success": 0.8, "success_ci": 0.1, "path_length": 12.0, "path_length_ci": 0.5},
-        {"planner": "social", "success": 0.95, "path_length": 13.5, "path_length_ci": None},
-        {"planner": "dwa", "success": 0.7, "success_ci": 0.12},
-    ]
-    out = plot_metrics_bars(table, ["success", "path_length"], tmp_path / "bars.png")
-    assert out.exists() and out.stat().st_size > 1000
-    img = mpimg.imread(out)
-    assert img.ndim == 3 and float(img[..., :3].std()) > 0.01
-    with pytest.raises(ValueError):
-        plot_metrics_bars(table, [], tmp_path / "none.png")

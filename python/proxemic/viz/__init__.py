@@ -2,7 +2,7 @@
 
 Everything here works on the plain scenario dict (the JSON the Rust core produces) and numpy
 arrays; nothing imports ``proxemic._core``. :class:`TopDownRenderer` needs only numpy; the plotting
-functions (:func:`plot_episodes`, :func:`plot_metrics_bars`, :func:`format_table`) live in
+functions (:func:`plot_episodes`, :func:`plot_metrics_grid`, :func:`format_table`) live in
 :mod:`proxemic.viz.plots` and are imported lazily so that rendering frames never pulls in
 matplotlib. Video export (:func:`record_episode`, :func:`write_video`, :func:`render_frame` of an
 env from any view) lives in :mod:`proxemic.viz.video`, also imported lazily.
@@ -16,14 +16,13 @@ from typing import TYPE_CHECKING, Any
 from .topdown import TopDownRenderer
 
 if TYPE_CHECKING:
-    from .plots import format_table, plot_episodes, plot_metrics_bars, plot_metrics_grid
+    from .plots import format_table, plot_episodes, plot_metrics_grid
     from .video import record_episode, render_frame, write_video
 
 __all__ = [
     "TopDownRenderer",
     "format_table",
     "plot_episodes",
-    "plot_metrics_bars",
     "plot_metrics_grid",
     "record_episode",
     "render_frame",
@@ -33,7 +32,6 @@ __all__ = [
 _LAZY = {
     "format_table": ".plots",
     "plot_episodes": ".plots",
-    "plot_metrics_bars": ".plots",
     "plot_metrics_grid": ".plots",
     "record_episode": ".video",
     "render_frame": ".video",

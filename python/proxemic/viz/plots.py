@@ -39,7 +39,6 @@ from .topdown import (
 __all__ = [
     "format_table",
     "plot_episodes",
-    "plot_metrics_bars",
     "plot_metrics_grid",
     "plot_social_map",
     "plot_tune",
@@ -337,85 +336,6 @@ def _as_float(value: Any) -> float:
         return float(value)
     except (TypeError, ValueError):
         return math.nan
-
-
-def plot_metrics_bars(
-    table: Sequence[Mapping[str, Any]],
-    metrics: Sequence[str],
-    out_png: str | os.PathLike[str],
-    *,
-    group_key: str = "planner",
-) -> pathlib.Path:
-    """Bar charts of aggregated metrics, one subplot per metric and one bar per group.
-
-    Args:
-        table: One row per group (e.g. planner), e.g. ``{"planner": "astar", "success": 0.9,
-            "success_ci": 0.05}``. A metric's confidence half-width is read from ``<metric>_ci``;
-            error bars are drawn only where it is present and finite. Missing metrics leave a gap.
-        metrics: Metric names to plot, in subplot order.
-        out_png: Output PNG path; parent directories are created.
-        group_key: The row key naming the group on the x axis.
-
-    Returns:
-        The path written.
-
-    Raises:
-        InputError: If ``metrics`` is empty.
-
-    """
-    if not metrics:
-        raise input_error("metrics", "at least one metric name", "none")
-    out = pathlib.Path(out_png)
-    groups = [str(row.get(group_key, "?")) for row in table]
-    colors = _episode_colors(len(groups))
-    n = len(metrics)
-    fig = Figure(figsize=(max(3.0, 2.4 + 0.5 * len(groups)) * n, 3.6), dpi=_DPI, layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, n, squeeze=False)[0]
-    x = np.arange(len(groups), dtype=np.float64)
-    for ax, metric in zip(axes, metrics, strict=True):
-        values = np.array([_as_float(row.get(metric)) for row in table], dtype=np.float64)
-        cis = np.array([_as_float(row.get(f"{metric}_ci")) for row in table], dtype=np.float64)
-        heights = np.where(np.isfinite(values), values, 0.0)
-        bars = ax.bar(x, heights, color=colors, edgecolor="black", linewidth=0.6, width=0.7)
-        for bar, v in zip(bars, values, strict=True):
-            if not np.isfinite(v):
-                bar.set_visible(False)
-        has_ci = np.isfinite(cis) & np.isfinite(values)
-        if np.any(has_ci):
-            ax.errorbar(
-                x[has_ci],
-                values[has_ci],
-                yerr=np.abs(cis[has_ci]),
-                fmt="none",
-                ecolor="black",
-                elinewidth=1.0,
-                capsize=4,
-            )
-        for xi, v, ci in zip(x, values, cis, strict=True):
-            # value label just beyond the end of the bar or its error bar
-            if np.isfinite(v):
-                reach = v + math.copysign(abs(ci) if np.isfinite(ci) else 0.0, v if v != 0 else 1.0)
-                label, below = f"{v:.3g}", v < 0
-            else:
-                reach, label, below = 0.0, "n/a", False
-            ax.annotate(
-                label,
-                (xi, reach),
-                xytext=(0, -3 if below else 3),
-                textcoords="offset points",
-                ha="center",
-                va="top" if below else "bottom",
-                fontsize=7,
-            )
-        ax.set_xticks(x, groups, rotation=30 if len(groups) > 3 else 0, ha="right" if len(groups) > 3 else "center")
-        ax.set_title(metric.replace("_", " "))
-        ax.grid(True, axis="y", linewidth=0.3, alpha=0.6)
-        ax.set_axisbelow(True)
-        ax.margins(y=0.15)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, format="png", metadata={"Software": None})
-    return out
 
 
 #: Panels per row of :func:`plot_metrics_grid`.
