@@ -514,6 +514,36 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "ScenarioError",
         "episode.randomize.robot_start_jitter",
     ),
+    (
+        "scn-control-rate-slow",
+        "proxemic.env.ProxemicEnv(scen(ROOM.replace('bounds = [0, 0, 10, 8]', 'bounds = [0, 0, 10, 8]\\ncontrol_hz = 1\\nphysics_hz = 100') + ROBOT))",
+        "ScenarioError",
+        "scene.control_hz",
+    ),
+    (
+        "scn-physics-rate-slow",
+        "proxemic.env.ProxemicEnv(scen(ROOM.replace('bounds = [0, 0, 10, 8]', 'bounds = [0, 0, 10, 8]\\ncontrol_hz = 10\\nphysics_hz = 10') + ROBOT))",
+        "ScenarioError",
+        "scene.physics_hz",
+    ),
+    (
+        "scn-painting-faces-wall",
+        'proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + \'[[object]]\\nname = "p"\\nkind = "painting"\\npose = [5, 7.9, 1.5707963267948966]\\nsize = [0.1, 1.5]\\ninteraction = { shape = "trapezoid", length = 2.0, near_width = 1.5, far_width = 3.0 }\'))',
+        "ScenarioError",
+        "object[0].pose",
+    ),
+    (
+        "scn-polygon-bowtie",
+        'proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + \'[[object]]\\nname = "t"\\nkind = "table"\\npose = [5, 2, 0]\\nsize = [0.5, 0.5]\\ninteraction = { shape = "polygon", points = [[4, 1], [7, 3], [7, 1], [4, 2]] }\'))',
+        "ScenarioError",
+        "object[0].interaction.points",
+    ),
+    (
+        "scn-polygon-spike",
+        'proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + \'[[object]]\\nname = "t"\\nkind = "table"\\npose = [5, 2, 0]\\nsize = [0.5, 0.5]\\ninteraction = { shape = "polygon", points = [[4, 1], [6, 1], [6, 3], [6, 1.5], [4, 3]] }\'))',
+        "ScenarioError",
+        "object[0].interaction.points",
+    ),
 ]
 
 #: (id, argv of ``python -m proxemic.cli``, the field the message names)

@@ -527,3 +527,56 @@ fn starts_goals_jitter_and_standing_people_are_checked() {
     // The same scenes without the fault are valid.
     assert!(parse(&format!("{MINIMAL}\n[episode.randomize]\nrobot_start_jitter = 0.5\n")).is_ok());
 }
+
+#[test]
+fn rates_spaces_and_polygons_are_checked() {
+    // 1 Hz control: the robot (0.55 m/s) would move 0.55 m between two looks of the core.
+    let slow = MINIMAL.replace("[scene]", "[scene]\ncontrol_hz = 1\nphysics_hz = 100");
+    let (_, field, ..) = scenario_err(&slow);
+    assert_eq!(field, "scene.control_hz");
+    // 10 Hz physics: 0.055 m per physics step, more than a quarter of a wall.
+    let coarse = MINIMAL.replace("[scene]", "[scene]\ncontrol_hz = 10\nphysics_hz = 10");
+    let (_, field, ..) = scenario_err(&coarse);
+    assert_eq!(field, "scene.physics_hz");
+    // The painting at the top wall (y = 7.8) turned to face the wall: its viewers would stand
+    // outside the room.
+    let backwards =
+        MINIMAL.replace("pose = [5, 7.8, -1.5707963267948966]", "pose = [5, 7.8, 1.5707963267948966]");
+    let (_, field, _, found) = scenario_err(&backwards);
+    assert_eq!(field, "object[0].pose");
+    assert!(found.contains("outside scene.bounds"), "{found}");
+    // A self-intersecting (bow-tie) polygon and a spiked one.
+    let space = r#"interaction = { shape = "trapezoid", length = 2.0, near_width = 1.5, far_width = 3.0 }"#;
+    let bow = MINIMAL
+        .replace(space, r#"interaction = { shape = "polygon", points = [[4, 5], [7, 7], [7, 5], [4, 6]] }"#);
+    let (_, field, _, found) = scenario_err(&bow);
+    assert_eq!(field, "object[0].interaction.points");
+    assert!(found.contains("cross"), "{found}");
+    let spike = MINIMAL.replace(
+        space,
+        r#"interaction = { shape = "polygon", points = [[4, 5], [6, 5], [6, 7], [6, 5.5], [4, 7]] }"#,
+    );
+    let (_, field, _, found) = scenario_err(&spike);
+    assert_eq!(field, "object[0].interaction.points");
+    assert!(found.contains("spike"), "{found}");
+    // A fine simple polygon passes.
+    let fine = MINIMAL
+        .replace(space, r#"interaction = { shape = "polygon", points = [[4, 5], [6, 5], [6, 7], [4, 7]] }"#);
+    assert!(parse(&fine).is_ok());
+}
+
+#[test]
+fn every_bundled_scenario_validates() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../python/proxemic/data/envs");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).expect("the bundled scenarios") {
+        let path = entry.expect("a directory entry").path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            if let Err(e) = Scenario::from_file(&path) {
+                panic!("{}: {e}", path.display());
+            }
+            n += 1;
+        }
+    }
+    assert!(n >= 12, "{n} scenarios");
+}

@@ -46,6 +46,8 @@ pub(super) fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
         b,
     )?;
     robots::check_people_apart(file, &persons)?;
+    objects::check_spaces_face_the_room(file, &objects, &walls, b)?;
+    scene::check_rates(file, &scene, &robots)?;
     Ok(Scenario {
         source: file.to_string(),
         scene,

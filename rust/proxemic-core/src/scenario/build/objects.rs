@@ -214,6 +214,14 @@ fn build_interaction(
                     "a degenerate polygon",
                 ));
             }
+            if let Some(what) = not_simple(&poly) {
+                return Err(err(
+                    ck.file,
+                    format!("{f}.points"),
+                    "a simple polygon (edges meet only at their ends, no spike)",
+                    what,
+                ));
+            }
             if area < 0.0 {
                 poly.reverse();
             }
@@ -221,4 +229,91 @@ fn build_interaction(
         }
     };
     Ok(Interaction { shape, polygon })
+}
+
+/// Why `poly` is not a simple polygon, or `None`: two edges that are not neighbours touch or
+/// cross (self-intersection), or an edge folds back onto the previous one (a spike of zero
+/// width). O(n²) in the vertices, which scenario polygons keep few.
+fn not_simple(poly: &[[f64; 2]]) -> Option<String> {
+    let n = poly.len();
+    let v = |k: usize| crate::math::Vec2::new(poly[k % n][0], poly[k % n][1]);
+    for k in 0..n {
+        let (a, b, c) = (v(k), v(k + 1), v(k + 2));
+        let (u, w) = (b - a, c - b);
+        if crate::geom::cross(u, w).abs() <= 1e-12 * u.norm() * w.norm() && u.dot(&w) < 0.0 {
+            return Some(format!("a spike at point {}", (k + 1) % n));
+        }
+    }
+    for i in 0..n {
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue; // neighbours through the closing edge
+            }
+            if segments_touch(v(i), v(i + 1), v(j), v(j + 1)) {
+                return Some(format!("edges {i}-{} and {j}-{} cross", (i + 1) % n, (j + 1) % n));
+            }
+        }
+    }
+    None
+}
+
+/// Whether the closed segments `ab` and `cd` share a point.
+fn segments_touch(
+    a: crate::math::Vec2,
+    b: crate::math::Vec2,
+    c: crate::math::Vec2,
+    d: crate::math::Vec2,
+) -> bool {
+    use crate::geom::cross;
+    let (d1, d2) = (cross(b - a, c - a), cross(b - a, d - a));
+    let (d3, d4) = (cross(d - c, a - c), cross(d - c, b - c));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    let on = |p: crate::math::Vec2, q: crate::math::Vec2, r: crate::math::Vec2, side: f64| {
+        side == 0.0
+            && r.x >= p.x.min(q.x)
+            && r.x <= p.x.max(q.x)
+            && r.y >= p.y.min(q.y)
+            && r.y <= p.y.max(q.y)
+    };
+    on(a, b, c, d1) || on(a, b, d, d2) || on(c, d, a, d3) || on(c, d, b, d4)
+}
+
+/// An object's interaction space must face into the scene: its centroid inside `scene.bounds`
+/// and outside every wall (a painting hung facing its wall put its viewers outside the room).
+pub(super) fn check_spaces_face_the_room(
+    file: &str,
+    objects: &[Object],
+    walls: &[crate::scenario::model::Wall],
+    bounds: [f64; 4],
+) -> Result<()> {
+    use crate::geom::contains_point_polygon;
+    use crate::math::Vec2;
+    let to_vec = |p: &[[f64; 2]]| p.iter().map(|q| Vec2::new(q[0], q[1])).collect::<Vec<Vec2>>();
+    for (i, o) in objects.iter().enumerate() {
+        let Some(space) = &o.interaction else { continue };
+        let poly = to_vec(&space.polygon);
+        let centroid = poly.iter().fold(Vec2::zeros(), |s, p| s + p) / poly.len() as f64;
+        let outside = centroid.x < bounds[0]
+            || centroid.x > bounds[2]
+            || centroid.y < bounds[1]
+            || centroid.y > bounds[3];
+        let in_wall = walls.iter().position(|w| contains_point_polygon(centroid, &to_vec(&w.polygon)));
+        if outside || in_wall.is_some() {
+            let where_ = match in_wall {
+                Some(k) => format!("inside wall[{k}]"),
+                None => format!("outside scene.bounds {bounds:?}"),
+            };
+            return Err(err(
+                file,
+                format!("object[{i}].pose"),
+                "an orientation whose interaction space faces into the room (its centre inside the scene, clear of walls)",
+                format!("{:?}: the space's centre {:?} is {where_}", o.pose, [centroid.x, centroid.y]),
+            ));
+        }
+    }
+    Ok(())
 }

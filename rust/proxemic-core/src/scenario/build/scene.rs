@@ -132,3 +132,42 @@ pub(super) fn build_walls(
 
     Ok(walls)
 }
+
+/// The farthest a robot may move in one control step (m): half the contact-hint range, so the
+/// physics never misses a contact the hints rule out, and the robot cannot leave the map or
+/// cross a wall between two looks of the core.
+pub const MAX_CONTROL_STEP_TRAVEL: f64 = 0.25;
+/// The farthest a robot may move in one physics step (m): a quarter of a default wall's
+/// thickness, so a body cannot tunnel through a wall between two collision checks.
+pub const MAX_PHYSICS_STEP_TRAVEL: f64 = 0.05;
+
+/// The control and physics rates must be fast enough for the fastest robot (see
+/// [`MAX_CONTROL_STEP_TRAVEL`] and [`MAX_PHYSICS_STEP_TRAVEL`]).
+pub(super) fn check_rates(file: &str, scene: &Scene, robots: &[crate::scenario::model::Robot]) -> Result<()> {
+    let vmax = robots.iter().map(|r| r.max_speed).fold(0.0, f64::max);
+    let control_min = vmax / MAX_CONTROL_STEP_TRAVEL;
+    if scene.control_hz < control_min {
+        return Err(err(
+            file,
+            "scene.control_hz",
+            format!(
+                "at least {control_min:.2} Hz: the fastest robot ({vmax} m/s) may move at most {MAX_CONTROL_STEP_TRAVEL} m per \
+                 control step"
+            ),
+            format!("{} Hz ({:.2} m per step)", scene.control_hz, vmax / scene.control_hz),
+        ));
+    }
+    let physics_min = vmax / MAX_PHYSICS_STEP_TRAVEL;
+    if scene.physics_hz < physics_min {
+        return Err(err(
+            file,
+            "scene.physics_hz",
+            format!(
+                "at least {physics_min:.1} Hz: the fastest robot ({vmax} m/s) may move at most {MAX_PHYSICS_STEP_TRAVEL} m per \
+                 physics step"
+            ),
+            format!("{} Hz ({:.3} m per step)", scene.physics_hz, vmax / scene.physics_hz),
+        ));
+    }
+    Ok(())
+}
