@@ -165,3 +165,31 @@ def test_env_pickles_as_its_arguments() -> None:
     step_a = env.step(np.array([0.5, 0.0, 0.1], np.float32))
     step_b = copy.step(np.array([0.5, 0.0, 0.1], np.float32))
     assert step_a[1] == step_b[1]
+
+
+def test_env_steps_from_another_thread() -> None:
+    # The compiled World was "unsendable": a step from another thread raised a PanicException
+    # (not an Exception). Vector envs and thread pools move envs between threads.
+    import threading
+
+    import gymnasium as gym
+    import numpy as np
+
+    env = gym.make("proxemic/Museum-v0")
+    env.reset(seed=0)
+    errors: list[BaseException] = []
+    rewards: list[float] = []
+
+    def run() -> None:
+        try:
+            for _ in range(5):
+                _, reward, *_ = env.step(np.zeros(3, np.float32))
+                rewards.append(float(reward))
+        except BaseException as e:
+            errors.append(e)
+
+    t = threading.Thread(target=run)
+    t.start()
+    t.join()
+    assert not errors, errors
+    assert len(rewards) == 5
