@@ -145,29 +145,22 @@ pub const MAX_PHYSICS_STEP_TRAVEL: f64 = 0.05;
 /// [`MAX_CONTROL_STEP_TRAVEL`] and [`MAX_PHYSICS_STEP_TRAVEL`]).
 pub(super) fn check_rates(file: &str, scene: &Scene, robots: &[crate::scenario::model::Robot]) -> Result<()> {
     let vmax = robots.iter().map(|r| r.max_speed).fold(0.0, f64::max);
-    let control_min = vmax / MAX_CONTROL_STEP_TRAVEL;
-    if scene.control_hz < control_min {
-        return Err(err(
-            file,
-            "scene.control_hz",
-            format!(
-                "at least {control_min:.2} Hz: the fastest robot ({vmax} m/s) may move at most {MAX_CONTROL_STEP_TRAVEL} m per \
-                 control step"
-            ),
-            format!("{} Hz ({:.2} m per step)", scene.control_hz, vmax / scene.control_hz),
-        ));
-    }
-    let physics_min = vmax / MAX_PHYSICS_STEP_TRAVEL;
-    if scene.physics_hz < physics_min {
-        return Err(err(
-            file,
-            "scene.physics_hz",
-            format!(
-                "at least {physics_min:.1} Hz: the fastest robot ({vmax} m/s) may move at most {MAX_PHYSICS_STEP_TRAVEL} m per \
-                 physics step"
-            ),
-            format!("{} Hz ({:.3} m per step)", scene.physics_hz, vmax / scene.physics_hz),
-        ));
+    let limits = [
+        ("scene.control_hz", "control", scene.control_hz, MAX_CONTROL_STEP_TRAVEL),
+        ("scene.physics_hz", "physics", scene.physics_hz, MAX_PHYSICS_STEP_TRAVEL),
+    ];
+    for (field, step, hz, travel) in limits {
+        let min_hz = vmax / travel;
+        if hz < min_hz {
+            return Err(err(
+                file,
+                field,
+                format!(
+                    "at least {min_hz:.2} Hz: the fastest robot ({vmax} m/s) may move at most {travel} m per {step} step"
+                ),
+                format!("{hz} Hz ({:.3} m per step)", vmax / hz),
+            ));
+        }
     }
     Ok(())
 }
