@@ -7,7 +7,7 @@
 
 The resident set size (RSS, from ``/proc/self/statm``) is printed every 100,000 steps. The run
 fails (exit code 1) if RSS grows by more than 5% from the first 100,000 steps (the warm-up) to
-the end, or if any observation is non-finite or outside its space.
+the end, or if any observation (of every step and every reset) is non-finite or outside its space.
 
 Run: ``make soak`` (``python tests/soak.py [--steps N] [--parallel-steps N]``).
 """
@@ -76,11 +76,14 @@ def soak_single(steps: int) -> list[str]:
     tracker, failures = Tracker("museum"), []
     for step in range(1, steps + 1):
         obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
-        if step % 97 == 0 and (bad := check_obs(obs, space, f"museum step {step}")):
+        if bad := check_obs(obs, space, f"museum step {step}"):
             failures.append(bad)
             break
         if terminated or truncated:
             obs, _ = env.reset()
+            if bad := check_obs(obs, space, f"museum reset after step {step}"):
+                failures.append(bad)
+                break
         tracker.maybe_sample(step)
     env.close()
     if verdict := tracker.verdict():
@@ -97,12 +100,14 @@ def soak_parallel(steps: int) -> list[str]:
     for step in range(1, steps + 1):
         if not env.agents:
             obs, _ = env.reset()
+            for agent, o in obs.items():
+                if bad := check_obs(o, env.observation_space(agent), f"parallel reset after step {step} {agent}"):
+                    failures.append(bad)
         actions = {a: rng.uniform(-1, 1, 3).astype(np.float32) for a in env.agents}
         obs, _, _, _, _ = env.step(actions)
-        if step % 97 == 0:
-            for agent, o in obs.items():
-                if bad := check_obs(o, env.observation_space(agent), f"parallel step {step} {agent}"):
-                    failures.append(bad)
+        for agent, o in obs.items():
+            if bad := check_obs(o, env.observation_space(agent), f"parallel step {step} {agent}"):
+                failures.append(bad)
         if failures:
             break
         tracker.maybe_sample(step)
