@@ -72,16 +72,11 @@ format: $(VENV)/.deps ## apply rustfmt and ruff format
 
 BENCHES := planning pedestrians proxemics groups socialmap controllers orca world
 
-bench: setup ## criterion benches of the core (medians), env, parallel env and rendering throughput, ORCA and pedestrians vs navground
-	for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \
+bench: setup ## criterion benches of the core (medians), env, parallel env and rendering throughput, ORCA and pedestrians vs navground; fails when a bench crashes or a target is MISSED (every bench still runs)
+	set -o pipefail; for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \
 	  | grep -E '^[a-z_/0-9.]+|time:|thrpt:' || exit 1; done
-	$(PY) benches/env_bench.py
-	$(PY) benches/parallel_bench.py
-	$(PY) benches/crowd_bench.py
-	$(PY) benches/eval_bench.py
-	$(PY) benches/vector_bench.py
-	$(PY) benches/orca_vs_navground.py
-	$(PY) benches/pedestrians_vs_navground.py
+	status=0; for script in env_bench parallel_bench crowd_bench eval_bench vector_bench orca_vs_navground pedestrians_vs_navground; do \
+	  $(PY) benches/$$script.py || { echo "benches/$$script.py: failed or missed a target"; status=1; }; done; exit $$status
 
 soak: setup ## 1M museum env steps and 200k 4-robot parallel steps, random actions: fails if RSS grows >5% after warm-up or an observation leaves its space
 	$(PY) tests/soak.py

@@ -118,7 +118,8 @@ def run_ours(binary: Path, n: int, steps: int, seed: int) -> dict[str, float]:
     )
 
 
-def main() -> None:
+def main() -> int:
+    """Runs the bench; returns 1 when the target is missed."""
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("ns", nargs="*", type=int, default=[10, 200, 1000])
     p.add_argument("--reps", type=int, default=5)
@@ -154,6 +155,7 @@ def main() -> None:
 
     print()
     print("ORCA cost per agent-step (microseconds, medians over repetitions; ratio = navground / ours)")
+    print("scene: navground's Cross scenario on both sides (ours: the same world in the Rust example orca_agents)")
     head = f"{'N':>5} | {'navground wall':>14} | {'ours wall':>9} | {'ratio':>6} | "
     head += f"{'navground CPU':>13} | {'ours CPU':>8} | {'ratio':>6} | {'neighbours ng/ours':>18}"
     print(head)
@@ -167,7 +169,8 @@ def main() -> None:
         )
     slower = [r["n"] for r in rows if r["ours_cpu_us"] > r["navground_cpu_us"]]
     print("target (no slower than navground at any N, CPU time):", "MISSED at N = " + str(slower) if slower else "met")
+    return 1 if slower else 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -34,6 +34,7 @@ from __future__ import annotations
 import copy
 import os
 import statistics
+import sys
 import time
 from typing import Any
 
@@ -127,7 +128,9 @@ def bench(robots: int, planners: str | None, planner_actions: bool) -> dict[str,
     return out
 
 
-def main() -> None:
+def main() -> int:
+    """Runs the bench; returns 1 when a target is missed."""
+    checks: dict[str, bool] = {}
     print(
         f"parallel env, museum_multi, {TRIALS} trials x {STEPS} steps, env.step thread CPU time, medians "
         "(bare: mj_step x frame_skip from the env's states; full: the visual model)"
@@ -149,11 +152,22 @@ def main() -> None:
             )
             if robots == 11 and not planner_actions:
                 rate = 1e6 / r["agent"]
+                checks[f"{TARGET} agent-steps/s with 11 robots, policies only"] = rate >= TARGET
                 print(
-                    f"  {'':46s} target {TARGET} agent-steps/s with 11 robots: {'met' if rate >= TARGET else 'NOT met'}"
+                    f"  {'':46s} target {TARGET} agent-steps/s with 11 robots: {'met' if rate >= TARGET else 'MISSED'}"
                     f"; the bare MuJoCo stepping alone allows {robots * 1e6 / r['bare']:.0f}"
                 )
+            if robots == 11 and planners is None and planner_actions:
+                ok = r["core"] <= r["physics"]
+                checks["11 social robots: core <= physics"] = ok
+                print(
+                    f"  {'':46s} target core <= physics with 11 social robots: {'met' if ok else 'MISSED'} "
+                    f"(core {r['core']:.0f} us, physics {r['physics']:.0f} us, {r['core'] / r['physics']:.2f}x)"
+                )
+    missed = [k for k, ok in checks.items() if not ok]
+    print("targets: " + ("all met" if not missed else "MISSED: " + "; ".join(missed)))
+    return 1 if missed else 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
