@@ -56,7 +56,9 @@ install-check: system-deps ## `pip install .` into a fresh venv, then gym.make f
 	/tmp/proxemic-install-check/bin/pip install -q .
 	cd / && /tmp/proxemic-install-check/bin/python -c "import gymnasium as gym, proxemic; \
 	  env = gym.make('proxemic/Museum-v0'); obs, _ = env.reset(seed=0); \
-	  print('installed proxemic', proxemic.__version__, 'runs from /:', {k: v.shape for k, v in obs.items()})"
+	  print('installed proxemic', proxemic.__version__, 'runs from /:', {k: v.shape for k, v in obs.items()}); \
+	  penv = proxemic.parallel_env('daza2021_fig15'); pobs, _ = penv.reset(seed=0); \
+	  print('parallel_env (PettingZoo, a core dependency):', sorted(pobs))"
 
 lint: $(VENV)/.deps ## rustfmt, clippy (warnings as errors), ruff, mypy (settings in pyproject.toml)
 	cargo fmt --all --check

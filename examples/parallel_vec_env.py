@@ -15,10 +15,12 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-import supersuit as ss
 from gymnasium import spaces
 
 import proxemic
+from proxemic.errors import require_extra
+
+ss: Any = require_extra("supersuit", "multi", "examples/parallel_vec_env.py")
 
 
 def make_vec_env(copies: int = 2, scenario: str = "daza2021_fig15") -> Any:

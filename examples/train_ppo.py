@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from proxemic.errors import require_extra
 from proxemic.policy import FlatObservation, flat_observation_env
 
 DEFAULT_SCENE = "daza2021_path3"
@@ -50,9 +51,9 @@ def train(scenario: str, steps: int, out: Path, seed: int = 0, n_envs: int = 2, 
 
     `n_steps` is the rollout length per env between updates.
     """
-    import torch
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.env_util import make_vec_env
+    torch: Any = require_extra("torch", "rl", "the PPO example")
+    PPO = require_extra("stable_baselines3", "rl", "the PPO example").PPO
+    make_vec_env = require_extra("stable_baselines3.common.env_util", "rl", "the PPO example").make_vec_env
 
     torch.set_num_threads(1)  # a small MLP: threads only contend on a shared machine
     vec = make_vec_env(lambda: make_env(scenario), n_envs=n_envs, seed=seed)
@@ -84,11 +85,10 @@ class PPOPolicy:
 
     def __init__(self, model_path: str | os.PathLike[str], observation_space: Any) -> None:
         """Loads the model (on the CPU) and the observation flattener of the env's space."""
-        import torch
-        from stable_baselines3 import PPO
-
+        torch: Any = require_extra("torch", "rl", "the PPO example")
+        ppo: Any = require_extra("stable_baselines3", "rl", "the PPO example").PPO
         torch.set_num_threads(1)
-        self.model = PPO.load(model_path, device="cpu")
+        self.model = ppo.load(model_path, device="cpu")
         self.flat = FlatObservation(observation_space)
 
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:

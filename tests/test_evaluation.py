@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import math
+import sys
 
 import pyarrow.parquet as pq
 import pytest
@@ -76,18 +77,11 @@ def test_cli_errors_exit_non_zero(tmp_path, capsys):
 
 
 def test_ray_backend_without_ray_is_a_clear_error(tmp_path, monkeypatch):
-    import builtins
+    from proxemic.errors import MissingExtraError
 
-    real_import = builtins.__import__
-
-    def no_ray(name, *args, **kwargs):
-        if name == "ray":
-            raise ImportError("no ray")
-        return real_import(name, *args, **kwargs)
-
-    monkeypatch.setattr(builtins, "__import__", no_ray)
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray now fails as if not installed
     cfg = EvalConfig(scenario="museum", planners=["astar"], episodes=1, out=tmp_path, backend="ray")
-    with pytest.raises(Exception, match="needs the ray package"):
+    with pytest.raises(MissingExtraError, match=r"backend 'ray' needs the package 'ray'.*'proxemic\[ray\]'"):
         run_eval(cfg, progress=False)
 
 

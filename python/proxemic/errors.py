@@ -10,6 +10,9 @@ The compiled core raises these classes by name, so they must stay importable fro
 
 from __future__ import annotations
 
+import importlib
+from types import ModuleType
+
 from gymnasium.error import ResetNeeded
 
 
@@ -78,6 +81,44 @@ class UnknownNameError(ProxemicError, KeyError):
         return str(self.args[0]) if self.args else ""
 
 
+class MissingExtraError(ProxemicError, ImportError):
+    """An optional package is not installed; the message names the extra that installs it.
+
+    An :class:`ImportError`, so ``except ImportError`` handlers keep working. ``field`` is the
+    feature that needs the package, ``expected`` the ``pip install`` command, ``found`` the module
+    that failed to import.
+    """
+
+
+#: The optional extras and the packages each installs (``pyproject.toml``'s optional-dependencies).
+EXTRAS: dict[str, str] = {
+    "ray": "the Ray backend of eval and tune",
+    "video": "video export (imageio and imageio-ffmpeg)",
+    "rl": "the reinforcement-learning example (stable-baselines3 and torch)",
+    "multi": "SuperSuit's multi-agent wrappers (examples/parallel_vec_env.py)",
+}
+
+
+def require_extra(module: str, extra: str, feature: str) -> ModuleType:
+    """Imports `module`, or raises :class:`MissingExtraError` naming the extra to install.
+
+    Args:
+        module: The module to import (e.g. ``"ray"``, ``"imageio.v2"``).
+        extra: The extra of ``proxemic`` that installs it (a key of :data:`EXTRAS`).
+        feature: What needs it, for the message (e.g. ``"backend 'ray'"``).
+
+    Returns:
+        The imported module.
+    """
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        missing = e.name or module
+        command = f"pip install 'proxemic[{extra}]'"
+        message = f"{feature} needs the package {missing!r}, which is not installed: {command}"
+        raise MissingExtraError(message, field=feature, expected=command, found=missing) from e
+
+
 def input_error(field: str, expected: str, found: object, *, note: str | None = None) -> InputError:
     """The :class:`InputError` of a bad argument, its message in the core's format.
 
@@ -96,12 +137,15 @@ def input_error(field: str, expected: str, found: object, *, note: str | None = 
 
 
 __all__ = [
+    "EXTRAS",
     "EpisodeError",
     "InputError",
+    "MissingExtraError",
     "NeedsResetError",
     "PlanningError",
     "ProxemicError",
     "ScenarioError",
     "UnknownNameError",
     "input_error",
+    "require_extra",
 ]

@@ -20,7 +20,7 @@ from typing import Any, TypeVar
 import numpy as np
 
 from proxemic import _core, scenarios
-from proxemic.errors import EpisodeError, ProxemicError, input_error
+from proxemic.errors import EpisodeError, MissingExtraError, ProxemicError, input_error, require_extra
 from proxemic.policy import PolicyActor, PolicyRef, build_policy, check_policy
 
 T = TypeVar("T")
@@ -339,15 +339,7 @@ class Backend:
     def _start_ray(self) -> Any:
         if self.ray_address:
             _check_ray_address(self.ray_address)
-        try:
-            import ray
-        except ImportError as e:
-            raise input_error(
-                "backend",
-                "the ray package installed",
-                "ray not importable",
-                note="backend 'ray' needs the ray package: pip install 'proxemic[ray]' (or pip install ray)",
-            ) from e
+        ray: Any = require_extra("ray", "ray", "backend 'ray'")
         try:
             if self.ray_address:
                 ray.init(address=self.ray_address, ignore_reinit_error=True, log_to_driver=False)
@@ -659,7 +651,9 @@ class RecordWriter:
             _write_parquet(self.rows, self.parquet_path)
         if not isinstance(exc, Exception) or isinstance(exc, EpisodeError):
             return  # success, or an interrupt: the records stay, the exception goes on as it is
-        if isinstance(exc, ProxemicError) and exc.field in ("backend", "ray_address"):
+        if isinstance(exc, MissingExtraError) or (
+            isinstance(exc, ProxemicError) and exc.field in ("backend", "ray_address")
+        ):
             return  # the backend did not start: no episode ran
         n = len(self.rows)
         task = f" {self.tasks[n]}" if n < len(self.tasks) else ""

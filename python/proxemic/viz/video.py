@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from proxemic.errors import input_error
+from proxemic.errors import input_error, require_extra
 
 if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
@@ -36,14 +36,8 @@ VIEWS: tuple[str, ...] = ("topdown", "top", "follow")
 
 def _imageio() -> Any:
     """Import ``imageio`` with its ffmpeg plugin, or raise a clear ImportError."""
-    try:
-        import imageio.v2 as iio
-        import imageio_ffmpeg  # noqa: F401  (the ffmpeg binary imageio's writer uses)
-    except ImportError as e:  # pragma: no cover - depends on the installation
-        raise ImportError(
-            f"video export needs imageio and imageio-ffmpeg ({e.name} is missing): "
-            'pip install "proxemic[video]" (or pip install imageio imageio-ffmpeg)'
-        ) from e
+    iio = require_extra("imageio.v2", "video", "video export")
+    require_extra("imageio_ffmpeg", "video", "video export")  # the ffmpeg binary imageio's writer uses
     return iio
 
 
