@@ -22,8 +22,14 @@
 //! Where the paper is silent, each choice is documented on its parameter.
 
 use crate::control::mode_switch::in_collision_cone;
+use crate::control::social_momentum::{
+    Agent, AgentShape, GaussianSpace, SocialMomentumParams, social_momentum_shaped,
+};
+use crate::control::{Limits, clamp_norm};
 use crate::error::{CoreError, Result};
+use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
+use crate::perception::Individual;
 use crate::proxemics::HallZones;
 
 /// A mobile object the robot detects (Algorithm 1 line 3).
@@ -198,6 +204,167 @@ pub fn daza2021_decide(
     }
     // Lines 20-21.
     Ok(decision(Daza2021Mode::FollowPath, 21))
+}
+
+/// How Social Momentum (lines 16 and 19) sees the people.
+#[derive(Clone, Copy, Debug)]
+pub enum PeopleSpaces<'a> {
+    /// Daza 2021 (the `daza2021` planner): every person, and every robot taking part in a human
+    /// group, is a disc that keeps the robot's centre out of their intimate zone; every group
+    /// (with its robots) adds a disc covering its o-space.
+    Intimate,
+    /// Sousa 2022 §4.5 (the `sousa2022` planner): the perception's individuals (a person alone,
+    /// or a group as one individual), each with its fully asymmetric Gaussian reshaped by the
+    /// socialization features; the keep-out region is the Gaussian's intimate level. Their
+    /// `members` index the people of `objects`.
+    Gaussians(&'a [Individual]),
+}
+
+/// Social Momentum's parameters in Algorithm 1: the project's defaults
+/// ([`SocialMomentumParams::default`]) with **no comfort term** (`comfort_weight = 0`): Daza
+/// 2021 and Sousa 2022 only keep the robot out of the intimate zone, which the collision filter
+/// enforces. The other values (λ, action set, horizon, safety margin) are not given by either
+/// paper; ours are documented on [`SocialMomentumParams`].
+pub fn social_momentum_params() -> SocialMomentumParams {
+    SocialMomentumParams { comfort_weight: 0.0, ..SocialMomentumParams::default() }
+}
+
+/// The agents (and their keep-out shapes) Social Momentum avoids at lines 16 and 19.
+///
+/// - `robot`: the deciding robot; `objects`, `groups`: as given to [`daza2021_decide`];
+///   `decision`: its result this step (for the robots taking part in human groups);
+/// - `spaces`: discs (Daza) or Gaussians (Sousa), see [`PeopleSpaces`].
+///
+/// Choices where the papers are silent:
+/// - a person's disc keeps the robot's **centre** out of the intimate radius (Hall's radii are
+///   centre to centre in proxemic), and never less than the body radius;
+/// - a group's o-space (Daza's "O" space) is the disc centred on the members' mean position
+///   (people and the robots taking part) through their mean distance to it: the robot's body
+///   stays outside the circle the members stand on;
+/// - momentum weights: 1 for every person (and for a group as one individual with Sousa's
+///   Gaussians); the o-space disc, the bodies of the members of a group seen as one individual,
+///   and robots outside human groups are obstacles only (weight 0): Social Momentum's momentum
+///   term is about people, and no weighting is given by either paper;
+/// - with Sousa's Gaussians a robot taking part in a group keeps Daza's disc (it carries no
+///   socialization features).
+pub fn daza2021_agents(
+    robot: &RobotState,
+    objects: &[MobileObject],
+    groups: &[Vec<usize>],
+    decision: &Daza2021Decision,
+    spaces: PeopleSpaces<'_>,
+    params: &Daza2021Params,
+) -> (Vec<Agent>, Vec<AgentShape>) {
+    let intimate = params.zones.intimate;
+    let disc = |o: &MobileObject, weight: f64, person_like: bool| Agent {
+        pos: o.pos,
+        vel: o.vel,
+        radius: if person_like { o.radius.max(intimate - robot.radius) } else { o.radius },
+        weight,
+        comfort: 0.0,
+    };
+    let mut agents = Vec::with_capacity(objects.len() + groups.len());
+    let mut shapes = Vec::with_capacity(objects.len() + groups.len());
+    // Robots: taking part in a human group they are people (line 18); otherwise obstacles.
+    for (k, o) in objects.iter().enumerate() {
+        if !o.is_person() {
+            let joined = decision.robots_in_groups.contains(&k);
+            agents.push(disc(o, if joined { 1.0 } else { 0.0 }, joined));
+            shapes.push(AgentShape::Disc);
+        }
+    }
+    match spaces {
+        PeopleSpaces::Intimate => {
+            for o in objects.iter().filter(|o| o.is_person()) {
+                agents.push(disc(o, 1.0, true));
+                shapes.push(AgentShape::Disc);
+            }
+            for g in with_singletons(objects, groups) {
+                let mut pts: Vec<Vec2> = g.iter().map(|&i| objects[i].pos).collect();
+                let vel = g.iter().fold(Vec2::zeros(), |a, &i| a + objects[i].vel) / g.len().max(1) as f64;
+                pts.extend(
+                    decision
+                        .robots_in_groups
+                        .iter()
+                        .filter(|&&k| joins(objects, &g, k, params))
+                        .map(|&k| objects[k].pos),
+                );
+                if pts.len() < 2 {
+                    continue;
+                }
+                let centre = pts.iter().fold(Vec2::zeros(), |a, &q| a + q) / pts.len() as f64;
+                let ospace = pts.iter().map(|q| (q - centre).norm()).sum::<f64>() / pts.len() as f64;
+                agents.push(Agent { pos: centre, vel, radius: ospace, weight: 0.0, comfort: 0.0 });
+                shapes.push(AgentShape::Disc);
+            }
+        }
+        PeopleSpaces::Gaussians(individuals) => {
+            for ind in individuals {
+                let members: Vec<&MobileObject> =
+                    ind.members.iter().filter_map(|&i| objects.get(i)).filter(|o| o.is_person()).collect();
+                let Some(first) = members.first() else { continue };
+                let vel = members.iter().fold(Vec2::zeros(), |a, o| a + o.vel) / members.len() as f64;
+                // A person alone keeps its body disc; a group as one individual has none of its
+                // own, its members' bodies are obstacles below.
+                let radius = if members.len() == 1 { first.radius } else { 0.0 };
+                let agent = Agent { pos: ind.centre, vel, radius, weight: 1.0, comfort: 0.0 };
+                match GaussianSpace::of_individual(ind, intimate) {
+                    Ok(g) => {
+                        agents.push(agent);
+                        shapes.push(AgentShape::Gaussian(g));
+                    }
+                    // An individual whose Gaussian is invalid (it cannot be, from the
+                    // perception) falls back to Daza's intimate disc.
+                    Err(_) => {
+                        agents.push(Agent { radius: radius.max(intimate - robot.radius), ..agent });
+                        shapes.push(AgentShape::Disc);
+                    }
+                }
+                if members.len() > 1 {
+                    for o in members {
+                        agents.push(disc(o, 0.0, false));
+                        shapes.push(AgentShape::Disc);
+                    }
+                }
+            }
+        }
+    }
+    (agents, shapes)
+}
+
+/// Lines 16 and 19: one step of Social Momentum toward the decision's partial goal among
+/// [`daza2021_agents`], with [`social_momentum_params`]. `vel` is the robot's executed velocity
+/// (m/s), `geometry` the walls, `limits` and `dt` (s) bound the action set. Returns the desired
+/// velocity, or `None` when every sample collides (the robot waits) or stopping is the only
+/// safe choice.
+#[allow(clippy::too_many_arguments)]
+pub fn daza2021_social_momentum(
+    robot: &RobotState,
+    vel: Vec2,
+    objects: &[MobileObject],
+    groups: &[Vec<usize>],
+    decision: &Daza2021Decision,
+    spaces: PeopleSpaces<'_>,
+    geometry: Option<&StaticGeometry>,
+    limits: &Limits,
+    dt: f64,
+    params: &Daza2021Params,
+) -> Option<Vec2> {
+    let (agents, shapes) = daza2021_agents(robot, objects, groups, decision, spaces, params);
+    let sm = social_momentum_params();
+    let v = social_momentum_shaped(
+        robot.pos,
+        vel,
+        robot.radius,
+        decision.partial_goal,
+        &agents,
+        &shapes,
+        geometry,
+        limits,
+        dt,
+        &sm,
+    )?;
+    (v.norm() > 1e-6).then(|| clamp_norm(v, limits.max_speed))
 }
 
 /// Whether robot `k` takes part in the group `g` (§4.3; see [`daza2021_decide`]).
