@@ -579,6 +579,105 @@ mod tests {
     }
 
     #[test]
+    fn daza_agents_are_intimate_discs_with_a_group_o_space_and_robots_as_obstacles() {
+        // Two people talking 1.2 m apart, a robot standing with them, a robot passing far away.
+        let objects = [
+            person(3.0, 0.6),
+            person(3.0, -0.6),
+            robot(3.8, 0.0, 0.0, 0.0, 7),
+            robot(0.0, 3.5, 0.0, -0.5, 8),
+        ];
+        let groups = [vec![0, 1]];
+        let p = Daza2021Params::default();
+        let d = daza2021_decide(&me(), &PATH, &objects, &groups, &p).expect("valid");
+        assert_eq!(d.robots_in_groups, vec![2]);
+        let (agents, shapes) = daza2021_agents(&me(), &objects, &groups, &d, PeopleSpaces::Intimate, &p);
+        assert!(shapes.iter().all(|s| *s == AgentShape::Disc));
+        assert_eq!(agents.len(), 5);
+        // Robots first: the one in the group is a person (intimate keep-out, weight 1); the other
+        // an obstacle of its body radius.
+        assert_eq!((agents[0].radius, agents[0].weight), (0.25, 1.0));
+        assert_eq!((agents[1].radius, agents[1].weight), (0.25, 0.0));
+        // People: the robot's centre stays 0.5 m away (0.25 m keep-out + 0.25 m robot radius).
+        assert!(agents[2..4].iter().all(|a| a.radius == 0.25 && a.weight == 1.0 && a.comfort == 0.0));
+        // The o-space of the two people and the robot: centred on their mean, through their mean
+        // distance to it; an obstacle only.
+        let o = &agents[4];
+        let centre = v(9.8 / 3.0, 0.0);
+        assert!((o.pos - centre).norm() < 1e-12);
+        let mean = ((v(3.0, 0.6) - centre).norm() * 2.0 + (v(3.8, 0.0) - centre).norm()) / 3.0;
+        assert!((o.radius - mean).abs() < 1e-12 && o.weight == 0.0);
+    }
+
+    #[test]
+    fn social_momentum_keeps_out_of_the_o_space_and_has_no_comfort_term() {
+        assert_eq!(social_momentum_params().comfort_weight, 0.0);
+        // A conversation across the path ahead: the robot never enters its o-space.
+        let objects = [person(3.0, 0.55), person(3.0, -0.55)];
+        let groups = [vec![0, 1]];
+        let p = Daza2021Params::default();
+        let (mut pos, mut vel) = (Vec2::zeros(), v(0.3, 0.0));
+        let mut closest = f64::INFINITY;
+        for _ in 0..300 {
+            let r = RobotState { pos, pref_vel: v(0.55, 0.0), radius: 0.25 };
+            let d = daza2021_decide(&r, &PATH, &objects, &groups, &p).expect("valid");
+            let out = if d.mode == Daza2021Mode::SocialMomentum {
+                daza2021_social_momentum(
+                    &r,
+                    vel,
+                    &objects,
+                    &groups,
+                    &d,
+                    PeopleSpaces::Intimate,
+                    None,
+                    &Limits::PEPPER,
+                    0.1,
+                    &p,
+                )
+                .unwrap_or_else(Vec2::zeros)
+            } else {
+                clamp_norm(d.partial_goal - pos, 0.55)
+            };
+            vel = out;
+            pos += vel * 0.1;
+            closest = closest.min((pos - v(3.0, 0.0)).norm());
+        }
+        // o-space radius 0.55 m, plus the robot's 0.25 m.
+        assert!(closest > 0.55 + 0.25, "closest {closest}");
+        assert!(pos.x > 6.0, "it passed: {pos:?}");
+    }
+
+    #[test]
+    fn sousa_agents_are_the_individuals_gaussians_a_group_as_one() {
+        use crate::groups::PersonState;
+        use crate::perception::{SocialConfig, perceive};
+        use std::f64::consts::PI;
+        let objects = [person(3.0, 0.6), person(3.0, -0.6), person(6.0, 3.0)];
+        let states = [
+            PersonState::standing(objects[0].pos, -PI / 2.0),
+            PersonState::standing(objects[1].pos, PI / 2.0),
+            PersonState::standing(objects[2].pos, 0.0),
+        ];
+        let per = perceive(&SocialConfig::default(), &states, &[vec![], vec![], vec![]], &[]).expect("valid");
+        let groups: Vec<Vec<usize>> = per.groups.multi().cloned().collect();
+        assert_eq!(groups, vec![vec![0, 1]]);
+        let p = Daza2021Params::default();
+        let d = daza2021_decide(&me(), &PATH, &objects, &groups, &p).expect("valid");
+        let (agents, shapes) =
+            daza2021_agents(&me(), &objects, &groups, &d, PeopleSpaces::Gaussians(&per.individuals), &p);
+        // The group: one Gaussian individual at its centre with no body, then its members' bodies
+        // as obstacles; the person alone: a Gaussian with its body.
+        assert_eq!(agents.len(), 4);
+        assert!(matches!(shapes[0], AgentShape::Gaussian(g) if g.keep_out() == 0.5));
+        assert!(
+            (agents[0].pos - v(3.0, 0.0)).norm() < 1e-9 && agents[0].radius == 0.0 && agents[0].weight == 1.0
+        );
+        assert!(shapes[1..3].iter().all(|s| *s == AgentShape::Disc));
+        assert!(agents[1..3].iter().all(|a| a.weight == 0.0 && a.radius == 0.2));
+        assert!(matches!(shapes[3], AgentShape::Gaussian(_)) && agents[3].radius == 0.2);
+    }
+
+    #[test]
     fn bad_input_is_a_typed_error_naming_the_field() {
         let p = Daza2021Params::default();
         let field = |r: Result<Daza2021Decision>| match r {
