@@ -261,8 +261,10 @@ impl World {
     /// Runs every robot's built-in planner: the next command (written to `command`), the same
     /// command as a normalised action (`planner_action`) and the local planner's `mode`. The
     /// decisions are [`crate::control`]'s: the path follower, each local planner's choice of mode
-    /// ([`select_mode`], Daza et al. 2021 Algorithm 1 for the `social` planner), Social Momentum,
-    /// ORCA among people ([`orca_among_people`]) and the heading policy ([`heading_rate`]).
+    /// ([`select_mode`], Daza et al. 2021's switch for the `social` planner; Algorithm 1 as
+    /// published for `daza2021` and `sousa2022`, see [`World::daza_step`]), Social Momentum, ORCA
+    /// among people ([`orca_among_people`], among the robots only for `daza2021` and `sousa2022`)
+    /// and the heading policy ([`heading_rate`]).
     pub(super) fn plan_all(&mut self, out: &mut [f64]) {
         let dt = self.scenario.control_dt();
         self.social_checks();
