@@ -29,6 +29,11 @@ impl World {
     /// - Parameters: [`Daza2021Params::default`] (Hall radii 0.5 / 1 / 4 m, Daza's), whatever
     ///   the scene's own zones: the planner is Daza's system.
     ///
+    /// - The mode is decided afresh every step, with no hysteresis (the paper gives none; the
+    ///   `social` planner keeps ORCA while a robot is near, this one does not).
+    /// - ORCA (line 8) is proxemic's ([`crate::control::orca`], its defaults and
+    ///   [`crate::control::orca_crowd::ORCA_MARGIN`]): the paper gives no ORCA parameters.
+    ///
     /// A bad input (it cannot happen with a valid world) makes the robot follow its path.
     pub(super) fn daza_step(&self, i: usize, partial_goal: &mut Vec2, desired: &mut Vec2, dt: f64) -> Mode {
         let st = &self.statics[i];
