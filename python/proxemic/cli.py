@@ -12,15 +12,15 @@ from typing import NoReturn
 
 import numpy as np
 
-from proxemic import scenarios
+from proxemic import PLANNERS, scenarios
 from proxemic.errors import ProxemicError
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
 DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None), ("calderita_exp1", None))
 
 
-#: The demo's planners: plain A*, the social global planner alone, and the full social planner
-#: (social A* with Social Momentum near people and ORCA among robots, Daza 2021 Algorithm 1).
+#: The demo's planners: plain A*, the social global planner alone, and proxemic's own social planner
+#: (social A* with Daza 2021's mode switch: Social Momentum near people and ORCA among robots).
 DEMO_PLANNERS = ("astar", "social_astar", "social")
 
 
@@ -302,7 +302,9 @@ def build_parser() -> argparse.ArgumentParser:
     e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
     e.add_argument("--scenario", default="museum", help="bundled scenario name or TOML path (default: museum)")
     e.add_argument(
-        "--planner", action="append", help="a built-in planner; repeat to compare (default: astar without --policy)"
+        "--planner",
+        action="append",
+        help=f"a built-in planner ({', '.join(PLANNERS)}); repeat to compare (default: astar without --policy)",
     )
     e.add_argument(
         "--policy",
@@ -325,7 +327,11 @@ def build_parser() -> argparse.ArgumentParser:
     e.set_defaults(func=cmd_eval)
     v = sub.add_parser("video", help="record one seeded episode as an mp4")
     v.add_argument("--scenario", default="museum", help="scenario name, TOML path or env id (default: museum)")
-    v.add_argument("--planner", default=None, help="the robot's built-in planner (default: the scenario's)")
+    v.add_argument(
+        "--planner",
+        default=None,
+        help=f"the robot's built-in planner, one of {', '.join(PLANNERS)} (default: the scenario's)",
+    )
     v.add_argument("--seed", type=int, default=0, help="episode seed (default: 0)")
     v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
     v.add_argument("--fps", type=float, default=None, help="frames per second (default: the control rate)")

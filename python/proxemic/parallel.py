@@ -43,8 +43,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
     Robots whose names are in ``autopilot`` are driven by their built-in planner (their actions
     may be omitted and are ignored); every robot's built-in planner is the scenario's unless
     ``planners`` names another (one name for all, or ``{"robot_1": "astar", ...}``), so planners
-    mix freely. The ``social`` planner avoids other robots reciprocally with ORCA (Daza 2021
-    Algorithm 1) and treats a robot that joined a human group as a person.
+    mix freely. The ``social`` planner (proxemic's own, with Daza 2021's mode switch) and
+    ``daza2021`` (Daza 2021 Algorithm 1 as published) avoid other robots reciprocally with ORCA
+    and treat a robot that joined a human group as a person.
 
     An agent terminates on success or on a collision (with a person, the static geometry or
     another robot: Francis et al.'s HC, WC and AC), and is truncated at ``episode.max_time``; it
@@ -82,8 +83,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         Args:
             scenario: Bundled scenario name, path of a scenario file, or a ``proxemic._core.Scenario``.
             robots: Use the first `robots` robot definitions of the scenario (default: all).
-            planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``) or
-                per agent (``{"robot_1": "orca"}``; the others keep the scenario's).
+            planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``, for
+                example ``"daza2021"``, Daza et al. 2021 Algorithm 1 with ORCA among the robots
+                only) or per agent (``{"robot_1": "orca"}``; the others keep the scenario's).
             autopilot: True, or the agents driven by their built-in planner (actions ignored).
             planner_actions: Run the built-in planners of the agents not on autopilot too, for
                 ``info["planner_action"]`` and ``info["planner_mode"]``. False skips their cost

@@ -22,8 +22,14 @@
 //! Where the paper is silent, each choice is documented on its parameter.
 
 use crate::control::mode_switch::in_collision_cone;
+use crate::control::social_momentum::{
+    Agent, AgentShape, GaussianSpace, SocialMomentumParams, social_momentum_shaped,
+};
+use crate::control::{Limits, clamp_norm};
 use crate::error::{CoreError, Result};
+use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
+use crate::perception::Individual;
 use crate::proxemics::HallZones;
 
 /// A mobile object the robot detects (Algorithm 1 line 3).
@@ -198,6 +204,167 @@ pub fn daza2021_decide(
     }
     // Lines 20-21.
     Ok(decision(Daza2021Mode::FollowPath, 21))
+}
+
+/// How Social Momentum (lines 16 and 19) sees the people.
+#[derive(Clone, Copy, Debug)]
+pub enum PeopleSpaces<'a> {
+    /// Daza 2021 (the `daza2021` planner): every person, and every robot taking part in a human
+    /// group, is a disc that keeps the robot's centre out of their intimate zone; every group
+    /// (with its robots) adds a disc covering its o-space.
+    Intimate,
+    /// Sousa 2022 §4.5 (the `sousa2022` planner): the perception's individuals (a person alone,
+    /// or a group as one individual), each with its fully asymmetric Gaussian reshaped by the
+    /// socialization features; the keep-out region is the Gaussian's intimate level. Their
+    /// `members` index the people of `objects`.
+    Gaussians(&'a [Individual]),
+}
+
+/// Social Momentum's parameters in Algorithm 1: the project's defaults
+/// ([`SocialMomentumParams::default`]) with **no comfort term** (`comfort_weight = 0`): Daza
+/// 2021 and Sousa 2022 only keep the robot out of the intimate zone, which the collision filter
+/// enforces. The other values (λ, action set, horizon, safety margin) are not given by either
+/// paper; ours are documented on [`SocialMomentumParams`].
+pub fn social_momentum_params() -> SocialMomentumParams {
+    SocialMomentumParams { comfort_weight: 0.0, ..SocialMomentumParams::default() }
+}
+
+/// The agents (and their keep-out shapes) Social Momentum avoids at lines 16 and 19.
+///
+/// - `robot`: the deciding robot; `objects`, `groups`: as given to [`daza2021_decide`];
+///   `decision`: its result this step (for the robots taking part in human groups);
+/// - `spaces`: discs (Daza) or Gaussians (Sousa), see [`PeopleSpaces`].
+///
+/// Choices where the papers are silent:
+/// - a person's disc keeps the robot's **centre** out of the intimate radius (Hall's radii are
+///   centre to centre in proxemic), and never less than the body radius;
+/// - a group's o-space (Daza's "O" space) is the disc centred on the members' mean position
+///   (people and the robots taking part) through their mean distance to it: the robot's body
+///   stays outside the circle the members stand on;
+/// - momentum weights: 1 for every person (and for a group as one individual with Sousa's
+///   Gaussians); the o-space disc, the bodies of the members of a group seen as one individual,
+///   and robots outside human groups are obstacles only (weight 0): Social Momentum's momentum
+///   term is about people, and no weighting is given by either paper;
+/// - with Sousa's Gaussians a robot taking part in a group keeps Daza's disc (it carries no
+///   socialization features).
+pub fn daza2021_agents(
+    robot: &RobotState,
+    objects: &[MobileObject],
+    groups: &[Vec<usize>],
+    decision: &Daza2021Decision,
+    spaces: PeopleSpaces<'_>,
+    params: &Daza2021Params,
+) -> (Vec<Agent>, Vec<AgentShape>) {
+    let intimate = params.zones.intimate;
+    let disc = |o: &MobileObject, weight: f64, person_like: bool| Agent {
+        pos: o.pos,
+        vel: o.vel,
+        radius: if person_like { o.radius.max(intimate - robot.radius) } else { o.radius },
+        weight,
+        comfort: 0.0,
+    };
+    let mut agents = Vec::with_capacity(objects.len() + groups.len());
+    let mut shapes = Vec::with_capacity(objects.len() + groups.len());
+    // Robots: taking part in a human group they are people (line 18); otherwise obstacles.
+    for (k, o) in objects.iter().enumerate() {
+        if !o.is_person() {
+            let joined = decision.robots_in_groups.contains(&k);
+            agents.push(disc(o, if joined { 1.0 } else { 0.0 }, joined));
+            shapes.push(AgentShape::Disc);
+        }
+    }
+    match spaces {
+        PeopleSpaces::Intimate => {
+            for o in objects.iter().filter(|o| o.is_person()) {
+                agents.push(disc(o, 1.0, true));
+                shapes.push(AgentShape::Disc);
+            }
+            for g in with_singletons(objects, groups) {
+                let mut pts: Vec<Vec2> = g.iter().map(|&i| objects[i].pos).collect();
+                let vel = g.iter().fold(Vec2::zeros(), |a, &i| a + objects[i].vel) / g.len().max(1) as f64;
+                pts.extend(
+                    decision
+                        .robots_in_groups
+                        .iter()
+                        .filter(|&&k| joins(objects, &g, k, params))
+                        .map(|&k| objects[k].pos),
+                );
+                if pts.len() < 2 {
+                    continue;
+                }
+                let centre = pts.iter().fold(Vec2::zeros(), |a, &q| a + q) / pts.len() as f64;
+                let ospace = pts.iter().map(|q| (q - centre).norm()).sum::<f64>() / pts.len() as f64;
+                agents.push(Agent { pos: centre, vel, radius: ospace, weight: 0.0, comfort: 0.0 });
+                shapes.push(AgentShape::Disc);
+            }
+        }
+        PeopleSpaces::Gaussians(individuals) => {
+            for ind in individuals {
+                let members: Vec<&MobileObject> =
+                    ind.members.iter().filter_map(|&i| objects.get(i)).filter(|o| o.is_person()).collect();
+                let Some(first) = members.first() else { continue };
+                let vel = members.iter().fold(Vec2::zeros(), |a, o| a + o.vel) / members.len() as f64;
+                // A person alone keeps its body disc; a group as one individual has none of its
+                // own, its members' bodies are obstacles below.
+                let radius = if members.len() == 1 { first.radius } else { 0.0 };
+                let agent = Agent { pos: ind.centre, vel, radius, weight: 1.0, comfort: 0.0 };
+                match GaussianSpace::of_individual(ind, intimate) {
+                    Ok(g) => {
+                        agents.push(agent);
+                        shapes.push(AgentShape::Gaussian(g));
+                    }
+                    // An individual whose Gaussian is invalid (it cannot be, from the
+                    // perception) falls back to Daza's intimate disc.
+                    Err(_) => {
+                        agents.push(Agent { radius: radius.max(intimate - robot.radius), ..agent });
+                        shapes.push(AgentShape::Disc);
+                    }
+                }
+                if members.len() > 1 {
+                    for o in members {
+                        agents.push(disc(o, 0.0, false));
+                        shapes.push(AgentShape::Disc);
+                    }
+                }
+            }
+        }
+    }
+    (agents, shapes)
+}
+
+/// Lines 16 and 19: one step of Social Momentum toward the decision's partial goal among
+/// [`daza2021_agents`], with [`social_momentum_params`]. `vel` is the robot's executed velocity
+/// (m/s), `geometry` the walls, `limits` and `dt` (s) bound the action set. Returns the desired
+/// velocity, or `None` when every sample collides (the robot waits) or stopping is the only
+/// safe choice.
+#[allow(clippy::too_many_arguments)]
+pub fn daza2021_social_momentum(
+    robot: &RobotState,
+    vel: Vec2,
+    objects: &[MobileObject],
+    groups: &[Vec<usize>],
+    decision: &Daza2021Decision,
+    spaces: PeopleSpaces<'_>,
+    geometry: Option<&StaticGeometry>,
+    limits: &Limits,
+    dt: f64,
+    params: &Daza2021Params,
+) -> Option<Vec2> {
+    let (agents, shapes) = daza2021_agents(robot, objects, groups, decision, spaces, params);
+    let sm = social_momentum_params();
+    let v = social_momentum_shaped(
+        robot.pos,
+        vel,
+        robot.radius,
+        decision.partial_goal,
+        &agents,
+        &shapes,
+        geometry,
+        limits,
+        dt,
+        &sm,
+    )?;
+    (v.norm() > 1e-6).then(|| clamp_norm(v, limits.max_speed))
 }
 
 /// Whether robot `k` takes part in the group `g` (§4.3; see [`daza2021_decide`]).
@@ -409,6 +576,105 @@ mod tests {
         assert!((d.partial_goal - v(1.0, 5.0)).norm() < 1e-12, "the path's end: {:?}", d.partial_goal);
         let d = daza2021_decide(&at(3.0, 3.0), &[v(2.0, 2.0)], &[], &[], &p).expect("valid");
         assert_eq!(d.partial_goal, v(2.0, 2.0));
+    }
+
+    #[test]
+    fn daza_agents_are_intimate_discs_with_a_group_o_space_and_robots_as_obstacles() {
+        // Two people talking 1.2 m apart, a robot standing with them, a robot passing far away.
+        let objects = [
+            person(3.0, 0.6),
+            person(3.0, -0.6),
+            robot(3.8, 0.0, 0.0, 0.0, 7),
+            robot(0.0, 3.5, 0.0, -0.5, 8),
+        ];
+        let groups = [vec![0, 1]];
+        let p = Daza2021Params::default();
+        let d = daza2021_decide(&me(), &PATH, &objects, &groups, &p).expect("valid");
+        assert_eq!(d.robots_in_groups, vec![2]);
+        let (agents, shapes) = daza2021_agents(&me(), &objects, &groups, &d, PeopleSpaces::Intimate, &p);
+        assert!(shapes.iter().all(|s| *s == AgentShape::Disc));
+        assert_eq!(agents.len(), 5);
+        // Robots first: the one in the group is a person (intimate keep-out, weight 1); the other
+        // an obstacle of its body radius.
+        assert_eq!((agents[0].radius, agents[0].weight), (0.25, 1.0));
+        assert_eq!((agents[1].radius, agents[1].weight), (0.25, 0.0));
+        // People: the robot's centre stays 0.5 m away (0.25 m keep-out + 0.25 m robot radius).
+        assert!(agents[2..4].iter().all(|a| a.radius == 0.25 && a.weight == 1.0 && a.comfort == 0.0));
+        // The o-space of the two people and the robot: centred on their mean, through their mean
+        // distance to it; an obstacle only.
+        let o = &agents[4];
+        let centre = v(9.8 / 3.0, 0.0);
+        assert!((o.pos - centre).norm() < 1e-12);
+        let mean = ((v(3.0, 0.6) - centre).norm() * 2.0 + (v(3.8, 0.0) - centre).norm()) / 3.0;
+        assert!((o.radius - mean).abs() < 1e-12 && o.weight == 0.0);
+    }
+
+    #[test]
+    fn social_momentum_keeps_out_of_the_o_space_and_has_no_comfort_term() {
+        assert_eq!(social_momentum_params().comfort_weight, 0.0);
+        // A conversation across the path ahead: the robot never enters its o-space.
+        let objects = [person(3.0, 0.55), person(3.0, -0.55)];
+        let groups = [vec![0, 1]];
+        let p = Daza2021Params::default();
+        let (mut pos, mut vel) = (Vec2::zeros(), v(0.3, 0.0));
+        let mut closest = f64::INFINITY;
+        for _ in 0..300 {
+            let r = RobotState { pos, pref_vel: v(0.55, 0.0), radius: 0.25 };
+            let d = daza2021_decide(&r, &PATH, &objects, &groups, &p).expect("valid");
+            let out = if d.mode == Daza2021Mode::SocialMomentum {
+                daza2021_social_momentum(
+                    &r,
+                    vel,
+                    &objects,
+                    &groups,
+                    &d,
+                    PeopleSpaces::Intimate,
+                    None,
+                    &Limits::PEPPER,
+                    0.1,
+                    &p,
+                )
+                .unwrap_or_else(Vec2::zeros)
+            } else {
+                clamp_norm(d.partial_goal - pos, 0.55)
+            };
+            vel = out;
+            pos += vel * 0.1;
+            closest = closest.min((pos - v(3.0, 0.0)).norm());
+        }
+        // o-space radius 0.55 m, plus the robot's 0.25 m.
+        assert!(closest > 0.55 + 0.25, "closest {closest}");
+        assert!(pos.x > 6.0, "it passed: {pos:?}");
+    }
+
+    #[test]
+    fn sousa_agents_are_the_individuals_gaussians_a_group_as_one() {
+        use crate::groups::PersonState;
+        use crate::perception::{SocialConfig, perceive};
+        use std::f64::consts::PI;
+        let objects = [person(3.0, 0.6), person(3.0, -0.6), person(6.0, 3.0)];
+        let states = [
+            PersonState::standing(objects[0].pos, -PI / 2.0),
+            PersonState::standing(objects[1].pos, PI / 2.0),
+            PersonState::standing(objects[2].pos, 0.0),
+        ];
+        let per = perceive(&SocialConfig::default(), &states, &[vec![], vec![], vec![]], &[]).expect("valid");
+        let groups: Vec<Vec<usize>> = per.groups.multi().cloned().collect();
+        assert_eq!(groups, vec![vec![0, 1]]);
+        let p = Daza2021Params::default();
+        let d = daza2021_decide(&me(), &PATH, &objects, &groups, &p).expect("valid");
+        let (agents, shapes) =
+            daza2021_agents(&me(), &objects, &groups, &d, PeopleSpaces::Gaussians(&per.individuals), &p);
+        // The group: one Gaussian individual at its centre with no body, then its members' bodies
+        // as obstacles; the person alone: a Gaussian with its body.
+        assert_eq!(agents.len(), 4);
+        assert!(matches!(shapes[0], AgentShape::Gaussian(g) if g.keep_out() == 0.5));
+        assert!(
+            (agents[0].pos - v(3.0, 0.0)).norm() < 1e-9 && agents[0].radius == 0.0 && agents[0].weight == 1.0
+        );
+        assert!(shapes[1..3].iter().all(|s| *s == AgentShape::Disc));
+        assert!(agents[1..3].iter().all(|a| a.weight == 0.0 && a.radius == 0.2));
+        assert!(matches!(shapes[3], AgentShape::Gaussian(_)) && agents[3].radius == 0.2);
     }
 
     #[test]

@@ -9,8 +9,9 @@
 //! (3.0 rad/s^2). Acceleration is limited relative to the previous *command*, so the limit holds
 //! on what the base is asked to do whatever the physics did.
 //!
-//! Submodules: [`mode_switch`] (the mode switch of Daza 2021 Algorithm 1 and each local
-//! planner's choice of mode), [`orca`], [`social_momentum`] and [`eband`] (the local planners),
+//! Submodules: [`mode_switch`] (the mode switch of Daza 2021 Algorithm 1 as the `social` planner
+//! runs it, and each local planner's choice of mode), [`daza2021`] (Algorithm 1 as published, for
+//! the `daza2021` and `sousa2022` planners), [`orca`], [`social_momentum`] and [`eband`] (the local planners),
 //! and [`orca_crowd`] (ORCA as the robots run it among people).
 //!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the

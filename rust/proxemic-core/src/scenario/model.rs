@@ -135,9 +135,11 @@ pub enum PlannerKind {
     /// Social A* on the social cost map (people's zones, groups, object spaces at R(t)), re-planned
     /// when the agenda or the people change the path's cost, followed by the same path follower.
     SocialAstar,
-    /// The full social planner (Daza 2021 Algorithm 1): the social A* global path, ORCA when only
-    /// robots are around and one is in the collision cone, Social Momentum near people and groups,
-    /// path following otherwise.
+    /// proxemic's own social planner: Calderita's social cost map for the global path (social
+    /// A*, re-planned on triggers), Daza's local control (ORCA when only robots are around and one
+    /// is in the collision cone, Social Momentum near people and groups, path following otherwise)
+    /// and our comfort term in Social Momentum. It is none of the papers' systems as published:
+    /// see [`PlannerKind::Daza2021`] and [`PlannerKind::Sousa2022`] for those.
     Social,
     /// Plain A* global path; ORCA against everyone (people do not reciprocate).
     Orca,
@@ -145,6 +147,16 @@ pub enum PlannerKind {
     SocialMomentum,
     /// Plain A* global path deformed by an elastic band (static clearance and people's spaces).
     Eband,
+    /// Daza et al. 2021 Algorithm 1 as published: the plain A* global path; each step the
+    /// nearest detected mobile object decides ([`crate::control::daza2021::daza2021_decide`]):
+    /// a person (or a human group) runs Social Momentum with no comfort term, keeping out of the
+    /// people's intimate zones and the groups' o-spaces; only robots on a collision course run
+    /// ORCA among the robots only; otherwise the path is followed. Hall radii 0.5 / 1 / 4 m.
+    Daza2021,
+    /// Sousa et al. 2022 §4.5: [`PlannerKind::Daza2021`] whose Social Momentum keeps out of the
+    /// fully asymmetric Gaussians of the people and of the Delaunay groups (a group as one
+    /// individual), reshaped by the socialization features.
+    Sousa2022,
 }
 
 impl PlannerKind {
@@ -157,13 +169,22 @@ impl PlannerKind {
             "orca" => Some(PlannerKind::Orca),
             "social_momentum" => Some(PlannerKind::SocialMomentum),
             "eband" => Some(PlannerKind::Eband),
+            "daza2021" => Some(PlannerKind::Daza2021),
+            "sousa2022" => Some(PlannerKind::Sousa2022),
             _ => None,
         }
     }
 
     /// The names accepted by [`PlannerKind::parse`].
     pub const NAMES: &'static [&'static str] =
-        &["astar", "social_astar", "social", "orca", "social_momentum", "eband"];
+        &["astar", "social_astar", "social", "orca", "social_momentum", "eband", "daza2021", "sousa2022"];
+
+    /// Whether the planner runs Daza et al. 2021 Algorithm 1 as published (with Sousa 2022's
+    /// Gaussians for [`PlannerKind::Sousa2022`]): its local step is
+    /// [`crate::control::daza2021`]'s.
+    pub fn daza2021_family(self) -> bool {
+        matches!(self, PlannerKind::Daza2021 | PlannerKind::Sousa2022)
+    }
 
     /// Whether the planner's global path is the social A* path (re-planned on triggers).
     pub fn social_global(self) -> bool {

@@ -580,3 +580,19 @@ fn every_bundled_scenario_validates() {
     }
     assert!(n >= 12, "{n} scenarios");
 }
+
+#[test]
+fn every_planner_name_parses_to_its_own_kind_and_the_papers_planners_are_listed() {
+    let kinds: Vec<PlannerKind> = PlannerKind::NAMES.iter().filter_map(|n| PlannerKind::parse(n)).collect();
+    assert_eq!(kinds.len(), PlannerKind::NAMES.len());
+    for (k, a) in kinds.iter().enumerate() {
+        assert!(kinds[k + 1..].iter().all(|b| b != a), "{a:?} twice");
+    }
+    assert_eq!(PlannerKind::parse("daza2021"), Some(PlannerKind::Daza2021));
+    assert_eq!(PlannerKind::parse("sousa2022"), Some(PlannerKind::Sousa2022));
+    assert!(PlannerKind::Daza2021.daza2021_family() && PlannerKind::Sousa2022.daza2021_family());
+    assert!(!PlannerKind::Social.daza2021_family());
+    // Plain A* global path: neither is a social-map planner.
+    assert!(!PlannerKind::Daza2021.social_global() && !PlannerKind::Sousa2022.social_global());
+    assert_eq!(PlannerKind::parse("daza"), None);
+}

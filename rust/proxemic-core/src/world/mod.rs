@@ -28,6 +28,7 @@
 
 mod access;
 mod build;
+mod daza;
 pub mod layout;
 pub mod observe;
 pub mod planners;

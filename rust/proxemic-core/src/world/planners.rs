@@ -261,21 +261,25 @@ impl World {
     /// Runs every robot's built-in planner: the next command (written to `command`), the same
     /// command as a normalised action (`planner_action`) and the local planner's `mode`. The
     /// decisions are [`crate::control`]'s: the path follower, each local planner's choice of mode
-    /// ([`select_mode`], Daza et al. 2021 Algorithm 1 for the `social` planner), Social Momentum,
-    /// ORCA among people ([`orca_among_people`]) and the heading policy ([`heading_rate`]).
+    /// ([`select_mode`], Daza et al. 2021's switch for the `social` planner; Algorithm 1 as
+    /// published for `daza2021` and `sousa2022`, see [`World::daza_step`]), Social Momentum, ORCA
+    /// among people ([`orca_among_people`], among the robots only for `daza2021` and `sousa2022`)
+    /// and the heading policy ([`heading_rate`]).
     pub(super) fn plan_all(&mut self, out: &mut [f64]) {
         let dt = self.scenario.control_dt();
         self.social_checks();
         let n = self.robots.len();
         if (0..n).any(|i| {
             let k = self.statics[i].planner;
-            self.planning[i] && (local_planner(k).is_some() || k == PlannerKind::Eband)
+            self.planning[i] && (local_planner(k).is_some() || k == PlannerKind::Eband || k.daza2021_family())
         }) {
             // Groups and robots joining them, as perceived now (the social planners' perception).
             let _ = self.perceive();
         }
         let mut desired: Vec<Vec2> = vec![Vec2::zeros(); n];
         let mut orca_active: Vec<usize> = Vec::new();
+        // Robots in ORCA mode among the robots only (Daza 2021 line 8: people are not agents).
+        let mut orca_robots_only: Vec<usize> = Vec::new();
         let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
         for i in 0..n {
             if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
@@ -288,17 +292,24 @@ impl World {
                 continue;
             }
             (desired[i], partial_goals[i]) = self.follow_path(i, dt);
-            let mode = match local_planner(self.statics[i].planner) {
+            let kind = self.statics[i].planner;
+            let mode = match local_planner(kind) {
                 Some(local) => self.local_step(i, local, partial_goals[i], &mut desired[i], dt),
+                None if kind.daza2021_family() => {
+                    self.daza_step(i, &mut partial_goals[i], &mut desired[i], dt)
+                }
                 None => Mode::FollowPath,
             };
             if mode == Mode::Orca {
-                orca_active.push(i);
+                if kind.daza2021_family() { orca_robots_only.push(i) } else { orca_active.push(i) }
             }
             self.robots[i].mode = mode;
         }
         if !orca_active.is_empty() {
-            self.orca_step(&orca_active, &partial_goals, &mut desired, dt);
+            self.orca_step(&orca_active, &partial_goals, &mut desired, dt, true);
+        }
+        if !orca_robots_only.is_empty() {
+            self.orca_step(&orca_robots_only, &partial_goals, &mut desired, dt, false);
         }
         let stride = self.layout.stride;
         for (i, &d) in desired.iter().enumerate() {
@@ -411,8 +422,16 @@ impl World {
         row[lay.mode.offset] = f64::from(rb.mode.code());
     }
 
-    /// ORCA for the robots in `active`, among the people and the static geometry.
-    fn orca_step(&mut self, active: &[usize], partial_goals: &[Vec2], desired: &mut [Vec2], dt: f64) {
+    /// ORCA for the robots in `active`, among the other robots, the static geometry and, when
+    /// `with_people`, the people.
+    fn orca_step(
+        &mut self,
+        active: &[usize],
+        partial_goals: &[Vec2],
+        desired: &mut [Vec2],
+        dt: f64,
+        with_people: bool,
+    ) {
         let robots: Vec<OrcaRobot> = self
             .robots
             .iter()
@@ -424,10 +443,11 @@ impl World {
                 max_speed: st.limits.max_speed,
             })
             .collect();
+        let n = if with_people { self.crowd.pos.len() } else { 0 };
         let people = OrcaPeople {
-            pos: &self.crowd.pos,
-            vel: &self.crowd.vel,
-            radius: &self.crowd.radius,
+            pos: &self.crowd.pos[..n],
+            vel: &self.crowd.vel[..n],
+            radius: &self.crowd.radius[..n],
             intimate: self.social.config().zones.intimate,
         };
         let step = self.steps as u64;
