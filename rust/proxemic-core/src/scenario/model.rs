@@ -145,6 +145,11 @@ pub enum PlannerKind {
     SocialMomentum,
     /// Plain A* global path deformed by an elastic band (static clearance and people's spaces).
     Eband,
+    /// Calderita et al.'s system as published: Dijkstra on the time-dependent social cost map
+    /// with the people's zones as contours of the summed density (§4.1, §5.1-5.2), the elastic
+    /// band (`k_c`, `k_r`, §5.3) deforming that path, re-planned when the agenda or the people
+    /// raise its cost ([`crate::plan::social`]).
+    Calderita,
 }
 
 impl PlannerKind {
@@ -157,17 +162,18 @@ impl PlannerKind {
             "orca" => Some(PlannerKind::Orca),
             "social_momentum" => Some(PlannerKind::SocialMomentum),
             "eband" => Some(PlannerKind::Eband),
+            "calderita" => Some(PlannerKind::Calderita),
             _ => None,
         }
     }
 
     /// The names accepted by [`PlannerKind::parse`].
     pub const NAMES: &'static [&'static str] =
-        &["astar", "social_astar", "social", "orca", "social_momentum", "eband"];
+        &["astar", "social_astar", "social", "orca", "social_momentum", "eband", "calderita"];
 
     /// Whether the planner's global path is the social A* path (re-planned on triggers).
     pub fn social_global(self) -> bool {
-        matches!(self, PlannerKind::SocialAstar | PlannerKind::Social)
+        matches!(self, PlannerKind::SocialAstar | PlannerKind::Social | PlannerKind::Calderita)
     }
 }
 
