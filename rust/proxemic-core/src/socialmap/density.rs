@@ -119,13 +119,19 @@ mod tests {
         //   exp(-1/3.5556) + exp(-4/3.5556) = 0.75484 + 0.32465 = 1.07949 -> intimate too.
         let z = zones();
         let c = SocialCosts::default();
-        let pair = [PersonState::standing(Vec2::new(0.0, 1.5), 0.0), PersonState::standing(Vec2::new(0.0, -1.5), 0.0)];
+        let pair = [
+            PersonState::standing(Vec2::new(0.0, 1.5), 0.0),
+            PersonState::standing(Vec2::new(0.0, -1.5), 0.0),
+        ];
         assert!(density_factor(&z, &c, &pair, Vec2::zeros()).is_infinite());
         assert!(density_factor(&z, &c, &pair, Vec2::new(0.0, 0.5)).is_infinite());
         assert_eq!(density_factor(&z, &c, &pair[..1], Vec2::zeros()), 2.0);
         // 4 m apart, midpoint 2 m to the side of each: 2 exp(-4/3.5556) = 0.64930, below the
         // personal level 0.66698 and above the social one: social, 2.0.
-        let wide = [PersonState::standing(Vec2::new(0.0, 2.0), 0.0), PersonState::standing(Vec2::new(0.0, -2.0), 0.0)];
+        let wide = [
+            PersonState::standing(Vec2::new(0.0, 2.0), 0.0),
+            PersonState::standing(Vec2::new(0.0, -2.0), 0.0),
+        ];
         assert_eq!(density_factor(&z, &c, &wide, Vec2::zeros()), 2.0);
     }
 

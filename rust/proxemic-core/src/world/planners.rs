@@ -472,8 +472,7 @@ impl World {
             band.update(&clearance, Some(&social));
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         } else {
-            let individuals =
-                self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
+            let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
             let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
             band.update(&clearance, Some(&social));
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
