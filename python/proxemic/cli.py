@@ -351,7 +351,11 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="X,Y",
         help="a goal for the robot in every scene, repeat for several (default: each scene's own goal)",
     )
-    t.add_argument("--planner", default="eband", help="the planner whose gains are tuned (default: eband)")
+    t.add_argument(
+        "--planner",
+        default="calderita",
+        help="the planner whose band gains are tuned: calderita (default, Calderita's system) or eband",
+    )
     t.add_argument("--trials", type=_positive_int, default=20, help="gain points evaluated at most (default: 20)")
     t.add_argument(
         "--episodes", type=_positive_int, default=3, help="seeded episodes per target and gain point (default: 3)"

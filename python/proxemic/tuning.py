@@ -52,8 +52,10 @@ from proxemic.evaluation import Backend, RecordWriter, cached_env, check_out_dir
 DEFAULT_TARGETS: tuple[str, ...] = ("calderita_exp1", "calderita_exp2")
 
 #: Planners whose gains are exposed (the elastic band's ``contraction_gain``, ``repulsion_gain``,
-#: ``social_gain``).
-TUNABLE_PLANNERS: tuple[str, ...] = ("eband",)
+#: ``social_gain``): ``calderita`` (Calderita's system: the band on the Dijkstra path over the
+#: time-dependent social map, the band the paper tunes; the default) and ``eband`` (the band on a
+#: plain A* path).
+TUNABLE_PLANNERS: tuple[str, ...] = ("calderita", "eband")
 
 Target = tuple[str, tuple[float, float] | None]
 """A scene (bundled name or TOML path) and the robot's goal in it (None: the scene's own goal)."""
@@ -102,7 +104,8 @@ class TuneConfig:
 
     targets: Sequence[str | Target] = DEFAULT_TARGETS
     """Scenes (bundled names or TOML paths: the robot goes to the scene's goal) or (scene, goal) pairs."""
-    planner: str = "eband"
+    planner: str = "calderita"
+    """The planner whose band is tuned, one of ``TUNABLE_PLANNERS``."""
     trials: int = 20
     """Gain points evaluated at most (the first is the starting gains)."""
     episodes: int = 3

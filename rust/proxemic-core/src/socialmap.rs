@@ -30,6 +30,9 @@ use crate::map::grid::GridSpec;
 use crate::math::Vec2;
 use crate::plan::{CostGrid, INSCRIBED, LETHAL};
 
+mod density;
+pub use density::{density_factor, density_layer};
+
 /// What the social map needs from an individual's personal-space model.
 ///
 /// The personal-space value is `exp(-q(p))`. The *zone distance* of a point is
@@ -490,6 +493,25 @@ impl SocialMap {
             self.combine(c as usize);
         }
         self.touched = dirty.len();
+    }
+
+    /// Replaces the whole people layer with `factors` (one per cell, row-major; infinity marks a
+    /// forbidden cell), e.g. the density contours of [`density_layer`] (the `calderita` planner),
+    /// and recombines every cell. The incremental bookkeeping of [`SocialMap::update_people`] is
+    /// dropped: a map is fed by one of the two, not both. A slice of the wrong length leaves the
+    /// map unchanged.
+    pub fn set_people_factors(&mut self, factors: &[f64]) {
+        if factors.len() != self.people.len() {
+            return;
+        }
+        self.counts.clear();
+        self.counted.clear();
+        self.prev.clear();
+        self.people.copy_from_slice(factors);
+        for c in 0..self.people.len() {
+            self.combine(c);
+        }
+        self.touched = self.people.len();
     }
 
     fn rect_of<S: SpaceFunction>(&self, s: &S) -> Option<Rect> {

@@ -551,6 +551,34 @@ fn density_two_separate_groups() {
     assert_eq!(labels(&p, &m), vec![0, 0, 1, 1]);
 }
 
+#[test]
+fn density_known_answer_pair_and_a_bystander() {
+    // Hand computation, σ_h = 2, σ_r = 1, σ_s = 4/3, Ω_d = 1.2 m ahead, k = 1:
+    //   δ = exp(-1.2² / (2·2²)) = exp(-0.18) = 0.83527, φ = 1 + δ = 1.83527.
+    // A at (0, 0) facing +x, B at (1, 0) facing -x, C at (5, 0) facing +x.
+    //   G_d(A) = 1 + g_B(A) + g_C(A); A is 1 m ahead of B: exp(-1/8) = 0.88250; A is 5 m behind C:
+    //            exp(-25/2) = 3.7e-6. G_d(A) = 1.88250 >= φ: A is in J.
+    //   G_d(B) = 1 + g_A(B) + g_C(B) = 1 + exp(-1/8) + exp(-16/2) = 1.88284 >= φ: B is in J.
+    //   G_d(C) = 1 + g_A(C) + g_B(C); C is 5 m ahead of A: exp(-25/8) = 0.04394; C is 4 m
+    //            behind B: exp(-16/2) = 0.00034. G_d(C) = 1.04428 < φ: C is alone.
+    // A and B are joined by J (at their midpoint each is 0.5 m ahead of the other:
+    // 2 exp(-0.25/8) = 1.93846, plus C's 4.5 m behind, 4e-5: 1.93850 >= φ), C is not:
+    // groups {A, B}, {C}.
+    let m = DensityParams::default().method();
+    let p = [st(0.0, 0.0, 0.0), st(1.0, 0.0, 180.0), st(5.0, 0.0, 0.0)];
+    assert_eq!(labels(&p, &m), vec![0, 0, 1]);
+    let z = crate::proxemics::DensityZones::new(
+        DensityParams::default(),
+        crate::proxemics::HallZones::EVALUATION,
+    )
+    .expect("valid");
+    assert!((z.phi() - 1.835_27).abs() < 1e-5);
+    assert!((z.density(&p, Vec2::new(0.5, 0.0)) - 1.938_48).abs() < 1e-4);
+    assert!((z.density(&p, Vec2::new(5.0, 0.0)) - 1.044_28).abs() < 1e-4);
+    // With these parameters J lies inside the intimate contour: φ = 1.835 > L(0.45) = 0.945.
+    assert!(z.phi() > z.levels()[0]);
+}
+
 // ---------------------------------------------------------------- F-formation
 
 #[test]

@@ -14,17 +14,24 @@
 //!
 //! The checks run on points sampled along the path ahead, so they cost little; the map itself is
 //! updated (incrementally) only when a plan is made.
+//!
+//! Two people models ([`PeopleModel`]): proxemic's own (each perceived individual's Hall zones on
+//! its space function, searched by A*: the `social_astar` and `social` planners) and Calderita's
+//! (the zones as contours of the summed density `G_d`, [`crate::socialmap::density_layer`],
+//! searched by Dijkstra: the `calderita` planner). Each model has its own maps; a path remembers
+//! its model, so its checks see the map it was planned on.
 
 use crate::chronemics::Agenda;
 use crate::error::Result;
 use crate::geom::contains_point_polygon;
-use crate::groups::{PersonState, RobotDisc};
+use crate::groups::{DensityParams, GroupMethod, PersonState, RobotDisc};
 use crate::math::Vec2;
 use crate::pedestrians::Crowd;
 use crate::perception::{Individual, Perception, SocialConfig, perceive};
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path};
+use crate::proxemics::DensityZones;
 use crate::scenario::Scenario;
-use crate::socialmap::SocialMap;
+use crate::socialmap::{SocialMap, density_factor, density_layer};
 
 /// Spacing of the points sampled along a path for the re-planning checks (metres).
 pub const SAMPLE_SPACING: f64 = 0.25;
@@ -49,12 +56,28 @@ pub enum Trigger {
     Agenda,
 }
 
+/// How the people enter a social map.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PeopleModel {
+    /// Each perceived individual (a person, a group as one individual, a robot that joined)
+    /// with its Hall zones on its space function; searched by A* (proxemic's `social_astar`).
+    #[default]
+    Individuals,
+    /// Calderita §4.1/§5.2.1: the zones as contours of the summed density `G_d` of the people,
+    /// a group's space `G_d >= φ` at least personal; searched by Dijkstra (the `calderita`
+    /// planner). Tie-breaks of the search: see [`crate::plan::astar`] (larger `g`, then the
+    /// smaller cell index; the paper does not say).
+    Density,
+}
+
 /// A planned social path with the traversal factors seen along it when it was planned.
 #[derive(Clone, Debug, Default)]
 pub struct SocialPath {
     /// Waypoints (world frame).
     pub points: Vec<Vec2>,
     samples: Vec<(Vec2, f64, f64)>,
+    /// The people model the path was planned with (its checks use the same).
+    pub model: PeopleModel,
 }
 
 /// State of the social planner for all robots of a world.
@@ -64,6 +87,13 @@ pub struct SocialPlanning {
     object_names: Vec<String>,
     object_polygons: Vec<Vec<Vec2>>,
     maps: Vec<SocialMap>,
+    /// The maps of [`PeopleModel::Density`], one per inflated grid.
+    density_maps: Vec<SocialMap>,
+    /// Calderita's density zones (the scenario's density parameters if it groups by density,
+    /// else the paper's defaults) on the scenario's Hall radii.
+    density: DensityZones,
+    /// The people who stand still (the density model's people).
+    still: Vec<PersonState>,
     features: Vec<Vec<f64>>,
     perception: Option<Perception>,
     /// The perceived individuals that stay where they are (the global map's people).
@@ -87,13 +117,19 @@ impl SocialPlanning {
                     .push(space.polygon.iter().map(|q| Vec2::new(q[0], q[1])).collect::<Vec<Vec2>>());
             }
         }
-        let maps = grids
+        let maps: Vec<SocialMap> = grids
             .iter()
             .map(|&(g, radius)| {
                 let costs = crate::socialmap::SocialCosts { object_margin: radius, ..cfg.costs };
                 SocialMap::new(g.clone(), &object_polygons, costs)
             })
             .collect();
+        let density_maps = maps.clone();
+        let params = match cfg.groups {
+            Some(GroupMethod::Density(p)) => p,
+            _ => DensityParams::default(),
+        };
+        let density = DensityZones::new(params, cfg.zones)?;
         let features = scenario.persons.iter().map(|p| p.features.clone()).collect();
         Ok(SocialPlanning {
             cfg,
@@ -101,6 +137,9 @@ impl SocialPlanning {
             object_names,
             object_polygons,
             maps,
+            density_maps,
+            density,
+            still: Vec::new(),
             features,
             perception: None,
             mapped: Vec::new(),
@@ -116,6 +155,16 @@ impl SocialPlanning {
     /// The social map of inflated grid `k`.
     pub fn map(&self, k: usize) -> Option<&SocialMap> {
         self.maps.get(k)
+    }
+
+    /// The density map of inflated grid `k` (the `calderita` planner's; as last planned on).
+    pub fn density_map(&self, k: usize) -> Option<&SocialMap> {
+        self.density_maps.get(k)
+    }
+
+    /// Calderita's density zones ([`PeopleModel::Density`]).
+    pub fn density_zones(&self) -> &DensityZones {
+        &self.density
     }
 
     /// The latest perception (groups and individuals), if any.
@@ -156,6 +205,8 @@ impl SocialPlanning {
                 .filter(|ind| ind.members.iter().all(|&k| people[k].vel.norm() < MAP_STILL_SPEED))
                 .cloned(),
         );
+        self.still.clear();
+        self.still.extend(self.people.iter().filter(|p| p.vel.norm() < MAP_STILL_SPEED).copied());
         self.perception = Some(perception);
         Ok(())
     }
@@ -171,14 +222,31 @@ impl SocialPlanning {
         }
     }
 
-    /// Traversal factor at `p` from the people and the objects at `time_of_day`:
-    /// (people factor, object factor).
-    fn factors_at(&self, p: Vec2, object_factors: &[f64]) -> (f64, f64) {
+    /// Brings density map `k` up to date with the people standing still and the agenda at
+    /// `time_of_day` (the whole people layer is recomputed).
+    fn update_density_map(&mut self, k: usize, time_of_day: f64) {
+        let factors = self.object_factors(time_of_day);
+        let Some(map) = self.density_maps.get_mut(k) else { return };
+        map.set_object_factors(&factors);
+        let layer = density_layer(&map.grid().spec, &self.density, map.costs(), &self.still);
+        map.set_people_factors(&layer);
+    }
+
+    /// Traversal factor at `p` from the people (under `model`) and the objects at
+    /// `time_of_day`: (people factor, object factor).
+    fn factors_at(&self, p: Vec2, object_factors: &[f64], model: PeopleModel) -> (f64, f64) {
         let mut people: f64 = 1.0;
-        for ind in &self.mapped {
-            let [x0, y0, x1, y1] = ind_bounds(ind);
-            if p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1 {
-                people = people.max(self.cfg.costs.factor(ind, p));
+        match model {
+            PeopleModel::Individuals => {
+                for ind in &self.mapped {
+                    let [x0, y0, x1, y1] = ind_bounds(ind);
+                    if p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1 {
+                        people = people.max(self.cfg.costs.factor(ind, p));
+                    }
+                }
+            }
+            PeopleModel::Density => {
+                people = density_factor(&self.density, &self.cfg.costs, &self.still, p);
             }
         }
         let mut objects: f64 = 1.0;
@@ -200,13 +268,38 @@ impl SocialPlanning {
         goal: Vec2,
         time_of_day: f64,
     ) -> Option<SocialPath> {
-        self.update_map(k, time_of_day);
-        let map = self.maps.get(k)?;
+        self.plan_with(planner, k, start, goal, time_of_day, PeopleModel::Individuals)
+    }
+
+    /// Plans a path on map `k` of the people model `model` from `start` to `goal` at
+    /// `time_of_day` (updating the map first): A* for [`PeopleModel::Individuals`], Dijkstra (no
+    /// heuristic, as Calderita §5.1) for [`PeopleModel::Density`]. The grid path is shortcut by
+    /// [`smooth_path`], which never raises its cost. `None` when the goal is unreachable.
+    pub fn plan_with(
+        &mut self,
+        planner: &mut PathPlanner,
+        k: usize,
+        start: Vec2,
+        goal: Vec2,
+        time_of_day: f64,
+        model: PeopleModel,
+    ) -> Option<SocialPath> {
+        let map = match model {
+            PeopleModel::Individuals => {
+                self.update_map(k, time_of_day);
+                self.maps.get(k)?
+            }
+            PeopleModel::Density => {
+                self.update_density_map(k, time_of_day);
+                self.density_maps.get(k)?
+            }
+        };
         let grid = map.grid();
         let weight = self.cfg.costs.weight();
         let s = crate::plan::snap_to_passable(grid, start)?;
         let g = crate::plan::snap_to_passable(grid, goal)?;
-        let path = planner.plan(grid, s, g, SearchMode { weight, heuristic: true })?;
+        let heuristic = model == PeopleModel::Individuals;
+        let path = planner.plan(grid, s, g, SearchMode { weight, heuristic })?;
         let mut points = smooth_path(grid, &path, weight);
         if let Some(first) = points.first_mut() {
             *first = start;
@@ -216,11 +309,11 @@ impl SocialPlanning {
         let samples = sample_path(&points, 0.0, f64::INFINITY)
             .into_iter()
             .map(|q| {
-                let (pf, of) = self.factors_at(q, &factors);
+                let (pf, of) = self.factors_at(q, &factors, model);
                 (q, pf, of)
             })
             .collect();
-        Some(SocialPath { points, samples })
+        Some(SocialPath { points, samples, model })
     }
 
     /// Cost of `path` when it was planned: its length weighted by the traversal factor seen
@@ -253,7 +346,7 @@ impl SocialPlanning {
         };
         let mut cost = (q - from).norm();
         for &(q, _, _) in &path.samples[first + 1..] {
-            let (pf, of) = self.factors_at(q, &factors);
+            let (pf, of) = self.factors_at(q, &factors, path.model);
             cost += SAMPLE_SPACING * pf.max(of);
         }
         cost
@@ -274,7 +367,7 @@ impl SocialPlanning {
         let ahead = (LOOKAHEAD / SAMPLE_SPACING) as usize;
         let mut trigger = Trigger::None;
         for &(q, people_then, objects_then) in path.samples.iter().skip(first + 1).take(ahead) {
-            let (people_now, objects_now) = self.factors_at(q, &factors);
+            let (people_now, objects_now) = self.factors_at(q, &factors, path.model);
             if people_now.is_infinite() {
                 return Trigger::Blocked;
             }

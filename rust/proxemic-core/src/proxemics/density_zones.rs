@@ -74,7 +74,11 @@ impl DensityZones {
     /// The zone of the point `x` (m): intimate where `G_d(x)` reaches the intimate level, and so
     /// on outward; public below the social level.
     pub fn zone_of(&self, people: &[PersonState], x: Vec2) -> Zone {
-        let g = self.density(people, x);
+        self.zone_of_density(self.density(people, x))
+    }
+
+    /// The zone of a point where `G_d` equals `g` (see [`DensityZones::zone_of`]).
+    pub fn zone_of_density(&self, g: f64) -> Zone {
         if g >= self.levels[0] {
             Zone::Intimate
         } else if g >= self.levels[1] {

@@ -157,6 +157,11 @@ pub enum PlannerKind {
     /// fully asymmetric Gaussians of the people and of the Delaunay groups (a group as one
     /// individual), reshaped by the socialization features.
     Sousa2022,
+    /// Calderita et al.'s system as published: Dijkstra on the time-dependent social cost map
+    /// with the people's zones as contours of the summed density (§4.1, §5.1-5.2), the elastic
+    /// band (`k_c`, `k_r`, §5.3) deforming that path, re-planned when the agenda or the people
+    /// raise its cost ([`crate::plan::social`]).
+    Calderita,
 }
 
 impl PlannerKind {
@@ -171,13 +176,23 @@ impl PlannerKind {
             "eband" => Some(PlannerKind::Eband),
             "daza2021" => Some(PlannerKind::Daza2021),
             "sousa2022" => Some(PlannerKind::Sousa2022),
+            "calderita" => Some(PlannerKind::Calderita),
             _ => None,
         }
     }
 
     /// The names accepted by [`PlannerKind::parse`].
-    pub const NAMES: &'static [&'static str] =
-        &["astar", "social_astar", "social", "orca", "social_momentum", "eband", "daza2021", "sousa2022"];
+    pub const NAMES: &'static [&'static str] = &[
+        "astar",
+        "social_astar",
+        "social",
+        "orca",
+        "social_momentum",
+        "eband",
+        "daza2021",
+        "sousa2022",
+        "calderita",
+    ];
 
     /// Whether the planner runs Daza et al. 2021 Algorithm 1 as published (with Sousa 2022's
     /// Gaussians for [`PlannerKind::Sousa2022`]): its local step is
@@ -188,7 +203,7 @@ impl PlannerKind {
 
     /// Whether the planner's global path is the social A* path (re-planned on triggers).
     pub fn social_global(self) -> bool {
-        matches!(self, PlannerKind::SocialAstar | PlannerKind::Social)
+        matches!(self, PlannerKind::SocialAstar | PlannerKind::Social | PlannerKind::Calderita)
     }
 }
 

@@ -12,7 +12,7 @@ use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
 use crate::math::Vec2;
 use crate::metrics::Outcome;
-use crate::plan::social::{SocialPlanning, Trigger};
+use crate::plan::social::{PeopleModel, SocialPlanning, Trigger};
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path, snap_to_passable};
 use crate::scenario::PlannerKind;
 
@@ -125,7 +125,8 @@ impl World {
                 return;
             }
         }
-        let plan = self.social.plan(&mut self.planner, k, p, goal, time_of_day);
+        let model = people_model(st.planner);
+        let plan = self.social.plan_with(&mut self.planner, k, p, goal, time_of_day, model);
         if let (Some(new), Some(left)) = (&plan, left)
             && left.is_finite()
             && SocialPlanning::planned_cost(new) > (1.0 - SOCIAL_REPLAN_GAIN) * left
@@ -147,6 +148,10 @@ impl World {
                 }
                 rb.social_path = None;
             }
+        }
+        if self.statics[i].planner == PlannerKind::Calderita {
+            // Calderita §5.3: the elastic band starts from the new global path.
+            rb.band = ElasticBand::new(rb.follower.path(), self.statics[i].eband).ok();
         }
         rb.last_plan_step = self.steps;
         rb.replans += 1;
@@ -325,7 +330,7 @@ impl World {
         let planner = self.statics[i].planner;
         let p = Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]);
         let theta = self.robots[i].pose[2];
-        if planner == PlannerKind::Eband {
+        if matches!(planner, PlannerKind::Eband | PlannerKind::Calderita) {
             self.update_band(i, p);
         }
         let st = &self.statics[i];
@@ -470,16 +475,34 @@ impl World {
         // The band's bubbles are free space for the robot's centre: clearance minus its footprint.
         let body = self.statics[i].radius + self.scenario.robots[i].inflation_margin;
         let clearance = |q: Vec2| field.at(q) - body;
-        let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
-        let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
         let rb = &mut self.robots[i];
-        if let Some(band) = rb.band.as_mut()
-            && band.set_start(p).is_ok()
-        {
+        let Some(band) = rb.band.as_mut() else { return };
+        if band.set_start(p).is_err() {
+            return;
+        }
+        if self.statics[i].planner == PlannerKind::Calderita {
+            // Calderita: the social cost the band sees is the summed density G_d of the people
+            // (their Kirby spaces, as on the map), clamped to [0, 1], wherever they are now.
+            let zones = self.social.density_zones();
+            let c = &self.crowd;
+            let people: Vec<crate::groups::PersonState> = (0..c.len())
+                .map(|k| crate::groups::PersonState { pos: c.pos[k], heading: c.heading[k], vel: c.vel[k] })
+                .collect();
+            let social = |q: Vec2| zones.density(&people, q).min(1.0);
+            band.update(&clearance, Some(&social));
+            rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
+        } else {
+            let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
+            let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
             band.update(&clearance, Some(&social));
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         }
     }
+}
+
+/// The people model of a social global planner's map.
+fn people_model(kind: PlannerKind) -> PeopleModel {
+    if kind == PlannerKind::Calderita { PeopleModel::Density } else { PeopleModel::Individuals }
 }
 
 /// The local planner of a built-in planner, if it has one.

@@ -1,0 +1,153 @@
+//! Calderita et al. §4.1 and §5.2.1 rasterised: the people layer of the `calderita` planner's
+//! social map, from the contours of the summed density `G_d` (eq. 5) instead of Hall radii around
+//! each individual.
+//!
+//! A cell's people factor comes from `G_d` at its centre ([`DensityZones::zone_of`]): inside the
+//! intimate contour it is forbidden (the paper sets the nodes' availability to occupied), inside
+//! the personal contour it costs [`SocialCosts::personal_cost`] (paper: 4.0), inside the social
+//! contour [`SocialCosts::social_cost`] (2.0), elsewhere [`SocialCosts::public_cost`] (1.0). A
+//! cell in a group's space `J = {G_d >= φ}` (eq. 8), "the personal space of a group of
+//! individuals" in the paper's words, costs at least the personal factor.
+//!
+//! With the default parameters (`σ_s = 4/3` m, Hall radii 0.45/1.2/3.6 m, `Ω_d = 1.2` m ahead,
+//! `k = 1`) the group threshold `φ = 1 + e^{-0.18} = 1.835` lies above the intimate level
+//! `L(0.45) = e^{-0.0570} = 0.945`, so `J` falls inside the forbidden intimate region and the group
+//! term never raises a cost: the merging of the people's contours does the grouping on the map.
+//! It binds only with other parameters (a larger `k`-free threshold below the intimate level).
+//!
+//! Choices where the paper is silent (also in `docs/algorithms.md`):
+//! - the contour levels of the zones: [`DensityZones`] (the one-person Gaussian's value at
+//!   Hall's radius to the side);
+//! - walls: `G_d` is summed over the plane `S`, as the paper defines it, without the line-of-sight
+//!   cut that proxemic's own social map applies; in the Calderita scenes every person is in the
+//!   room the robot crosses, so nothing leaks into a place the robot cannot see;
+//! - which people: the caller passes the people who stand still (see [`crate::plan::social`]);
+//!   the paper's scenes have no walkers.
+
+use crate::groups::PersonState;
+use crate::map::grid::GridSpec;
+use crate::math::Vec2;
+use crate::proxemics::{DensityZones, Zone};
+
+use super::SocialCosts;
+
+/// The people factor at `x` (m) from the density contours of `people` (module docs):
+/// `f64::INFINITY` in the intimate region, else the zone's factor of `costs`, at least
+/// `costs.personal_cost` inside a group's space.
+pub fn density_factor(zones: &DensityZones, costs: &SocialCosts, people: &[PersonState], x: Vec2) -> f64 {
+    let g = zones.density(people, x);
+    zone_factor(zones, costs, g)
+}
+
+/// The factor of a density value `g` (see [`density_factor`]).
+fn zone_factor(zones: &DensityZones, costs: &SocialCosts, g: f64) -> f64 {
+    let zone = zones.zone_of_density(g);
+    let f = match zone {
+        Zone::Intimate => return f64::INFINITY,
+        Zone::Personal => costs.personal_cost,
+        Zone::Social => costs.social_cost,
+        Zone::Public => costs.public_cost,
+    };
+    if g >= zones.phi() { f.max(costs.personal_cost) } else { f }
+}
+
+/// The people layer of a grid `spec` (row-major, one factor per cell, evaluated at the cell
+/// centres) for `people` (module docs).
+pub fn density_layer(
+    spec: &GridSpec,
+    zones: &DensityZones,
+    costs: &SocialCosts,
+    people: &[PersonState],
+) -> Vec<f64> {
+    let mut out = vec![costs.public_cost.max(1.0); spec.len()];
+    if people.is_empty() {
+        return out;
+    }
+    for iy in 0..spec.height {
+        for ix in 0..spec.width {
+            out[spec.index(ix, iy)] = density_factor(zones, costs, people, spec.center(ix, iy));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::groups::DensityParams;
+    use crate::proxemics::HallZones;
+
+    fn zones() -> DensityZones {
+        DensityZones::new(DensityParams::default(), HallZones::EVALUATION).expect("valid")
+    }
+
+    #[test]
+    fn one_person_facing_east_known_factors() {
+        // Person at the origin facing +x, σ_h = 2 (ahead), σ_r = 1 (behind), σ_s = 4/3 (sides).
+        // Levels L(r) = exp(-r² / (2 σ_s²)), 2 σ_s² = 32/9 = 3.5556:
+        //   intimate L(0.45) = exp(-0.2025 / 3.5556) = exp(-0.05695) = 0.94464
+        //   personal L(1.2)  = exp(-1.44 / 3.5556)   = exp(-0.405)    = 0.66698
+        //   social   L(3.6)  = exp(-12.96 / 3.5556)  = exp(-3.645)    = 0.02612
+        // Points and g = exp(-u²/(2σ_u²) - v²/(2σ_s²)):
+        //   (0.6, 0):  exp(-0.36/8)   = 0.95600 >= 0.94464  -> intimate, forbidden
+        //   (0.7, 0):  exp(-0.49/8)   = 0.94059 <  0.94464  -> personal, 4.0
+        //   (-0.5, 0): exp(-0.25/2)   = 0.88250             -> personal, 4.0
+        //   (0, 1.5):  exp(-2.25/3.5556) = exp(-0.63281) = 0.53110 -> social, 2.0
+        //   (-2.0, 0): exp(-4/2)      = 0.13534             -> social, 2.0
+        //   (-2.8, 0): exp(-7.84/2)   = 0.01984 <  0.02612  -> public, 1.0
+        //   (5.0, 0):  exp(-25/8)     = 0.04394 >= 0.02612  -> social, 2.0
+        let z = zones();
+        let c = SocialCosts::default();
+        let one = [PersonState::standing(Vec2::zeros(), 0.0)];
+        let f = |x: f64, y: f64| density_factor(&z, &c, &one, Vec2::new(x, y));
+        assert!(f(0.6, 0.0).is_infinite());
+        assert_eq!(f(0.7, 0.0), 4.0);
+        assert_eq!(f(-0.5, 0.0), 4.0);
+        assert_eq!(f(0.0, 1.5), 2.0);
+        assert_eq!(f(-2.0, 0.0), 2.0);
+        assert_eq!(f(-2.8, 0.0), 1.0);
+        assert_eq!(f(5.0, 0.0), 2.0);
+    }
+
+    #[test]
+    fn two_people_side_by_side_merge_into_one_forbidden_region() {
+        // Two people facing +x at (0, ±1.5), 3 m apart. At the midpoint each Gaussian is at
+        // 1.5 m to its side: g = exp(-2.25 / 3.5556) = 0.53110, G_d = 1.06220 >= 0.94464: the
+        // midpoint is intimate (forbidden) although it is 1.5 m from both, beyond Hall's
+        // personal radius. Alone, either person puts it in the social zone (0.53110 < 0.66698).
+        // At (0, 0.5): 1 m from one, 2 m from the other:
+        //   exp(-1/3.5556) + exp(-4/3.5556) = 0.75484 + 0.32465 = 1.07949 -> intimate too.
+        let z = zones();
+        let c = SocialCosts::default();
+        let pair = [
+            PersonState::standing(Vec2::new(0.0, 1.5), 0.0),
+            PersonState::standing(Vec2::new(0.0, -1.5), 0.0),
+        ];
+        assert!(density_factor(&z, &c, &pair, Vec2::zeros()).is_infinite());
+        assert!(density_factor(&z, &c, &pair, Vec2::new(0.0, 0.5)).is_infinite());
+        assert_eq!(density_factor(&z, &c, &pair[..1], Vec2::zeros()), 2.0);
+        // 4 m apart, midpoint 2 m to the side of each: 2 exp(-4/3.5556) = 0.64930, below the
+        // personal level 0.66698 and above the social one: social, 2.0.
+        let wide = [
+            PersonState::standing(Vec2::new(0.0, 2.0), 0.0),
+            PersonState::standing(Vec2::new(0.0, -2.0), 0.0),
+        ];
+        assert_eq!(density_factor(&z, &c, &wide, Vec2::zeros()), 2.0);
+    }
+
+    #[test]
+    fn the_layer_is_the_factor_at_each_cell_centre() {
+        let z = zones();
+        let c = SocialCosts::default();
+        let spec = GridSpec { origin: Vec2::new(-2.0, -2.0), resolution: 0.5, width: 8, height: 8 };
+        let one = [PersonState::standing(Vec2::new(0.1, 0.2), 1.0)];
+        let layer = density_layer(&spec, &z, &c, &one);
+        for iy in 0..spec.height {
+            for ix in 0..spec.width {
+                let want = density_factor(&z, &c, &one, spec.center(ix, iy));
+                assert_eq!(layer[spec.index(ix, iy)], want);
+            }
+        }
+        assert!(density_layer(&spec, &z, &c, &[]).iter().all(|&f| f == 1.0));
+    }
+}
