@@ -86,7 +86,7 @@ def test_every_row_of_the_papers_tables_is_an_experiment():
 
 
 def test_unknown_paper_is_a_clear_error(tmp_path, capsys):
-    with pytest.raises(InputError, match="paper: expected one of daza2021, sousa2022, calderita, found nobody2020"):
+    with pytest.raises(InputError, match="paper: expected one of daza2021, sousa2022, calderita, got nobody2020"):
         experiments("nobody2020")
     with pytest.raises(InputError, match="nobody2020"):
         reproduce.reproduce("nobody2020", tmp_path / "x", episodes=1)
