@@ -265,7 +265,7 @@ def explain(metric: str, pub: float, exp: Experiment, results: Sequence[EpisodeR
             if exp.published.get("d_t")
             else f"we turn {_mean(results, 'chc') / d_t:.2f} rad per metre travelled"
         )
-    elif metric.startswith("psi_") and metric in ("psi_intimate", "psi_personal", "psi_social", "psi_public"):
+    elif metric in ("psi_intimate", "psi_personal", "psi_social", "psi_public"):
         closest = {k.removeprefix("d_min_"): _mean(results, k) for k in results[0].record if k.startswith("d_min_")}
         if closest:
             text = ", ".join(
