@@ -20,6 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from proxemic import _core, scenarios
 from proxemic.errors import ScenarioError, input_error
 from proxemic.evaluation import EpisodeResult, mean_ci, run_task
@@ -219,12 +221,19 @@ def _failed(results: Sequence[EpisodeResult]) -> str:
     return f"{len(bad)} of {len(results)} episodes failed ({'; '.join(bad)})" if bad else ""
 
 
-def explain(metric: str, pub: float, exp: Experiment, results: Sequence[EpisodeResult]) -> str:
+def explain(
+    metric: str,
+    pub: float,
+    exp: Experiment,
+    results: Sequence[EpisodeResult],
+    zones: Sequence[float] | None = None,
+) -> str:
     """Why our `metric` differs from the published `pub`, computed from the episodes run.
 
     Returns the measured quantities that account for the difference (our speed for a time, our
     reference path for a length ratio, the leave/rejoin angles for Smooth, the closest approaches
-    for the zones, the object spaces entered for Psi(Objects)), and the failed episodes.
+    for the zones, beside the scene's Hall radii `zones` when given, the object spaces entered for
+    Psi(Objects)), and the failed episodes.
     """
     parts: list[str] = []
     d_t, tau = _mean(results, "d_t"), _mean(results, "tau")
@@ -273,7 +282,14 @@ def explain(metric: str, pub: float, exp: Experiment, results: Sequence[EpisodeR
                 + (f" (paper {exp.published['d_min_' + n]:g} m)" if "d_min_" + n in exp.published else "")
                 for n, v in closest.items()
             )
-            parts.append(f"our closest approach: {text}, over {_mean(results, 'steps') + 1:.0f} instants per episode")
+            radii = (
+                f" (zones: intimate < {zones[0]:g} m, personal < {zones[1]:g} m, social < {zones[2]:g} m)"
+                if zones
+                else ""
+            )
+            parts.append(
+                f"our closest approach: {text}{radii}, over {_mean(results, 'steps') + 1:.0f} instants per episode"
+            )
     elif metric.startswith("psi_objects"):
         spaces = {
             k.removeprefix("psi_object_any_"): (
@@ -311,8 +327,17 @@ def sousa_findings(scene: str | _core.Scenario, results: dict[str, list[EpisodeR
         f"- Groups the robot perceives (Delaunay, at the start): {groups or 'none'}; the scene's groups: "
         f"{[g for g in truth.values() if len(g) > 1] or 'none'}.",
     ]
+    centres = [
+        (ind["members"], np.asarray(ind["centre"])) for ind in perception["individuals"] if len(ind["members"]) > 1
+    ]
     for planner, rs in results.items():
         crossing = [crosses_group(r.record) for r in rs]
+        tracks = [r.robot[:, :2] for r in rs if r.robot is not None]
+        if tracks and centres:
+            closest = ", ".join(
+                f"{'+'.join(names[i] for i in members)} {_closest(tracks, c):.2f} m" for members, c in centres
+            )
+            lines.append(f"- `{planner}`'s closest approach to each perceived group's centre: {closest}.")
         lines.append(
             f"- `{planner}` crosses a group's space in {sum(crossing)} of {len(rs)} episodes "
             f"(o-space time {_mean(rs, 'ospace_pct'):.1f}%, person-person crossings "
@@ -320,6 +345,11 @@ def sousa_findings(scene: str | _core.Scenario, results: dict[str, list[EpisodeR
             f"**{'crosses' if any(crossing) else 'does not cross'}**."
         )
     return lines
+
+
+def _closest(tracks: Sequence[np.ndarray], point: np.ndarray) -> float:
+    """Smallest distance (m) from any of the trajectories `tracks` ((N, 2) arrays) to `point`."""
+    return min(float(np.linalg.norm(t - point, axis=1).min()) for t in tracks)
 
 
 def crosses_group(record: dict[str, Any]) -> bool:
@@ -375,7 +405,8 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
         lines += [f"## {exp.name} (`{exp.scene}`{when})", ""]
         lines += ["| metric | published | " + " | ".join(f"ours: {n}" for n in names) + " |"]
         lines += ["| --- | --- | " + " | ".join("---" for _ in names) + " |"]
-        notes: list[str] = []
+        notes: dict[tuple[str, str], list[str]] = {}
+        zones = scenarios.load(scene)[1]["proxemics"]["zones"]
         for m in metrics:
             pub = exp.published.get(m)
             cells = []
@@ -384,7 +415,8 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
                 mark = ""
                 if pub is not None and i == 0 and differs(pub, mean):
                     mark = " *"
-                    notes.append(f"- `{m}` ({n}): {explain(m, pub, exp, results[n]) or 'see the reasons below'}.")
+                    why = explain(m, pub, exp, results[n], zones) or "see the reasons below"
+                    notes.setdefault((n, why), []).append(m)
                 cells.append(_fmt(mean, half, k, len(results[n])) + mark)
                 if m in p.average and n in per_path:
                     per_path[n][m].append(None if k == 0 else mean)
@@ -392,7 +424,9 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
         outcomes = {n: sum(r.record["outcome"] == "success" for r in rs) for n, rs in results.items()}
         lines += ["", "Successes: " + ", ".join(f"{n} {k}/{episodes}" for n, k in outcomes.items()), ""]
         if notes:
-            lines += ["Differences beyond the tolerance, from the run:", "", *notes, ""]
+            lines += ["Differences beyond the tolerance, from the run:", ""]
+            lines += [f"- {', '.join(f'`{m}`' for m in ms)} ({n}): {why}." for (n, why), ms in notes.items()]
+            lines += [""]
         if name == "sousa2022":
             lines += ["Figure's claim, from the run:", "", *sousa_findings(scene, results, seed), ""]
         first = {n: rs[0].robot[:, :2] for n, rs in results.items() if rs and rs[0].robot is not None}
