@@ -486,7 +486,7 @@ def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
     """The headline table with units and 95% intervals.
 
     Success, collisions, time to goal, path length ratio, personal-zone time, o-space crossings
-    and object-space time (:data:`HEADLINE`).
+    and active object-space time (:data:`HEADLINE`).
     """
     return _table(rows, HEADLINE)
 
