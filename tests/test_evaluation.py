@@ -57,11 +57,23 @@ def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
         assert (out / "trajectories_social_map.png").exists()
         # every metric is a column: the papers' ones, and one per person / per object space
         header = list(runs[workers][0])
-        for col in ("l_ratio", "smooth", "psi_intimate", "psi_objects", "ospace_pct", "d_t", "tau", "chc"):
+        for col in (
+            "l_ratio",
+            "smooth_rad",
+            "smooth_rad2",
+            "psi_intimate",
+            "psi_objects_active",
+            "psi_objects_any",
+            "ospace_pct",
+            "d_t",
+            "tau",
+            "chc",
+        ):
             assert col in header
         people = len(load_scenario("museum")[1]["persons"])
         assert sum(c.startswith("d_min_") for c in header) == people
-        assert any(c.startswith("psi_object_") for c in header)
+        assert any(c.startswith("psi_object_active_") for c in header)
+        assert any(c.startswith("psi_object_any_") for c in header)
     assert runs[1] == runs[2]
     assert [r["seed"] for r in runs[1]] == ["5", "6", "7"]
 

@@ -5,65 +5,231 @@ from __future__ import annotations
 import csv
 import json
 import math
+import typing
 
+import numpy as np
 import pytest
 
-from proxemic import _core, scenarios
+from proxemic import _core, reproduce, scenarios
 from proxemic.cli import main
-from proxemic.errors import InputError
-from proxemic.reproduce import experiments, published, reproduce
+from proxemic.errors import InputError, ScenarioError
+from proxemic.evaluation import EpisodeResult, run_task
+from proxemic.records import EpisodeMetrics
+from proxemic.reproduce import (
+    PAPERS,
+    average_over_paths,
+    check_paper,
+    crosses_group,
+    experiments,
+    explain,
+    paper,
+    published,
+    scene_of,
+)
+from proxemic.social import SocialMap
+
+#: The papers' own planners, in the core once the planner branches are merged.
+OWN = {"daza2021": "daza2021", "sousa2022": "sousa2022", "calderita": "calderita"}
 
 
-def test_daza2021_report_puts_published_beside_measured(tmp_path):
-    out = tmp_path / "daza"
-    report = reproduce("daza2021", out, episodes=1, seed=3)
-    assert (out / "report.md").read_text() == report
-    with (out / "episodes.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
-    assert len(rows) == 10  # 5 paths x (social, astar)
-    for k, exp in enumerate(experiments("daza2021"), start=1):
-        assert (out / f"{k}_{exp.scene}.png").stat().st_size > 0
-        social = next(r for r in rows if r["experiment"] == exp.name and r["planner"] == "social")
-        assert social["seed"] == "3"
-        # the report's row holds the published value from the data file and our measured value
-        ours = f"{float(social['l_ratio']):.2f}" if social["l_ratio"] else "n/a"
-        assert any(
-            line.startswith(f"| l_ratio | {exp.published['l_ratio']:g} | {ours}") for line in report.splitlines()
-        ), exp.name
-    assert published()["daza2021"]["average"] == {"l_ratio": 0.84, "smooth": 0.43}
-    assert "## Why ours differ" in report
+def _needs(planner: str) -> None:
+    if planner not in _core.PLANNERS:
+        pytest.fail(
+            f"planner {planner!r} is not in this build ({sorted(_core.PLANNERS)}): it comes with its own branch"
+        )
 
 
-def test_calderita_start_time_override_changes_the_scene(tmp_path):
-    exp = experiments("calderita")[0]
-    assert exp.start_time == "09:05"
-    from proxemic.reproduce import scene_of
+def test_each_paper_runs_its_own_planner_beside_ours():
+    data = published()
+    for name in PAPERS:
+        p = paper(name)
+        assert p.planner == OWN[name] == data[name]["planner"]
+        assert p.ours == "social"
+    assert paper("daza2021").baseline is None  # Table 2 has no A* column
+    assert paper("sousa2022").baseline == paper("calderita").baseline == "astar"
+    cald = paper("calderita")
+    base = next(e for e in cald.experiments if e.role == "baseline")
+    own = next(e for e in cald.experiments if e.role == "planner")
+    assert cald.planners_of(base) == ["astar"]
+    assert cald.planners_of(own) == ["calderita", "social"]
+    assert paper("sousa2022").planners_of(experiments("sousa2022")[0]) == ["sousa2022", "astar", "social"]
 
-    _, own = scenarios.load(exp.scene)
-    scene = scene_of(exp)
-    _core_scenario, desc = scenarios.load(scene)
-    assert math.isclose(desc["scene"]["start_time"], 9 * 3600 + 5 * 60)
-    assert not math.isclose(own["scene"]["start_time"], desc["scene"]["start_time"])
+
+def test_published_keys_are_our_metric_names():
+    """Every published number sits under the metric with the same definition (docs/metrics.md)."""
+    ours = set(typing.get_type_hints(EpisodeMetrics))
+    for name in PAPERS:
+        p = paper(name)
+        for m in [*p.metrics, *p.average]:
+            assert m in ours, (name, m)
+        for exp in p.experiments:
+            for m in exp.published:
+                assert m in ours or m.startswith("d_min_"), (name, exp.name, m)
+    # the papers' definitions: Smooth read as an angle, Psi(Objects) counting idle spaces too
+    assert paper("daza2021").metrics == ["l_ratio", "smooth_rad"]
+    assert "psi_objects_any" in paper("calderita").metrics
+    assert all("psi_objects_active" not in e.published for e in experiments("calderita"))
+
+
+def test_every_row_of_the_papers_tables_is_an_experiment():
+    assert [e.scene for e in experiments("daza2021")] == [f"daza2021_path{k}" for k in range(1, 6)]
+    names = [e.name for e in experiments("calderita")]
+    for table, rows in (
+        ("Table 1", ("Path 1", "Path 2", "non-social")),
+        ("Table 2", ("Path 1", "Path 2", "non-social")),
+    ):
+        for row in rows:
+            assert sum(n.startswith(f"{table}, {row}") for n in names) == 1, (table, row)
+    # Table 1's two social paths are two tests, two scenes and two times of day
+    t1, t2 = (next(e for e in experiments("calderita") if e.name.startswith(f"Table 1, Path {k}")) for k in (1, 2))
+    assert t1.scene != t2.scene and t1.start_time != t2.start_time
 
 
 def test_unknown_paper_is_a_clear_error(tmp_path, capsys):
-    with pytest.raises(InputError, match="paper: expected one of daza2021"):
+    with pytest.raises(InputError, match="paper: expected one of daza2021, sousa2022, calderita, got nobody2020"):
         experiments("nobody2020")
+    with pytest.raises(InputError, match="nobody2020"):
+        reproduce.reproduce("nobody2020", tmp_path / "x", episodes=1)
+    assert not (tmp_path / "x").exists()
     with pytest.raises(SystemExit) as e:
         main(["reproduce", "nobody2020", "--out", str(tmp_path)])
     assert e.value.code == 2
     assert "invalid choice" in capsys.readouterr().err
 
 
-def test_episode_metrics_before_reset_is_an_input_error():
-    core, _ = scenarios.load("museum")
-    world = _core.World(core)
-    with pytest.raises(InputError, match="episode_metrics"):
-        world.episode_metrics()
+def _with_scene(monkeypatch, scene: str) -> None:
+    data = published()
+    data["sousa2022"]["experiment"][1]["scene"] = scene
+    monkeypatch.setattr(reproduce, "published", lambda: data)
+
+
+def test_missing_paper_scene_is_a_typed_error_before_any_episode(monkeypatch, tmp_path):
+    _with_scene(monkeypatch, "sousa2022_fig99")
+    with pytest.raises(ScenarioError) as e:
+        reproduce.reproduce("sousa2022", tmp_path / "out", episodes=1)
+    err = e.value
+    assert err.field == "sousa2022.experiment[1].scene"
+    assert err.found == "sousa2022_fig99"
+    assert "bundled" in (err.expected or "")
+    assert "no sousa2022_fig99.toml in the package" in str(err) and "Figure 17" in str(err)
+    assert not (tmp_path / "out").exists()  # nothing ran, nothing written
+
+
+def test_unknown_planner_in_the_data_is_a_typed_error(monkeypatch):
+    data = published()
+    data["daza2021"]["planner"] = "daza1999"
+    monkeypatch.setattr(reproduce, "published", lambda: data)
+    with pytest.raises(
+        ScenarioError, match=r"daza2021.planner: expected one of the built-in planners .* found 'daza1999'"
+    ):
+        check_paper(paper("daza2021"))
+
+
+def test_average_says_over_what_it_is_taken():
+    assert average_over_paths([0.2, None, 0.4, math.nan, 0.6]) == (pytest.approx(0.4), 3)
+    assert math.isnan(average_over_paths([None, None])[0])
+
+
+def _fake(**record: float | str) -> EpisodeResult:
+    base: dict[str, float | str] = {"seed": 0, "outcome": "success", "steps": 99}
+    return EpisodeResult({**base, **record})
+
+
+def test_explanations_are_computed_from_the_run():
+    exp = reproduce.Experiment("row", "calderita_exp1", {"d_t": 14.03, "tau": 101.79})
+    runs = [_fake(d_t=10.0, tau=20.0), _fake(d_t=12.0, tau=20.0, seed=1, outcome="collision")]
+    text = explain("tau", 101.79, exp, runs)
+    # our speed 22 m / 40 s, the paper's 14.03 m / 101.79 s; our 11 m at the paper's speed
+    assert "0.55 m/s" in text and "0.14 m/s" in text and f"{11.0 * 101.79 / 14.03:.1f} s" in text
+    assert "1 of 2 episodes failed (seed 1: collision)" in text
+    lr = explain("l_ratio", 0.86, exp, [_fake(d_t=11.0, astar_length=10.0, tau=1.0)])
+    assert "D_A* is 10.00 m" in lr and "1.16 times" in lr and "1.10 times" in lr
+    sm = explain("smooth_rad", 0.08, exp, [_fake(d_t=1.0, tau=1.0, smooth_k=2, smooth_rad=0.5)])
+    assert "k = 2.0" in sm and f"{math.degrees(0.5):.1f} deg" in sm and "4.6 deg" in sm
+
+
+def _objects_layer_at(scene: str | _core.Scenario, x: float, y: float) -> float:
+    layers = SocialMap(scene, seed=0).layers
+    ox, oy, res = layers["grid"]
+    return float(layers["objects"][int((y - oy) / res), int((x - ox) / res)])
+
+
+def test_calderita_table1_tests_differ_in_which_activities_are_on():
+    """Issue 21: Table 1's Path 1 and Path 2 came out identical (one scene, only the clock moved)."""
+    t1, t2 = experiments("calderita")[:2]
+    assert (t1.start_time, t2.start_time) == ("09:05", "10:05")
+    _, d1 = scenarios.load(scene_of(t1))
+    _, d2 = scenarios.load(scene_of(t2))
+    assert math.isclose(d1["scene"]["start_time"], 9 * 3600 + 5 * 60)
+    assert math.isclose(d2["scene"]["start_time"], 10 * 3600 + 5 * 60)
+    # the TV's space: idle (R = 1.5) in test 1, its therapy on (R = 3.5) in test 2; the table's on in both
+    tv, table = (7.5, 8.9), (8.0, 7.0)
+    assert _objects_layer_at(scene_of(t1), *tv) == pytest.approx(1.5)
+    assert _objects_layer_at(scene_of(t2), *tv) == pytest.approx(3.5)
+    assert _objects_layer_at(scene_of(t1), *table) == _objects_layer_at(scene_of(t2), *table) == pytest.approx(3.5)
+    # and test 1 has nobody watching the idle TV
+    watcher = np.array(next(p["pose"][:2] for p in d2["persons"] if p["name"] == "senior_2"))
+    moved = np.array(next(p["pose"][:2] for p in d1["persons"] if p["name"] == "senior_2"))
+    assert np.linalg.norm(watcher - moved) > 2.0
+
+
+@pytest.mark.parametrize("planner", ["calderita", "social"])
+def test_calderita_table1_rows_differ_in_the_metrics(planner):
+    _needs(planner)
+    t1, t2 = experiments("calderita")[:2]
+    r1 = run_task((scene_of(t1), planner, 0)).record
+    r2 = run_task((scene_of(t2), planner, 0)).record
+    keys = ("d_t", "tau", "chc", "psi_personal", "psi_objects_any", "d_min_senior_1", "d_min_senior_2")
+    assert [r1[k] for k in keys] != [r2[k] for k in keys]
+    # test 1 may use the idle TV's space (the paper's Path 1 does); test 2 must keep out of it while on
+    assert (r2["psi_object_active_tv"] or 0.0) == 0.0
+
+
+def test_daza2021_report_puts_published_beside_measured(tmp_path):
+    _needs("daza2021")
+    out = tmp_path / "daza"
+    report = reproduce.reproduce("daza2021", out, episodes=1, seed=3)
+    assert (out / "report.md").read_text() == report
+    with (out / "episodes.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 10  # 5 paths x (daza2021, social)
+    for k, exp in enumerate(experiments("daza2021"), start=1):
+        assert (out / f"{k}_{exp.scene}.png").stat().st_size > 0
+        own = next(r for r in rows if r["experiment"] == exp.name and r["planner"] == "daza2021")
+        assert own["seed"] == "3"
+        ours = f"{float(own['smooth_rad']):.2f}" if own["smooth_rad"] else "n/a"
+        assert any(
+            line.startswith(f"| smooth_rad | {exp.published['smooth_rad']:g} | {ours}") for line in report.splitlines()
+        ), exp.name
+        assert float(own["smooth_rad"]) ** 2 == pytest.approx(float(own["smooth_rad2"]))
+    assert "## Average over the 5 experiments" in report
+    defined = sum(bool(r["l_ratio"]) for r in rows if r["planner"] == "daza2021")
+    assert f"(over {defined} of 5 paths)" in report
+    assert "## Why ours differ" in report
+
+
+def test_sousa2022_reports_the_figures_claim_from_the_run(tmp_path):
+    _needs("sousa2022")
+    report = reproduce.reproduce("sousa2022", tmp_path / "s", episodes=1, seed=0)
+    with (tmp_path / "s" / "episodes.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    sections = {sec.split(" (`")[0]: sec for sec in report.split("\n## ")[1:]}
+    for exp in experiments("sousa2022"):
+        section = sections[exp.name]
+        for planner in ("sousa2022", "astar", "social"):
+            row = next(r for r in rows if r["experiment"] == exp.name and r["planner"] == planner)
+            rec = {
+                "ospace_pct": float(row["ospace_pct"] or 0.0),
+                "interaction_crossings_person_person": int(row["interaction_crossings_person_person"]),
+            }
+            verdict = "crosses" if crosses_group(rec) else "does not cross"
+            line = next(x for x in section.splitlines() if x.startswith(f"- `{planner}` crosses a group's space in"))
+            assert line.endswith(f"**{verdict}**."), line
+    assert "Groups the robot perceives (Delaunay, at the start)" in report
 
 
 def test_published_data_cites_its_sources():
     data = published()
-    for paper in ("daza2021", "sousa2022", "calderita"):
-        assert data[paper]["source"]
-        assert json.dumps(data[paper]["experiment"])
+    for name in PAPERS:
+        assert data[name]["source"]
+        assert json.dumps(data[name]["experiment"])

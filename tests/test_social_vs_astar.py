@@ -142,7 +142,7 @@ HALVED_KEYS: dict[str, tuple[str, ...]] = {
     "personal": ("psi_personal",),
     "ospace": ("ospace_pct",),
     "interactions": ("interaction_crossings_person_person", "interaction_crossings_person_object"),
-    "objects": ("psi_objects",),
+    "objects": ("psi_objects_active",),
 }
 
 CLAIMS: dict[str, Callable[[Records], None]] = {

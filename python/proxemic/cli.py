@@ -388,7 +388,9 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
     t.set_defaults(func=cmd_tune)
     r = sub.add_parser("reproduce", help="a paper's experiments: our metrics beside the published ones")
-    r.add_argument("paper", choices=["daza2021", "sousa2022", "calderita"], help="which paper")
+    from proxemic.reproduce import PAPERS
+
+    r.add_argument("paper", choices=list(PAPERS), help="which paper (its own planner runs, with plain A* and ours)")
     r.add_argument(
         "--episodes", type=_positive_int, default=5, help="seeded episodes per planner and scene (default: 5)"
     )

@@ -256,7 +256,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         """The robot's episode metrics so far: ``outcome`` and every metric of ``docs/metrics.md``.
 
         Undefined values are ``None`` (e.g. ``time_to_goal`` without success). ``d_min`` holds one
-        value per person (scenario order) and ``psi_object`` / ``psi_object_any`` one per object
+        value per person (scenario order) and ``psi_object_active`` / ``psi_object_any`` one per object
         with an interaction space (scenario order); :func:`flat_metrics` names them.
         """
         return self.world.episode_metrics([0])[0]
@@ -264,7 +264,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     def flat_metrics(self) -> dict[str, Any]:
         """:meth:`metrics` with the per-person and per-object lists as named scalar keys.
 
-        ``d_min`` becomes ``d_min_<person>``, ``psi_object`` ``psi_object_<object>`` and
+        ``d_min`` becomes ``d_min_<person>``, ``psi_object_active`` ``psi_object_active_<object>`` and
         ``psi_object_any`` ``psi_object_any_<object>``: one column per metric in eval's records.
         """
         return flatten_metrics(self.metrics(), self.scenario)
@@ -333,7 +333,7 @@ def flatten_metrics(metrics: Mapping[str, Any], scenario: dict[str, Any]) -> dic
     """Metrics with the per-person and per-object lists as ``<metric>_<name>`` scalar keys."""
     people = [p["name"] for p in scenario.get("persons", [])]
     objects = [o["name"] for o in scenario.get("objects", []) if o.get("interaction") is not None]
-    names = {"d_min": people, "psi_object": objects, "psi_object_any": objects}
+    names = {"d_min": people, "psi_object_active": objects, "psi_object_any": objects}
     out: dict[str, Any] = {}
     for key, value in metrics.items():
         if isinstance(value, list):

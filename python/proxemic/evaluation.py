@@ -34,22 +34,24 @@ RATE_METRICS = ("success", "hc", "wc", "timeout")
 #: goal, path length, path length ratio to the geodesic, SPL, Daza 2021's L_ratio and Smooth),
 #: motion (CHC), distance to people (closest centre distance), and time shares (%) in people's
 #: intimate and personal zones, inside groups' o-spaces and inside object spaces while their
-#: activity is on (Calderita's Psi), plus interaction crossings (person-person and person-object)
-#: per episode.
+#: activity is on (ours) or whatever their state (Calderita's Psi(Objects)), plus interaction
+#: crossings (person-person and person-object) per episode. Smooth is the root of Daza's eq. 2
+#: (rad, the unit of their Table 2); the records also hold eq. 2 itself (``smooth_rad2``).
 MEAN_METRICS = (
     "time_to_goal",
     "path_length",
     "path_length_ratio",
     "spl",
     "l_ratio",
-    "smooth",
+    "smooth_rad",
     "chc",
     "dist_person_min",
     "psi_intimate",
     "psi_personal",
     "ospace_pct",
     "interaction_crossings",
-    "psi_objects",
+    "psi_objects_active",
+    "psi_objects_any",
     "reward",
 )
 
@@ -85,14 +87,15 @@ METRICS: dict[str, MetricInfo] = {
     "path_length_ratio": MetricInfo("path length ratio", "x geodesic", 0.0),
     "spl": MetricInfo("SPL", "", 0.0, 1.0),
     "l_ratio": MetricInfo("L_ratio", "", 0.0),
-    "smooth": MetricInfo("Smooth", "rad²", 0.0, fmt=".3f"),
+    "smooth_rad": MetricInfo("Smooth", "rad", 0.0, fmt=".3f"),
     "chc": MetricInfo("CHC", "rad", 0.0, fmt=".1f"),
     "dist_person_min": MetricInfo("closest person", "m", 0.0),
     "psi_intimate": _pct("intimate-zone time"),
     "psi_personal": _pct("personal-zone time"),
     "ospace_pct": _pct("o-space time"),
     "interaction_crossings": MetricInfo("o-space crossings", "/episode", 0.0, fmt=".1f"),
-    "psi_objects": _pct("object-space time"),
+    "psi_objects_active": _pct("active object-space time"),
+    "psi_objects_any": _pct("object-space time (any state)"),
     "reward": MetricInfo("return", "", fmt=".1f"),
 }
 
@@ -103,7 +106,7 @@ METRIC_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("social", ("dist_person_min", "psi_intimate", "psi_personal", "ospace_pct", "interaction_crossings")),
     (
         "papers' metrics (Daza 2021: L_ratio, Smooth; Calderita et al.: CHC, object-space time Psi)",
-        ("l_ratio", "smooth", "chc", "psi_objects"),
+        ("l_ratio", "smooth_rad", "chc", "psi_objects_any", "psi_objects_active"),
     ),
 )
 
@@ -117,7 +120,7 @@ HEADLINE = (
     "path_length_ratio",
     "psi_personal",
     "interaction_crossings",
-    "psi_objects",
+    "psi_objects_active",
 )
 
 # Two-sided 95% Student t quantiles for 1..30 degrees of freedom (Fisher & Yates tables).
@@ -475,7 +478,7 @@ def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
     """The headline table with units and 95% intervals.
 
     Success, collisions, time to goal, path length ratio, personal-zone time, o-space crossings
-    and object-space time (:data:`HEADLINE`).
+    and active object-space time (:data:`HEADLINE`).
     """
     return _table(rows, HEADLINE)
 
@@ -492,7 +495,7 @@ VERDICT_METRICS: tuple[tuple[str, str], ...] = (
     ("psi_personal", "share"),
     ("ospace_pct", "share"),
     ("interaction_crossings", "share"),
-    ("psi_objects", "share"),
+    ("psi_objects_active", "share"),
 )
 BOOTSTRAP_SAMPLES = 2000
 

@@ -19,7 +19,7 @@ Outcome = Literal["running", "success", "collision", "timeout"]
 class EpisodeMetrics(TypedDict):
     """One robot's episode: the outcome and one key per metric (see ``docs/metrics.md``).
 
-    ``d_min`` holds one value per person and ``psi_object`` / ``psi_object_any`` one per object
+    ``d_min`` holds one value per person and ``psi_object_active`` / ``psi_object_any`` one per object
     with an interaction space, in scenario order.
     """
 
@@ -77,9 +77,10 @@ class EpisodeMetrics(TypedDict):
     interaction_crossings: int
     interaction_crossings_person_person: int
     interaction_crossings_person_object: int
-    psi_object: list[float | None]
+    psi_object_active: list[float | None]
     psi_object_any: list[float | None]
-    psi_objects: float | None
+    psi_objects_any: float | None
+    psi_objects_active: float | None
     ttc_min: float | None
     ttc_below_fraction: float | None
     clearance_min: float | None
@@ -88,7 +89,8 @@ class EpisodeMetrics(TypedDict):
     social_force_on_robot: float
     social_work: float
     l_ratio: float | None
-    smooth: float | None
+    smooth_rad2: float | None
+    smooth_rad: float | None
     smooth_k: int
     d_t: float
     tau: float

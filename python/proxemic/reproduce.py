@@ -1,11 +1,13 @@
 """The seed papers' experiments, re-run: our measured metrics beside the published ones.
 
 ``proxemic reproduce daza2021|sousa2022|calderita`` runs the paper's scenes (bundled in
-``data/envs``) with the planner that stands for the paper's method and with plain A*, on a few
-seeded episodes each, and writes a markdown report (published value, ours as mean ± 95% CI, and
-why they differ), the per-episode records (CSV) and one figure per scene (the executed
-trajectories over the social cost map). The published numbers are data
-(``data/papers/published.json``, each table cited there); ours are measured here.
+``data/envs``) with the paper's own planner (``daza2021``, ``sousa2022``, ``calderita``), with
+plain A* where the paper compares with it, and with proxemic's own ``social`` planner beside them,
+on a few seeded episodes each. It writes a markdown report (published value, ours as mean ± 95%
+CI under the same definition, and why they differ, computed from the run where possible), the
+per-episode records (CSV) and one figure per scene (the executed trajectories over the social
+cost map). The published numbers are data (``data/papers/published.json``, each table cited
+there, keyed by our metric names); ours are measured here.
 """
 
 from __future__ import annotations
@@ -13,12 +15,15 @@ from __future__ import annotations
 import csv
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from proxemic import _core, scenarios
-from proxemic.errors import input_error
+from proxemic.errors import ScenarioError, input_error
 from proxemic.evaluation import EpisodeResult, mean_ci, run_task
 
 #: The papers `reproduce` knows.
@@ -26,73 +31,87 @@ PAPERS = ("daza2021", "sousa2022", "calderita")
 
 _PUBLISHED = Path(__file__).parent / "data" / "papers" / "published.json"
 
-#: Why our numbers differ from the published ones: what each paper left unspecified and what we
-#: approximated. Written from the papers' text (``/work/shared/seeds``) and our scene files.
+#: A measured mean further than this share of the published value (or 0.1 absolute, for values
+#: near 0) is marked and explained.
+TOLERANCE = 0.2
+
+#: What the run cannot tell: the papers' unpublished inputs. Everything the run can measure (our
+#: speed, our reference path, failed episodes, closest approaches, leave/rejoin angles, the
+#: object spaces entered) is explained beside the differing number instead.
 REASONS: dict[str, list[str]] = {
     "daza2021": [
         "Scene geometry: the paper gives no coordinates for Paths 1-5 (Figures 17-21 are Matlab "
         "plots without a scale); our scenes are reconstructions from the figure descriptions, so "
         "the people's positions relative to the A* path, which decide how far the robot must "
         "deviate, are ours.",
-        "Reference path D_A*: the paper's A* is a grid path (its length includes the 8-connected "
-        "zig-zag); ours is the plain A* path after line-of-sight smoothing, as our A* robot "
-        "follows it, so it is already close to the shortest path and L_ratio sits near 1 unless the "
-        "social planner makes a real detour. Our executed path also ends at the success radius "
-        "(0.3 m by default) while D_A* runs to the goal, and the follower cuts corners, which can "
-        "push L_ratio slightly above 1.",
-        "Smooth units: eq. 2 is a mean of squared angles (rad^2), Table 2 prints it in rad; we report "
-        "eq. 2 as defined. The leave/rejoin angles need a tolerance for 'on the A* path' that the "
-        "paper does not give (we use 0.2 m), and with k = 1 eq. 2 divides by zero (we use theta_1^2).",
+        "Reference path D_A*: the paper's A* is a grid path; ours is the plain A* path after "
+        "line-of-sight smoothing (`astar_length`, printed beside L_ratio), and our executed path "
+        "ends at the success radius while D_A* runs to the goal.",
+        "Smooth: Table 2 is compared with `smooth_rad`, the root of eq. 2 (the paper reads its "
+        "values as angles; see docs/metrics.md). The tolerance for 'on the A* path' is not given "
+        "(we use 0.2 m), and with k = 1 eq. 2 divides by zero (we use theta_1^2).",
         "People: the paper's people are static or scripted in Matlab; ours walk routes with a "
         "social-force model and per-episode jitter, so every seed is a slightly different episode.",
     ],
     "sousa2022": [
-        "The paper publishes no numbers for Figures 16 and 17 (only the drawn paths), so there is "
-        "nothing to compare numerically; we report the metrics that measure its claim (time in "
-        "intimate and personal zones, inside groups' o-spaces, interaction crossings).",
-        "Scale and positions: the Matlab scenes are in p.u. without a metric scale and the figures "
-        "are not available; the scenes place people to match the description (see the TOML "
-        "headers).",
-        "Our o-spaces are the ground-truth groups of the scene file (circle through the members), "
-        "not the Delaunay groups the planner perceives, so a misdetected group still counts.",
+        "The paper publishes no numbers for Figures 16 and 17 (only the drawn paths): the "
+        "comparison is the figures' claim, as booleans computed from the run (which groups the "
+        "robot perceives, whether each planner's path crosses a group's o-space or an interaction).",
+        "Scale and positions: the Matlab scenes are in p.u. without a metric scale; the scenes "
+        "place people to match the description (see the TOML headers).",
+        "The o-space and crossing metrics use the scene's ground-truth groups; the perceived "
+        "(Delaunay) groups are listed beside them, so a misdetected group shows.",
     ],
     "calderita": [
         "Scene geometry: the paper gives no coordinates for Fig. 17a/17b; our rooms, objects and "
         "people are reconstructions, so distances (d_t, d_min) and times differ in absolute value; "
         "compare the direction of the differences between the social path and the non-social one.",
-        "Speed and time: the paper's robot is slower (tau/d_t about 7 s/m in Table 1, 4-5 s/m in "
-        "Table 2) than our Pepper limits (0.55 m/s), so our tau is shorter for the same d_t.",
-        "Local planner: the paper uses an elastic band on its social Dijkstra path; we stand in with "
-        "social A* on the social cost map and our path follower (the elastic band of our eband "
-        "planner deforms a plain A* path, not the social one).",
         "Psi zones: the paper does not give its zone radii or whether distances are centre or "
         "surface; we use the scene's Hall zones on centre distance, per control instant.",
-        "Psi(Objects): the paper counts time inside object spaces; it does not say whether an idle "
-        "object's space counts. We report psi_objects as time inside a space while its activity is on "
-        "(psi_object_any per object counts any time inside).",
         "CHC: the paper does not say whether CHC is the body yaw or the motion direction; we report "
-        "the body yaw's (chc) as the same sum of |wrap(theta_{t+1} - theta_t)|.",
-        "Experiment 2: the paper's Path 1 (the robot crossing the occupational therapy room during "
-        "the therapy) has no separate scene; Table 2's Path 2 is our social A* with the agenda "
-        "raising the table's cost during the trip (ramp shortened to 5 minutes, see the scene file).",
-        "Experiment 2 timing: in our scene the table's activity starts 4 minutes after the episode "
-        "starts but the trip takes well under a minute, so no activity is on along the non-social "
-        "path and its Psi(Objects) is 0 where the paper measures 73%; the social path's re-planning "
-        "also has little to react to (a scene issue, reported, not hidden).",
+        "the body yaw's (chc), the sum of |wrap(theta_{t+1} - theta_t)|.",
+        "Psi(Objects) is compared as the paper counts it, any time inside an object space "
+        "(psi_objects_any); psi_objects_active, only while the activity is on, is printed too.",
     ],
 }
 
 
 @dataclass(frozen=True)
 class Experiment:
-    """One published experiment: the scene, its time of day, and which planner it is measured on."""
+    """One published experiment: the scene, its time of day, and which planners it is measured on."""
 
     name: str
     scene: str
     published: dict[str, float]
     start_time: str | None = None
     role: str | None = None
-    """'planner' or 'baseline' when the published column belongs to one of them, else both run."""
+    """'planner' or 'baseline' when the published column belongs to one of them, else all run."""
+
+
+@dataclass(frozen=True)
+class Paper:
+    """A paper's entry of the data file: its planners, metrics and experiments."""
+
+    name: str
+    title: str
+    planner: str
+    """The paper's own system."""
+    baseline: str | None
+    """The plain planner the paper compares with, if any."""
+    ours: str
+    """proxemic's own planner, shown beside the paper's."""
+    metrics: list[str]
+    experiments: list[Experiment]
+    average: dict[str, float]
+    claim: str | None = None
+
+    def planners_of(self, exp: Experiment) -> list[str]:
+        """The planners run on `exp`: the one its published column measures first."""
+        if exp.role == "baseline":
+            return [self.baseline] if self.baseline else []
+        if exp.role == "planner":
+            return [self.planner, self.ours]
+        return [self.planner, *([self.baseline] if self.baseline else []), self.ours]
 
 
 def published() -> dict[str, Any]:
@@ -101,21 +120,74 @@ def published() -> dict[str, Any]:
     return data
 
 
-def experiments(paper: str) -> list[Experiment]:
-    """The experiments of `paper`, in the data file's order."""
+def paper(name: str) -> Paper:
+    """The data file's entry of `name`.
+
+    Raises:
+        InputError: `name` is not one of :data:`PAPERS`.
+
+    """
     data = published()
-    if paper not in data:
-        raise input_error("paper", f"one of {', '.join(PAPERS)}", paper)
-    return [
-        Experiment(
-            name=e["name"],
-            scene=e["scene"],
-            published=dict(e.get("published", {})),
-            start_time=e.get("start_time"),
-            role=e.get("role"),
-        )
-        for e in data[paper]["experiment"]
-    ]
+    if name not in PAPERS or name not in data:
+        raise input_error("paper", f"one of {', '.join(PAPERS)}", name)
+    info = data[name]
+    return Paper(
+        name=name,
+        title=str(info["title"]),
+        planner=str(info["planner"]),
+        baseline=info.get("baseline"),
+        ours=str(info["ours"]),
+        metrics=list(info["metrics"]),
+        experiments=[
+            Experiment(
+                name=e["name"],
+                scene=e["scene"],
+                published=dict(e.get("published", {})),
+                start_time=e.get("start_time"),
+                role=e.get("role"),
+            )
+            for e in info["experiment"]
+        ],
+        average=dict(info.get("average", {})),
+        claim=info.get("claim"),
+    )
+
+
+def experiments(name: str) -> list[Experiment]:
+    """The experiments of paper `name`, in the data file's order."""
+    return paper(name).experiments
+
+
+def check_paper(p: Paper) -> None:
+    """Every scene of `p` is bundled and every planner it names is built in.
+
+    Raises:
+        ScenarioError: a scene is not in the package (``data/envs``), or a planner is unknown.
+
+    """
+    bundled = set(scenarios.available())
+    for k, exp in enumerate(p.experiments):
+        if exp.scene not in bundled:
+            raise ScenarioError(
+                f"{_PUBLISHED.name}: {p.name}.experiment[{k}].scene: expected a scenario bundled in "
+                f"{scenarios.envs_dir()}, found {exp.scene!r} (no {exp.scene}.toml in the package; "
+                f"needed for {exp.name!r})",
+                file=str(_PUBLISHED),
+                field=f"{p.name}.experiment[{k}].scene",
+                expected=f"a bundled scenario ({scenarios.envs_dir()}/<name>.toml)",
+                found=exp.scene,
+            )
+    known = set(_core.PLANNERS)
+    for role, planner in (("planner", p.planner), ("baseline", p.baseline), ("ours", p.ours)):
+        if planner is not None and planner not in known:
+            raise ScenarioError(
+                f"{_PUBLISHED.name}: {p.name}.{role}: expected one of the built-in planners "
+                f"({', '.join(sorted(known))}), found {planner!r}",
+                file=str(_PUBLISHED),
+                field=f"{p.name}.{role}",
+                expected=f"one of {sorted(known)}",
+                found=planner,
+            )
 
 
 def scene_of(exp: Experiment) -> str | _core.Scenario:
@@ -126,95 +198,278 @@ def scene_of(exp: Experiment) -> str | _core.Scenario:
     return core.with_start_time(exp.start_time)
 
 
-def _fmt(mean: float, half: float, n: int) -> str:
-    if n == 0 or math.isnan(mean):
-        return "n/a"
-    if math.isnan(half):
-        return f"{mean:.2f}"
-    return f"{mean:.2f} ± {half:.2f}"
-
-
-def _differs(pub: float, mean: float) -> bool:
-    """More than 20% (or 0.1 absolute, for values near 0) apart."""
+def differs(pub: float, mean: float) -> bool:
+    """More than :data:`TOLERANCE` (or 0.1 absolute, for values near 0) apart; a missing mean differs."""
     if math.isnan(mean):
         return True
-    return abs(mean - pub) > max(0.1, 0.2 * abs(pub))
+    return abs(mean - pub) > max(0.1, TOLERANCE * abs(pub))
 
 
-def reproduce(paper: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
-    """Runs `paper`'s experiments on `episodes` seeds each; writes the report, records and figures.
+def _fmt(mean: float, half: float, n: int, runs: int) -> str:
+    if n == 0 or math.isnan(mean):
+        return f"n/a (0 of {runs})"
+    text = f"{mean:.2f}" if math.isnan(half) else f"{mean:.2f} ± {half:.2f}"
+    return text if n == runs else f"{text} ({n} of {runs})"
+
+
+def _mean(results: Sequence[EpisodeResult], key: str) -> float:
+    return mean_ci(r.record.get(key) for r in results)[0]
+
+
+def _failed(results: Sequence[EpisodeResult]) -> str:
+    bad = [f"seed {r.record['seed']}: {r.record['outcome']}" for r in results if r.record["outcome"] != "success"]
+    return f"{len(bad)} of {len(results)} episodes failed ({'; '.join(bad)})" if bad else ""
+
+
+def explain(
+    metric: str,
+    pub: float,
+    exp: Experiment,
+    results: Sequence[EpisodeResult],
+    zones: Sequence[float] | None = None,
+) -> str:
+    """Why our `metric` differs from the published `pub`, computed from the episodes run.
+
+    Returns the measured quantities that account for the difference (our speed for a time, our
+    reference path for a length ratio, the leave/rejoin angles for Smooth, the closest approaches
+    for the zones, beside the scene's Hall radii `zones` when given, the object spaces entered for
+    Psi(Objects)), and the failed episodes.
+    """
+    parts: list[str] = []
+    d_t, tau = _mean(results, "d_t"), _mean(results, "tau")
+    if metric == "tau" and tau > 0:
+        speed = d_t / tau
+        pub_dt = exp.published.get("d_t")
+        if pub_dt:
+            parts.append(
+                f"our robot averages {speed:.2f} m/s (d_t/tau), the paper's {pub_dt / pub:.2f} m/s "
+                f"({pub_dt:g} m in {pub:g} s); at the paper's speed our {d_t:.2f} m would take "
+                f"{d_t * pub / pub_dt:.1f} s"
+            )
+        else:
+            parts.append(f"our robot averages {speed:.2f} m/s (d_t/tau)")
+    elif metric == "d_t":
+        parts.append(
+            f"our reference path (plain A*, start to goal) is {_mean(results, 'astar_length'):.2f} m "
+            f"and our path {d_t / _mean(results, 'astar_length'):.2f} times it"
+        )
+    elif metric == "l_ratio":
+        astar = _mean(results, "astar_length")
+        parts.append(
+            f"our D_A* is {astar:.2f} m and our executed path {d_t:.2f} m; the published ratio means a "
+            f"path {1 / pub:.2f} times D_A*, ours is {d_t / astar:.2f} times it"
+        )
+    elif metric in ("smooth_rad", "smooth_rad2"):
+        k = _mean(results, "smooth_k")
+        rad = _mean(results, "smooth_rad")
+        pub_rad = math.sqrt(pub) if metric == "smooth_rad2" else pub
+        parts.append(
+            f"our path leaves and rejoins the A* path at k = {k:.1f} angles on average (RMS "
+            f"{math.degrees(rad):.1f} deg); the published value is {math.degrees(pub_rad):.1f} deg"
+        )
+    elif metric == "chc" and d_t > 0:
+        parts.append(
+            f"we turn {_mean(results, 'chc') / d_t:.2f} rad per metre travelled, the paper "
+            f"{pub / exp.published['d_t']:.2f}"
+            if exp.published.get("d_t")
+            else f"we turn {_mean(results, 'chc') / d_t:.2f} rad per metre travelled"
+        )
+    elif metric in ("psi_intimate", "psi_personal", "psi_social", "psi_public"):
+        closest = {k.removeprefix("d_min_"): _mean(results, k) for k in results[0].record if k.startswith("d_min_")}
+        if closest:
+            text = ", ".join(
+                f"{n} {v:.2f} m"
+                + (f" (paper {exp.published['d_min_' + n]:g} m)" if "d_min_" + n in exp.published else "")
+                for n, v in closest.items()
+            )
+            radii = (
+                f" (zones: intimate < {zones[0]:g} m, personal < {zones[1]:g} m, social < {zones[2]:g} m)"
+                if zones
+                else ""
+            )
+            parts.append(
+                f"our closest approach: {text}{radii}, over {_mean(results, 'steps') + 1:.0f} instants per episode"
+            )
+    elif metric.startswith("psi_objects"):
+        spaces = {
+            k.removeprefix("psi_object_any_"): (
+                _mean(results, k),
+                _mean(results, "psi_object_active_" + k.removeprefix("psi_object_any_")),
+            )
+            for k in results[0].record
+            if k.startswith("psi_object_any_")
+        }
+        inside = [f"{n} {a:.1f}% ({b:.1f}% while active)" for n, (a, b) in spaces.items() if a > 0]
+        parts.append(
+            "time inside each object space: " + ", ".join(inside) if inside else "our path enters no object space"
+        )
+    elif metric.startswith("d_min_"):
+        parts.append(f"ours is {_mean(results, metric) - pub:+.2f} m from the paper's")
+    failed = _failed(results)
+    if failed:
+        parts.append(failed + "; success-only metrics (l_ratio) are over the successes")
+    return "; ".join(parts)
+
+
+def sousa_findings(scene: str | _core.Scenario, results: dict[str, list[EpisodeResult]], seed: int) -> list[str]:
+    """Sousa et al. Figs. 16-17, computed: the groups perceived and whether each planner's path crosses one."""
+    from proxemic.social import SocialMap
+
+    smap = SocialMap(scene, seed=seed)
+    perception = smap.perception
+    names = [p["name"] for p in scenarios.load(scene)[1]["persons"]]
+    groups = [[names[i] for i in g] for g in perception["groups"] if len(g) > 1]
+    truth: dict[int, list[str]] = {}
+    for i, gid in enumerate(perception["truth"]):
+        if gid is not None:
+            truth.setdefault(gid, []).append(names[i])
+    lines = [
+        f"- Groups the robot perceives (Delaunay, at the start): {groups or 'none'}; the scene's groups: "
+        f"{[g for g in truth.values() if len(g) > 1] or 'none'}.",
+    ]
+    centres = [
+        (ind["members"], np.asarray(ind["centre"])) for ind in perception["individuals"] if len(ind["members"]) > 1
+    ]
+    for planner, rs in results.items():
+        crossing = [crosses_group(r.record) for r in rs]
+        tracks = [r.robot[:, :2] for r in rs if r.robot is not None]
+        if tracks and centres:
+            closest = ", ".join(
+                f"{'+'.join(names[i] for i in members)} {_closest(tracks, c):.2f} m" for members, c in centres
+            )
+            lines.append(f"- `{planner}`'s closest approach to each perceived group's centre: {closest}.")
+        lines.append(
+            f"- `{planner}` crosses a group's space in {sum(crossing)} of {len(rs)} episodes "
+            f"(o-space time {_mean(rs, 'ospace_pct'):.1f}%, person-person crossings "
+            f"{_mean(rs, 'interaction_crossings_person_person'):.1f} per episode): "
+            f"**{'crosses' if any(crossing) else 'does not cross'}**."
+        )
+    return lines
+
+
+def _closest(tracks: Sequence[np.ndarray], point: np.ndarray) -> float:
+    """Smallest distance (m) from any of the trajectories `tracks` ((N, 2) arrays) to `point`."""
+    return min(float(np.linalg.norm(t - point, axis=1).min()) for t in tracks)
+
+
+def crosses_group(record: dict[str, Any]) -> bool:
+    """Did the episode enter a group's o-space or cross a person-person interaction segment?"""
+    return (record["ospace_pct"] or 0.0) > 0 or int(record["interaction_crossings_person_person"]) > 0
+
+
+def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
+    """Runs paper `name`'s experiments on `episodes` seeds each; writes the report, records and figures.
 
     Returns the report (markdown), also written to ``out / "report.md"``.
+
+    Raises:
+        InputError: `name` is not one of :data:`PAPERS`.
+        ScenarioError: a scene the paper needs is not bundled, or a planner it names is unknown.
+
     """
     from proxemic.social import SocialMap
 
-    exps = experiments(paper)
-    info = published()[paper]
-    planner, baseline = str(info["planner"]), str(info["baseline"])
-    metrics: list[str] = list(info["metrics"])
+    p = paper(name)
+    check_paper(p)
     out.mkdir(parents=True, exist_ok=True)
-    lines = [f"# {info['title']}: published vs measured", ""]
+    lines = [f"# {p.title}: published vs measured", ""]
     lines += [
-        f"Ours: planner `{planner}` (the paper's method) and `{baseline}` (plain A*), {episodes} seeded "
-        f"episodes each (seeds {seed}..{seed + episodes - 1}), mean ± 95% CI (Student t). Published "
-        f"values from `data/papers/published.json`. A `*` marks a measured mean more than 20% "
-        f"(or 0.1) away from the published value. A CI of 0.00 means every seed gave the same "
-        f"episode (the scene randomises nothing that changes the robot's path).",
+        f"Ours: the paper's planner `{p.planner}`"
+        + (f", plain `{p.baseline}` where the paper compares with it" if p.baseline else "")
+        + f" and proxemic's `{p.ours}` beside them; {episodes} seeded episodes each (seeds {seed}.."
+        f"{seed + episodes - 1}), mean ± 95% CI (Student t), '(n of N)' when only n episodes define "
+        f"the metric. Published values from `data/papers/published.json`, under our metric names with "
+        f"the same definitions (docs/metrics.md). A `*` marks a measured mean (in the column the "
+        f"paper's value belongs to, the first) more than {TOLERANCE:.0%} (or 0.1) away; its "
+        f"explanation, computed from the run, follows the table.",
         "",
     ]
-    if "claim" in info:
-        lines += [f"The paper's claim: {info['claim']}.", ""]
+    if p.claim:
+        lines += [f"The paper's claim: {p.claim}.", ""]
     records: list[dict[str, Any]] = []
-    summary: dict[str, list[float]] = {m: [] for m in metrics}
-    for index, exp in enumerate(exps, start=1):
+    per_path: dict[str, dict[str, list[float | None]]] = {pl: {m: [] for m in p.average} for pl in (p.planner, p.ours)}
+    for index, exp in enumerate(p.experiments, start=1):
         scene = scene_of(exp)
-        roles = [exp.role] if exp.role else ["planner", "baseline"]
         results: dict[str, list[EpisodeResult]] = {}
-        for role in roles:
-            name = planner if role == "planner" else baseline
-            results[name] = [run_task((scene, name, seed + k), keep=True) for k in range(episodes)]
-            for r in results[name]:
+        for planner in p.planners_of(exp):
+            results[planner] = [run_task((scene, planner, seed + k), keep=True) for k in range(episodes)]
+            for r in results[planner]:
                 records.append({"experiment": exp.name, **r.record})
-        cols = sorted(
-            {*metrics, *exp.published}, key=lambda m: (m not in metrics, metrics.index(m) if m in metrics else 0, m)
-        )
+        metrics = [*p.metrics, *(m for m in exp.published if m not in p.metrics)]
+        if name == "daza2021":
+            metrics += ["smooth_rad2", "smooth_k", "astar_length"]
+        if name == "calderita":
+            metrics += ["psi_objects_active"]
         names = list(results)
-        lines += [f"## {exp.name} (`{exp.scene}`{', ' + exp.start_time if exp.start_time else ''})", ""]
+        when = f", {exp.start_time}" if exp.start_time else ""
+        lines += [f"## {exp.name} (`{exp.scene}`{when})", ""]
         lines += ["| metric | published | " + " | ".join(f"ours: {n}" for n in names) + " |"]
         lines += ["| --- | --- | " + " | ".join("---" for _ in names) + " |"]
-        for m in cols:
+        notes: dict[tuple[str, str], list[str]] = {}
+        zones = scenarios.load(scene)[1]["proxemics"]["zones"]
+        for m in metrics:
             pub = exp.published.get(m)
             cells = []
             for i, n in enumerate(names):
                 mean, half, k = mean_ci(r.record.get(m) for r in results[n])
-                mark = " *" if pub is not None and i == 0 and _differs(pub, mean) else ""
-                cells.append(_fmt(mean, half, k) + mark)
-                if i == 0 and m in summary and not math.isnan(mean):
-                    summary[m].append(mean)
+                mark = ""
+                if pub is not None and i == 0 and differs(pub, mean):
+                    mark = " *"
+                    why = explain(m, pub, exp, results[n], zones) or "see the reasons below"
+                    notes.setdefault((n, why), []).append(m)
+                cells.append(_fmt(mean, half, k, len(results[n])) + mark)
+                if m in p.average and n in per_path:
+                    per_path[n][m].append(None if k == 0 else mean)
             lines.append(f"| {m} | {'-' if pub is None else f'{pub:g}'} | " + " | ".join(cells) + " |")
         outcomes = {n: sum(r.record["outcome"] == "success" for r in rs) for n, rs in results.items()}
         lines += ["", "Successes: " + ", ".join(f"{n} {k}/{episodes}" for n, k in outcomes.items()), ""]
+        if notes:
+            lines += ["Differences beyond the tolerance, from the run:", ""]
+            lines += [f"- {', '.join(f'`{m}`' for m in ms)} ({n}): {why}." for (n, why), ms in notes.items()]
+            lines += [""]
+        if name == "sousa2022":
+            lines += ["Figure's claim, from the run:", "", *sousa_findings(scene, results, seed), ""]
         first = {n: rs[0].robot[:, :2] for n, rs in results.items() if rs and rs[0].robot is not None}
         png = out / f"{index}_{exp.scene}.png"
         SocialMap(scene, seed=seed).plot(png, paths=first, title=f"{exp.name}: seed {seed}")
         lines += [f"![{exp.name}]({png.name})", ""]
-    if "average" in info:
-        lines += [
-            "## Average over the experiments",
-            "",
-            f"| metric | published | ours: {planner} |",
-            "| --- | --- | --- |",
-        ]
-        for m, pub in info["average"].items():
-            vals = summary.get(m, [])
-            ours = sum(vals) / len(vals) if vals else math.nan
-            lines.append(f"| {m} | {pub:g} | {ours:.2f}{' *' if _differs(pub, ours) else ''} |")
-        lines.append("")
-    lines += ["## Why ours differ", ""] + [f"- {r}" for r in REASONS[paper]] + [""]
+    if p.average:
+        lines += _average_lines(p, per_path)
+    lines += ["## Why ours differ (what the run cannot tell)", ""] + [f"- {r}" for r in REASONS[name]] + [""]
     report = "\n".join(lines)
     (out / "report.md").write_text(report)
     _write_csv(records, out / "episodes.csv")
     return report
+
+
+def average_over_paths(values: Sequence[float | None]) -> tuple[float, int]:
+    """The mean of the paths' values that are defined, and how many there are (a failed path has None)."""
+    defined = [v for v in values if v is not None and not math.isnan(v)]
+    return (sum(defined) / len(defined) if defined else math.nan), len(defined)
+
+
+def _average_lines(p: Paper, per_path: dict[str, dict[str, list[float | None]]]) -> list[str]:
+    total = len(p.experiments)
+    planners = [pl for pl in (p.planner, p.ours) if pl in per_path]
+    lines = [
+        f"## Average over the {total} experiments",
+        "",
+        f"The paper's average is the plain mean of its {total} rows. Ours is the mean of the rows' "
+        f"means; a row whose metric is undefined (every episode failed) is left out and the count "
+        f"says so.",
+        "",
+        "| metric | published | " + " | ".join(f"ours: {pl}" for pl in planners) + " |",
+        "| --- | --- | " + " | ".join("---" for _ in planners) + " |",
+    ]
+    for m, pub in p.average.items():
+        cells = []
+        for i, pl in enumerate(planners):
+            ours, n = average_over_paths(per_path[pl][m])
+            mark = " *" if i == 0 and differs(pub, ours) else ""
+            value = "n/a" if n == 0 else f"{ours:.2f}"
+            cells.append(f"{value} (over {n} of {total} paths){mark}")
+        lines.append(f"| {m} | {pub:g} | " + " | ".join(cells) + " |")
+    return [*lines, ""]
 
 
 def _write_csv(records: list[dict[str, Any]], path: Path) -> None:

@@ -527,7 +527,7 @@ impl PyWorld {
 
     /// Every metric of every robot's episode so far (`docs/metrics.md`): a list with one dict
     /// per robot, the outcome and one key per metric (undefined values as None; `d_min` per
-    /// person and `psi_object` / `psi_object_any` per object with an interaction space as lists).
+    /// person and `psi_object_active` / `psi_object_any` per object with an interaction space as lists).
     /// With `robots` (indices), only those robots' dicts, in that order.
     #[pyo3(signature = (robots = None))]
     fn episode_metrics<'py>(
@@ -547,7 +547,7 @@ impl PyWorld {
     }
 
     /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
-    /// reference path of `l_ratio` and `smooth`), as a (K, 2) float64 array.
+    /// reference path of `l_ratio`, `smooth_rad2` and `smooth_rad`), as a (K, 2) float64 array.
     fn astar_path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, CoreWorld::astar_path)?)
     }

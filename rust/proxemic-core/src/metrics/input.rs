@@ -176,8 +176,8 @@ pub struct EvalContext<'a> {
     /// Shortest collision-free start-goal length `l*` (m), >= 0; `f64::INFINITY` when the goal
     /// is unreachable (ratios then `None`).
     pub geodesic_length: f64,
-    /// The plain A* path on the same start and goal (m), for Daza's `l_ratio` and `smooth`;
-    /// fewer than 2 points makes both `None`.
+    /// The plain A* path on the same start and goal (m), for Daza's `l_ratio`, `smooth_rad2` and
+    /// `smooth_rad`; fewer than 2 points makes them `None`.
     pub astar_path: &'a [Vec2],
     /// Distance from a point to the static geometry (m). Non-finite results are skipped.
     pub clearance: &'a dyn Fn(Vec2) -> f64,

@@ -15,7 +15,8 @@
 //!   time to collision, clearance and social force (items 20-22);
 //! - [`groups`]: o-spaces and interaction crossings (item 19);
 //! - [`objects`]: the objects' interaction spaces (Calderita et al.'s Ψ per object);
-//! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth`; Calderita et al.'s `d_t`, `tau`.
+//! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
+//!   `d_t`, `tau`.
 //!
 //! Each family returns its own struct, flattened into [`FullMetrics`] (one key per metric when
 //! serialised, in the families' order above, the room-left part of [`proximity`] after

@@ -1,9 +1,9 @@
 //! The seed papers' own metrics under their names: Daza et al. 2021's `L_ratio` (eq. 1) and
-//! `Smooth` (eq. 2) against the plain A* path, and Calderita et al.'s `d_t` (distance travelled)
+//! `Smooth` (eq. 2, in rad² as written and its root in rad) against the plain A* path, and Calderita et al.'s `d_t` (distance travelled)
 //! and `tau` (navigation time). Calderita et al.'s other metrics are the same numbers as metrics
 //! of the other families and are recorded there once: `d_min` per person and Ψ per Hall zone in
 //! [`super::ProximityMetrics`] (`d_min`, `psi_*`), CHC (H of eq. 18) in
-//! [`super::MotionMetrics::chc`], Ψ per object in [`super::ObjectMetrics`].
+//! [`super::MotionMetrics::chc`], Ψ per object and Ψ(Objects) in [`super::ObjectMetrics`].
 
 use serde::Serialize;
 
@@ -16,12 +16,17 @@ pub struct PaperMetrics {
     /// Daza et al. 2021 eq. 1: `L_ratio = D_A* / D_SN`, A* polyline length over the executed
     /// path length; `None` without success, with fewer than 2 A* points, or PL < 1e-9 m.
     pub l_ratio: Option<f64>,
-    /// Daza et al. 2021 eq. 2: `Smooth = 1/(k-1) sum_i theta_i²` over the `k` angles (rad)
-    /// between the executed step direction and the A* direction where the path leaves (last
-    /// instant within `astar_tolerance` of the A* polyline, then outside) and rejoins it; 0 for
-    /// `k = 0` and `theta_1²` for `k = 1`; `None` with fewer than 2 A* points.
-    pub smooth: Option<f64>,
-    /// Number `k` of leave/rejoin angles in `smooth`.
+    /// Daza et al. 2021 eq. 2 as written (rad²): `Smooth = 1/(k-1) sum_i theta_i²` over the `k`
+    /// angles (rad) between the executed step direction and the A* direction where the path
+    /// leaves (last instant within `astar_tolerance` of the A* polyline, then outside) and
+    /// rejoins it; 0 for `k = 0` and `theta_1²` for `k = 1`; `None` with fewer than 2 A* points.
+    pub smooth_rad2: Option<f64>,
+    /// The root of eq. 2 (rad): `sqrt(smooth_rad2)`, a root-mean-square leave/rejoin angle (with
+    /// eq. 2's `k - 1` divisor). Daza et al. print Table 2's Smooth in rad and read its values as
+    /// angles (0.08 rad = 4.6°, 0.43 rad = 25°), and only the root of eq. 2 is an angle, so this
+    /// is the one compared with the table (`docs/metrics.md`). `None` when `smooth_rad2` is.
+    pub smooth_rad: Option<f64>,
+    /// Number `k` of leave/rejoin angles in `smooth_rad2`.
     pub smooth_k: usize,
     /// Calderita's d_t (m): distance travelled, equal to `path_length`.
     pub d_t: f64,
@@ -47,11 +52,12 @@ pub(crate) fn evaluate(
         Vec::new()
     };
     let smooth_k = angles.len();
-    let smooth = astar_ok.then(|| {
+    let smooth_rad2 = astar_ok.then(|| {
         let sq = angles.iter().fold(0.0, |acc, a| acc + a * a);
         sq / (smooth_k.saturating_sub(1).max(1)) as f64
     });
-    PaperMetrics { l_ratio, smooth, smooth_k, d_t: path_length, tau: s.steps as f64 * dt }
+    let smooth_rad = smooth_rad2.map(f64::sqrt);
+    PaperMetrics { l_ratio, smooth_rad2, smooth_rad, smooth_k, d_t: path_length, tau: s.steps as f64 * dt }
 }
 
 /// Closest point of a polyline (with at least one point) to `pt`: (distance, unit direction of

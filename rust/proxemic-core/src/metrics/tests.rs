@@ -82,7 +82,7 @@ fn straight_line_at_constant_speed() {
     assert_close(m.proximity.discomfort_frequency, 0.0);
     assert_eq!((m.proximity.dist_person_min, m.proximity.cp_avg, m.clearance.ttc_min), (None, None, None));
     assert_close(m.clearance.ttc_below_fraction, 0.0);
-    assert!(m.proximity.d_min.is_empty() && m.objects.psi_object.is_empty());
+    assert!(m.proximity.d_min.is_empty() && m.objects.psi_object_active.is_empty());
 }
 
 #[test]
@@ -305,10 +305,12 @@ fn object_space_entered_while_active() {
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     let m = evaluate(&t, &PeopleTracks::none(), &Groups::none(), &objects, &ctx(9.0)).expect("valid");
     // Inside at x = 4, 5, 6; active at 5 and 6.
-    assert_close(m.objects.psi_object[0], 20.0);
+    assert_close(m.objects.psi_object_active[0], 20.0);
     assert_close(m.objects.psi_object_any[0], 30.0);
-    assert_close(m.objects.psi_object[1], 0.0);
-    assert_close(m.objects.psi_objects, 20.0);
+    assert_close(m.objects.psi_object_active[1], 0.0);
+    assert_close(m.objects.psi_objects_active, 20.0);
+    // Calderita's reading: any time inside, the idle instant x = 4 included.
+    assert_close(m.objects.psi_objects_any, 30.0);
 }
 
 #[test]
@@ -376,17 +378,19 @@ fn daza_l_ratio_and_smooth() {
     assert_close(m.papers.l_ratio, 10.0 / pl);
     assert_eq!(m.papers.smooth_k, 2);
     // 1/(k - 1) * (2 (pi/4)^2)
-    assert_close(m.papers.smooth, 2.0 * FRAC_PI_4 * FRAC_PI_4);
+    assert_close(m.papers.smooth_rad2, 2.0 * FRAC_PI_4 * FRAC_PI_4);
+    // Its root, in rad: sqrt(2) * pi/4.
+    assert_close(m.papers.smooth_rad, 2f64.sqrt() * FRAC_PI_4);
     // Staying on the A* path: L_ratio 1, Smooth 0.
     let robot = line(10);
     let t = traj(&robot, 1.0, Vec2::new(10.0, 0.0));
     let m = run(&t, &PeopleTracks::none(), &c);
     assert_close(m.papers.l_ratio, 1.0);
-    assert_close(m.papers.smooth, 0.0);
+    assert_close(m.papers.smooth_rad2, 0.0);
     assert_eq!(m.papers.smooth_k, 0);
     // Without an A* path, both undefined.
     let m = run(&t, &PeopleTracks::none(), &ctx(10.0));
-    assert_eq!((m.papers.l_ratio, m.papers.smooth), (None, None));
+    assert_eq!((m.papers.l_ratio, m.papers.smooth_rad2, m.papers.smooth_rad), (None, None, None));
 }
 
 #[test]
@@ -399,7 +403,8 @@ fn smooth_with_one_angle_and_no_success() {
     c.astar_path = &astar;
     let m = run(&t, &PeopleTracks::none(), &c);
     assert_eq!(m.papers.smooth_k, 1);
-    assert_close(m.papers.smooth, FRAC_PI_4 * FRAC_PI_4);
+    assert_close(m.papers.smooth_rad2, FRAC_PI_4 * FRAC_PI_4);
+    assert_close(m.papers.smooth_rad, FRAC_PI_4);
     assert_eq!(m.papers.l_ratio, None);
 }
 
@@ -415,9 +420,9 @@ fn empty_and_single_point_trajectories() {
     assert!(!m.collisions.success && !m.collisions.collision && !m.collisions.timeout);
     assert!(close(m.efficiency.path_length, 0.0) && close(m.papers.tau, 0.0));
     assert_eq!(m.proximity.d_min, vec![None, None]);
-    assert_eq!(m.objects.psi_object, vec![None]);
+    assert_eq!(m.objects.psi_object_active, vec![None]);
     assert_eq!(
-        (m.proximity.psi_public, m.motion.vel_avg, m.clearance.ttc_below_fraction, m.papers.smooth),
+        (m.proximity.psi_public, m.motion.vel_avg, m.clearance.ttc_below_fraction, m.papers.smooth_rad2),
         (None, None, None, None)
     );
     assert_close(m.efficiency.spl, 0.0);
@@ -519,13 +524,16 @@ fn serializes_with_snake_case_columns() {
     for key in [
         "success",
         "l_ratio",
-        "smooth",
+        "smooth_rad2",
+        "smooth_rad",
         "d_t",
         "tau",
         "chc",
         "d_min",
         "psi_intimate",
-        "psi_object",
+        "psi_object_active",
+        "psi_objects_any",
+        "psi_objects_active",
         "spl",
         "ttc_min",
     ] {
@@ -595,9 +603,10 @@ fn serializes_one_key_per_metric_in_the_record_order() {
         "interaction_crossings",
         "interaction_crossings_person_person",
         "interaction_crossings_person_object",
-        "psi_object",
+        "psi_object_active",
         "psi_object_any",
-        "psi_objects",
+        "psi_objects_any",
+        "psi_objects_active",
         "ttc_min",
         "ttc_below_fraction",
         "clearance_min",
@@ -606,7 +615,8 @@ fn serializes_one_key_per_metric_in_the_record_order() {
         "social_force_on_robot",
         "social_work",
         "l_ratio",
-        "smooth",
+        "smooth_rad2",
+        "smooth_rad",
         "smooth_k",
         "d_t",
         "tau",
@@ -691,11 +701,12 @@ proptest::proptest! {
                     let zones = [m.proximity.psi_intimate, m.proximity.psi_personal, m.proximity.psi_social, m.proximity.psi_public];
                     let total: f64 = zones.iter().map(|z| z.unwrap_or(f64::NAN)).sum();
                     proptest::prop_assert!((total - 100.0).abs() < 1e-9, "{}", total);
-                    for f in [m.proximity.discomfort_frequency, m.proximity.personal_space_compliance, m.objects.psi_objects.map(|p| p / 100.0)] {
+                    for f in [m.proximity.discomfort_frequency, m.proximity.personal_space_compliance, m.objects.psi_objects_active.map(|p| p / 100.0)] {
                         let f = f.unwrap_or(f64::NAN);
                         proptest::prop_assert!((0.0..=1.0).contains(&f), "{}", f);
                     }
-                    proptest::prop_assert!(m.objects.psi_object[0] <= m.objects.psi_object_any[0]);
+                    proptest::prop_assert!(m.objects.psi_object_active[0] <= m.objects.psi_object_any[0]);
+                    proptest::prop_assert!(m.objects.psi_objects_active <= m.objects.psi_objects_any);
                 }
                 if let Some(r) = m.papers.l_ratio {
                     proptest::prop_assert!(r > 0.0);
