@@ -3,7 +3,7 @@
 Reports env steps per second (sub-env steps: ``num_envs`` per vector step) as wall time, the
 median over interleaved trials (the machine is shared and noisy), for one plain env, for
 ``make_vec(..., vectorization_mode="sync"|"async")`` and for ``proxemic.vector_env`` (one core
-call per vector step, its worlds' core work in threads; also with ``threads=1``) with each
+call per vector step; with its default one thread, and with as many threads as cores) with each
 ``--num-envs``, and the ratio of ``vector_env`` to the sync vector env measured in the same run.
 Actions are uniform random from a seeded action space; sub-envs reset themselves when an
 episode ends. The async mode runs one subprocess per sub-env, so it only gains with free cores.
@@ -50,8 +50,9 @@ def main() -> None:
     for n in args.num_envs:
         for mode in ("sync", "async"):
             envs[f"make_vec {mode:5s} x{n}"] = (gym.make_vec(ENV_ID, num_envs=n, vectorization_mode=mode), n)
-        envs[f"vector_env x{n}"] = (proxemic.vector_env(ENV_ID, num_envs=n), n)
-        envs[f"vector_env 1 thread x{n}"] = (proxemic.vector_env(ENV_ID, num_envs=n, threads=1), n)
+        envs[f"vector_env x{n}"] = (proxemic.vector_env(ENV_ID, num_envs=n), n)  # one thread
+        threads = min(n, os.cpu_count() or 1)
+        envs[f"vector_env {threads} threads x{n}"] = (proxemic.vector_env(ENV_ID, num_envs=n, threads=threads), n)
     results: dict[str, list[float]] = {k: [] for k in envs}
     for _ in range(TRIALS):
         for name, (env, n) in envs.items():
@@ -65,8 +66,10 @@ def main() -> None:
         med = statistics.median(values)
         print(f"{name:26s} {med:9.0f} steps/s  {med / base:5.2f}x the single env")
     for n in args.num_envs:
-        ratios = [v / s for v, s in zip(results[f"vector_env x{n}"], results[f"make_vec sync  x{n}"], strict=True)]
-        print(f"vector_env / make_vec sync x{n}: {statistics.median(ratios):.2f}x (median of per-trial ratios)")
+        sync = results[f"make_vec sync  x{n}"]
+        for name in [k for k in results if k.startswith("vector_env") and k.endswith(f" x{n}")]:
+            ratios = [v / s for v, s in zip(results[name], sync, strict=True)]
+            print(f"{name} / make_vec sync x{n}: {statistics.median(ratios):.2f}x (median of per-trial ratios)")
 
 
 if __name__ == "__main__":

@@ -175,6 +175,8 @@ def test_vector_env_bad_input_is_a_clear_error():
 
     with pytest.raises(InputError, match="num_envs: expected an integer of at least 1"):
         proxemic.vector_env("museum", num_envs=0)
+    with pytest.raises(InputError, match="threads: expected an integer of at least 1"):
+        proxemic.vector_env("museum", num_envs=2, threads=0)
     envs = proxemic.vector_env("daza2021_path1", num_envs=2)
     try:
         with pytest.raises(NeedsResetError):

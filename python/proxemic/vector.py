@@ -6,14 +6,15 @@
 gymnasium's ``NEXT_STEP`` mode), but a vector step is one call into the Rust core
 (``proxemic._core.step_worlds``): it turns the N worlds' actions into commands, calls back the
 MuJoCo physics of every world (Python, one world after the other), then moves the people and
-computes the metrics, rewards, observations and planners of the N worlds in parallel threads.
-The outputs land in one float64 buffer of N rows, from which the batched observations, rewards,
-flags and infos are sliced without a per-world Python loop.
+computes the metrics, rewards, observations and planners of the N worlds (in parallel threads
+with ``threads=``). The outputs land in one float64 buffer of N rows, from which the batched
+observations, rewards, flags and infos are sliced without a per-world Python loop: that, not the
+threads, is what makes it faster than the sync vector env on a busy machine
+(``benches/vector_bench.py``).
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -64,7 +65,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         planner: str | None = None,
         eband: Mapping[str, float] | None = None,
         goal: Sequence[float] | None = None,
-        threads: int | None = None,
+        threads: int = 1,
     ) -> None:
         """Builds `num_envs` worlds of `scenario`.
 
@@ -78,8 +79,10 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             planner: Replace the scenario's planner (one of ``proxemic.PLANNERS``).
             eband: Elastic-band gains by name.
             goal: The robot's goal (x, y) in metres instead of the scenario's.
-            threads: Threads of the core's step (default: the machine's cores, at most
-                `num_envs`); 1 steps the worlds one after the other on the calling thread.
+            threads: Threads of the core's step (at most `num_envs` are used). The default, 1,
+                steps the worlds one after the other on the calling thread: on a shared 2-core
+                machine more threads measured slower (``benches/vector_bench.py``); try
+                ``os.cpu_count()`` on free cores. Results are the same for any count.
 
         Raises:
             InputError: A bad `num_envs` or `threads`; ScenarioError / UnknownNameError for a bad
@@ -88,10 +91,10 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         super().__init__()
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise input_error("num_envs", "an integer of at least 1", num_envs)
-        if threads is not None and (isinstance(threads, bool) or not isinstance(threads, int) or threads < 1):
-            raise input_error("threads", "None or an integer of at least 1", threads)
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+            raise input_error("threads", "an integer of at least 1", threads)
         self.num_envs = int(num_envs)
-        self.threads = min(threads or os.cpu_count() or 1, self.num_envs)
+        self.threads = min(int(threads), self.num_envs)
         self.autopilot = autopilot
         self.render_mode = None
         core, desc = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)

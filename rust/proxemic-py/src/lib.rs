@@ -12,6 +12,9 @@
 //! returning (`World.step` also to call the Python physics between its two halves, with no
 //! buffer borrowed). A `World` can be moved to and called from any thread (vector envs and thread
 //! pools move envs); pyo3's borrow checking refuses two threads inside the same `World` at once.
+//! `step_worlds` is `World.step` of several worlds in one call (a vector env's step): the physics
+//! callback runs once for all of them, then the worlds' second halves run in scoped threads
+//! (`proxemic_core::world::batch`).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
