@@ -71,7 +71,7 @@ def test_a_misspelt_scenario_gets_did_you_mean(given, suggested, capsys):
 def test_a_misspelt_planner_gets_did_you_mean(capsys):
     assert main(["eval", "--planner", "socail", "--episodes", "1"]) == 2
     err = capsys.readouterr().err
-    assert "planner: expected one of" in err and "got 'socail' (did you mean 'social'?)" in err
+    assert "planner: expected one of" in err and "got \"socail\" (did you mean 'social'?)" in err
     assert main(["video", "--planner", "astra"]) == 2
     assert "(did you mean 'astar'?)" in capsys.readouterr().err
     with pytest.raises(ScenarioError, match="did you mean 'eband'"):

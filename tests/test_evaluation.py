@@ -201,12 +201,16 @@ def test_a_multi_robot_scene_scores_every_robot(tmp_path, capsys):
         assert [r["robot"] for r in csv.DictReader(fh)] == ["0", "1", "2"]
 
 
-def test_a_policy_on_a_multi_robot_scene_is_refused():
+def test_a_policy_on_a_multi_robot_scene_scores_robot_0_for_everyone():
+    """A policy drives robot 0 only: with one, planners are scored on robot 0 too (like for like)."""
     import numpy as np
 
     import proxemic
-    from proxemic.errors import InputError
+    from proxemic.evaluation import EvalConfig, policy_robot_note
+    from proxemic.policy import PolicyRef
 
-    with pytest.raises(InputError, match="expected a single-robot scenario for a user policy") as info:
-        proxemic.evaluate(lambda obs: np.zeros(3), scenario="care_center_multi", episodes=1)
-    assert "care_center_multi with 3 robots" in str(info.value) and "robot 0 only" in str(info.value)
+    result = proxemic.evaluate(lambda obs: np.zeros(3), scenario="care_center_multi", planners=["astar"], episodes=1)
+    assert [(r["planner"], r["robot"]) for r in result.records] == [("<lambda>", 0), ("astar", 0)]
+    cfg = EvalConfig(scenario="care_center_multi", planners=["astar"], policies=[PolicyRef("p", "m:f")])
+    assert policy_robot_note(cfg).startswith("Robot 0 scored only: the scene has 3 robots")
+    assert policy_robot_note(EvalConfig(scenario="museum", planners=["astar"], policies=[PolicyRef("p", "m:f")])) == ""

@@ -79,7 +79,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, headline_markdown, robots_note, run_evaluation
+    from proxemic.evaluation import EvalConfig, headline_markdown, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
     policies = []
@@ -104,7 +104,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     result = run_evaluation(cfg)
     print()
     print(headline_markdown(result.summary))
-    if note := robots_note(result.summary):
+    if note := robots_note(result.summary) or policy_robot_note(cfg):
         print()
         print(note)
     for v in result.verdicts:

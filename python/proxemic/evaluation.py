@@ -315,16 +315,6 @@ def check_policies(cfg: EvalConfig) -> None:
             wrong shape, a duplicated label, or a policy object on a backend that cannot run it.
     """
     labels = cfg.labels
-    if cfg.policies:
-        core, desc = scenarios.load(cfg.scenario)
-        if core.num_robots > 1:
-            raise input_error(
-                "scenario",
-                "a single-robot scenario for a user policy",
-                f"{desc['scene']['name']} with {core.num_robots} robots",
-                note="a policy drives robot 0 only while the others follow their built-in planners; "
-                "evaluate it on a single-robot scene, or drive every robot through proxemic.parallel_env",
-            )
     for ref in cfg.policies:
         if labels.count(ref.name) > 1:
             raise input_error("policy_name", f"a label no other policy or planner has (taken: {labels})", ref.name)
@@ -444,13 +434,16 @@ class Backend:
 def iter_results(cfg: EvalConfig) -> Iterator[EpisodeResult]:
     """Runs every episode of `cfg` on its backend, yielding results in task order.
 
-    On a multi-robot scene an episode yields one result per robot (robot 0 first).
+    On a multi-robot scene an episode yields one result per robot (robot 0 first), unless user
+    policies are evaluated: a policy drives robot 0 only, so then every planner is scored on robot 0
+    too (like for like; see :func:`policy_robot_note`).
     """
     keep = [(t, (t[2] - cfg.seed) < cfg.keep_trajectories) for t in cfg.tasks()]
     with Backend(cfg.backend, cfg.workers, cfg.ray_address) as backend:
         for res in backend.imap(_run_task_kw, keep):
             yield res
-            yield from res.others
+            if not cfg.policies:  # a policy drives robot 0 only: everyone is scored on robot 0
+                yield from res.others
 
 
 def t95(n: int) -> float:
@@ -501,7 +494,8 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     for planner in planners:
         recs = [r for r in records if r["planner"] == planner]
         robots = len({r.get("robot", 0) for r in recs})
-        row: dict[str, Any] = {"planner": planner, "episodes": len({r["seed"] for r in recs}), "robots": robots}
+        episodes = sum(1 for r in recs if r.get("robot", 0) == 0)
+        row: dict[str, Any] = {"planner": planner, "episodes": episodes, "robots": robots}
         for m in (*RATE_METRICS, "collision"):
             k = sum(_collided(r) if m == "collision" else bool(r.get(m)) for r in recs)
             p, lo, hi = wilson(k, len(recs))
@@ -562,6 +556,19 @@ def robots_note(rows: Sequence[Mapping[str, Any]]) -> str:
         f"Every robot scored: the planner drives all {robots} robots of each episode and every robot is one "
         f"sample (the `robot` column of the records); rates and means are over episodes x {robots} robots "
         "(robots of one episode are not independent: the intervals are narrower than for as many episodes)."
+    )
+
+
+def policy_robot_note(cfg: EvalConfig) -> str:
+    """What an evaluation with user policies on a multi-robot scene scores (empty otherwise)."""
+    if not cfg.policies:
+        return ""
+    core, _ = scenarios.load(cfg.scenario)
+    if core.num_robots <= 1:
+        return ""
+    return (
+        f"Robot 0 scored only: the scene has {core.num_robots} robots and a policy drives robot 0 "
+        "(the others keep their built-in planners), so every planner is scored on robot 0 as well."
     )
 
 

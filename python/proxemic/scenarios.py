@@ -87,7 +87,8 @@ def check_planner(name: str) -> None:
     """Raises :class:`ScenarioError` for a planner name that is not one of ``PLANNERS``, with a suggestion."""
     if name not in _core.PLANNERS:
         raise ScenarioError(
-            f"planner: expected one of {list(_core.PLANNERS)}, got {name!r}{suggest(name, _core.PLANNERS)}",
+            f"planner: expected one of {json.dumps(list(_core.PLANNERS))}, got {json.dumps(name)}"
+            f"{suggest(name, _core.PLANNERS)}",
             field="planner",
             expected=f"one of {list(_core.PLANNERS)}",
             found=name,
