@@ -214,3 +214,20 @@ def test_a_policy_on_a_multi_robot_scene_scores_robot_0_for_everyone():
     cfg = EvalConfig(scenario="care_center_multi", planners=["astar"], policies=[PolicyRef("p", "m:f")])
     assert policy_robot_note(cfg).startswith("Robot 0 scored only: the scene has 3 robots")
     assert policy_robot_note(EvalConfig(scenario="museum", planners=["astar"], policies=[PolicyRef("p", "m:f")])) == ""
+
+
+def test_run_task_on_a_multi_robot_scene_keeps_robot_0s_episode_as_the_single_env_gives():
+    """reproduce uses run_task(keep=True): robot 0's trajectory, people and path are unchanged."""
+    import numpy as np
+
+    from proxemic.env import ProxemicEnv
+    from proxemic.evaluation import run_task
+    from proxemic.runner import run_episode
+
+    res = run_task(("daza2021_path3", "social", 2), keep=True)
+    env = ProxemicEnv("daza2021_path3", autopilot=True, planner="social")
+    rec = run_episode("daza2021_path3", 2, env=env)
+    env.close()
+    for ours, single in ((res.robot, rec.robot), (res.people, rec.people), (res.path, rec.path)):
+        np.testing.assert_array_equal(ours, single)
+    assert [o.record["robot"] for o in res.others] == [1]

@@ -281,12 +281,14 @@ def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
     path = env.planned_path() if keep else None
     people = [env.people()[:, :2]] if keep else []
     totals = np.zeros(ws.num_robots)
+    first_running = True
     while True:
         ws.step()
         outcome = ws.step_outcome()
         totals += [r for r, _, _ in outcome]
-        if keep:
+        if keep and first_running:  # the people while robot 0 runs, as the single-robot env gives
             people.append(env.people()[:, :2])
+        first_running = not (outcome[0][1] or outcome[0][2])
         if all(t or u for _, t, u in outcome):
             break
     results = []
