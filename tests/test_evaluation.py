@@ -167,3 +167,73 @@ def test_an_interrupted_run_keeps_the_finished_records(tmp_path, monkeypatch, ca
     with (out / "episodes.csv").open() as fh:
         assert [r["seed"] for r in csv.DictReader(fh)] == ["0"]
     assert pq.read_table(out / "episodes.parquet").num_rows == 1
+
+
+def test_a_multi_robot_scene_scores_every_robot(tmp_path, capsys):
+    """care_center_multi has 3 robots: every robot of every episode is a record (``robot`` column),
+    the summary is over all of them and says so, and robot 0's record is the single env's."""
+    import numpy as np
+
+    import proxemic
+    from proxemic.env import ProxemicEnv, flatten_metrics
+    from proxemic.evaluation import robots_note
+    from proxemic.runner import run_episode
+
+    result = proxemic.evaluate(scenario="care_center_multi", planners=["social"], episodes=2, seed=3)
+    assert [(r["seed"], r["robot"]) for r in result.records] == [(s, k) for s in (3, 4) for k in range(3)]
+    (row,) = result.summary
+    assert (row["episodes"], row["robots"]) == (2, 3)
+    assert row["success"] == sum(bool(r["success"]) for r in result.records) / 6
+    assert "Every robot scored" in result.summary_markdown() and "2 x 3 robots" in result.summary_markdown()
+    # every robot's episode ran to its end, and the robots' episodes differ
+    assert all(r["outcome"] in ("success", "collision", "timeout") for r in result.records)
+    assert len({r["path_length"] for r in result.records}) == 6
+    # robot 0: what the single-robot env measures on the same seed
+    env = ProxemicEnv("care_center_multi", autopilot=True, planner="social")
+    rec = run_episode("care_center_multi", 4, env=env)
+    single = {"reward": rec.total_reward, **flatten_metrics(rec.metrics, env.scenario)}
+    env.close()
+    robot0 = next(r for r in result.records if (r["seed"], r["robot"]) == (4, 0))
+    for key, value in single.items():
+        assert robot0[key] == value or (isinstance(value, float) and np.isnan(value) and np.isnan(robot0[key])), key
+    # single-robot scenes: no note, one robot per episode
+    assert robots_note([{"robots": 1}]) == ""
+    # the CLI prints the note too
+    out = tmp_path / "multi"
+    args = ["eval", "--scenario", "care_center_multi", "--episodes", "1", "--workers", "1", "--out", str(out)]
+    assert main(args) == 0
+    assert "Every robot scored: the planner drives all 3 robots" in capsys.readouterr().out
+    with (out / "episodes.csv").open() as fh:
+        assert [r["robot"] for r in csv.DictReader(fh)] == ["0", "1", "2"]
+
+
+def test_a_policy_on_a_multi_robot_scene_scores_robot_0_for_everyone():
+    """A policy drives robot 0 only: with one, planners are scored on robot 0 too (like for like)."""
+    import numpy as np
+
+    import proxemic
+    from proxemic.evaluation import EvalConfig, policy_robot_note
+    from proxemic.policy import PolicyRef
+
+    result = proxemic.evaluate(lambda obs: np.zeros(3), scenario="care_center_multi", planners=["astar"], episodes=1)
+    assert [(r["planner"], r["robot"]) for r in result.records] == [("<lambda>", 0), ("astar", 0)]
+    cfg = EvalConfig(scenario="care_center_multi", planners=["astar"], policies=[PolicyRef("p", "m:f")])
+    assert policy_robot_note(cfg).startswith("Robot 0 scored only: the scene has 3 robots")
+    assert policy_robot_note(EvalConfig(scenario="museum", planners=["astar"], policies=[PolicyRef("p", "m:f")])) == ""
+
+
+def test_run_task_on_a_multi_robot_scene_keeps_robot_0s_episode_as_the_single_env_gives():
+    """reproduce uses run_task(keep=True): robot 0's trajectory, people and path are unchanged."""
+    import numpy as np
+
+    from proxemic.env import ProxemicEnv
+    from proxemic.evaluation import run_task
+    from proxemic.runner import run_episode
+
+    res = run_task(("daza2021_path3", "social", 2), keep=True)
+    env = ProxemicEnv("daza2021_path3", autopilot=True, planner="social")
+    rec = run_episode("daza2021_path3", 2, env=env)
+    env.close()
+    for ours, single in ((res.robot, rec.robot), (res.people, rec.people), (res.path, rec.path)):
+        np.testing.assert_array_equal(ours, single)
+    assert [o.record["robot"] for o in res.others] == [1]

@@ -92,9 +92,11 @@ def test_evaluate_runs_the_policy_and_the_planners_on_the_same_seeds(at_root, tm
     assert table.num_rows == 4 and "psi_personal" in table.column_names
     for name in ("episodes.csv", "episodes.parquet", "summary.md", "metrics.png", "trajectories_my_policy.png"):
         assert (tmp_path / name).exists(), name
-    # the planner's records are those of a planner-only run: the policy does not disturb them
+    # the planner's records are those of a planner-only run: the policy does not disturb them (SCENE
+    # has 2 robots: a planner-only run scores both, a run with a policy robot 0, the policy's robot)
     alone = proxemic.evaluate(scenario=SCENE, episodes=2, seed=5, planners=["astar"])
-    assert alone.records == result.records[2:]
+    assert [r["robot"] for r in alone.records] == [0, 1, 0, 1]
+    assert [r for r in alone.records if r["robot"] == 0] == result.records[2:]
 
 
 def test_cli_policy_gives_the_same_records_on_processes_and_ray(at_root, tmp_path, capsys):

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import gymnasium as gym
 import numpy as np
+import pytest
 
-import proxemic  # noqa: F401  (registers the environments)
+import proxemic
 
 ENV_ID = "proxemic/Museum-v0"
 STEPS = 25
@@ -47,3 +48,146 @@ def test_make_vec_sync_and_async_step_identically_and_match_plain_envs():
     env.close()
     moved = np.abs(sync[-1][0] - sync[0][0]).max()
     assert moved > 0.01  # the robots did move
+
+
+# ---------------------------------------------------------------- proxemic.vector_env (one core call)
+
+
+def _short_scene(tmp_path, max_time: float = 3.0):
+    """daza2021_path1 with episodes of `max_time` seconds: autoresets within a short test."""
+    from proxemic import scenarios
+
+    text = (scenarios.envs_dir() / "daza2021_path1.toml").read_text()
+    assert "max_time = 60.0" in text
+    path = tmp_path / "short.toml"
+    path.write_text(text.replace("max_time = 60.0", f"max_time = {max_time}"))
+    return path
+
+
+def test_vector_env_is_a_gymnasium_vector_env_with_batched_spaces():
+    envs = proxemic.vector_env("museum", num_envs=3)
+    try:
+        assert isinstance(envs, gym.vector.VectorEnv)
+        assert envs.num_envs == 3
+        assert envs.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
+        single = gym.make(ENV_ID)
+        assert envs.single_observation_space == single.observation_space
+        assert envs.single_action_space == single.action_space
+        assert envs.action_space.shape == (3, 3)
+        obs, infos = envs.reset(seed=0)
+        assert obs in envs.observation_space
+        assert infos["_reward_progress"].all() and infos["planner_mode"].shape == (3,)
+        obs, *_ = envs.step(envs.action_space.sample())
+        assert obs in envs.observation_space
+        single.close()
+    finally:
+        envs.close()
+
+
+def test_vector_env_world_k_is_the_plain_env_seeded_seed_plus_k():
+    actions = _actions(3)
+    envs = proxemic.vector_env("museum", num_envs=3)
+    obs, _ = envs.reset(seed=7)
+    vec = [(obs, None, None, None)]
+    for a in actions:
+        o, r, te, tr, _ = envs.step(a)
+        vec.append((o, r, te, tr))
+    envs.close()
+    for k in range(3):
+        env = gym.make(ENV_ID)
+        o, _ = env.reset(seed=7 + k)
+        for key in o:
+            np.testing.assert_array_equal(o[key], vec[0][0][key][k])
+        for t, a in enumerate(actions[:, k]):
+            o, r, te, tr, _ = env.step(a)
+            vo, vr, vte, vtr = vec[t + 1]
+            for key in o:
+                np.testing.assert_array_equal(o[key], vo[key][k], err_msg=f"world {k}, step {t}, {key}")
+            assert (r, te, tr) == (vr[k], vte[k], vtr[k])
+        env.close()
+    assert not np.array_equal(vec[-1][0]["robot"][0], vec[-1][0]["robot"][1])  # distinct episodes
+
+
+def _same(a, b, where):
+    if isinstance(a, tuple):
+        assert len(a) == len(b), where
+        for k, (x, y) in enumerate(zip(a, b, strict=True)):
+            _same(x, y, f"{where}[{k}]")
+    elif isinstance(a, dict):
+        assert set(a) == set(b), where
+        for key in a:
+            _same(a[key], b[key], f"{where}.{key}")
+    else:
+        a, b = np.asarray(a), np.asarray(b)
+        assert a.shape == b.shape, where
+        if a.dtype == object:
+            assert a.tolist() == b.tolist(), where
+        else:
+            np.testing.assert_array_equal(a, b, err_msg=where)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_vector_env_autoresets_as_the_sync_vector_env(tmp_path, threads):
+    """Episodes of 3 s (30 steps) end within 70 steps: the NEXT_STEP autoreset, rewards, flags,
+    observations and infos (metrics included) equal gymnasium's sync vector env's."""
+    from proxemic.env import ProxemicEnv
+
+    path = _short_scene(tmp_path)
+    ours = proxemic.vector_env(path, num_envs=2, threads=threads)
+    sync = gym.vector.SyncVectorEnv([lambda: ProxemicEnv(path)] * 2)
+    actions = np.random.default_rng(3).uniform(-1, 1, size=(70, 2, 3)).astype(np.float32)
+    try:
+        a, b = ours.reset(seed=5), sync.reset(seed=5)
+        _same(a, b, "reset")
+        ends = 0
+        for t, act in enumerate(actions):
+            a, b = ours.step(act), sync.step(act)
+            _same(a, b, f"step {t}")
+            ends += int(np.sum(a[2] | a[3]))
+        assert ends >= 2  # episodes did end (and the worlds were reset on the next step)
+        # reset(seed=None) continues each world's stream, as the sync env's sub-envs do
+        _same(ours.reset(), sync.reset(), "reset without seed")
+    finally:
+        ours.close()
+        sync.close()
+
+
+def test_vector_env_reset_mask_and_seed_lists():
+    envs = proxemic.vector_env("daza2021_path1", num_envs=2)
+    try:
+        first, _ = envs.reset(seed=[4, 9])
+        single = gym.make("proxemic/Daza2021Path1-v0")
+        o, _ = single.reset(seed=9)
+        np.testing.assert_array_equal(first["lidar"][1], o["lidar"])
+        envs.step(np.zeros((2, 3)))
+        moved, *_ = envs.step(np.ones((2, 3)))
+        obs, infos = envs.reset(seed=[4, None], options={"reset_mask": np.array([True, False])})
+        np.testing.assert_array_equal(obs["lidar"][0], first["lidar"][0])  # world 0 reset with seed 4
+        np.testing.assert_array_equal(obs["lidar"][1], moved["lidar"][1])  # world 1 untouched
+        assert infos["_is_success"].tolist() == [True, False]
+        single.close()
+    finally:
+        envs.close()
+
+
+def test_vector_env_bad_input_is_a_clear_error():
+    from proxemic.errors import InputError, NeedsResetError
+
+    with pytest.raises(InputError, match="num_envs: expected an integer of at least 1"):
+        proxemic.vector_env("museum", num_envs=0)
+    with pytest.raises(InputError, match="threads: expected an integer of at least 1"):
+        proxemic.vector_env("museum", num_envs=2, threads=0)
+    envs = proxemic.vector_env("daza2021_path1", num_envs=2)
+    try:
+        with pytest.raises(NeedsResetError):
+            envs.step(np.zeros((2, 3)))
+        envs.reset(seed=0)
+        with pytest.raises(InputError, match=r"actions: expected a \(2, 3\) array"):
+            envs.step(np.zeros(3))
+        with pytest.raises(InputError, match=r"actions\[1\]: expected 3 finite"):
+            envs.step(np.array([[0, 0, 0], [np.nan, 0, 0]]))
+        with pytest.raises(InputError, match="seed"):
+            envs.reset(seed=[1, 2, 3])
+        envs.step(np.zeros((2, 3)))  # still usable after refused input
+    finally:
+        envs.close()

@@ -12,7 +12,7 @@ Usage::
     obs, info = env.reset(seed=0)
 
 Public names: the environments (:class:`ProxemicEnv`, :func:`parallel_env`,
-:class:`ProxemicParallelEnv`, ``ENV_IDS``), the validated scenario of the core (:class:`Scenario`)
+:class:`ProxemicParallelEnv`, :func:`vector_env`, ``ENV_IDS``), the validated scenario of the core (:class:`Scenario`)
 and the names it accepts (``PLANNERS``, ``EBAND_GAINS``), :func:`parse_time_of_day`, and the
 exception hierarchy under :class:`ProxemicError`. The metrics are described in ``docs/metrics.md``
 and the algorithms in ``docs/algorithms.md``.
@@ -39,6 +39,7 @@ if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
     from proxemic.evaluation import EvalResult
     from proxemic.parallel import ProxemicParallelEnv
+    from proxemic.vector import ProxemicVectorEnv
 
 __version__: str = _core.__version__
 
@@ -51,6 +52,13 @@ def parallel_env(*args: Any, **kwargs: Any) -> ProxemicParallelEnv:
     PettingZoo is imported on first use (the ``multi`` extra).
     """
     from proxemic.parallel import parallel_env as make
+
+    return make(*args, **kwargs)
+
+
+def vector_env(*args: Any, **kwargs: Any) -> ProxemicVectorEnv:
+    """N worlds of a scenario as a gymnasium ``VectorEnv`` in one core call; see :func:`proxemic.vector.vector_env`."""
+    from proxemic.vector import vector_env as make
 
     return make(*args, **kwargs)
 
@@ -93,4 +101,5 @@ __all__ = [
     "evaluate",
     "parallel_env",
     "parse_time_of_day",
+    "vector_env",
 ]

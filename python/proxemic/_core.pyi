@@ -24,6 +24,16 @@ PLANNERS: list[str]
 EBAND_GAINS: list[str]
 
 def parse_time_of_day(value: str | float) -> float: ...
+def step_worlds(
+    worlds: Sequence[World],
+    actions: npt.NDArray[np.float64],
+    physics: Callable[[], object],
+    state: npt.NDArray[np.float64],
+    contacts: npt.NDArray[np.uint8],
+    out: npt.NDArray[np.float64],
+    people_out: npt.NDArray[np.float64],
+    threads: int | None = None,
+) -> None: ...
 
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""

@@ -12,7 +12,7 @@ from typing import NoReturn
 
 import numpy as np
 
-from proxemic import PLANNERS, scenarios
+from proxemic import scenarios
 from proxemic.errors import ProxemicError
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
@@ -79,7 +79,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
+    from proxemic.evaluation import EvalConfig, headline_markdown, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
     policies = []
@@ -104,6 +104,9 @@ def cmd_eval(args: argparse.Namespace) -> int:
     result = run_evaluation(cfg)
     print()
     print(headline_markdown(result.summary))
+    if note := robots_note(result.summary) or policy_robot_note(cfg):
+        print()
+        print(note)
     for v in result.verdicts:
         print()
         print(v)
@@ -287,24 +290,41 @@ def _finite_float(text: str) -> float:
     return value
 
 
+def _planner_help(what: str) -> str:
+    """`what` followed by the built-in planners' names (``proxemic.PLANNERS``)."""
+    from proxemic import PLANNERS
+
+    return f"{what}; one of: {', '.join(PLANNERS)}"
+
+
+#: The scenario argument's help: names, env ids and paths are all accepted.
+SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v0; see `proxemic scenes`) or TOML path"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``proxemic`` command."""
     p = _Parser(prog="proxemic", description="Evaluation gym for socially-aware robot navigation.")
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("demo", help="planners compared in the museum and the care center, with plots")
-    d.add_argument("--scenario", action="append", help="scenario(s) to run (default: museum and care_center)")
-    d.add_argument("--planner", action="append", help="planner(s) to compare (default: astar, social_astar and social)")
+    d.add_argument(
+        "--scenario", action="append", help=f"scenario(s) to run: {SCENARIO_HELP} (default: museum and care_center)"
+    )
+    d.add_argument(
+        "--planner",
+        action="append",
+        help=_planner_help("planner(s) to compare (default: astar, social_astar and social)"),
+    )
     d.add_argument("--episodes", type=_positive_int, default=10, help="seeded episodes per planner (default: 10)")
     d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
     d.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
     e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
-    e.add_argument("--scenario", default="museum", help="bundled scenario name or TOML path (default: museum)")
+    e.add_argument("--scenario", default="museum", help=f"{SCENARIO_HELP} (default: museum)")
     e.add_argument(
         "--planner",
         action="append",
-        help=f"a built-in planner ({', '.join(PLANNERS)}); repeat to compare (default: astar without --policy)",
+        help=_planner_help("a built-in planner; repeat to compare (default: astar without --policy)"),
     )
     e.add_argument(
         "--policy",
@@ -326,11 +346,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_video_view_args(e)
     e.set_defaults(func=cmd_eval)
     v = sub.add_parser("video", help="record one seeded episode as an mp4")
-    v.add_argument("--scenario", default="museum", help="scenario name, TOML path or env id (default: museum)")
+    v.add_argument("--scenario", default="museum", help=f"{SCENARIO_HELP} (default: museum)")
     v.add_argument(
-        "--planner",
-        default=None,
-        help=f"the robot's built-in planner, one of {', '.join(PLANNERS)} (default: the scenario's)",
+        "--planner", default=None, help=_planner_help("the robot's built-in planner (default: the scenario's)")
     )
     v.add_argument("--seed", type=int, default=0, help="episode seed (default: 0)")
     v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
@@ -342,7 +360,9 @@ def build_parser() -> argparse.ArgumentParser:
     v.set_defaults(func=cmd_video)
     t = sub.add_parser("tune", help="Calderita's gain search: controller gains minimising G = aH + bD + cQ + dP")
     t.add_argument(
-        "--scenario", action="append", help="target scene(s), repeat for several (default: calderita_exp1 and _exp2)"
+        "--scenario",
+        action="append",
+        help=f"target scene(s): {SCENARIO_HELP}; repeat for several (default: calderita_exp1 and _exp2)",
     )
     t.add_argument(
         "--target",

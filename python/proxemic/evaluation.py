@@ -171,6 +171,8 @@ class EpisodeResult:
     robot: np.ndarray | None = field(default=None, repr=False)
     people: np.ndarray | None = field(default=None, repr=False)
     path: np.ndarray | None = field(default=None, repr=False)
+    others: list[EpisodeResult] = field(default_factory=list, repr=False)
+    """On a multi-robot scene, the other robots' records of the same episode (robot 1, 2, ...)."""
 
 
 _ENV_CACHE: dict[tuple[Any, ...], Any] = {}
@@ -235,7 +237,13 @@ def policy_env(scenario: str | _core.Scenario, ref: PolicyRef) -> tuple[Any, Pol
 
 
 def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool = False) -> EpisodeResult:
-    """Runs one (scenario, planner or policy, seed) episode in this process (envs cached per process)."""
+    """Runs one (scenario, planner or policy, seed) episode in this process (envs cached per process).
+
+    The result is robot 0's record (column ``robot`` = 0). On a scene with several robots, a
+    built-in planner drives every robot and the episode runs until every robot's episode ended;
+    the other robots' records are in ``others`` (a user policy drives robot 0 only and is refused
+    there by :func:`check_policies`).
+    """
     from proxemic.env import flatten_metrics
     from proxemic.runner import run_episode
 
@@ -246,13 +254,62 @@ def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool
         label = planner.name
     else:
         env = cached_env(scenario, planner)
+        if env.ws.num_robots > 1:
+            return _run_team(env, seed, planner, keep)
         rec = run_episode(scenario, seed, env=env)
         label = planner
-    record = {"scenario": env.scenario["scene"]["name"], "planner": label, "seed": seed, "reward": rec.total_reward}
+    record = {
+        "scenario": env.scenario["scene"]["name"],
+        "planner": label,
+        "seed": seed,
+        "robot": 0,
+        "reward": rec.total_reward,
+    }
     record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
         return EpisodeResult(record, rec.robot, rec.people, rec.path)
     return EpisodeResult(record)
+
+
+def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
+    """One episode of a multi-robot scene with every robot on its built-in planner, to the last robot's end.
+
+    Robot 0's record is the one the single-robot env gives (a robot's metrics and reward stop at
+    its own episode's end); robot k's record has ``robot`` = k.
+    """
+    from proxemic.env import flatten_metrics
+
+    env.reset(seed=seed)
+    ws = env.ws
+    path = env.planned_path() if keep else None
+    people = [env.people()[:, :2]] if keep else []
+    totals = np.zeros(ws.num_robots)
+    first_running = True
+    while True:
+        ws.step()
+        outcome = ws.step_outcome()
+        totals += [r for r, _, _ in outcome]
+        if keep and first_running:  # the people while robot 0 runs, as the single-robot env gives
+            people.append(env.people()[:, :2])
+        first_running = not (outcome[0][1] or outcome[0][2])
+        if all(t or u for _, t, u in outcome):
+            break
+    results = []
+    for i, metrics in enumerate(env.world.episode_metrics()):
+        record = {
+            "scenario": env.scenario["scene"]["name"],
+            "planner": planner,
+            "seed": seed,
+            "robot": i,
+            "reward": float(totals[i]),
+        }
+        record.update(flatten_metrics(metrics, env.scenario))
+        results.append(EpisodeResult(record))
+    first = results[0]
+    if keep:
+        first.robot, first.people, first.path = np.asarray(env.world.trajectory(0)), np.array(people), path
+    first.others = results[1:]
+    return first
 
 
 def check_policies(cfg: EvalConfig) -> None:
@@ -372,10 +429,18 @@ class Backend:
 
 
 def iter_results(cfg: EvalConfig) -> Iterator[EpisodeResult]:
-    """Runs every episode of `cfg` on its backend, yielding results in task order."""
+    """Runs every episode of `cfg` on its backend, yielding results in task order.
+
+    On a multi-robot scene an episode yields one result per robot (robot 0 first), unless user
+    policies are evaluated: a policy drives robot 0 only, so then every planner is scored on robot 0
+    too (like for like; see :func:`policy_robot_note`).
+    """
     keep = [(t, (t[2] - cfg.seed) < cfg.keep_trajectories) for t in cfg.tasks()]
     with Backend(cfg.backend, cfg.workers, cfg.ray_address) as backend:
-        yield from backend.imap(_run_task_kw, keep)
+        for res in backend.imap(_run_task_kw, keep):
+            yield res
+            if not cfg.policies:  # a policy drives robot 0 only: everyone is scored on robot 0
+                yield from res.others
 
 
 def t95(n: int) -> float:
@@ -417,13 +482,17 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
 
     Rates ``m`` have ``m_lo``/``m_hi``; means have ``m_ci`` (half-width), ``m_n`` (episodes with
     a value) and ``m_lo``/``m_hi``: the interval clipped to the metric's bounds (:data:`METRICS`).
-    ``collision`` is the rate of episodes with any collision.
+    ``collision`` is the rate of episodes with any collision. ``episodes`` counts the seeds and
+    ``robots`` the robots per episode: on a multi-robot scene every robot of every episode is one
+    sample (records with a ``robot`` column), so rates and means are over all robots.
     """
     rows = []
     planners = list(dict.fromkeys(r["planner"] for r in records))
     for planner in planners:
         recs = [r for r in records if r["planner"] == planner]
-        row: dict[str, Any] = {"planner": planner, "episodes": len(recs)}
+        robots = len({r.get("robot", 0) for r in recs})
+        episodes = sum(1 for r in recs if r.get("robot", 0) == 0)
+        row: dict[str, Any] = {"planner": planner, "episodes": episodes, "robots": robots}
         for m in (*RATE_METRICS, "collision"):
             k = sum(_collided(r) if m == "collision" else bool(r.get(m)) for r in recs)
             p, lo, hi = wilson(k, len(recs))
@@ -469,9 +538,35 @@ def _table(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str]) -> str:
     cols = ["planner", "episodes", *(_header(m) for m in metrics)]
     lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
     for r in rows:
-        cells = [str(r["planner"]), str(r["episodes"]), *(_cell(r, m) for m in metrics)]
+        n = f"{r['episodes']} x {r['robots']} robots" if r.get("robots", 1) > 1 else str(r["episodes"])
+        cells = [str(r["planner"]), n, *(_cell(r, m) for m in metrics)]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def robots_note(rows: Sequence[Mapping[str, Any]]) -> str:
+    """What a summary of a multi-robot scene averages over (empty for single-robot scenes)."""
+    robots = max((int(r.get("robots", 1)) for r in rows), default=1)
+    if robots <= 1:
+        return ""
+    return (
+        f"Every robot scored: the planner drives all {robots} robots of each episode and every robot is one "
+        f"sample (the `robot` column of the records); rates and means are over episodes x {robots} robots "
+        "(robots of one episode are not independent: the intervals are narrower than for as many episodes)."
+    )
+
+
+def policy_robot_note(cfg: EvalConfig) -> str:
+    """What an evaluation with user policies on a multi-robot scene scores (empty otherwise)."""
+    if not cfg.policies:
+        return ""
+    core, _ = scenarios.load(cfg.scenario)
+    if core.num_robots <= 1:
+        return ""
+    return (
+        f"Robot 0 scored only: the scene has {core.num_robots} robots and a policy drives robot 0 "
+        "(the others keep their built-in planners), so every planner is scored on robot 0 as well."
+    )
 
 
 def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
@@ -537,21 +632,24 @@ def verdict(records: Sequence[Mapping[str, Any]], a: str, b: str) -> str:
     goal, ratios of means of time to goal, path length and the social time shares with 95%
     bootstrap intervals (pairs of episodes resampled).
     """
-    by = {p: {r["seed"]: r for r in records if r["planner"] == p} for p in (a, b)}
+    # Episodes pair by (seed, robot): on a multi-robot scene every robot is paired with itself.
+    by = {p: {(r["seed"], r.get("robot", 0)): r for r in records if r["planner"] == p} for p in (a, b)}
     seeds = sorted(set(by[a]) & set(by[b]))
     if not seeds:
         return f"{a} vs {b}: no seed in common."
+    unit = "seeds" if all(robot == 0 for _, robot in seeds) else "robot-episodes (seed, robot)"
 
     def count(p: str, pred: Callable[[Mapping[str, Any]], bool]) -> int:
         return sum(pred(by[p][s]) for s in seeds)
 
     ok = [s for s in seeds if by[a][s].get("success") and by[b][s].get("success")]
     parts = [
-        f"{a} vs {b} on {len(seeds)} seeds: success {count(a, lambda r: bool(r.get('success')))} vs "
+        f"{a} vs {b} on {len(seeds)} {unit}: success {count(a, lambda r: bool(r.get('success')))} vs "
         f"{count(b, lambda r: bool(r.get('success')))}, collisions {count(a, _collided)} vs {count(b, _collided)}"
     ]
     if len(ok) < 2:
-        parts.append(f"only {len(ok)} seed(s) where both reached the goal, too few to compare further.")
+        what = "seed(s)" if unit == "seeds" else "robot-episode(s)"
+        parts.append(f"only {len(ok)} {what} where both reached the goal, too few to compare further.")
         return "; ".join(parts)
     said = []
     for m, how in VERDICT_METRICS:
@@ -572,7 +670,7 @@ def verdict(records: Sequence[Mapping[str, Any]], a: str, b: str) -> str:
         else:
             words = _change(r, lo, hi)
             said.append(words.replace(" [", f" {label} [", 1))
-    parts.append(f"over the {len(ok)} seeds both reached the goal: " + ", ".join(said) + ".")
+    parts.append(f"over the {len(ok)} {unit} both reached the goal: " + ", ".join(said) + ".")
     return "; ".join(parts)
 
 
@@ -592,8 +690,10 @@ def verdicts(records: Sequence[Mapping[str, Any]], labels: Sequence[str], polici
 
 def summary_report(rows: Sequence[dict[str, Any]], verdict_lines: Sequence[str]) -> str:
     """The markdown summary: headline table, verdicts, then the full table."""
+    note = robots_note(rows)
     parts = [
         headline_markdown(rows),
+        *([note] if note else []),
         "Rates: % of episodes [95% Wilson interval]; means [95% Student t interval, clipped to the metric's "
         "range]; (n=) when only n episodes have a value (time to goal: successes only).",
     ]
@@ -658,7 +758,7 @@ class RecordWriter:
             isinstance(exc, ProxemicError) and exc.field in ("backend", "ray_address")
         ):
             return  # the backend did not start: no episode ran
-        n = len(self.rows)
+        n = sum(1 for r in self.rows if r.get("robot", 0) == 0)  # episodes (a record per robot)
         task = f" {self.tasks[n]}" if n < len(self.tasks) else ""
         raise EpisodeError(
             f"episode {n + 1}{task} failed ({type(exc).__name__}: {exc}); the {n} finished episodes are kept "
@@ -696,7 +796,8 @@ class EvalResult:
 def _check_config(cfg: EvalConfig) -> None:
     core, _ = scenarios.load(cfg.scenario)
     for p in cfg.planners:
-        core.with_planner(p)  # an unknown name raises the core's ScenarioError
+        scenarios.check_planner(p)  # an unknown name: a ScenarioError with "did you mean"
+        core.with_planner(p)
     if cfg.episodes < 1:
         raise input_error("episodes", "at least 1", cfg.episodes)
     if not cfg.labels:
@@ -732,7 +833,8 @@ def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
                     writer.write(res.record)
                 if res.robot is not None:
                     kept[res.record["planner"]].append(res)
-                bar.update(1)
+                if res.record.get("robot", 0) == 0:
+                    bar.update(1)  # an episode (its other robots' records follow)
     finally:
         bar.close()
         for ref in cfg.policies:  # a later run builds its policies afresh

@@ -1,4 +1,4 @@
-"""Scenario files: the bundled ones by name, or any TOML file by path.
+"""Scenario files: the bundled ones by name or env id, or any TOML file by path.
 
 Scenario files are parsed and validated once, by the Rust core; Python receives the validated
 description as a dict (defaults filled in, world polygons computed).
@@ -6,7 +6,10 @@ description as a dict (defaults filled in, world polygons computed).
 
 from __future__ import annotations
 
+import difflib
 import json
+import os
+import re
 from collections.abc import Mapping, Sequence
 from importlib import resources
 from pathlib import Path
@@ -15,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from proxemic import _core
-from proxemic.errors import UnknownNameError, input_error
+from proxemic.errors import ScenarioError, UnknownNameError, input_error
 
 #: The elastic band's tunable gains (see ``Scenario.with_eband_gains``), in order.
 EBAND_GAINS: tuple[str, ...] = tuple(_core.EBAND_GAINS)
@@ -31,26 +34,65 @@ def available() -> list[str]:
     return sorted(p.stem for p in envs_dir().glob("*.toml"))
 
 
+def suggest(name: str, choices: Sequence[str]) -> str:
+    """A ``" (did you mean 'x'?)"`` hint for a misspelt `name` among `choices`, or ``""``."""
+    close = difflib.get_close_matches(name, list(choices), n=1, cutoff=0.6)
+    if not close:  # names differing in case or separators ("CareCenter" for "care_center")
+        folded = {c.lower().replace("_", "").replace("-", ""): c for c in choices}
+        key = name.lower().replace("_", "").replace("-", "")
+        close = [folded[k] for k in difflib.get_close_matches(key, list(folded), n=1, cutoff=0.75)]
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
 def resolve(scenario: str | Path) -> Path:
-    """Path of a scenario given by bundled name (``"museum"``) or by file path.
+    """Path of a scenario given by bundled name (``"museum"``), env id (``"proxemic/Museum-v0"``) or file path.
 
     Raises:
-        UnknownNameError: neither a bundled name nor an existing file.
-
+        ScenarioError: A path (a name ending in ``.toml`` or with a folder) to no file: "file
+            not found: <path>".
+        UnknownNameError: Neither a bundled name, an env id nor a file; the message suggests the
+            closest name ("did you mean ...").
     """
+    from proxemic.registration import ENV_IDS
+
     text = str(scenario)
-    candidate = envs_dir() / f"{text}.toml"
-    if not text.endswith(".toml") and candidate.is_file():
+    name = ENV_IDS.get(text, text)
+    candidate = envs_dir() / f"{name}.toml"
+    if not name.endswith(".toml") and candidate.is_file():
         return candidate
     path = Path(text).expanduser()
     if path.is_file():
         return path
+    looks_like_id = text.startswith("proxemic/") or re.fullmatch(r"[\w.]+/[\w]+-v\d+", text) is not None
+    if isinstance(scenario, Path) or text.endswith(".toml") or (("/" in text or os.sep in text) and not looks_like_id):
+        raise ScenarioError(
+            f"file not found: {text}" + (" (a directory, not a scenario file)" if path.is_dir() else ""),
+            file=text,
+            field="scenario",
+            expected="an existing scenario .toml file",
+            found=text,
+        )
+    names = available()
+    hint = suggest(text, [*names, *ENV_IDS])
     raise UnknownNameError(
-        f"unknown scenario {text!r}: expected a bundled name ({', '.join(available())}) or a path to a .toml file",
+        f"unknown scenario {text!r}{hint}: expected a bundled name ({', '.join(names)}), "
+        "an env id (proxemic/Museum-v0, see `proxemic scenes`) or a path to a .toml file",
         field="scenario",
-        expected=f"one of {available()} or an existing .toml file",
+        expected=f"one of {names}, an env id or an existing .toml file",
         found=text,
     )
+
+
+def check_planner(name: str) -> None:
+    """Raises :class:`ScenarioError` for a planner name that is not one of ``PLANNERS``, with a suggestion."""
+    if name not in _core.PLANNERS:
+        raise ScenarioError(
+            f"planner: expected one of {json.dumps(list(_core.PLANNERS))}, got {json.dumps(name)}"
+            f"{suggest(name, _core.PLANNERS)}",
+            field="planner",
+            expected=f"one of {list(_core.PLANNERS)}",
+            found=name,
+        )
 
 
 def load(
@@ -66,7 +108,8 @@ def load(
     :class:`~proxemic.errors.ScenarioError` naming it, as it would in the file.
 
     Args:
-        scenario: Bundled name or path of a scenario file, or an already validated scenario.
+        scenario: Bundled name, env id (``"proxemic/Museum-v0"``) or path of a scenario file, or an
+            already validated scenario.
         planner: If given, every robot uses this built-in planner (one of ``PLANNERS``) instead of the file's.
         eband: If given, every robot's elastic-band gains (``contraction_gain``,
             ``repulsion_gain``, ``social_gain``; dimensionless, in [0, 100]) are replaced by these.
@@ -77,6 +120,7 @@ def load(
     else:
         core = _core.Scenario.from_file(str(resolve(scenario)))
     if planner is not None:
+        check_planner(planner)
         core = core.with_planner(planner)
     if eband:
         if not isinstance(eband, Mapping):

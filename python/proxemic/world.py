@@ -147,16 +147,27 @@ class WorldSim:
         topdown: The 2D renderer, once a ``"topdown"`` frame was drawn.
     """
 
-    def __init__(self, core_scenario: _core.Scenario, scenario: dict[str, Any]) -> None:
-        """Builds the world and compiles the MuJoCo model of `scenario`."""
+    def __init__(
+        self,
+        core_scenario: _core.Scenario,
+        scenario: dict[str, Any],
+        buffers: tuple[np.ndarray, np.ndarray] | None = None,
+    ) -> None:
+        """Builds the world and compiles the MuJoCo model of `scenario`.
+
+        `buffers` are the ``out`` and ``people`` buffers to write into (zeroed float64 arrays of
+        the right sizes, e.g. one world's row of a vector env's batch buffers); default new ones.
+        """
         self.scenario = scenario
         self.world = _core.World(core_scenario)
         self.sim = Simulation(scenario)
         w = self.world
         self.num_robots: int = w.num_robots
-        self.out = np.zeros(w.num_robots * w.stride)
+        if buffers is None:
+            buffers = (np.zeros(w.num_robots * w.stride), np.zeros(w.num_people * _core.PERSON_OUT))
+        self.out: np.ndarray = buffers[0]
+        self.people: np.ndarray = buffers[1]
         self.rows = self.out.reshape(w.num_robots, w.stride)
-        self.people = np.zeros(w.num_people * _core.PERSON_OUT)
         self._people2d = self.people.reshape(-1, _core.PERSON_OUT)
         self.layout: dict[str, tuple[int, int]] = dict(w.layout)
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}

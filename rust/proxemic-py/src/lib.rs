@@ -12,6 +12,9 @@
 //! returning (`World.step` also to call the Python physics between its two halves, with no
 //! buffer borrowed). A `World` can be moved to and called from any thread (vector envs and thread
 //! pools move envs); pyo3's borrow checking refuses two threads inside the same `World` at once.
+//! `step_worlds` is `World.step` of several worlds in one call (a vector env's step): the physics
+//! callback runs once for all of them, then the worlds' second halves run in scoped threads
+//! (`proxemic_core::world::batch`).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -722,6 +725,88 @@ impl PyWorld {
     }
 }
 
+/// Several worlds stepped as one call (a vector env's step): `World.step` of every world in
+/// `worlds` (distinct `World`s, usually of one scenario), with each kind of buffer holding every
+/// world's values end to end, world 0 first (`actions`: 3 per robot; `state`: 6 per robot;
+/// `contacts`: one uint8 per robot; `out`: `num_robots * stride` per world; `people_out`:
+/// `num_people * PERSON_OUT` per world). Executes every world's actions into `out`'s `command`,
+/// calls `physics()` once (it must run every world's physics and fill `state` and `contacts`),
+/// then advances every world in up to `threads` threads (default: the machine's cores; never
+/// more than the worlds; the results are those of stepping the worlds one by one). The GIL is
+/// released except while `physics` runs. Raises `InputError` naming the world
+/// (`worlds[k].<field>`) for bad actions or state, before any world changes.
+#[pyfunction]
+#[pyo3(signature = (worlds, actions, physics, state, contacts, out, people_out, threads = None))]
+#[allow(clippy::too_many_arguments)]
+fn step_worlds(
+    py: Python<'_>,
+    worlds: &Bound<'_, PyAny>,
+    actions: &Bound<'_, PyAny>,
+    physics: &Bound<'_, PyAny>,
+    state: &Bound<'_, PyAny>,
+    contacts: &Bound<'_, PyAny>,
+    out: &Bound<'_, PyAny>,
+    people_out: &Bound<'_, PyAny>,
+    threads: Option<usize>,
+) -> PyResult<()> {
+    let list: Vec<Bound<'_, PyWorld>> = worlds.extract().map_err(|_| {
+        input_err(
+            py,
+            "worlds",
+            "a sequence of proxemic._core.World".into(),
+            worlds.repr().map_or_else(|_| "?".into(), |r| r.to_string()),
+        )
+    })?;
+    let mut refs = Vec::with_capacity(list.len());
+    for (k, w) in list.iter().enumerate() {
+        let r = w.try_borrow_mut().map_err(|_| {
+            input_err(
+                py,
+                &format!("worlds[{k}]"),
+                "distinct worlds, each in use nowhere else".into(),
+                "a world given twice or in use".into(),
+            )
+        })?;
+        refs.push(r);
+    }
+    for r in &mut refs {
+        r.calls += 1;
+    }
+    let mut cores: Vec<&mut CoreWorld> = refs.iter_mut().map(|r| &mut r.inner).collect();
+    let threads = threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get));
+    let actions = array_of::<f64>(py, "actions", "float64", actions)?;
+    let state = array_of::<f64>(py, "state", "float64", state)?;
+    let contacts = array_of::<u8>(py, "contacts", "uint8", contacts)?;
+    let out = array_of::<f64>(py, "out", "float64", out)?;
+    let people_out = array_of::<f64>(py, "people_out", "float64", people_out)?;
+    {
+        let actions = actions.try_readonly().map_err(|_| busy(py, "actions"))?;
+        let a = actions.as_slice().map_err(|_| {
+            input_err(py, "actions", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
+        })?;
+        let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
+        let o = flat_mut(py, "out", &mut out_rw)?;
+        let ws = &mut cores[..];
+        enter_core(py, move || world::batch::command_batch(ws, a, o))?;
+    }
+    physics.call0()?;
+    let state_ro = state.try_readonly().map_err(|_| busy(py, "state"))?;
+    let contacts_ro = contacts.try_readonly().map_err(|_| busy(py, "contacts"))?;
+    let s = state_ro.as_slice().map_err(|_| {
+        input_err(py, "state", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
+    })?;
+    let c = contacts_ro.as_slice().map_err(|_| {
+        input_err(py, "contacts", "a C-contiguous uint8 array".into(), "a non-contiguous array".into())
+    })?;
+    let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
+    let mut people_rw = people_out.try_readwrite().map_err(|_| busy(py, "people_out"))?;
+    let o = flat_mut(py, "out", &mut out_rw)?;
+    let p = flat_mut(py, "people_out", &mut people_rw)?;
+    let ws = &mut cores[..];
+    enter_core(py, move || world::batch::step_batch(ws, s, c, o, p, threads))
+}
+
 fn serde_json_string<T: serde::Serialize>(v: &T) -> String {
     serde_json::to_string(v).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
@@ -751,5 +836,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScenario>()?;
     m.add_class::<PyWorld>()?;
     m.add_function(wrap_pyfunction!(parse_time_of_day, m)?)?;
+    m.add_function(wrap_pyfunction!(step_worlds, m)?)?;
     Ok(())
 }

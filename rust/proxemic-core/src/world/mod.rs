@@ -24,9 +24,11 @@
 //! Files: [`layout`] (the output row), [`reward`] (reward terms and each robot's record of the
 //! step), [`observe`] (observations and the people buffer), [`tours`], `build` (construction
 //! and its checks), `access` (accessors and queries), [`planners`] (the built-in planners'
-//! bookkeeping and dispatch to [`crate::control`]).
+//! bookkeeping and dispatch to [`crate::control`]), [`batch`] (several worlds stepped in one call,
+//! in parallel threads).
 
 mod access;
+pub mod batch;
 mod build;
 mod daza;
 pub mod layout;
@@ -367,30 +369,7 @@ impl World {
     /// [`CoreError::Input`] before the first reset, for a wrong number of values, or for a robot
     /// whose values are partly non-finite; nothing is changed then.
     pub fn command(&mut self, actions: &[f64], out: &mut [f64]) -> Result<()> {
-        let n = self.num_robots();
-        if !self.started {
-            return Err(CoreError::input(
-                "command",
-                "a call after reset()",
-                "a call before the first reset()",
-            ));
-        }
-        if actions.len() != 3 * n || out.len() != self.layout.stride * n {
-            return Err(CoreError::input(
-                "actions",
-                format!("{} values ({n} robots x 3)", 3 * n),
-                format!("{} values", actions.len()),
-            ));
-        }
-        for (i, a) in actions.chunks_exact(3).enumerate() {
-            if !a.iter().all(|v| v.is_nan()) && a.iter().any(|v| !v.is_finite()) {
-                return Err(CoreError::input(
-                    format!("action[{i}]"),
-                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised), or 3 NaN (autopilot)",
-                    format!("[{}, {}, {}]", a[0], a[1], a[2]),
-                ));
-            }
-        }
+        self.check_actions(actions, out)?;
         let dt = self.scenario.control_dt();
         let cmd = self.layout.command.offset;
         for (i, a) in actions.chunks_exact(3).enumerate() {
@@ -414,6 +393,36 @@ impl World {
             row[cmd] = b.x;
             row[cmd + 1] = b.y;
             row[cmd + 2] = w;
+        }
+        Ok(())
+    }
+
+    /// Checks [`World::command`]'s arguments (after a reset, 3 values per robot, each robot's
+    /// three all NaN or all finite, `out` of the layout's size) without changing anything.
+    fn check_actions(&self, actions: &[f64], out: &[f64]) -> Result<()> {
+        let n = self.num_robots();
+        if !self.started {
+            return Err(CoreError::input(
+                "command",
+                "a call after reset()",
+                "a call before the first reset()",
+            ));
+        }
+        if actions.len() != 3 * n || out.len() != self.layout.stride * n {
+            return Err(CoreError::input(
+                "actions",
+                format!("{} values ({n} robots x 3)", 3 * n),
+                format!("{} values", actions.len()),
+            ));
+        }
+        for (i, a) in actions.chunks_exact(3).enumerate() {
+            if !a.iter().all(|v| v.is_nan()) && a.iter().any(|v| !v.is_finite()) {
+                return Err(CoreError::input(
+                    format!("action[{i}]"),
+                    "3 finite numbers in [-1, 1] (vx, vy, wz normalised), or 3 NaN (autopilot)",
+                    format!("[{}, {}, {}]", a[0], a[1], a[2]),
+                ));
+            }
         }
         Ok(())
     }

@@ -1,0 +1,330 @@
+"""A gymnasium vector env of N worlds of one scenario, stepped in one call into the core.
+
+:func:`vector_env` returns a :class:`ProxemicVectorEnv`: the same episodes as
+``gymnasium.make_vec(env_id, num_envs=N, vectorization_mode="sync")`` (world k reset with seed
+``seed + k`` is the plain env reset with that seed; autoreset on the step after an episode ends,
+gymnasium's ``NEXT_STEP`` mode), but a vector step is one call into the Rust core
+(``proxemic._core.step_worlds``): it turns the N worlds' actions into commands, calls back the
+MuJoCo physics of every world (Python, one world after the other), then moves the people and
+computes the metrics, rewards, observations and planners of the N worlds (in parallel threads
+with ``threads=``). The outputs land in one float64 buffer of N rows, from which the batched
+observations, rewards, flags and infos are sliced without a per-world Python loop: that, not the
+threads, is what makes it faster than the sync vector env on a busy machine
+(``benches/vector_bench.py``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from proxemic import _core, scenarios
+from proxemic.errors import NeedsResetError, input_error
+from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_reset_args
+
+__all__ = ["ProxemicVectorEnv", "vector_env"]
+
+
+class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndarray]):
+    """N worlds of one scenario as a ``gymnasium.vector.VectorEnv`` stepped in one core call.
+
+    Each world is a :class:`proxemic.env.ProxemicEnv` (the scenario's first robot acts; other
+    robots keep their built-in planners) with the same spaces, rewards, infos and episode end.
+    Spaces: ``single_observation_space`` / ``single_action_space`` are the plain env's,
+    ``observation_space`` / ``action_space`` their batches (a leading axis of ``num_envs``).
+
+    Autoreset (gymnasium 1.x ``NEXT_STEP``): the step after world k's episode ended resets it
+    instead of stepping it (its action is ignored; reward 0, not terminated or truncated, the
+    new episode's first observation). ``info["metrics"]`` holds an ended episode's metrics (with
+    the mask ``info["_metrics"]``), as in gymnasium's sync vector env.
+
+    Seeding: ``reset(seed=s)`` resets world k with seed ``s + k`` (a list gives one seed per
+    world; None continues each world's random stream), so world k's episodes are those of a plain
+    env reset with that seed, bit for bit; later autoresets continue the world's stream, as the
+    sync vector env's do.
+
+    Rendering is not supported (``render_mode`` None); use the plain env for videos.
+    """
+
+    metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}  # noqa: RUF012
+
+    def __init__(
+        self,
+        scenario: str | Path | _core.Scenario = "museum",
+        num_envs: int = 2,
+        *,
+        autopilot: bool = False,
+        planner_actions: bool = True,
+        planner: str | None = None,
+        eband: Mapping[str, float] | None = None,
+        goal: Sequence[float] | None = None,
+        threads: int = 1,
+    ) -> None:
+        """Builds `num_envs` worlds of `scenario`.
+
+        Args:
+            scenario: Bundled scenario name, env id, path to a scenario TOML file, or a
+                ``proxemic._core.Scenario``.
+            num_envs: Number of worlds (at least 1).
+            autopilot: Ignore actions and let the robots' built-in planners drive.
+            planner_actions: Run the built-in planner every step for ``info["planner_action"]``
+                even while the actions drive (``False`` skips that work).
+            planner: Replace the scenario's planner (one of ``proxemic.PLANNERS``).
+            eband: Elastic-band gains by name.
+            goal: The robot's goal (x, y) in metres instead of the scenario's.
+            threads: Threads of the core's step (at most `num_envs` are used). The default, 1,
+                steps the worlds one after the other on the calling thread: on a shared 2-core
+                machine more threads measured slower (``benches/vector_bench.py``); try
+                ``os.cpu_count()`` on free cores. Results are the same for any count.
+
+        Raises:
+            InputError: A bad `num_envs` or `threads`; ScenarioError / UnknownNameError for a bad
+                scenario, planner or gains.
+        """
+        super().__init__()
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise input_error("num_envs", "an integer of at least 1", num_envs)
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+            raise input_error("threads", "an integer of at least 1", threads)
+        self.num_envs = int(num_envs)
+        self.threads = min(int(threads), self.num_envs)
+        self.autopilot = autopilot
+        self.render_mode = None
+        core, desc = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)
+        self.scenario = desc
+        probe = _core.World(core)
+        self._robots, self._stride = probe.num_robots, probe.stride
+        n, width = self.num_envs, probe.num_robots * probe.stride
+        self._out = np.zeros((n, width))
+        self._people = np.zeros((n, probe.num_people * _core.PERSON_OUT))
+        self._actions = np.full((n, 3 * probe.num_robots), np.nan)
+        self._state = np.zeros((n, 6 * probe.num_robots))
+        self._contacts = np.zeros((n, probe.num_robots), dtype=np.uint8)
+        del probe
+        self.sims = [WorldSim(core, desc, (self._out[k], self._people[k])) for k in range(n)]
+        if not (autopilot or planner_actions):
+            for ws in self.sims:
+                ws.set_planning([False] + [True] * (ws.num_robots - 1))
+        self._planning = bool(self.sims[0].planning[0])
+        self.metadata = {
+            **self.metadata,
+            "render_fps": round(desc["scene"]["control_hz"]),
+        }
+        self.single_observation_space = self.sims[0].observation_space(robots=False)
+        self.single_action_space = action_space()
+        self.observation_space = batch_space(self.single_observation_space, n)
+        self.action_space = batch_space(self.single_action_space, n)
+        lay = self.sims[0].layout
+        self._layout = lay
+        self._reward_col = lay["reward"][0]
+        self._flag_col = lay["flags"][0]
+        self._info_cols = self.sims[0]._info_cols
+        self._rngs: list[np.random.Generator | None] = [None] * n
+        self._autoreset = np.zeros(n, dtype=bool)
+        self._started = False
+        self._all = list(range(n))
+
+    # ------------------------------------------------------------------ gymnasium API
+    def reset(
+        self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """Resets the worlds (all, or those of ``options["reset_mask"]``).
+
+        Args:
+            seed: None (each world continues its random stream), an integer s (world k gets
+                s + k) or one seed (or None) per world.
+            options: None, or ``{"reset_mask": mask}`` with a (num_envs,) bool array choosing
+                the worlds to reset.
+
+        Raises:
+            InputError: A bad seed, seed list length, option or mask.
+        """
+        n = self.num_envs
+        opts = dict(options or {})
+        mask = opts.pop("reset_mask", None)
+        if mask is not None:
+            mask = np.asarray(mask)
+            if mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
+                raise input_error("options.reset_mask", f"a bool array of shape ({n},) with a True value", mask)
+        if seed is None or (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool)):
+            seeds: list[Any] = [None] * n if seed is None else [int(seed) + k for k in range(n)]
+        elif isinstance(seed, Sequence) and len(seed) == n:
+            seeds = list(seed)
+        else:
+            raise input_error("seed", f"None, an integer >= 0 or a list of {n} seeds", seed)
+        for s in seeds:
+            check_reset_args(s, opts)
+        chosen = self._all if mask is None else [k for k in range(n) if mask[k]]
+        for k in chosen:
+            self._reset_world(k, seeds[k])
+            self._autoreset[k] = False
+        self._started = True
+        return self._observations(), self._infos(chosen, [])
+
+    def step(self, actions: Any) -> tuple[dict[str, np.ndarray], np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """One control step of every world (worlds whose episode ended last step are reset instead).
+
+        Raises:
+            InputError: Actions that are not a (num_envs, 3) array of finite real numbers.
+            NeedsResetError: Before the first ``reset()``.
+        """
+        if not self._started:
+            raise NeedsResetError("step() before reset(): call reset() first")
+        n = self.num_envs
+        if not self.autopilot:
+            a = _check_actions(actions, n)
+            self._actions[:, :3] = a
+        resetting = [k for k in range(n) if self._autoreset[k]]
+        stepping = [k for k in range(n) if not self._autoreset[k]] if resetting else self._all
+        for k in resetting:
+            self._reset_world(k, None)
+        if stepping:
+            self._step_worlds(stepping)
+        out = self._out
+        rewards = out[:, self._reward_col].copy()
+        terminated = out[:, self._flag_col] != 0.0
+        truncated = out[:, self._flag_col + 1] != 0.0
+        if resetting:
+            rewards[resetting] = 0.0
+            terminated[resetting] = False
+            truncated[resetting] = False
+        ended = [k for k in stepping if terminated[k] or truncated[k]]
+        self._autoreset[:] = terminated | truncated
+        return self._observations(), rewards, terminated, truncated, self._infos(self._all, ended)
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Releases the worlds' rendering resources."""
+        for ws in self.sims:
+            ws.close()
+
+    # ------------------------------------------------------------------ internals
+    def _reset_world(self, k: int, seed: int | None) -> None:
+        """Resets world k as ``ProxemicEnv.reset(seed=seed)`` would (the same core seed)."""
+        if seed is not None or self._rngs[k] is None:
+            self._rngs[k], _ = seeding.np_random(seed)
+        rng = self._rngs[k]
+        assert rng is not None
+        self.sims[k].reset(int(rng.integers(0, 2**63 - 1)))
+
+    def _step_worlds(self, idx: list[int]) -> None:
+        """Steps the worlds `idx` in one core call (their physics called back one by one)."""
+        sims = self.sims
+        if len(idx) == self.num_envs:
+            acts, state, contacts, out, people = (
+                self._actions.reshape(-1),
+                self._state.reshape(-1),
+                self._contacts.reshape(-1),
+                self._out.reshape(-1),
+                self._people.reshape(-1),
+            )
+            scatter = False
+        else:  # some worlds are being reset: step the others through copies of their rows
+            acts, state, contacts = self._actions[idx].reshape(-1), self._state[idx], self._contacts[idx]
+            out, people = self._out[idx].reshape(-1), self._people[idx].reshape(-1)
+            scatter = True
+        state2d = state.reshape(len(idx), -1)
+        contacts2d = contacts.reshape(len(idx), -1)
+
+        def physics() -> None:
+            if scatter:  # the commands were written into the copy: the worlds' views read them
+                self._out[idx] = out.reshape(len(idx), -1)
+            for j, k in enumerate(idx):
+                ws = sims[k]
+                ws._physics()
+                state2d[j] = ws.sim.state
+                contacts2d[j] = ws.sim.contacts
+
+        _core.step_worlds(
+            [sims[k].world for k in idx],
+            acts,
+            physics,
+            state.reshape(-1),
+            contacts.reshape(-1),
+            out,
+            people,
+            threads=self.threads,
+        )
+        if scatter:
+            self._out[idx] = out.reshape(len(idx), -1)
+            self._people[idx] = people.reshape(len(idx), -1)
+
+    def _observations(self) -> dict[str, np.ndarray]:
+        """Every world's robot-0 observation, batched (float32, one fresh copy)."""
+        data = self._out[:, : self._stride].astype(np.float32)
+        lay, n, ws = self._layout, self.num_envs, self.sims[0]
+
+        def part(name: str, *shape: int) -> np.ndarray:
+            off, length = lay[name]
+            return data[:, off : off + length].reshape(n, *shape)
+
+        return {
+            "robot": part("obs_robot", -1),
+            "people": part("obs_people", ws.k_nearest, _core.PERSON_FEATURES),
+            "people_mask": part("obs_people_mask", -1),
+            "lidar": part("obs_lidar", -1),
+        }
+
+    def _infos(self, present: list[int], ended: list[int]) -> dict[str, Any]:
+        """The plain env's info keys as batched arrays with ``_key`` masks (worlds `present`).
+
+        The metrics of the worlds in `ended` are added under ``metrics`` (masked).
+        """
+        n = self.num_envs
+        mask = np.zeros(n, dtype=bool)
+        mask[present] = True
+        vals = self._out[:, self._info_cols]
+        nterms = len(REWARD_KEYS)
+        infos: dict[str, Any] = {}
+
+        def put(key: str, value: np.ndarray) -> None:
+            if len(present) < n:
+                value = np.where(mask.reshape(-1, *([1] * (value.ndim - 1))), value, np.zeros_like(value))
+            infos[key] = value
+            infos[f"_{key}"] = mask.copy()
+
+        for j, key in enumerate(REWARD_KEYS):
+            put(key, vals[:, j].copy())
+        put("is_success", vals[:, nterms] != 0.0)
+        put("collision", vals[:, nterms + 1] != 0.0)
+        if self._planning:
+            off, length = self._layout["planner_action"]
+            put("planner_action", self._out[:, off : off + length].astype(np.float32))
+            modes = np.full(n, None, dtype=object)
+            for k in present:
+                modes[k] = PLANNER_MODES[int(vals[k, nterms + 2])]
+            infos["planner_mode"], infos["_planner_mode"] = modes, mask.copy()
+        put("time_of_day", vals[:, nterms + 3].copy())
+        for k in ended:
+            infos = self._add_info(infos, {"metrics": self.sims[k].world.episode_metrics([0])[0]}, k)
+        return infos
+
+
+def _check_actions(actions: Any, n: int) -> np.ndarray:
+    """`actions` as an (n, 3) float64 array of finite values; :class:`InputError` otherwise."""
+    expected = f"a ({n}, 3) array of finite real numbers in [-1, 1] (one action per world)"
+    try:
+        a = np.asarray(actions)
+    except (ValueError, TypeError):
+        raise input_error("actions", expected, repr(actions)) from None
+    if a.shape != (n, 3) or a.dtype.kind not in "iuf":
+        raise input_error("actions", expected, f"shape {a.shape} of {a.dtype}")
+    a = a.astype(np.float64)
+    if not np.isfinite(a).all():
+        bad = int(np.argwhere(~np.isfinite(a))[0][0])
+        raise input_error(f"actions[{bad}]", "3 finite real numbers in [-1, 1]", str(a[bad].tolist()))
+    return a
+
+
+def vector_env(scenario: str | Path | _core.Scenario = "museum", num_envs: int = 2, **kwargs: Any) -> ProxemicVectorEnv:
+    """`num_envs` worlds of `scenario` as a vector env stepped in one core call.
+
+    See :class:`ProxemicVectorEnv` for the keyword arguments, the autoreset and the seeding.
+    """
+    return ProxemicVectorEnv(scenario, num_envs, **kwargs)
