@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 import math
 
 import pyarrow.parquet as pq
@@ -61,6 +62,11 @@ def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
         people = len(load_scenario("museum")[1]["persons"])
         assert sum(c.startswith("d_min_") for c in header) == people
         assert any(c.startswith("psi_object_") for c in header)
+        # metrics.json describes exactly the columns of the records, from the core's metric registry
+        described = json.loads((out / "metrics.json").read_text())["columns"]
+        assert list(described) == header
+        for col in header:
+            assert described[col].get("definition") or described[col].get("description"), col
     assert runs[1] == runs[2]
     assert [r["seed"] for r in runs[1]] == ["5", "6", "7"]
 

@@ -6,7 +6,7 @@ from os import PathLike
 import numpy as np
 import numpy.typing as npt
 
-from proxemic.records import EpisodeMetrics, Perception, SocialLayers
+from proxemic.records import EpisodeMetrics, MetricInfo, Perception, SocialLayers
 
 __version__: str
 CONTACT_PERSON: int
@@ -24,6 +24,8 @@ PLANNERS: list[str]
 EBAND_GAINS: list[str]
 
 def parse_time_of_day(value: str | float) -> float: ...
+def metric_registry() -> list[MetricInfo]: ...
+def scenario_schema() -> str: ...
 
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -241,6 +242,14 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_schema(args: argparse.Namespace) -> int:
+    """Prints the JSON Schema of scenario files (emitted by the core from its scenario types)."""
+    from proxemic.reference import scenario_schema
+
+    print(json.dumps(scenario_schema(), indent=2, ensure_ascii=False))
+    return 0
+
+
 def cmd_scenes(args: argparse.Namespace) -> int:
     """Lists the bundled scenarios and their environment ids."""
     from proxemic.registration import ENV_IDS
@@ -387,6 +396,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(func=cmd_reproduce)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
+    sc = sub.add_parser("schema", help="print the JSON Schema of scenario files (for editor completion)")
+    sc.set_defaults(func=cmd_schema)
     return p
 
 

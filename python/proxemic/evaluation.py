@@ -19,7 +19,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from proxemic import _core, scenarios
+from proxemic import _core, reference, scenarios
 from proxemic.errors import EpisodeError, ProxemicError, input_error
 from proxemic.policy import PolicyActor, PolicyRef, build_policy, check_policy
 
@@ -65,36 +65,39 @@ class MetricInfo:
     fmt: str = ".2f"
 
 
-def _rate(label: str) -> MetricInfo:
-    return MetricInfo(label, "%", 0.0, 1.0, ".0%")
-
-
-def _pct(label: str) -> MetricInfo:
-    return MetricInfo(label, "%", 0.0, 100.0, ".1f")
-
-
-#: Label, unit and bounds of every summarised metric.
-METRICS: dict[str, MetricInfo] = {
-    "success": _rate("success"),
-    "hc": _rate("collision with a person"),
-    "wc": _rate("collision with walls/furniture"),
-    "timeout": _rate("timeout"),
-    "collision": _rate("collisions"),
-    "time_to_goal": MetricInfo("time to goal", "s", 0.0, fmt=".1f"),
-    "path_length": MetricInfo("path length", "m", 0.0, fmt=".1f"),
-    "path_length_ratio": MetricInfo("path length ratio", "x geodesic", 0.0),
-    "spl": MetricInfo("SPL", "", 0.0, 1.0),
-    "l_ratio": MetricInfo("L_ratio", "", 0.0),
-    "smooth": MetricInfo("Smooth", "rad²", 0.0, fmt=".3f"),
-    "chc": MetricInfo("CHC", "rad", 0.0, fmt=".1f"),
-    "dist_person_min": MetricInfo("closest person", "m", 0.0),
-    "psi_intimate": _pct("intimate-zone time"),
-    "psi_personal": _pct("personal-zone time"),
-    "ospace_pct": _pct("o-space time"),
-    "interaction_crossings": MetricInfo("o-space crossings", "/episode", 0.0, fmt=".1f"),
-    "psi_objects": _pct("object-space time"),
-    "reward": MetricInfo("return", "", fmt=".1f"),
+#: Display formats of the summarised means (default ``.2f``).
+_FORMATS = {
+    "time_to_goal": ".1f",
+    "path_length": ".1f",
+    "smooth": ".3f",
+    "chc": ".1f",
+    "interaction_crossings": ".1f",
+    "psi_intimate": ".1f",
+    "psi_personal": ".1f",
+    "ospace_pct": ".1f",
+    "psi_objects": ".1f",
+    "reward": ".1f",
 }
+
+
+def _metric_info(key: str) -> MetricInfo:
+    """Label, unit and bounds of a summarised metric, from the core's metric registry.
+
+    Rates are shown as shares of episodes (0-1, formatted as %). ``reward`` (the return) is the
+    env's, not a metric of the registry.
+    """
+    if key == "reward":
+        return MetricInfo("return", "", fmt=_FORMATS["reward"])
+    m = reference.metric_info(key)
+    if key in (*RATE_METRICS, "collision"):
+        return MetricInfo(m["label"], "% of episodes", 0.0, 1.0, ".0%")
+    low = -math.inf if m["low"] is None else m["low"]
+    high = math.inf if m["high"] is None else m["high"]
+    return MetricInfo(m["label"], m["unit"], low, high, _FORMATS.get(key, ".2f"))
+
+
+#: Label, unit and bounds of every summarised metric (from the metric registry of the core).
+METRICS: dict[str, MetricInfo] = {k: _metric_info(k) for k in (*RATE_METRICS, "collision", *MEAN_METRICS)}
 
 #: The panels of ``metrics.png``, in rows: outcome, efficiency, social, the papers' own metrics.
 METRIC_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -467,7 +470,8 @@ def _cell(row: Mapping[str, Any], m: str) -> str:
 
 def _header(m: str) -> str:
     info = METRICS[m]
-    return f"{info.label} ({info.unit})" if info.unit else info.label
+    unit = "%" if _is_rate(m) else info.unit.split(" (")[0]
+    return f"{info.label} ({unit})" if unit else info.label
 
 
 def _table(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str]) -> str:
@@ -726,6 +730,8 @@ def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
     tasks = cfg.tasks()
     bar = tqdm(total=len(tasks), desc=f"{cfg.scenario}: {', '.join(cfg.labels)}", unit="ep", disable=not progress)
     records: list[dict[str, Any]] = []
+    if out is not None:
+        reference.write_metrics_json(out / "metrics.json", scenario)
     writer = RecordWriter(out / "episodes.csv", out / "episodes.parquet", tasks) if out is not None else None
     try:
         with writer if writer is not None else contextlib.nullcontext():
