@@ -55,7 +55,7 @@ def test_summary_labels_and_units_come_from_the_registry():
     for key in HEADLINE:
         info = METRICS[key]
         assert info.label in header
-    for unit in ("(%)", "(s)", "(× geodesic)", "(steps)"):
+    for unit in ("(%)", "(s)", "(x geodesic)", "(steps)"):
         assert unit in header
 
 

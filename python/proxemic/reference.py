@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import functools
 import json
+import re
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -123,8 +124,8 @@ def metrics_markdown() -> str:
             lines += [f"### {m['key']}", ""]
             facts = [f"**{m['label']}**", f"unit: {_unit(m)}", f"better: {_better(m)}"]
             if m["low"] is not None or m["high"] is not None:
-                lo = "−∞" if m["low"] is None else f"{m['low']:g}"
-                hi = "∞" if m["high"] is None else f"{m['high']:g}"
+                lo = "-inf" if m["low"] is None else f"{m['low']:g}"
+                hi = "inf" if m["high"] is None else f"{m['high']:g}"
                 facts.append(f"range: [{lo}, {hi}]")
             if m["per"] != "episode":
                 facts.append(f"one value per {m['per']} (columns `{m['key']}_<{m['per']} name>`)")
@@ -139,6 +140,75 @@ def metrics_markdown() -> str:
 def scenario_schema() -> dict[str, Any]:
     """The JSON Schema of a scenario file, as emitted by the core."""
     return dict(json.loads(_core.scenario_schema()))
+
+
+def _schema_type(root: Mapping[str, Any], node: Mapping[str, Any]) -> str:
+    """A field's type in words (``number``, ``[number x 2]``, ``table RawWall`` ...)."""
+    if "$ref" in node:
+        return f"[{node['$ref'].rsplit('/', 1)[1].removeprefix('Raw').lower()}](#{_anchor(node['$ref'])})"
+    if "anyOf" in node:
+        alts = [a for a in node["anyOf"] if a.get("type") != "null"]
+        return " or ".join(_schema_type(root, a) for a in alts)
+    if "oneOf" in node or "enum" in node:
+        names = [str(v) for v in node.get("enum", [])]
+        names += [str(a["const"]) for a in node.get("oneOf", []) if "const" in a]
+        return "one of " + ", ".join(f"`{n}`" for n in names)
+    kind = node.get("type")
+    if isinstance(kind, list):
+        kind = next((k for k in kind if k != "null"), "any")
+    if kind == "array":
+        items = node.get("items", {})
+        inner = _schema_type(root, items) if isinstance(items, dict) else "any"
+        if node.get("minItems") is not None and node.get("minItems") == node.get("maxItems"):
+            return f"[{inner} x {node['minItems']}]"
+        return f"list of {inner}"
+    return {"number": "number", "integer": "integer", "string": "text", "boolean": "bool"}.get(str(kind), str(kind))
+
+
+def _anchor(ref: str) -> str:
+    return "table-" + ref.rsplit("/", 1)[1].removeprefix("Raw").lower()
+
+
+def _cell(text: str) -> str:
+    """One table cell: one line, pipes escaped, rustdoc links (`[`x`](y)`, `[`x`]`) as code."""
+    text = re.sub(r"\[(`[^`]+`)\](\([^)]*\))?", r"\1", text)
+    return " ".join(text.split()).replace("|", "\\|")
+
+
+def _fields_table(root: Mapping[str, Any], node: Mapping[str, Any]) -> list[str]:
+    required = set(node.get("required", []))
+    lines = ["| field | type | default | description |", "|---|---|---|---|"]
+    for name, prop in node.get("properties", {}).items():
+        default = "required" if name in required else ("" if "default" not in prop else json.dumps(prop["default"]))
+        desc = prop.get("description", "")
+        if not desc and "$ref" in prop:
+            desc = root["$defs"][prop["$ref"].rsplit("/", 1)[1]].get("description", "")
+        lines.append(f"| `{name}` | {_schema_type(root, prop)} | {_cell(default)} | {_cell(desc)} |")
+    return lines
+
+
+def scenario_markdown() -> str:
+    """The scenario reference: the top-level tables, then one field table per table type, from the schema."""
+    root = scenario_schema()
+    lines = ["## Top level", "", *_fields_table(root, root), ""]
+    for name, node in root.get("$defs", {}).items():
+        title = name.removeprefix("Raw").lower()
+        lines += [f"## {title} {{ #{_anchor('#/$defs/' + name)} }}", "", _cell(node.get("description", "")), ""]
+        if "properties" in node:
+            lines += [*_fields_table(root, node), ""]
+        for variant in node.get("oneOf", []):
+            props = variant.get("properties", {})
+            tag = next((k for k, p in props.items() if "const" in p), None)
+            if tag is None:
+                desc = variant.get("description", "")
+                const = variant.get("const", variant.get("enum", [""])[0] if variant.get("enum") else "")
+                lines.append(f"- `{const}`: {_cell(desc)}")
+                continue
+            lines += [f'### {tag} = "{props[tag]["const"]}"', "", _cell(variant.get("description", "")), ""]
+            rest = {**variant, "properties": {k: p for k, p in props.items() if k != tag}}
+            lines += [*_fields_table(root, rest), ""]
+        lines.append("")
+    return "\n".join(lines).rstrip() + "\n"
 
 
 def replace_generated(page: str, generated: str) -> str:

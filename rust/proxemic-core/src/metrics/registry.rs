@@ -301,7 +301,7 @@ pub const METRICS: &[MetricInfo] = &[
         "path_length_ratio",
         EFFICIENCY,
         "path length ratio",
-        "× geodesic",
+        "x geodesic",
         Lower,
         POS,
         "Executed path length over the geodesic length (≥ 1 up to grid effects); `None` when `ℓ*` \
