@@ -9,7 +9,7 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -27,7 +27,7 @@ DEMO_PLANNERS = ("astar", "social_astar", "social")
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
+    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -51,7 +51,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
             f"({time.perf_counter() - t0:.1f} s; all metrics in {scene_out}/summary.md)"
         )
         print()
-        print(headline_markdown(result.summary))
+        print(headline_text(result.summary))
         for v in result.verdicts:
             print()
             print(v)
@@ -80,7 +80,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
+    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation
     from proxemic.policy import PolicyRef
 
     policies = []
@@ -104,7 +104,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     result = run_evaluation(cfg)
     print()
-    print(headline_markdown(result.summary))
+    print(headline_text(result.summary))
     for v in result.verdicts:
         print()
         print(v)
@@ -132,6 +132,7 @@ def cmd_video(args: argparse.Namespace) -> int:
     """Records one seeded episode as an mp4."""
     from proxemic.viz.video import record_episode
 
+    metrics: dict[str, Any] = {}
     out = record_episode(
         args.scenario,
         args.planner,
@@ -144,8 +145,15 @@ def cmd_video(args: argparse.Namespace) -> int:
         height=args.height,
         overlays=args.overlay or ("path",),
         progress=True,
+        metrics=metrics,
     )
-    print(f"wrote {out}")
+    outcome = metrics.get("outcome", "running")
+    steps, duration = metrics.get("steps"), metrics.get("duration")
+    if outcome == "running":
+        ended = f"stopped by --max-steps after {steps} steps ({duration:.1f} s), before the episode ended"
+    else:
+        ended = f"outcome: {outcome} after {steps} steps ({duration:.1f} s)"
+    print(f"wrote {out}; {ended}")
     return 0
 
 

@@ -492,6 +492,30 @@ def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
     return _table(rows, HEADLINE)
 
 
+def headline_text(rows: Sequence[dict[str, Any]]) -> str:
+    """The headline table for a terminal: one line per metric (label and unit), one column per planner.
+
+    Transposed from :func:`headline_markdown` so that it stays narrow (about 40 characters plus
+    20 per planner) however long the labels are; cells are ``mean [95% interval]``.
+    """
+    labels = [_header(m) for m in HEADLINE]
+    names = [str(r["planner"]) for r in rows]
+    cells = [[_cell(r, m) for r in rows] for m in HEADLINE]
+    episodes = [str(r["episodes"]) for r in rows]
+    w0 = max(len(x) for x in [*labels, "episodes"])
+    widths = [
+        max(len(x) for x in [name, ep, *(c[i] for c in cells)])
+        for i, (name, ep) in enumerate(zip(names, episodes, strict=True))
+    ]
+
+    def line(first: str, values: Sequence[str]) -> str:
+        return "  ".join([first.ljust(w0), *(v.rjust(w) for v, w in zip(values, widths, strict=True))]).rstrip()
+
+    out = [line("", names), line("episodes", episodes)]
+    out += [line(label, row) for label, row in zip(labels, cells, strict=True)]
+    return "\n".join(out)
+
+
 def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
     """The full summary as a markdown table: rates and means as m [lo, hi] (Wilson, Student t)."""
     return _table(rows, [*RATE_METRICS, "collision", *MEAN_METRICS])
@@ -768,7 +792,8 @@ def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dic
         ],
         out / "metrics.png",
         title=f"{cfg.scenario}: {cfg.episodes} seeded episodes each (seeds {cfg.seed}-{cfg.seed + cfg.episodes - 1}); "
-        "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means)",
+        "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means),\n"
+        "clipped to each metric's range (0-100% for rates and time shares, >= 0 for lengths and times)",
     )
     for planner, results in kept.items():
         episodes = [
@@ -869,8 +894,14 @@ def plot_planners_on_social_map(
     }
     if not paths:
         return None
+    outcomes = {planner: str(results[0].record["outcome"]) for planner, results in kept.items() if planner in paths}
     sm = SocialMap(scenario, seed=seed)
-    return sm.plot(out_png, paths=paths, title=f"{scenario}, seed {seed}: executed trajectories over the social map")
+    return sm.plot(
+        out_png,
+        paths=paths,
+        outcomes=outcomes,
+        title=f"{scenario}, seed {seed}: executed trajectories over the social map",
+    )
 
 
 def _write_parquet(records: Sequence[dict[str, Any]], path: Path) -> None:
