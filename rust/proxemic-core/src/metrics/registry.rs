@@ -63,6 +63,7 @@ pub struct MetricInfo {
     pub source: &'static str,
 }
 
+#[allow(clippy::too_many_arguments, reason = "one argument per column of the reference, in its order")]
 const fn m(
     key: &'static str,
     family: &'static str,

@@ -75,10 +75,9 @@ pub(super) fn describe_field(path: &str) -> Option<String> {
 }
 
 fn resolve<'a>(root: &'a Value, v: &'a Value) -> &'a Value {
-    if let Some(name) = v.get("$ref").and_then(Value::as_str).and_then(|r| r.strip_prefix("#/$defs/")) {
-        if let Some(def) = root.get("$defs").and_then(|d| d.get(name)) {
-            return resolve(root, def);
-        }
+    let def = v.get("$ref").and_then(Value::as_str).and_then(|r| r.strip_prefix("#/$defs/"));
+    if let Some(def) = def.and_then(|name| root.get("$defs").and_then(|d| d.get(name))) {
+        return resolve(root, def);
     }
     if let Some(alts) = v.get("anyOf").and_then(Value::as_array) {
         let some: Vec<&Value> = alts.iter().filter(|a| a.get("type") != Some(&json!("null"))).collect();

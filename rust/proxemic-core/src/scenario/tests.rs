@@ -622,7 +622,7 @@ fn file_format_errors_name_the_field_and_the_accepted_shapes() {
         ),
         (format!("{room}[[person]]\nbehaviour = 2\n"), "person[0].behaviour", &["`conversation`"]),
         (format!("{room}[episode]\nrandomize = 3\n"), "episode.randomize", &["`speed_jitter`"]),
-        (format!("[scene]\nname = \"r\"\nbounds = [0, 0, 10]\n"), "scene.bounds", &["exactly 4 numbers"]),
+        ("[scene]\nname = \"r\"\nbounds = [0, 0, 10]\n".to_string(), "scene.bounds", &["exactly 4 numbers"]),
     ];
     for (text, field, words) in cases {
         let msg = Scenario::from_toml_str(&text, "x").err().map(|e| e.to_string()).unwrap_or_default();
