@@ -11,7 +11,7 @@ export MUJOCO_GL ?= egl
 CARGO_FLAGS := --workspace --release
 
 .DEFAULT_GOAL := help
-.PHONY: help setup system-deps build demo test test-full test-rust test-python install-check lint format bench soak fuzz clean
+.PHONY: help setup system-deps build demo test test-full test-rust test-python install-check lint format docs bench soak fuzz clean
 
 help: ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F ':.*## ' '{printf "  make %-12s %s\n", $$1, $$2}'
@@ -29,6 +29,11 @@ $(VENV)/.deps: pyproject.toml Makefile
 	$(PIP) install -q maturin "numpy>=1.26" "gymnasium>=1.0" "mujoco>=3.3" "matplotlib>=3.7" "tqdm>=4.60" "pyarrow>=14" \
 	    "pytest>=8" "ruff>=0.6" "mypy>=1.10" "imageio>=2.30" "imageio-ffmpeg>=0.5" "pettingzoo>=1.24" "supersuit>=3.9"
 	$(PIP) install -q "ray>=2.9"  # the `ray` extra: the Ray backend of eval and tune is tested too
+	@touch $@
+
+$(VENV)/.docs-deps: Makefile
+	@test -x $(PY) || python3 -m venv $(VENV)
+	$(PIP) install -q "mkdocs>=1.6" "mkdocs-material>=9.5" "mkdocstrings[python]>=0.26"
 	@touch $@
 
 build: $(VENV)/.deps ## compile the Rust core and install the package into the venv (maturin, release)
@@ -72,6 +77,11 @@ format: $(VENV)/.deps ## apply rustfmt and ruff format
 	$(VENV)/bin/ruff format python tests benches examples
 	$(VENV)/bin/ruff check --fix python tests benches examples
 
+docs: build $(VENV)/.docs-deps ## the documentation site into site/ (MkDocs, warnings as errors), with the Rust core's cargo doc
+	$(PY) -m proxemic.reference --check docs
+	RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p proxemic-core --quiet
+	NO_MKDOCS_2_WARNING=1 $(VENV)/bin/mkdocs build --strict --quiet
+
 BENCHES := planning pedestrians proxemics groups socialmap controllers orca world
 
 bench: setup ## criterion benches of the core (medians), env, parallel env and rendering throughput, ORCA and pedestrians vs navground; fails when a bench crashes or a target is MISSED (every bench still runs)
@@ -88,4 +98,4 @@ fuzz: ## mutation fuzzer of the scenario parser and world builder for FUZZ_SECON
 	cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds $(FUZZ_SECONDS)
 
 clean: ## remove build products and the venv
-	rm -rf target $(VENV) $(OUT) python/proxemic/_core*.so
+	rm -rf target $(VENV) $(OUT) site python/proxemic/_core*.so

@@ -544,6 +544,54 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "ScenarioError",
         "object[0].interaction.points",
     ),
+    (
+        "scn-wall-three-numbers",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + '[[wall]]\\nfrom = [2, 2]\\nto = [8, 0, 1]'))",
+        "ScenarioError",
+        "wall[4].to",
+    ),
+    (
+        "scn-robot-start-two-numbers",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT.replace('start = [1.5, 4, 0]', 'start = [1.5, 4]')))",
+        "ScenarioError",
+        "robot[0].start",
+    ),
+    (
+        "scn-bounds-five-numbers",
+        "proxemic.env.ProxemicEnv(scen(ROOM.replace('bounds = [0, 0, 10, 8]', 'bounds = [0, 0, 10, 8, 9]') + ROBOT))",
+        "ScenarioError",
+        "scene.bounds",
+    ),
+    (
+        "scn-route-point-three-numbers",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + '[[person]]\\nroute = [[2, 2], [5, 5, 1]]'))",
+        "ScenarioError",
+        "person[0].route",
+    ),
+    (
+        "scn-interaction-a-string",
+        'proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + \'[[object]]\\nname = "t"\\nkind = "table"\\npose = [5, 2, 0]\\nsize = [0.5, 0.5]\\ninteraction = "circle"\'))',
+        "ScenarioError",
+        "object[0].interaction",
+    ),
+    (
+        "scn-interaction-without-shape",
+        'proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + \'[[object]]\\nname = "t"\\nkind = "table"\\npose = [5, 2, 0]\\nsize = [0.5, 0.5]\\ninteraction = { radius = 1 }\'))',
+        "ScenarioError",
+        "object[0].interaction",
+    ),
+    (
+        "scn-object-kind-a-number",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + '[[object]]\\nname = \"t\"\\nkind = 3\\npose = [5, 2, 0]'))",
+        "ScenarioError",
+        "object[0].kind",
+    ),
+    (
+        "scn-randomize-a-number",
+        "proxemic.env.ProxemicEnv(scen(ROOM + ROBOT + '[episode]\\nrandomize = 3'))",
+        "ScenarioError",
+        "episode.randomize",
+    ),
 ]
 
 #: (id, argv of ``python -m proxemic.cli``, the field the message names)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import json
 import math
 import sys
 
@@ -74,6 +75,11 @@ def test_eval_writes_records_and_is_the_same_on_one_or_two_processes(tmp_path):
         assert sum(c.startswith("d_min_") for c in header) == people
         assert any(c.startswith("psi_object_active_") for c in header)
         assert any(c.startswith("psi_object_any_") for c in header)
+        # metrics.json describes exactly the columns of the records, from the core's metric registry
+        described = json.loads((out / "metrics.json").read_text())["columns"]
+        assert set(described) == set(header)
+        for col in header:
+            assert described[col].get("definition") or described[col].get("description"), col
     assert runs[1] == runs[2]
     assert [r["seed"] for r in runs[1]] == ["5", "6", "7"]
 

@@ -115,7 +115,8 @@ def test_cli_policy_gives_the_same_records_on_processes_and_ray(at_root, tmp_pat
         with (out / "episodes.csv").open() as fh:
             runs[backend] = list(csv.DictReader(fh))
     printed = capsys.readouterr().out
-    assert "| planner | episodes | success" in printed and "my_policy vs astar" in printed
+    assert "success (%)" in printed and "my_policy vs astar" in printed
+    assert max(len(line) for line in printed.split("my_policy vs astar")[0].splitlines()) <= 100  # fits a terminal
     assert [r["planner"] for r in runs["process"]] == ["my_policy", "my_policy", "astar", "astar"]
     assert main([*args, "--workers", "1", "--out", str(tmp_path / "one")]) == 0
     with (tmp_path / "one" / "episodes.csv").open() as fh:

@@ -6,7 +6,7 @@ from os import PathLike
 import numpy as np
 import numpy.typing as npt
 
-from proxemic.records import EpisodeMetrics, Perception, SocialLayers
+from proxemic.records import EpisodeMetrics, MetricInfo, Perception, SocialLayers
 
 __version__: str
 CONTACT_PERSON: int
@@ -34,6 +34,8 @@ def step_worlds(
     people_out: npt.NDArray[np.float64],
     threads: int | None = None,
 ) -> None: ...
+def metric_registry() -> list[MetricInfo]: ...
+def scenario_schema() -> str: ...
 
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""

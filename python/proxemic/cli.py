@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
 import time
 from pathlib import Path
-from typing import NoReturn
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -26,7 +27,7 @@ DEMO_PLANNERS = ("astar", "social_astar", "social")
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, headline_markdown, run_evaluation
+    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -50,7 +51,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
             f"({time.perf_counter() - t0:.1f} s; all metrics in {scene_out}/summary.md)"
         )
         print()
-        print(headline_markdown(result.summary))
+        print(headline_text(result.summary))
         for v in result.verdicts:
             print()
             print(v)
@@ -79,7 +80,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, headline_markdown, policy_robot_note, robots_note, run_evaluation
+    from proxemic.evaluation import EvalConfig, headline_text, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
     policies = []
@@ -103,7 +104,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     result = run_evaluation(cfg)
     print()
-    print(headline_markdown(result.summary))
+    print(headline_text(result.summary))
     if note := robots_note(result.summary) or policy_robot_note(cfg):
         print()
         print(note)
@@ -134,6 +135,7 @@ def cmd_video(args: argparse.Namespace) -> int:
     """Records one seeded episode as an mp4."""
     from proxemic.viz.video import record_episode
 
+    metrics: dict[str, Any] = {}
     out = record_episode(
         args.scenario,
         args.planner,
@@ -146,8 +148,15 @@ def cmd_video(args: argparse.Namespace) -> int:
         height=args.height,
         overlays=args.overlay or ("path",),
         progress=True,
+        metrics=metrics,
     )
-    print(f"wrote {out}")
+    outcome = metrics.get("outcome", "running")
+    steps, duration = metrics.get("steps"), metrics.get("duration")
+    if outcome == "running":
+        ended = f"stopped by --max-steps after {steps} steps ({duration:.1f} s), before the episode ended"
+    else:
+        ended = f"outcome: {outcome} after {steps} steps ({duration:.1f} s)"
+    print(f"wrote {out}; {ended}")
     return 0
 
 
@@ -241,6 +250,14 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     print(reproduce(args.paper, out, episodes=args.episodes, seed=args.seed))
     print(f"{time.perf_counter() - t0:.1f} s; wrote {out}/report.md, episodes.csv and the figures")
+    return 0
+
+
+def cmd_schema(args: argparse.Namespace) -> int:
+    """Prints the JSON Schema of scenario files (emitted by the core from its scenario types)."""
+    from proxemic.reference import scenario_schema
+
+    print(json.dumps(scenario_schema(), indent=2, ensure_ascii=False))
     return 0
 
 
@@ -419,6 +436,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.set_defaults(func=cmd_reproduce)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
+    sc = sub.add_parser("schema", help="print the JSON Schema of scenario files (for editor completion)")
+    sc.set_defaults(func=cmd_schema)
     return p
 
 

@@ -19,7 +19,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from proxemic import _core, scenarios
+from proxemic import _core, reference, scenarios
 from proxemic.errors import EpisodeError, MissingExtraError, ProxemicError, input_error, require_extra
 from proxemic.policy import PolicyActor, PolicyRef, build_policy, check_policy
 
@@ -67,37 +67,41 @@ class MetricInfo:
     fmt: str = ".2f"
 
 
-def _rate(label: str) -> MetricInfo:
-    return MetricInfo(label, "%", 0.0, 1.0, ".0%")
-
-
-def _pct(label: str) -> MetricInfo:
-    return MetricInfo(label, "%", 0.0, 100.0, ".1f")
-
-
-#: Label, unit and bounds of every summarised metric.
-METRICS: dict[str, MetricInfo] = {
-    "success": _rate("success"),
-    "hc": _rate("collision with a person"),
-    "wc": _rate("collision with walls/furniture"),
-    "timeout": _rate("timeout"),
-    "collision": _rate("collisions"),
-    "time_to_goal": MetricInfo("time to goal", "s", 0.0, fmt=".1f"),
-    "path_length": MetricInfo("path length", "m", 0.0, fmt=".1f"),
-    "path_length_ratio": MetricInfo("path length ratio", "x geodesic", 0.0),
-    "spl": MetricInfo("SPL", "", 0.0, 1.0),
-    "l_ratio": MetricInfo("L_ratio", "", 0.0),
-    "smooth_rad": MetricInfo("Smooth", "rad", 0.0, fmt=".3f"),
-    "chc": MetricInfo("CHC", "rad", 0.0, fmt=".1f"),
-    "dist_person_min": MetricInfo("closest person", "m", 0.0),
-    "psi_intimate": _pct("intimate-zone time"),
-    "psi_personal": _pct("personal-zone time"),
-    "ospace_pct": _pct("o-space time"),
-    "interaction_crossings": MetricInfo("o-space crossings", "/episode", 0.0, fmt=".1f"),
-    "psi_objects_active": _pct("active object-space time"),
-    "psi_objects_any": _pct("object-space time (any state)"),
-    "reward": MetricInfo("return", "", fmt=".1f"),
+#: Display formats of the summarised means (default ``.2f``).
+_FORMATS = {
+    "time_to_goal": ".1f",
+    "path_length": ".1f",
+    "smooth_rad": ".3f",
+    "smooth_rad2": ".3f",
+    "chc": ".1f",
+    "interaction_crossings": ".1f",
+    "psi_intimate": ".1f",
+    "psi_personal": ".1f",
+    "ospace_pct": ".1f",
+    "psi_objects_active": ".1f",
+    "psi_objects_any": ".1f",
+    "reward": ".1f",
 }
+
+
+def _metric_info(key: str) -> MetricInfo:
+    """Label, unit and bounds of a summarised metric, from the core's metric registry.
+
+    Rates are shown as shares of episodes (0-1, formatted as %). ``reward`` (the return) is the
+    env's, not a metric of the registry.
+    """
+    if key == "reward":
+        return MetricInfo("return", "", fmt=_FORMATS["reward"])
+    m = reference.metric_info(key)
+    if key in (*RATE_METRICS, "collision"):
+        return MetricInfo(m["label"], "% of episodes", 0.0, 1.0, ".0%")
+    low = -math.inf if m["low"] is None else m["low"]
+    high = math.inf if m["high"] is None else m["high"]
+    return MetricInfo(m["label"], m["unit"], low, high, _FORMATS.get(key, ".2f"))
+
+
+#: Label, unit and bounds of every summarised metric (from the metric registry of the core).
+METRICS: dict[str, MetricInfo] = {k: _metric_info(k) for k in (*RATE_METRICS, "collision", *MEAN_METRICS)}
 
 #: The panels of ``metrics.png``, in rows: outcome, efficiency, social, the papers' own metrics.
 METRIC_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
@@ -531,7 +535,8 @@ def _cell(row: Mapping[str, Any], m: str) -> str:
 
 def _header(m: str) -> str:
     info = METRICS[m]
-    return f"{info.label} ({info.unit})" if info.unit else info.label
+    unit = "%" if _is_rate(m) else info.unit.split(" (")[0]
+    return f"{info.label} ({unit})" if unit else info.label
 
 
 def _table(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str]) -> str:
@@ -576,6 +581,30 @@ def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
     and active object-space time (:data:`HEADLINE`).
     """
     return _table(rows, HEADLINE)
+
+
+def headline_text(rows: Sequence[dict[str, Any]]) -> str:
+    """The headline table for a terminal: one line per metric (label and unit), one column per planner.
+
+    Transposed from :func:`headline_markdown` so that it stays narrow (about 40 characters plus
+    20 per planner) however long the labels are; cells are ``mean [95% interval]``.
+    """
+    labels = [_header(m) for m in HEADLINE]
+    names = [str(r["planner"]) for r in rows]
+    cells = [[_cell(r, m) for r in rows] for m in HEADLINE]
+    episodes = [str(r["episodes"]) for r in rows]
+    w0 = max(len(x) for x in [*labels, "episodes"])
+    widths = [
+        max(len(x) for x in [name, ep, *(c[i] for c in cells)])
+        for i, (name, ep) in enumerate(zip(names, episodes, strict=True))
+    ]
+
+    def line(first: str, values: Sequence[str]) -> str:
+        return "  ".join([first.ljust(w0), *(v.rjust(w) for v, w in zip(values, widths, strict=True))]).rstrip()
+
+    out = [line("", names), line("episodes", episodes)]
+    out += [line(label, row) for label, row in zip(labels, cells, strict=True)]
+    return "\n".join(out)
 
 
 def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
@@ -824,6 +853,8 @@ def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
     tasks = cfg.tasks()
     bar = tqdm(total=len(tasks), desc=f"{cfg.scenario}: {', '.join(cfg.labels)}", unit="ep", disable=not progress)
     records: list[dict[str, Any]] = []
+    if out is not None:
+        reference.write_metrics_json(out / "metrics.json", scenario)
     writer = RecordWriter(out / "episodes.csv", out / "episodes.parquet", tasks) if out is not None else None
     try:
         with writer if writer is not None else contextlib.nullcontext():
@@ -861,7 +892,8 @@ def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dic
         ],
         out / "metrics.png",
         title=f"{cfg.scenario}: {cfg.episodes} seeded episodes each (seeds {cfg.seed}-{cfg.seed + cfg.episodes - 1}); "
-        "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means)",
+        "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means),\n"
+        "clipped to each metric's range (0-100% for rates and time shares, >= 0 for lengths and times)",
     )
     for planner, results in kept.items():
         episodes = [
@@ -962,8 +994,14 @@ def plot_planners_on_social_map(
     }
     if not paths:
         return None
+    outcomes = {planner: str(results[0].record["outcome"]) for planner, results in kept.items() if planner in paths}
     sm = SocialMap(scenario, seed=seed)
-    return sm.plot(out_png, paths=paths, title=f"{scenario}, seed {seed}: executed trajectories over the social map")
+    return sm.plot(
+        out_png,
+        paths=paths,
+        outcomes=outcomes,
+        title=f"{scenario}, seed {seed}: executed trajectories over the social map",
+    )
 
 
 def _write_parquet(records: Sequence[dict[str, Any]], path: Path) -> None:

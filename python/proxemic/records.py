@@ -96,6 +96,33 @@ class EpisodeMetrics(TypedDict):
     tau: float
 
 
+class MetricInfo(TypedDict):
+    """The reference entry of one metric (``_core.metric_registry()``; see ``docs/metrics.md``)."""
+
+    key: str
+    """Key in :class:`EpisodeMetrics` (a column prefix when ``per`` is not ``episode``)."""
+    family: str
+    """Section of the reference (e.g. ``Efficiency``)."""
+    label: str
+    """Short label for tables and plots."""
+    unit: str
+    """Unit (``m``, ``s``, ``%`` ...); empty for a dimensionless number, ``bool`` for a flag."""
+    better: Literal["higher", "lower", "neither"]
+    """Which direction is better for a socially-aware robot, all else equal."""
+    low: float | None
+    """Lowest possible value, when bounded."""
+    high: float | None
+    """Highest possible value, when bounded."""
+    per: Literal["episode", "person", "object"]
+    """One value per episode, or a list with one per person or per object with an interaction space."""
+    definition: str
+    """What it measures, and when it is undefined (None)."""
+    formula: str
+    """How it is computed (empty when the definition says it all)."""
+    source: str
+    """Where it comes from (empty for the project's own)."""
+
+
 class SocialLayers(TypedDict):
     """A robot's social cost map (``World.social_layers``): (H, W) arrays, row 0 the lowest y."""
 
@@ -156,4 +183,4 @@ class Perception(_PerceptionBase, total=False):
     """Absent when the detection cannot be scored against the truth."""
 
 
-__all__ = ["DetectionAccuracy", "EpisodeMetrics", "Individual", "Outcome", "Perception", "SocialLayers"]
+__all__ = ["DetectionAccuracy", "EpisodeMetrics", "Individual", "MetricInfo", "Outcome", "Perception", "SocialLayers"]

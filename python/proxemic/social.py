@@ -113,8 +113,12 @@ class SocialMap:
         *,
         paths: Mapping[str, np.ndarray | None] | None = None,
         title: str | None = None,
+        outcomes: Mapping[str, str] | None = None,
     ) -> pathlib.Path:
-        """Writes a picture of the map: zones, groups, object spaces by R(t), and `paths`."""
+        """Writes a picture of the map: zones, groups, object spaces by R(t), and `paths`.
+
+        `outcomes` (label -> episode outcome) ends each executed path with its outcome's marker.
+        """
         from proxemic.viz.plots import plot_social_map
 
         groups = [g for g in self.perception["groups"] if len(g) > 1]
@@ -130,6 +134,7 @@ class SocialMap:
             people=self.people[:, :3],
             groups=groups,
             title=title or f"{self.scenario['scene']['name']} at {hhmm}",
+            outcomes=outcomes,
         )
 
     def summary(self) -> dict[str, Any]:

@@ -488,6 +488,7 @@ def plot_social_map(
     people: np.ndarray | None = None,
     groups: Sequence[Sequence[int]] | None = None,
     title: str | None = None,
+    outcomes: Mapping[str, str] | None = None,
 ) -> pathlib.Path:
     """Draw the social cost map: people's zones, object spaces coloured by R(t), paths.
 
@@ -501,6 +502,9 @@ def plot_social_map(
         people: (P, 3) x, y, heading of the people, drawn with a heading tick.
         groups: Member index lists of detected groups, outlined together.
         title: Figure title.
+        outcomes: Label -> episode outcome of an executed path: its end gets the outcome's marker
+            (:data:`OUTCOME_MARKERS`, as in :func:`plot_episodes`). Paths without one (planned
+            paths) end with a hollow diamond.
 
     Returns:
         The path written.
@@ -589,8 +593,19 @@ def plot_social_map(
             continue
         ax.plot(path[:, 0], path[:, 1], color=color, lw=2.2, zorder=6)
         ax.plot(path[0, 0], path[0, 1], "o", color=color, zorder=6)
-        ax.plot(path[-1, 0], path[-1, 1], "D", mfc="none", color=color, zorder=6)
-        handles.append(Line2D([], [], color=color, lw=2.2, label=label))
+        outcome = (outcomes or {}).get(label)
+        if outcome is None:
+            ax.plot(path[-1, 0], path[-1, 1], "D", mfc="none", color=color, zorder=6)
+        else:
+            marker = OUTCOME_MARKERS.get(outcome, _UNKNOWN_OUTCOME_MARKER)
+            size = 15 if marker == "*" else 11
+            ax.plot(path[-1, 0], path[-1, 1], marker, color=color, mec="black", ms=size, zorder=7)
+        handles.append(Line2D([], [], color=color, lw=2.2, label=label if outcome is None else f"{label}: {outcome}"))
+    if outcomes:
+        for outcome, marker in OUTCOME_MARKERS.items():
+            handles.append(
+                Line2D([], [], ls="", marker=marker, color="0.6", mec="black", ms=9, label=f"end: {outcome}")
+            )
     xmin, ymin, xmax, ymax = scene_bounds(scenario)
     ax.set_xlim(xmin - 0.3, xmax + 0.3)
     ax.set_ylim(ymin - 0.3, ymax + 0.3)

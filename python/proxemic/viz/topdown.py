@@ -99,6 +99,9 @@ OBJECT_COLORS: Mapping[str, RGB] = types.MappingProxyType(
 #: ``object_spaces`` (interaction spaces coloured by the agenda's R(t) now) and ``path`` (the
 #: robots' global paths).
 OVERLAYS: tuple[str, ...] = ("zones", "groups", "object_spaces", "path")
+#: The zones overlay rings only the people nearest to a robot (the closest this many to each robot),
+#: so that a crowded scene (the museum's 52 people) stays readable.
+ZONE_NEAREST: int = 6
 #: Ring colours of the intimate, personal and social zones.
 ZONE_COLORS: tuple[RGB, RGB, RGB] = ((200, 30, 30), (235, 140, 20), (70, 130, 200))
 #: Colour of group outlines and o-space fills.
@@ -274,6 +277,18 @@ def _segment_pixels(
         return rows, cols, seg, order
     ok = (cols >= 0) & (cols < width) & (rows >= 0) & (rows < height)
     return rows[ok], cols[ok], idx[seg[ok]], order[ok]
+
+
+def _nearest_people(people: np.ndarray, robots: np.ndarray, k: int) -> np.ndarray:
+    """The rows of `people` among the `k` nearest to some robot (all of them without robots)."""
+    finite = np.all(np.isfinite(people[:, :2]), axis=1)
+    if len(robots) == 0 or int(finite.sum()) <= k:
+        return people
+    d = np.linalg.norm(people[None, :, :2] - robots[:, None, :2], axis=2)
+    d[:, ~finite] = np.inf
+    keep = np.zeros(len(people), dtype=bool)
+    keep[np.argsort(d, axis=1, kind="stable")[:, :k].ravel()] = True
+    return people[keep & finite]
 
 
 def _draw_segments(
@@ -593,7 +608,8 @@ class TopDownRenderer:
             paths: Optional list of ``(K, 2)`` planned paths (world frame), one per robot.
             trails: Optional list of ``(K, 2)`` past positions, one per robot.
             zones: Optional radii in metres (e.g. Hall's intimate, personal and social: 0.45, 1.2,
-                3.6) of rings drawn around every person, in :data:`ZONE_COLORS` order.
+                3.6) of rings drawn around the people nearest to each robot (:data:`ZONE_NEAREST`
+                per robot; every person when there is no robot), in :data:`ZONE_COLORS` order.
             groups: Optional member index lists (into ``people``) of detected groups; groups of two
                 or more get their o-space filled and an outline around the members. The o-space is
                 drawn as the circle centred at the members' mean position whose radius is their
@@ -619,7 +635,7 @@ class TopDownRenderer:
             outlines = self._draw_groups(frame, people_a, groups)
 
         if zones is not None and len(people_a):
-            self._draw_zone_rings(frame, people_a, zones)
+            self._draw_zone_rings(frame, _nearest_people(people_a, robots_a, ZONE_NEAREST), zones)
 
         overlay = [
             self._polyline_batch(trails, self._trail_palette, dashed=False),

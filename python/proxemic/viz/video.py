@@ -105,16 +105,16 @@ def write_video(
     iio = _imageio()
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    it: Iterable[np.ndarray] = frames
+    bar = None
     if progress:
         from tqdm import tqdm
 
-        it = tqdm(frames, total=total, desc=out.name, unit="frame", leave=False)
+        bar = tqdm(total=total, desc=out.name, unit="frame")
     writer = None
     shape: tuple[int, ...] | None = None
     count = 0
     try:
-        for frame in it:
+        for frame in frames:
             a = np.asarray(frame)
             if shape is None:
                 if a.ndim != 3 or a.shape[2] != 3 or a.dtype != np.uint8 or a.shape[0] % 2 or a.shape[1] % 2:
@@ -132,9 +132,15 @@ def write_video(
             if writer is not None:
                 writer.append_data(a)
             count += 1
+            if bar is not None:
+                bar.update(1)
     finally:
         if writer is not None:
             writer.close()
+        if bar is not None:  # the episode may end before `total`: the bar ends where it did
+            bar.total = count
+            bar.refresh()
+            bar.close()
     if count == 0:
         raise input_error("frames", "at least one frame", "none")
     return out
@@ -147,11 +153,14 @@ def episode_frames(
     view: str = "topdown",
     max_steps: int | None = None,
     overlays: Iterable[str] | None = None,
+    metrics: dict[str, Any] | None = None,
 ) -> Iterator[np.ndarray]:
     """Yield the frames of one autopilot episode: after ``reset(seed)``, then after every step.
 
     The episode runs until it terminates, is truncated, or `max_steps` steps were taken, so it
-    yields at most ``max_steps + 1`` frames.
+    yields at most ``max_steps + 1`` frames. `metrics`, if given, is filled with the robot's
+    metrics when the last frame has been yielded (``outcome`` is ``running`` if `max_steps`
+    stopped it first).
     """
     _check_view(view)
     base: ProxemicEnv = env.unwrapped
@@ -165,6 +174,8 @@ def episode_frames(
         yield render_frame(base, view, overlays)
         if terminated or truncated:
             break
+    if metrics is not None:
+        metrics.update(base.metrics())
 
 
 def record_episode(
@@ -180,6 +191,7 @@ def record_episode(
     height: int = 480,
     overlays: Iterable[str] = ("path",),
     progress: bool = False,
+    metrics: dict[str, Any] | None = None,
 ) -> Path:
     """Record one seeded episode with the robot's built-in planner driving, as an mp4.
 
@@ -195,7 +207,8 @@ def record_episode(
         width: Frame width in pixels (even).
         height: Frame height in pixels (even).
         overlays: Overlays of the top-down view (see :meth:`proxemic.env.ProxemicEnv.set_overlays`).
-        progress: Show a progress bar.
+        progress: Show a progress bar (it ends at the episode's last frame).
+        metrics: Filled with the episode's metrics (``outcome``, ``time_to_goal`` ...) once recorded.
 
     Returns:
         The path written. The video has one frame per control step plus the starting frame.
@@ -219,7 +232,7 @@ def record_episode(
     try:
         episode_steps = int(env.core_scenario.max_steps)
         steps = episode_steps if max_steps is None else min(max_steps, episode_steps)
-        frames = episode_frames(env, seed, view=view, max_steps=max_steps)
+        frames = episode_frames(env, seed, view=view, max_steps=max_steps, metrics=metrics)
         rate = float(env.metadata["render_fps"]) if fps is None else fps
         return write_video(frames, path, rate, total=steps + 1, progress=progress)
     finally:

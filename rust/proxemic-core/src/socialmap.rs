@@ -56,7 +56,7 @@ pub trait SpaceFunction {
         None
     }
     /// Where the individual stands (metres), if known: its zones are then limited to the cells in
-    /// sight of it (see [`in_sight`]). `None` (the default) lets them through walls.
+    /// sight of it (see `in_sight`). `None` (the default) lets them through walls.
     fn centre(&self) -> Option<Vec2> {
         None
     }

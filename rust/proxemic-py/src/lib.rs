@@ -807,6 +807,22 @@ fn step_worlds(
     enter_core(py, move || world::batch::step_batch(ws, s, c, o, p, threads))
 }
 
+/// The metric reference: one dict per key of an episode's metrics (`key`, `family`, `label`,
+/// `unit`, `better` = "higher" | "lower" | "neither", `low` and `high` bounds or None, `per` =
+/// "episode" | "person" | "object", `definition`, `formula`, `source`), in the reference's order.
+#[pyfunction]
+fn metric_registry(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+    let text = serde_json_string(&proxemic_core::metrics::METRICS);
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// The JSON Schema of a scenario file (draft 2020-12), as JSON text: every table and field with
+/// its type, default and description (the scenario reference of the docs; `proxemic schema`).
+#[pyfunction]
+fn scenario_schema() -> String {
+    serde_json_string(&proxemic_core::scenario::json_schema())
+}
+
 fn serde_json_string<T: serde::Serialize>(v: &T) -> String {
     serde_json::to_string(v).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
 }
@@ -837,5 +853,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyWorld>()?;
     m.add_function(wrap_pyfunction!(parse_time_of_day, m)?)?;
     m.add_function(wrap_pyfunction!(step_worlds, m)?)?;
+    m.add_function(wrap_pyfunction!(metric_registry, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario_schema, m)?)?;
     Ok(())
 }

@@ -31,7 +31,7 @@ use crate::math::{Real, Vec2};
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
 
-/// Largest number of grid cells one flood fill may visit before [`detect`] gives up with an error
+/// Largest number of grid cells one flood fill may visit before `detect` gives up with an error
 /// naming `density.resolution`.
 pub const MAX_CELLS: usize = 1 << 22;
 

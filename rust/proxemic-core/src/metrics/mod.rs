@@ -18,6 +18,9 @@
 //! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
 //!   `d_t`, `tau`.
 //!
+//! [`registry`] describes every key of a serialised report (unit, better direction, definition,
+//! formula, source): the metric reference of the docs is generated from it.
+//!
 //! Each family returns its own struct, flattened into [`FullMetrics`] (one key per metric when
 //! serialised, in the families' order above, the room-left part of [`proximity`] after
 //! [`objects`]). Not computed: STL (needs a reference time), item 14, item 23 (needs a robot-free
@@ -64,6 +67,7 @@ pub mod objects;
 pub mod papers;
 pub mod proximity;
 mod recorder;
+pub mod registry;
 #[cfg(test)]
 mod tests;
 
@@ -84,6 +88,7 @@ pub use objects::ObjectMetrics;
 pub use papers::PaperMetrics;
 pub use proximity::{ClearanceMetrics, ProximityMetrics};
 pub use recorder::{EpisodeRecorder, EpisodeReport, Outcome, RecorderSetup, SceneLog, Snapshot};
+pub use registry::{Better, METRICS, MetricInfo, Per, metric_info};
 
 /// Contact bit of [`EvalContext::collision_steps`] and of the world's physics contacts: the robot
 /// touched a person.

@@ -11,7 +11,7 @@ use crate::scenario::{Person, Randomize};
 impl Crowd {
     /// Builds a crowd of walkers and standing people for a new episode, drawing the randomised
     /// parts from `rng`; people of other behaviours stand still at their pose (use
-    /// [`Crowd::spawn_scripted`] with [`scripts::plan_scripts`] for them).
+    /// [`Crowd::spawn_scripted`] with [`super::scripts::plan_scripts`] for them).
     pub fn spawn<R: Rng>(
         persons: &[Person],
         randomize: &Randomize,

@@ -7,6 +7,7 @@ use super::build::build;
 use super::check::err;
 use super::model::Scenario;
 use super::raw::RawScenario;
+use super::schema::describe_field;
 use crate::error::Result;
 
 /// Arrays of tables a file that `extends` another may add to the base's instead of replacing
@@ -141,7 +142,7 @@ impl Scenario {
                     serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
                         let field = dotted_path(e.path());
                         let msg = e.into_inner().message().trim().to_string();
-                        let (expected, found) = split_serde_message(&msg);
+                        let (expected, found) = explain(&field, &msg);
                         err(&file, field, expected, found)
                     })?;
                 build(raw, &file)
@@ -165,7 +166,7 @@ impl Scenario {
             let inner = e.into_inner();
             let where_ = inner.span().map(|s| line_col(text, s.start));
             let msg = inner.message().trim().to_string();
-            let (expected, found) = split_serde_message(&msg);
+            let (expected, found) = explain(&field, &msg);
             let field = match where_ {
                 Some((l, c)) => format!("{field} (line {l}, column {c})"),
                 None => field,
@@ -176,11 +177,32 @@ impl Scenario {
     }
 }
 
+/// serde's message in our words: Rust type names ("expected struct Randomize", "internally tagged
+/// enum RawInteraction") and toml's "wanted string or table" replaced by what the field accepts
+/// (from the scenario's JSON Schema: enum names, tagged shapes, table fields).
+fn explain(field: &str, msg: &str) -> (String, String) {
+    let (expected, found) = split_serde_message(msg);
+    let rusty = ["struct ", "enum ", "a valid value"].iter().any(|k| expected.contains(k));
+    let missing_tag = expected.starts_with("the required field `shape`");
+    if !(rusty || missing_tag) {
+        return (expected, found);
+    }
+    match describe_field(field) {
+        Some(words) if missing_tag => (format!("{expected} in {words}"), found),
+        Some(words) if found == "wanted string or table" => (words, "a value of another type".to_string()),
+        Some(words) => (words, found),
+        None => (expected, found),
+    }
+}
+
 /// serde messages look like "invalid type: string \"x\", expected a number" or
 /// "unknown field `foo`, expected one of `a`, `b`"; split them into (expected, found).
 fn split_serde_message(msg: &str) -> (String, String) {
     if let Some(idx) = msg.find(", expected ") {
-        let found = msg[..idx].trim_start_matches("invalid type: ").trim_start_matches("invalid value: ");
+        let found = msg[..idx]
+            .trim_start_matches("invalid type: ")
+            .trim_start_matches("invalid value: ")
+            .trim_start_matches("invalid length: ");
         let expected = &msg[idx + ", expected ".len()..];
         return (expected.to_string(), found.to_string());
     }

@@ -25,6 +25,8 @@
 //!   tasks), `polygons.rs` (world-frame rectangles and circles); `mod.rs` runs them in order;
 //! - `check.rs`: the error constructor and the value checks (finite, range, inside the bounds,
 //!   unique names, times of day) shared by the others;
+//! - `schema.rs`: the JSON Schema of the file format ([`json_schema`], from the raw types), the
+//!   scenario reference of the docs and `proxemic schema`;
 //! - `model.rs`: the validated types ([`Scenario`] and its parts) and their accessors;
 //! - `overrides.rs`: the `with_*` builders, copies of a scenario with one setting replaced.
 
@@ -34,6 +36,7 @@ mod load;
 mod model;
 mod overrides;
 mod raw;
+mod schema;
 #[cfg(test)]
 mod tests;
 
@@ -45,3 +48,4 @@ pub use model::{
     InteractionShape, Object, ObjectKind, Person, PlannerKind, Proxemics, Randomize, RewardWeights, Robot,
     SEAT_SPACING, SPEED_PRESETS, Scenario, Scene, Sensors, Wall,
 };
+pub use schema::json_schema;

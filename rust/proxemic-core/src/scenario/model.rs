@@ -1,6 +1,7 @@
 //! The validated scenario: the types [`super::build`] produces from the raw file tables, and
 //! the accessors the world and the bindings use.
 
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use super::check::Checker;
@@ -22,7 +23,7 @@ pub const SPEED_PRESETS: [(&str, f64); 4] = [("fast", 1.6), ("normal", 1.3), ("s
 pub const SEAT_SPACING: f64 = 0.6;
 
 /// Kinds of static objects. The kind decides the default height and how the object is drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum ObjectKind {
     /// A free-standing exhibit on a plinth.
@@ -81,7 +82,7 @@ impl ObjectKind {
 /// Scripted pedestrian behaviours (`person.behaviour`). Every moving person walks with the
 /// social force model of [`crate::pedestrians`]; paths between places are planned on the static
 /// map, so only walker and guide routes must be free of walls themselves.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum Behaviour {
     /// Walks a closed `route` of waypoints at `speed`, pausing `dwell` seconds at the waypoints
@@ -126,7 +127,7 @@ pub enum Behaviour {
 }
 
 /// Built-in planners a robot can run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum PlannerKind {
     /// Plain 8-connected A* on the inflated static map, followed by a pure-pursuit path follower.
@@ -505,7 +506,7 @@ pub struct Approach {
 }
 
 /// Per-episode randomisation, drawn from the episode's seeded generator.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Randomize {
     /// Start each walker at a uniformly random point of its route (default true).
@@ -537,7 +538,7 @@ pub struct Episode {
 }
 
 /// Observation settings.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Sensors {
     /// Number of lidar rays over 360 degrees, in [4, 1440]; default 72.
@@ -558,7 +559,7 @@ impl Default for Sensors {
 }
 
 /// Reward weights. The reward is the sum of the terms; each term is reported separately.
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RewardWeights {
     /// Per metre of progress toward the goal along the geodesic distance; default 1.0.

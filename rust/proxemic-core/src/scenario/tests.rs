@@ -596,3 +596,86 @@ fn every_planner_name_parses_to_its_own_kind_and_the_papers_planners_are_listed(
     assert!(!PlannerKind::Daza2021.social_global() && !PlannerKind::Sousa2022.social_global());
     assert_eq!(PlannerKind::parse("daza"), None);
 }
+
+/// serde's own words (Rust type names, toml internals) never reach the user: each bad shape gets
+/// the field and what it accepts; fixed-length arrays are checked for their length.
+#[test]
+fn file_format_errors_name_the_field_and_the_accepted_shapes() {
+    let room = "[scene]\nname = \"r\"\nbounds = [0, 0, 10, 8]\n[[robot]]\nstart = [1, 1, 0]\ngoal = [8, 4]\n";
+    let table = "[[object]]\nname = \"t\"\nkind = \"table\"\npose = [5, 2, 0]\nsize = [1, 1]\n";
+    let cases: [(String, &str, &[&str]); 9] = [
+        (
+            format!("{room}[[wall]]\nfrom = [0, 0]\nto = [8, 0, 1]\n"),
+            "wall[0].to",
+            &["exactly 2 numbers", "3 numbers"],
+        ),
+        (
+            format!("{room}[[robot]]\nstart = [1, 2]\ngoal = [8, 4]\n"),
+            "robot[1].start",
+            &["exactly 3 numbers"],
+        ),
+        (
+            format!("{room}{table}interaction = \"circle\"\n"),
+            "object[0].interaction",
+            &["shape = \"circle\" with `radius`", "polygon"],
+        ),
+        (
+            format!("{room}{table}interaction = {{ radius = 2 }}\n"),
+            "object[0].interaction",
+            &["`shape`", "trapezoid"],
+        ),
+        (
+            format!(
+                "{room}{table}interaction = {{ shape = \"polygon\", points = [[1, 2], [3, 4, 5], [1, 1]] }}\n"
+            ),
+            "object[0].interaction",
+            &["points entry 1 has 3 numbers"],
+        ),
+        (
+            format!("{room}[[object]]\nname = \"t\"\nkind = 3\npose = [5, 2, 0]\n"),
+            "object[0].kind",
+            &["`round_table`", "another type"],
+        ),
+        (format!("{room}[[person]]\nbehaviour = 2\n"), "person[0].behaviour", &["`conversation`"]),
+        (format!("{room}[episode]\nrandomize = 3\n"), "episode.randomize", &["`speed_jitter`"]),
+        ("[scene]\nname = \"r\"\nbounds = [0, 0, 10]\n".to_string(), "scene.bounds", &["exactly 4 numbers"]),
+    ];
+    for (text, field, words) in cases {
+        let msg = Scenario::from_toml_str(&text, "x").err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(msg.contains(field), "{field}: {msg}");
+        for w in words {
+            assert!(msg.contains(w), "{field}: {w:?} not in {msg}");
+        }
+        for rust in ["Raw", "struct", "internally tagged", "wanted string"] {
+            assert!(!msg.contains(rust), "{field}: Rust internals in {msg}");
+        }
+    }
+}
+
+#[test]
+fn the_json_schema_covers_every_table_and_refuses_unknown_fields() {
+    let schema = super::json_schema();
+    let props = schema["properties"].as_object().expect("properties");
+    for table in [
+        "scene",
+        "wall",
+        "object",
+        "person",
+        "robot",
+        "episode",
+        "sensors",
+        "reward",
+        "proxemics",
+        "agenda",
+        "activity",
+        "extends",
+        "append",
+    ] {
+        assert!(props.contains_key(table), "{table}");
+    }
+    assert_eq!(schema["additionalProperties"], serde_json::json!(false));
+    let wall = &schema["$defs"]["RawWall"];
+    assert_eq!(wall["properties"]["to"]["minItems"], serde_json::json!(2));
+    assert_eq!(wall["properties"]["to"]["maxItems"], serde_json::json!(2));
+    assert_eq!(schema["$defs"]["RawScene"]["properties"]["control_hz"]["default"], serde_json::json!(10.0));
+}

@@ -18,7 +18,7 @@ pub(super) struct Vertex {
 }
 
 /// Static obstacles for ORCA: the vertices of closed polygons, with a uniform grid of edge buckets
-/// for range queries. Built once, shared read-only by every [`Orca::compute`] call.
+/// for range queries. Built once, shared read-only by every [`super::Orca::compute`] call.
 #[derive(Clone, Debug, Default)]
 pub struct ObstacleSet {
     pub(super) vertices: Vec<Vertex>,

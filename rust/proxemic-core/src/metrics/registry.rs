@@ -1,0 +1,985 @@
+//! The metric reference: one [`MetricInfo`] per key of a serialised [`super::EpisodeReport`]
+//! (name, unit, which direction is better, definition, formula, source paper).
+//!
+//! It is the one source of truth for what a metric means: the Python bindings expose it
+//! (`proxemic._core.metric_registry()`), and from it come the metric tables of `docs/metrics.md`,
+//! the `metrics.json` column descriptions that `proxemic eval` writes beside its records, and the
+//! plot and summary labels with their units. A test checks that the registry and the serialised
+//! report have the same keys.
+
+use serde::Serialize;
+
+/// Which direction of a metric is better for a socially-aware robot, all else equal.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Better {
+    /// Larger values are better.
+    Higher,
+    /// Smaller values are better.
+    Lower,
+    /// A descriptive value: neither direction is better.
+    Neither,
+}
+
+/// What one value of a metric describes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Per {
+    /// One value per robot episode.
+    Episode,
+    /// A list with one value per person (scenario order); flat records have one column
+    /// `<key>_<person name>` per person.
+    Person,
+    /// A list with one value per object with an interaction space (scenario order); flat records
+    /// have one column `<key>_<object name>` per object.
+    Object,
+}
+
+/// The reference entry of one metric.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MetricInfo {
+    /// Key in the serialised report (and column of the records, or column prefix when
+    /// [`MetricInfo::per`] is not [`Per::Episode`]).
+    pub key: &'static str,
+    /// Section of the reference it belongs to (e.g. `"Efficiency"`).
+    pub family: &'static str,
+    /// Short label for tables and plots (e.g. `"personal-zone time"`).
+    pub label: &'static str,
+    /// Unit (`"m"`, `"s"`, `"%"` ...); `""` for a dimensionless number, `"bool"` for a flag.
+    pub unit: &'static str,
+    /// Which direction is better.
+    pub better: Better,
+    /// Lowest possible value, when bounded (e.g. 0 for a length).
+    pub low: Option<f64>,
+    /// Highest possible value, when bounded (e.g. 100 for a percentage).
+    pub high: Option<f64>,
+    /// One value per episode, person or object.
+    pub per: Per,
+    /// What it measures, in words, and when it is undefined (`None`).
+    pub definition: &'static str,
+    /// How it is computed (notation of `docs/metrics.md`); `""` when the definition says it all.
+    pub formula: &'static str,
+    /// Where it comes from (paper, benchmark); `""` for the project's own.
+    pub source: &'static str,
+}
+
+#[allow(clippy::too_many_arguments, reason = "one argument per column of the reference, in its order")]
+const fn m(
+    key: &'static str,
+    family: &'static str,
+    label: &'static str,
+    unit: &'static str,
+    better: Better,
+    bounds: (Option<f64>, Option<f64>),
+    definition: &'static str,
+    formula: &'static str,
+    source: &'static str,
+) -> MetricInfo {
+    MetricInfo {
+        key,
+        family,
+        label,
+        unit,
+        better,
+        low: bounds.0,
+        high: bounds.1,
+        per: Per::Episode,
+        definition,
+        formula,
+        source,
+    }
+}
+
+const fn per(info: MetricInfo, per: Per) -> MetricInfo {
+    MetricInfo { per, ..info }
+}
+
+use Better::{Higher, Lower, Neither};
+
+const OUTCOME: &str = "Outcome and collisions";
+const EFFICIENCY: &str = "Efficiency";
+const MOTION: &str = "Motion quality";
+const PEOPLE: &str = "Distance to people";
+const GROUPS: &str = "Groups and interactions";
+const OBJECTS: &str = "Objects (time-dependent spaces)";
+const STATIC: &str = "Static geometry";
+
+const NONE: (Option<f64>, Option<f64>) = (None, None);
+const POS: (Option<f64>, Option<f64>) = (Some(0.0), None);
+const FLAG: (Option<f64>, Option<f64>) = (Some(0.0), Some(1.0));
+const PCT: (Option<f64>, Option<f64>) = (Some(0.0), Some(100.0));
+
+/// Every metric of a robot's episode report, in the reference's order.
+pub const METRICS: &[MetricInfo] = &[
+    // Outcome
+    m(
+        "outcome",
+        OUTCOME,
+        "outcome",
+        "",
+        Neither,
+        NONE,
+        "How the episode ended: `success`, `collision` or `timeout` (`running` before the end). A \
+         collision (physics contact, or a negative surface gap anywhere on the relative motion swept \
+         over a step) ends the episode before the goal does; reaching the goal ends it before the \
+         time limit.",
+        "",
+        "Francis et al. 2023; CrowdNav's swept test",
+    ),
+    m(
+        "success",
+        OUTCOME,
+        "success",
+        "bool",
+        Higher,
+        FLAG,
+        "The robot centre came within the success radius of the goal with no collision of any kind \
+         in a step ending at or before that instant.",
+        "",
+        "Francis et al. 2023 (S)",
+    ),
+    m(
+        "collision",
+        OUTCOME,
+        "collision",
+        "bool",
+        Lower,
+        FLAG,
+        "Any collision in the recording.",
+        "",
+        "Francis et al. 2023 (C)",
+    ),
+    m(
+        "timeout",
+        OUTCOME,
+        "timeout",
+        "bool",
+        Lower,
+        FLAG,
+        "Neither success nor collision.",
+        "",
+        "Francis et al. 2023 (TO)",
+    ),
+    m(
+        "hc_count",
+        OUTCOME,
+        "person-collision steps",
+        "steps",
+        Lower,
+        POS,
+        "Steps with a person collision: the physics' person contact, or a negative surface gap on \
+         the swept relative motion.",
+        "",
+        "Francis et al. 2023 (HC)",
+    ),
+    m(
+        "hc",
+        OUTCOME,
+        "collision with a person",
+        "bool",
+        Lower,
+        FLAG,
+        "Some step had a person collision.",
+        "`hc_count > 0`",
+        "Francis et al. 2023 (HC)",
+    ),
+    m(
+        "wc_count",
+        OUTCOME,
+        "wall-collision steps",
+        "steps",
+        Lower,
+        POS,
+        "Steps with a contact with walls or furniture.",
+        "",
+        "Francis et al. 2023 (WC)",
+    ),
+    m(
+        "wc",
+        OUTCOME,
+        "collision with walls/furniture",
+        "bool",
+        Lower,
+        FLAG,
+        "Some step had a contact with walls or furniture.",
+        "`wc_count > 0`",
+        "Francis et al. 2023 (WC)",
+    ),
+    m(
+        "ac_count",
+        OUTCOME,
+        "robot-collision steps",
+        "steps",
+        Lower,
+        POS,
+        "Steps with a contact with another robot.",
+        "",
+        "Francis et al. 2023 (AC)",
+    ),
+    m(
+        "ac",
+        OUTCOME,
+        "collision with a robot",
+        "bool",
+        Lower,
+        FLAG,
+        "Some step had a contact with another robot.",
+        "`ac_count > 0`",
+        "Francis et al. 2023 (AC)",
+    ),
+    m(
+        "min_robot_gap",
+        OUTCOME,
+        "closest robot",
+        "m (surface)",
+        Higher,
+        NONE,
+        "Smallest surface gap to another robot over the instants (negative: overlap); `None` for a \
+         robot alone.",
+        "",
+        "",
+    ),
+    m("steps", OUTCOME, "steps", "steps", Neither, POS, "Control steps of the episode.", "`T`", ""),
+    m("duration", OUTCOME, "duration", "s", Neither, POS, "Episode duration.", "`T · dt`", ""),
+    // Efficiency
+    m(
+        "time_to_goal",
+        EFFICIENCY,
+        "time to goal",
+        "s",
+        Lower,
+        POS,
+        "First instant within the success radius, in seconds; `None` without success.",
+        "",
+        "CrowdNav \"navigation time\"",
+    ),
+    m(
+        "path_length",
+        EFFICIENCY,
+        "path length",
+        "m",
+        Lower,
+        POS,
+        "Length of the executed path.",
+        "`Σ_t |p_t+1 − p_t|`",
+        "Francis et al. 2023 (PL)",
+    ),
+    m(
+        "d_t",
+        EFFICIENCY,
+        "distance travelled",
+        "m",
+        Lower,
+        POS,
+        "Calderita et al.'s distance travelled; equal to `path_length`.",
+        "",
+        "Calderita et al., Tables 1–2",
+    ),
+    m(
+        "tau",
+        EFFICIENCY,
+        "navigation time",
+        "s",
+        Lower,
+        POS,
+        "Calderita et al.'s navigation time.",
+        "`T · dt`",
+        "Calderita et al., Tables 1–2",
+    ),
+    m(
+        "geodesic_length",
+        EFFICIENCY,
+        "geodesic length",
+        "m",
+        Neither,
+        POS,
+        "`ℓ*`, the shortest collision-free start–goal length on the robot's inflated grid; `None` \
+         when unreachable.",
+        "",
+        "",
+    ),
+    m(
+        "path_length_ratio",
+        EFFICIENCY,
+        "path length ratio",
+        "x geodesic",
+        Lower,
+        POS,
+        "Executed path length over the geodesic length (≥ 1 up to grid effects); `None` when `ℓ*` \
+         is not finite or ≈ 0.",
+        "`path_length / ℓ*`",
+        "SocNavBench (with a geodesic `ℓ*` because of walls)",
+    ),
+    m(
+        "spl",
+        EFFICIENCY,
+        "SPL",
+        "",
+        Higher,
+        FLAG,
+        "Success weighted by path length: 0 on failure, 1 for a success along the geodesic.",
+        "`S · ℓ* / max(PL, ℓ*)`",
+        "Anderson et al. 2018",
+    ),
+    m(
+        "failure_to_progress",
+        EFFICIENCY,
+        "failures to progress",
+        "windows",
+        Lower,
+        POS,
+        "Non-overlapping 5 s windows in which the straight-line distance to the goal fell by less \
+         than 0.1 m.",
+        "",
+        "Francis et al. 2023 (FP)",
+    ),
+    m(
+        "stalled_time",
+        EFFICIENCY,
+        "stalled time",
+        "s",
+        Lower,
+        POS,
+        "Time spent nearly still: steps with speed below 0.001 m/s and yaw rate below 0.01 rad/s, \
+         times `dt`.",
+        "",
+        "HuNavSim, SEAN 2.0",
+    ),
+    m(
+        "astar_length",
+        EFFICIENCY,
+        "A* length",
+        "m",
+        Neither,
+        POS,
+        "Daza et al.'s `D_A*`: length of the plain A* path from the episode's start to the goal.",
+        "",
+        "Daza et al. 2021",
+    ),
+    m(
+        "l_ratio",
+        EFFICIENCY,
+        "L_ratio",
+        "",
+        Higher,
+        POS,
+        "The A* length over the executed path length (≤ 1 typically; success only, else `None`).",
+        "`D_A* / D_SN`",
+        "Daza et al. 2021, eq. 1",
+    ),
+    // Motion quality
+    m(
+        "vel_min",
+        MOTION,
+        "min speed",
+        "m/s",
+        Neither,
+        POS,
+        "Smallest speed over the steps.",
+        "`min_t |v_t|`, `v_t = (p_t+1 − p_t)/dt`",
+        "Francis et al. 2023 (V)",
+    ),
+    m(
+        "vel_avg",
+        MOTION,
+        "mean speed",
+        "m/s",
+        Neither,
+        POS,
+        "Mean speed over the steps.",
+        "`mean_t |v_t|`",
+        "Francis et al. 2023 (V)",
+    ),
+    m(
+        "vel_max",
+        MOTION,
+        "max speed",
+        "m/s",
+        Neither,
+        POS,
+        "Largest speed over the steps.",
+        "`max_t |v_t|`",
+        "Francis et al. 2023 (V)",
+    ),
+    m(
+        "acc_min",
+        MOTION,
+        "min acceleration",
+        "m/s²",
+        Lower,
+        POS,
+        "Smallest acceleration magnitude.",
+        "`min_t |p_t+1 − 2p_t + p_t−1| / dt²`",
+        "Francis et al. 2023 (A)",
+    ),
+    m(
+        "acc_avg",
+        MOTION,
+        "mean acceleration",
+        "m/s²",
+        Lower,
+        POS,
+        "Mean acceleration magnitude.",
+        "`mean_t |p_t+1 − 2p_t + p_t−1| / dt²`",
+        "Francis et al. 2023 (A)",
+    ),
+    m(
+        "acc_max",
+        MOTION,
+        "max acceleration",
+        "m/s²",
+        Lower,
+        POS,
+        "Largest acceleration magnitude.",
+        "`max_t |p_t+1 − 2p_t + p_t−1| / dt²`",
+        "Francis et al. 2023 (A)",
+    ),
+    m(
+        "jerk_min",
+        MOTION,
+        "min jerk",
+        "m/s³",
+        Lower,
+        POS,
+        "Smallest jerk magnitude (third finite difference).",
+        "`min_t |p_t+2 − 3p_t+1 + 3p_t − p_t−1| / dt³`",
+        "Francis et al. 2023 (J); SocNavBench",
+    ),
+    m(
+        "jerk_avg",
+        MOTION,
+        "mean jerk",
+        "m/s³",
+        Lower,
+        POS,
+        "Mean jerk magnitude (third finite difference).",
+        "`mean_t |p_t+2 − 3p_t+1 + 3p_t − p_t−1| / dt³`",
+        "Francis et al. 2023 (J); SocNavBench",
+    ),
+    m(
+        "jerk_max",
+        MOTION,
+        "max jerk",
+        "m/s³",
+        Lower,
+        POS,
+        "Largest jerk magnitude (third finite difference).",
+        "`max_t |p_t+2 − 3p_t+1 + 3p_t − p_t−1| / dt³`",
+        "Francis et al. 2023 (J); SocNavBench",
+    ),
+    m(
+        "chc",
+        MOTION,
+        "CHC",
+        "rad",
+        Lower,
+        POS,
+        "Cumulative heading change of the body yaw: Calderita et al.'s CHC and the `H` of their \
+         tuning cost (eq. 18).",
+        "`Σ_t |wrap(θ_t+1 − θ_t)|`",
+        "Pérez-Higueras et al. 2018; HuNavSim; Calderita et al.",
+    ),
+    m(
+        "chc_motion",
+        MOTION,
+        "CHC of motion",
+        "rad",
+        Lower,
+        POS,
+        "The same over the direction of motion `atan2(v_t)`, skipping steps slower than 0.01 m/s \
+         (a holonomic robot can move without turning).",
+        "",
+        "",
+    ),
+    m(
+        "path_irregularity",
+        MOTION,
+        "path irregularity",
+        "rad/m",
+        Lower,
+        NONE,
+        "Turning beyond the one needed to face the goal, per metre (may be negative); `None` for a \
+         path of length 0.",
+        "`(chc − |wrap(atan2(g − p_0) − θ_0)|) / path_length`",
+        "Guzzi et al. 2013",
+    ),
+    m(
+        "smooth_rad2",
+        MOTION,
+        "Smooth (eq. 2, rad²)",
+        "rad²",
+        Lower,
+        POS,
+        "Daza et al.'s Smooth as eq. 2 is written: mean squared angle between the executed \
+         direction and the A* path's where the path leaves and rejoins it (within 0.2 m counts as \
+         on it). A robot that follows the plain A* path never leaves it, so `astar` scores 0 by \
+         construction.",
+        "`1/(k−1) Σ_i θ_i²` over the `k` angles; `θ_1²` for `k = 1`, 0 for `k = 0`",
+        "Daza et al. 2021, eq. 2",
+    ),
+    m(
+        "smooth_rad",
+        MOTION,
+        "Smooth",
+        "rad",
+        Lower,
+        POS,
+        "The root of eq. 2, a root-mean-square leave/rejoin angle: the value Daza et al.'s Table 2 \
+         prints (its text reads 0.08 as 4.6°), so the one `proxemic reproduce daza2021` compares. \
+         0 for `astar` by construction.",
+        "`√smooth_rad2`",
+        "Daza et al. 2021, eq. 2 and Table 2",
+    ),
+    m(
+        "smooth_k",
+        MOTION,
+        "Smooth angles",
+        "count",
+        Neither,
+        POS,
+        "Number `k` of leave and rejoin angles in `smooth_rad2` and `smooth_rad`.",
+        "",
+        "Daza et al. 2021, eq. 2",
+    ),
+    // Distance to people
+    m(
+        "dist_person_min",
+        PEOPLE,
+        "closest person",
+        "m (centre)",
+        Higher,
+        POS,
+        "Smallest centre distance to a person; `None` without people.",
+        "`min_t,i d_i,t`",
+        "SocNavGym; HuNavSim",
+    ),
+    m(
+        "gap_person_min",
+        PEOPLE,
+        "closest person gap",
+        "m (surface)",
+        Higher,
+        NONE,
+        "Smallest surface gap to a person (negative: overlap); `None` without people.",
+        "`min_t,i s_i,t`",
+        "CrowdNav",
+    ),
+    m(
+        "cp_avg",
+        PEOPLE,
+        "mean closest person",
+        "m (centre)",
+        Higher,
+        POS,
+        "Mean over instants of the closest person's centre distance; `None` without people. The \
+         `P` of Calderita et al.'s tuning cost (eq. 20), here over every person rather than the \
+         visible ones.",
+        "`mean_t min_i d_i,t`",
+        "HuNavSim (CP_avg); Calderita et al.",
+    ),
+    per(
+        m(
+            "d_min",
+            PEOPLE,
+            "closest approach",
+            "m (centre)",
+            Higher,
+            POS,
+            "Calderita et al.'s `d_min`, per person: the smallest centre distance to that person.",
+            "`min_t d_i,t`",
+            "Calderita et al., Tables 1–2",
+        ),
+        Per::Person,
+    ),
+    m(
+        "discomfort_frequency",
+        PEOPLE,
+        "discomfort frequency",
+        "fraction",
+        Lower,
+        FLAG,
+        "Share of instants whose closest surface gap is under the discomfort gap (0.2 m).",
+        "instants with `0 ≤ min_i s_i,t < 0.2 m`, over `T + 1`",
+        "CrowdNav",
+    ),
+    m(
+        "discomfort_gap_avg",
+        PEOPLE,
+        "discomfort gap",
+        "m (surface)",
+        Higher,
+        POS,
+        "Mean closest surface gap over the discomfort instants; `None` without one.",
+        "",
+        "CrowdNav",
+    ),
+    m(
+        "personal_space_compliance",
+        PEOPLE,
+        "personal-space compliance",
+        "fraction",
+        Higher,
+        FLAG,
+        "Share of instants with everybody at least τ = 0.45 m from the robot's surface (1 without \
+         people).",
+        "instants with `min_i (d_i,t − r_R) ≥ 0.45 m`, over `T + 1`",
+        "SocNavGym; SEAN 2.0",
+    ),
+    m(
+        "psi_intimate",
+        PEOPLE,
+        "intimate-zone time",
+        "%",
+        Lower,
+        PCT,
+        "Share of instants whose closest person (centre distance) is in the intimate zone: \
+         Calderita et al.'s Ψ(intimate).",
+        "`100 · #{t : min_i d_i,t < r_intimate} / (T + 1)`",
+        "Hall 1966; HuNavSim; Calderita et al.",
+    ),
+    m(
+        "psi_personal",
+        PEOPLE,
+        "personal-zone time",
+        "%",
+        Lower,
+        PCT,
+        "Share of instants whose closest person is in the personal zone: Calderita et al.'s \
+         Ψ(personal).",
+        "`100 · #{t : r_intimate ≤ min_i d_i,t < r_personal} / (T + 1)`",
+        "Hall 1966; HuNavSim; Calderita et al.",
+    ),
+    m(
+        "psi_social",
+        PEOPLE,
+        "social-zone time",
+        "%",
+        Neither,
+        PCT,
+        "Share of instants whose closest person is in the social zone.",
+        "`100 · #{t : r_personal ≤ min_i d_i,t < r_social} / (T + 1)`",
+        "Hall 1966; HuNavSim; Calderita et al.",
+    ),
+    m(
+        "psi_public",
+        PEOPLE,
+        "public-zone time",
+        "%",
+        Neither,
+        PCT,
+        "Share of instants whose closest person is in the public zone, or with nobody present.",
+        "`100 · #{t : min_i d_i,t ≥ r_social} / (T + 1)`",
+        "Hall 1966; HuNavSim; Calderita et al.",
+    ),
+    // Groups and interactions
+    m(
+        "group_psi_intimate",
+        GROUPS,
+        "o-space intimate time",
+        "%",
+        Lower,
+        PCT,
+        "As `psi_intimate`, with the distance to the closest o-space centre (the scenario's \
+         ground-truth groups).",
+        "",
+        "HuNavSim (IS_prox); Okal & Arras",
+    ),
+    m(
+        "group_psi_personal",
+        GROUPS,
+        "o-space personal time",
+        "%",
+        Lower,
+        PCT,
+        "As `psi_personal`, with the distance to the closest o-space centre.",
+        "",
+        "HuNavSim (IS_prox); Okal & Arras",
+    ),
+    m(
+        "group_psi_social",
+        GROUPS,
+        "o-space social time",
+        "%",
+        Neither,
+        PCT,
+        "As `psi_social`, with the distance to the closest o-space centre.",
+        "",
+        "HuNavSim (IS_prox); Okal & Arras",
+    ),
+    m(
+        "group_psi_public",
+        GROUPS,
+        "o-space public time",
+        "%",
+        Neither,
+        PCT,
+        "As `psi_public`, with the distance to the closest o-space centre (public also without \
+         any o-space).",
+        "",
+        "HuNavSim (IS_prox); Okal & Arras",
+    ),
+    m(
+        "ospace_pct",
+        GROUPS,
+        "o-space time",
+        "%",
+        Lower,
+        PCT,
+        "Share of instants with the robot centre inside some o-space circle.",
+        "",
+        "Kendon's F-formations; Sousa et al. 2022",
+    ),
+    m("ospace_time", GROUPS, "o-space time", "s", Lower, POS, "Those instants times `dt`.", "", ""),
+    m(
+        "ospace_entries",
+        GROUPS,
+        "o-space entries",
+        "count",
+        Lower,
+        POS,
+        "Entries into o-spaces (an instant inside after one outside).",
+        "",
+        "",
+    ),
+    m(
+        "interaction_crossings",
+        GROUPS,
+        "interaction crossings",
+        "steps",
+        Lower,
+        POS,
+        "Steps whose segment `[p_t, p_t+1)` crosses an interaction segment (person ↔ partner or \
+         person ↔ attended object) present at instant `t`.",
+        "",
+        "Daza et al. 2021 §4.3; Sousa et al. 2022",
+    ),
+    m(
+        "interaction_crossings_person_person",
+        GROUPS,
+        "person-person crossings",
+        "steps",
+        Lower,
+        POS,
+        "The crossings of a segment between two members of a gathered group.",
+        "",
+        "",
+    ),
+    m(
+        "interaction_crossings_person_object",
+        GROUPS,
+        "person-object crossings",
+        "steps",
+        Lower,
+        POS,
+        "The crossings of a segment between a person and the object they attend.",
+        "",
+        "",
+    ),
+    // Objects
+    per(
+        m(
+            "psi_object_active",
+            OBJECTS,
+            "active object-space time",
+            "%",
+            Lower,
+            PCT,
+            "Per object: share of instants with the robot centre inside the object's interaction \
+             polygon while its activity is on.",
+            "",
+            "ours (Calderita et al.'s Ψ per object, counted while active)",
+        ),
+        Per::Object,
+    ),
+    per(
+        m(
+            "psi_object_any",
+            OBJECTS,
+            "object-space time (any activity)",
+            "%",
+            Lower,
+            PCT,
+            "Per object: share of instants inside the object's interaction polygon whatever the \
+             activity state.",
+            "",
+            "Calderita et al., Tables 1–2 (Ψ per object)",
+        ),
+        Per::Object,
+    ),
+    m(
+        "psi_objects_any",
+        OBJECTS,
+        "object-space time (any activity)",
+        "%",
+        Lower,
+        PCT,
+        "Share of instants inside at least one object space, active or not: Calderita et al.'s \
+         Ψ(Objects) as their Tables 1–2 count it (their non-social 34.98% is the robot crossing \
+         the idle TV space).",
+        "",
+        "Calderita et al., Tables 1–2",
+    ),
+    m(
+        "psi_objects_active",
+        OBJECTS,
+        "active object-space time",
+        "%",
+        Lower,
+        PCT,
+        "Share of instants inside at least one object space whose activity is on (an idle TV's \
+         space bothers nobody); never more than `psi_objects_any`.",
+        "",
+        "ours",
+    ),
+    // Time to collision and social force (with the people)
+    m(
+        "ttc_min",
+        PEOPLE,
+        "min time to collision",
+        "s",
+        Higher,
+        POS,
+        "Smallest time to collision over steps and people, both moving at constant velocity from \
+         the instant (0 when already overlapping); `None` when no finite TTC occurred.",
+        "",
+        "Francis et al. 2023 (TTC)",
+    ),
+    m(
+        "ttc_below_fraction",
+        PEOPLE,
+        "TTC below 2 s",
+        "fraction",
+        Lower,
+        FLAG,
+        "Share of steps whose smallest time to collision is below 2 s.",
+        "",
+        "Francis et al. 2023",
+    ),
+    m(
+        "social_force_on_people",
+        PEOPLE,
+        "social force on people",
+        "m/s² summed over instants",
+        Lower,
+        POS,
+        "The robot's social force on the people, summed over people and instants; `φ` is the \
+         angle between the person's heading and the direction person → robot (A = 2.1, \
+         B = 0.3 m, λ = 0.5).",
+        "`Σ_t Σ_i |F_R→i|`, `F = A exp((r_R + r_i − d)/B) (λ + (1 − λ)(1 + cos φ)/2)`",
+        "Helbing & Molnár 1995; HuNavSim",
+    ),
+    m(
+        "social_force_on_robot",
+        PEOPLE,
+        "social force on the robot",
+        "m/s² summed over instants",
+        Lower,
+        POS,
+        "The people's social force on the robot, the same law with the robot's yaw as its \
+         heading.",
+        "`Σ_t |Σ_i F_i→R|`",
+        "HuNavSim",
+    ),
+    m(
+        "social_work",
+        PEOPLE,
+        "social work",
+        "m/s² summed over instants",
+        Lower,
+        POS,
+        "The sum of the two social forces.",
+        "`social_force_on_people + social_force_on_robot`",
+        "HuNavSim",
+    ),
+    // Static geometry
+    m(
+        "clearance_min",
+        STATIC,
+        "min clearance",
+        "m (surface)",
+        Higher,
+        NONE,
+        "Smallest distance from the robot surface to walls and furniture over the instants.",
+        "",
+        "Francis et al. 2023 (CD)",
+    ),
+    m(
+        "clearance_avg",
+        STATIC,
+        "mean clearance",
+        "m (surface)",
+        Higher,
+        NONE,
+        "Mean distance from the robot surface to walls and furniture over the instants.",
+        "",
+        "Francis et al. 2023",
+    ),
+];
+
+/// The sections of the reference, in order.
+pub const FAMILIES: [&str; 7] = [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC];
+
+/// The reference entry of `key`, if it is a metric.
+pub fn metric_info(key: &str) -> Option<&'static MetricInfo> {
+    METRICS.iter().find(|m| m.key == key)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metrics::{EpisodeReport, Groups, ObjectSpaces, Outcome, PeopleTracks, Trajectory, evaluate};
+
+    #[test]
+    fn every_reported_key_is_in_the_registry_and_back() {
+        let robot: Vec<[f64; 3]> = (0..=4).map(|x| [x as f64, 0.0, 0.0]).collect();
+        let traj = Trajectory {
+            dt: 0.1,
+            robot: &robot,
+            robot_radius: 0.3,
+            goal: crate::math::Vec2::new(4.0, 0.0),
+            success_radius: 0.1,
+        };
+        let none = |_: crate::math::Vec2| f64::INFINITY;
+        let ctx = crate::metrics::EvalContext {
+            geodesic_length: 4.0,
+            astar_path: &[],
+            clearance: &none,
+            zones: crate::metrics::DEFAULT_ZONES,
+            collision_steps: &[],
+            params: crate::metrics::MetricParams::default(),
+        };
+        let metrics = evaluate(&traj, &PeopleTracks::none(), &Groups::none(), &ObjectSpaces::none(), &ctx)
+            .expect("valid input");
+        let report = EpisodeReport {
+            outcome: Outcome::Success,
+            duration: 0.4,
+            astar_length: 4.0,
+            geodesic_length: Some(4.0),
+            min_robot_gap: None,
+            metrics,
+        };
+        let value = serde_json::to_value(&report).expect("serialisable");
+        let keys: Vec<&str> = value.as_object().expect("an object").keys().map(String::as_str).collect();
+        let missing: Vec<&str> = keys.iter().copied().filter(|k| metric_info(k).is_none()).collect();
+        assert!(missing.is_empty(), "reported but not in the registry: {missing:?}");
+        let extra: Vec<&str> = METRICS.iter().map(|m| m.key).filter(|k| !keys.contains(k)).collect();
+        assert!(extra.is_empty(), "in the registry but not reported: {extra:?}");
+        // List-valued keys are exactly the per-person and per-object ones.
+        for info in METRICS {
+            let is_list = value[info.key].is_array();
+            assert_eq!(is_list, info.per != Per::Episode, "{}", info.key);
+        }
+    }
+
+    #[test]
+    fn keys_are_unique_and_entries_complete() {
+        for (i, a) in METRICS.iter().enumerate() {
+            assert!(METRICS[i + 1..].iter().all(|b| b.key != a.key), "duplicate {}", a.key);
+            assert!(FAMILIES.contains(&a.family), "{}: unknown family {}", a.key, a.family);
+            assert!(!a.label.is_empty() && !a.definition.is_empty(), "{}", a.key);
+            if let (Some(lo), Some(hi)) = (a.low, a.high) {
+                assert!(lo < hi, "{}", a.key);
+            }
+        }
+    }
+}
