@@ -26,10 +26,13 @@
 //! - `check.rs`: the error constructor and the value checks (finite, range, inside the bounds,
 //!   unique names, times of day) shared by the others;
 //! - `model.rs`: the validated types ([`Scenario`] and its parts) and their accessors;
-//! - `overrides.rs`: the `with_*` builders, copies of a scenario with one setting replaced.
+//! - `overrides.rs`: the `with_*` builders, copies of a scenario with one setting replaced;
+//! - `generate/`: generated scenes (a seeded floor plan, furniture, people and robots written as a
+//!   scenario file), and robot tasks sampled free and reachable in any scenario.
 
 mod build;
 mod check;
+pub mod generate;
 mod load;
 mod model;
 mod overrides;
