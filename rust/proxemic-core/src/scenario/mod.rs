@@ -48,3 +48,4 @@ pub use model::{
     InteractionShape, Object, ObjectKind, Person, PlannerKind, Proxemics, Randomize, RewardWeights, Robot,
     SEAT_SPACING, SPEED_PRESETS, Scenario, Scene, Sensors, Wall,
 };
+pub use overrides::{EXTRA_ROBOTS_SEED, MAX_ROBOTS};

@@ -98,3 +98,20 @@ fn bad_parameters_and_specs_are_typed_errors_naming_the_field() {
     assert_eq!((seed, p.robots, p.density), (3, 2, 2.5));
     assert_eq!(spec(seed, &p), "generated/3?density=2.5&robots=2");
 }
+
+/// `with_robots` past the file's robots samples the extra ones free and reachable: the museum
+/// (one robot in the file) with 4 robots builds a world, the same 4 every time.
+#[test]
+fn extra_robots_are_sampled_in_bundled_scenes() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../python/proxemic/data/envs");
+    let museum = Scenario::from_file(dir.join("museum.toml")).expect("museum");
+    assert_eq!(museum.robots.len(), 1);
+    let four = museum.with_robots(4).expect("four robots");
+    assert_eq!(four.robots.len(), 4);
+    assert_eq!(four.robots[0].start, museum.robots[0].start);
+    let again = museum.with_robots(4).expect("again");
+    for (a, b) in four.robots.iter().zip(&again.robots) {
+        assert_eq!((a.start, a.goal), (b.start, b.goal));
+    }
+    World::new(four).expect("a world with the sampled robots");
+}
