@@ -25,6 +25,10 @@ EBAND_GAINS: list[str]
 
 def parse_time_of_day(value: str | float) -> float: ...
 
+GENERATE_PARAMS: list[str]
+
+def generate(spec: str) -> tuple[Scenario, str]: ...
+
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""
 
