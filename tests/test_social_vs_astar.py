@@ -46,8 +46,10 @@ from proxemic.evaluation import EvalConfig, iter_results, paired_ratio
 SOCIAL, ASTAR = "social", "astar"
 #: The bundled scenes of the claims.
 SCENES = ("museum", "care_center")
-#: The scene set of generated scenes.
+#: The scene set of generated scenes: ``generated/<seed>`` with these parameters (a conversation
+#: group on the robot's shortest way, 2.5 people per 100 m^2; chosen on tuning scene seeds 0-29).
 GENERATED = "generated"
+GENERATED_QUERY = "?encounters=1&density=2.5"
 SCENE_SETS = (*SCENES, GENERATED)
 #: Episode seeds per bundled scene in ``make test`` (a fixed prefix of the test split).
 CI_EPISODE_SEEDS = splits.TEST_EPISODE_SEEDS[:20]
@@ -69,7 +71,7 @@ def _run(scene: str, seeds: tuple[int, ...]) -> Records:
     person's body-edge gap at the start (``start_gap``, m)."""
     out: Records = {SOCIAL: [], ASTAR: []}
     for seed in seeds:
-        name = f"generated/{seed}" if scene == GENERATED else scene
+        name = f"generated/{seed}{GENERATED_QUERY}" if scene == GENERATED else scene
         core, desc = scenarios.load(name)
         radius = desc["robots"][0]["radius"]
         cfg = EvalConfig(scenario=name, planners=[SOCIAL, ASTAR], episodes=1, seed=seed, workers=1)
@@ -185,13 +187,17 @@ def _timeouts(rec: Records) -> None:
 
 def _success(rec: Records) -> None:
     s, a = rate(rec[SOCIAL], "success"), rate(rec[ASTAR], "success")
-    assert abs(s - a) <= 0.05, f"success: social {s:.1%} vs plain A* {a:.1%} (claim: within 5 points)"
+    assert s >= a - 0.05, f"success: social {s:.1%} vs plain A* {a:.1%} (claim: at most 5 points below)"
 
 
 def _paired(rec: Records, key: str) -> tuple[list[float], list[float]]:
     """`key` of social and of plain A* over the episodes both complete (same scene and seed)."""
     astar = {(r["scenario"], r["seed"]): r for r in rec[ASTAR] if r["success"]}
-    pairs = [(r, astar[(r["scenario"], r["seed"])]) for r in rec[SOCIAL] if r["success"] and (r["scenario"], r["seed"]) in astar]
+    pairs = [
+        (r, astar[(r["scenario"], r["seed"])])
+        for r in rec[SOCIAL]
+        if r["success"] and (r["scenario"], r["seed"]) in astar
+    ]
     ok = [(x[key], y[key]) for x, y in pairs if x.get(key) is not None and y.get(key) is not None]
     return [float(x) for x, _ in ok], [float(y) for _, y in ok]
 
@@ -201,7 +207,9 @@ def _time(rec: Records) -> None:
     assert len(s) >= 2, f"only {len(s)} episodes both planners complete"
     r, lo, hi = paired_ratio(s, a)
     print(f"paired time to goal ratio social/astar: {r:.3f} [{lo:.3f}, {hi:.3f}] over {len(s)} pairs")
-    assert r <= 1.3, f"paired time to goal: social/astar {r:.3f} [95% CI {lo:.3f}, {hi:.3f}], {len(s)} pairs (claim: <= 1.3)"
+    assert r <= 1.3, (
+        f"paired time to goal: social/astar {r:.3f} [95% CI {lo:.3f}, {hi:.3f}], {len(s)} pairs (claim: <= 1.3)"
+    )
 
 
 def _l_ratio(rec: Records) -> None:
@@ -223,11 +231,25 @@ CLAIMS: dict[str, Callable[[Records], None]] = {
 }
 
 #: (scene set, claim) -> the measured figure, for claims that do not hold on the test split (CI sets).
-KNOWN_FAILURES: dict[tuple[str, str], str] = {}
+KNOWN_FAILURES: dict[tuple[str, str], str] = {
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 20/20 episodes (centre reading: 0/20)",
+    ("museum", "personal_seconds"): "personal-zone time: social 163.1 s vs plain A* 204.0 s (20% less, claim 50%)",
+    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 12/20 episodes (centre reading: 0/20)",
+    ("care_center", "personal_seconds"): "personal-zone time: social 88.2 s vs plain A* 104.9 s (16% less, claim 50%)",
+    ("care_center", "collisions"): "collision rate: social 5% (1/20) vs plain A* 15% (claim: <= 2%)",
+    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 13/50 scenes (centre reading: 0/50)",
+    (GENERATED, "personal_seconds"): "personal-zone time: social 43.6 s vs plain A* 58.8 s (26% less, claim 50%)",
+    (GENERATED, "active_object_seconds"): "active object-space time: social 10.4 s vs plain A* 10.0 s (claim 80% less)",
+}
 #: The same for the full test split.
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {}
 #: (scene set, claim) -> the measured figure, where plain A* never does what the claim cuts.
-NOT_EXERCISED: dict[tuple[str, str], str] = {}
+NOT_EXERCISED: dict[tuple[str, str], str] = {
+    ("care_center", "ospace_entries"): "plain A* enters no o-space in the care center (0 entries on 20 test seeds)",
+    ("care_center", "interaction_crossings"): "plain A* crosses no interaction in the care center (0 on 20 test seeds)",
+    (GENERATED, "ospace_entries"): "plain A* enters no o-space in the 50 generated scenes (0 entries)",
+    (GENERATED, "interaction_crossings"): "plain A* crosses no interaction in the 50 generated scenes (0)",
+}
 
 
 def _seeds(scene: str, full: bool) -> tuple[int, ...]:
@@ -273,7 +295,9 @@ def test_claims_are_exercised(scene: str, claim: str) -> None:
     """Plain A* does what each claim forbids or cuts, at least once, in every scene set (CI sets)."""
     rec = records(scene, _seeds(scene, False))
     if claim == "intimate":
-        assert intimate_entries(rec[ASTAR]), f"{scene}: plain A* never came within 0.45 m of a body it had room to avoid"
+        assert intimate_entries(rec[ASTAR]), (
+            f"{scene}: plain A* never came within 0.45 m of a body it had room to avoid"
+        )
     else:
         total = sum(map(REDUCTIONS[claim][0], rec[ASTAR]))
         assert total > 0, f"{scene}: plain A* has no {claim}"
@@ -332,7 +356,7 @@ def test_intimate_claim_measures_body_edges_not_centres() -> None:
     reading; the body-edge claim fails it."""
     close = _episode(0, dist_person_min=0.6, gap_person_min=0.16)
     assert not centre_entries([close])  # the old reading would pass
-    with pytest.raises(AssertionError, match="within 0.45 m body edge to body edge"):
+    with pytest.raises(AssertionError, match=r"within 0\.45 m body edge to body edge"):
         CLAIMS["intimate"]({SOCIAL: [close], ASTAR: [close]})
     CLAIMS["intimate"]({SOCIAL: [_episode(0)], ASTAR: [close]})
 
@@ -358,5 +382,5 @@ def test_paired_time_uses_only_episodes_both_complete() -> None:
     assert _paired(rec, "time_to_goal") == ([50.0, 50.0], [45.0, 45.0])
     CLAIMS["time"](rec)
     slow = {SOCIAL: [_episode(0, time_to_goal=70.0), _episode(1, time_to_goal=70.0)], ASTAR: rec[ASTAR][:2]}
-    with pytest.raises(AssertionError, match="claim: <= 1.3"):
+    with pytest.raises(AssertionError, match=r"claim: <= 1\.3"):
         CLAIMS["time"](slow)

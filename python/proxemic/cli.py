@@ -404,6 +404,7 @@ def build_parser() -> argparse.ArgumentParser:
     g = sub.add_parser("generate", help="write a generated scene (seeded floor plan, furniture, people, robots)")
     g.add_argument("--seed", type=int, required=True, help="the scene's seed (a non-negative integer)")
     g.add_argument("--robots", type=_positive_int, help="robots (default 1, at most 8)")
+    g.add_argument("--encounters", type=int, help="conversation groups on each robot's way (0 or 1; default 0)")
     g.add_argument("--objects-per-room", dest="objects_per_room", type=int, help="objects per room (default 3)")
     for key, unit in [
         ("width", "m"),

@@ -78,7 +78,11 @@ def generated_name(seed: int, **params: float) -> str:
                 expected=f"one of {list(GENERATE_PARAMS)}",
                 found=key,
             )
-        pairs.append(f"{key}={_number(value, key):g}" if key not in ("robots", "objects_per_room") else f"{key}={value}")
+        pairs.append(
+            f"{key}={_number(value, key):g}"
+            if key not in ("robots", "objects_per_room", "encounters")
+            else f"{key}={value}"
+        )
     query = "?" + "&".join(pairs) if pairs else ""
     return f"{GENERATED_PREFIX}{int(seed)}{query}"
 
@@ -90,7 +94,8 @@ def generate(seed: int, **params: float) -> _core.Scenario:
     core's ``GenParams``): ``width`` (m, 24, [12, 60]), ``height`` (m, 16, [10, 40]),
     ``corridor_width`` (m, 3, [2.4, 6]), ``door_width`` (m, 1.8, [1.4, 3]), ``density`` (people per
     100 m^2, 1.5, [0, 6]), ``group_share`` (0.3), ``walker_share`` (0.4), ``seated_share`` (0.2),
-    ``objects_per_room`` (3, [0, 8]), ``robots`` (1, [1, 8]), ``max_time`` (s, 180, [30, 3600]).
+    ``objects_per_room`` (3, [0, 8]), ``robots`` (1, [1, 8]), ``max_time`` (s, 180, [30, 3600]),
+    ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way).
     The same scene is ``gym.make("proxemic/Generated-v0", scenario=generated_name(seed, ...))``.
 
     Raises:

@@ -42,11 +42,11 @@ impl Keep {
         Keep { discs: plan.doors.iter().map(|d| (d.centre, d.width / 2.0 + 1.4)).collect() }
     }
 
-    fn free(&self, c: Vec2, r: f64) -> bool {
+    pub(super) fn free(&self, c: Vec2, r: f64) -> bool {
         self.discs.iter().all(|&(q, s)| (q - c).norm() >= r + s)
     }
 
-    fn add(&mut self, c: Vec2, r: f64) {
+    pub(super) fn add(&mut self, c: Vec2, r: f64) {
         self.discs.push((c, r));
     }
 }
@@ -299,4 +299,61 @@ fn walker_route(rng: &mut ChaCha8Rng, plan: &Plan, geometry: &StaticGeometry) ->
         }
     }
     Some(route.iter().map(|q| [round2(q.x), round2(q.y)]).collect())
+}
+
+/// A conversation group of 2-3 standing on a robot's shortest way (`path`, start to goal): the
+/// first place between 30% and 70% of the way with room for the group (its members clear of walls
+/// and furniture, 0.75 m of free floor beside it across the way, clear of the doorways' approaches
+/// and of the people standing still, 2.5 m or more from every robot's start and goal), so plain A* walks into it and a social planner has room to
+/// go round. Returns the members (None if no such place).
+pub(super) fn encounter(
+    rng: &mut ChaCha8Rng,
+    path: &[Vec2],
+    geometry: &StaticGeometry,
+    keep: &mut Keep,
+    ends: &[Vec2],
+    group: u32,
+    end: f64,
+) -> Option<Vec<GPerson>> {
+    let size = rng.random_range(2..=3usize);
+    let ring = 0.4 + 0.1 * size as f64;
+    let n = path.len();
+    if n < 4 {
+        return None;
+    }
+    let first = rng.random_range(0.2..0.3);
+    let candidates = (0..60).map(|k| first + 0.01 * k as f64).filter(|f| *f <= 0.8);
+    for f in candidates {
+        let k = ((n as f64 * f) as usize).min(n - 2);
+        let (q, next) = (path[k], path[k + 1]);
+        let d = next - q;
+        let side = Vec2::new(-d.y, d.x) / d.norm().max(1e-9);
+        // the way crosses the o-space: the centre at most 0.6 of the circle's radius off it
+        let offsets = [0.0, 0.3 * ring, -0.3 * ring, 0.6 * ring, -0.6 * ring];
+        let r = ring + 0.3;
+        // room to pass on one side: beside the group, across the way, 0.75 m of free floor (a
+        // robot's body with the intimate zone's 0.45 m) past the members' bodies
+        let pass = |c: Vec2, s: f64| geometry.distance(c + side * (s * (ring + 1.2))) >= 0.75;
+        let Some(c) =
+            offsets.iter().map(|&o| q + side * o).map(|c| Vec2::new(round2(c.x), round2(c.y))).find(|&c| {
+                geometry.distance(c) >= ring + 0.35
+                    && (pass(c, 1.0) || pass(c, -1.0))
+                    && keep.free(c, r)
+                    && ends.iter().all(|&e| (e - c).norm() >= 2.5)
+            })
+        else {
+            continue;
+        };
+        keep.add(c, r);
+        let a0 = rng.random_range(0.0..TAU);
+        let members = (0..size)
+            .map(|k| {
+                let a = a0 + TAU * k as f64 / size as f64;
+                let home = [round2(c.x + (ring + 0.5) * a.cos()), round2(c.y + (ring + 0.5) * a.sin())];
+                GPerson::Conversation { group, home, spot: [c.x, c.y], end }
+            })
+            .collect();
+        return Some(members);
+    }
+    None
 }

@@ -78,6 +78,9 @@ pub fn spec(seed: u64, p: &GenParams) -> String {
     if p.max_time != d.max_time {
         pairs.push(format!("max_time={}", p.max_time));
     }
+    if p.encounters != d.encounters {
+        pairs.push(format!("encounters={}", p.encounters));
+    }
     if pairs.is_empty() {
         format!("generated/{seed}")
     } else {
@@ -99,7 +102,7 @@ pub fn generate(seed: u64, p: &GenParams) -> Result<Generated> {
     let mut keep = Keep::new(&plan);
     let mut objects = furnish::objects(&mut rng, &plan, p, &mut keep);
     let geometry = static_geometry(&plan, &objects, p, &source)?;
-    let people = furnish::people(&mut rng, &plan, p, &geometry, &mut objects, &mut keep);
+    let mut people = furnish::people(&mut rng, &plan, p, &geometry, &mut objects, &mut keep);
     let activities = agenda(&mut rng, &objects, p);
     // The scene without its robots, with a placeholder in the bounds' corner (inside the outer
     // wall, where nobody is) to make it a loadable scenario for the robot sampler.
@@ -108,9 +111,68 @@ pub fn generate(seed: u64, p: &GenParams) -> Result<Generated> {
         render(seed, p, &plan, &objects, &people, &activities, &[(corner[0], [corner[1][0], corner[1][1]])]);
     let draft = Scenario::from_toml_str(&draft, &source)?;
     let tasks = sample_tasks(&draft, 0, p.robots, seed ^ 0x5EED_0F_0B075)?;
+    if p.encounters > 0 {
+        let ends: Vec<Vec2> =
+            tasks.iter().flat_map(|(s, g)| [Vec2::new(s[0], s[1]), Vec2::new(g[0], g[1])]).collect();
+        let mut group = 900u32;
+        for (start, goal) in &tasks {
+            let path = shortest_way(&draft, Vec2::new(start[0], start[1]), Vec2::new(goal[0], goal[1]))?;
+            if let Some(members) =
+                furnish::encounter(&mut rng, &path, &geometry, &mut keep, &ends, group, p.max_time + 60.0)
+            {
+                people.extend(members);
+                group += 1;
+            }
+        }
+    }
     let toml = render(seed, p, &plan, &objects, &people, &activities, &tasks);
     let scenario = Scenario::from_toml_str(&toml, &source)?;
     Ok(Generated { toml, scenario })
+}
+
+/// The cells of the robot's shortest way on its inflated grid from `start` to `goal` (steepest
+/// descent of the geodesic distance to the goal), as cell centres.
+fn shortest_way(s: &Scenario, start: Vec2, goal: Vec2) -> Result<Vec<Vec2>> {
+    use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
+    use crate::plan::CostGrid;
+    use crate::plan::geodesic::GoalField;
+    let b = s.scene.bounds;
+    let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
+    let polygons = s
+        .static_polygons()
+        .into_iter()
+        .map(|poly| poly.into_iter().map(|q| Vec2::new(q[0], q[1])).collect())
+        .collect();
+    let geometry = StaticGeometry::new(polygons, bounds)?;
+    let spec = GridSpec::covering(bounds, s.scene.resolution)?;
+    let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geometry, spec));
+    let r = &s.robots[0];
+    let grid = CostGrid::inflated(&field, r.radius + r.inflation_margin);
+    let mut path = Vec::new();
+    let (Some(gc), Some(mut c)) = (spec.cell_of(goal), spec.cell_of(start)) else {
+        return Ok(path);
+    };
+    let to_goal = GoalField::compute(&grid, gc);
+    let dist = |x: usize, y: usize| to_goal.cell_distance(spec.center(x, y));
+    for _ in 0..spec.len() {
+        path.push(spec.center(c.0, c.1));
+        let mut best = (dist(c.0, c.1), c);
+        for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)] {
+            let (x, y) = (c.0 as isize + dx, c.1 as isize + dy);
+            if x < 0 || y < 0 || x as usize >= spec.width || y as usize >= spec.height {
+                continue;
+            }
+            let d = dist(x as usize, y as usize);
+            if d < best.0 {
+                best = (d, (x as usize, y as usize));
+            }
+        }
+        if best.1 == c {
+            break;
+        }
+        c = best.1;
+    }
+    Ok(path)
 }
 
 fn round2(v: f64) -> f64 {

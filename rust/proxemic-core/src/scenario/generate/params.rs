@@ -32,6 +32,10 @@ pub struct GenParams {
     pub robots: usize,
     /// Episode length (s), in [30, 3600]; default 180.
     pub max_time: f64,
+    /// Conversation groups (2-3 people) placed on each robot's shortest way, in [0, 1]; default
+    /// 0: an encounter a social planner has room to go round and plain A* walks into (as the
+    /// museum's gallery talk). Placed where the way has room for it, else left out.
+    pub encounters: usize,
 }
 
 impl Default for GenParams {
@@ -48,6 +52,7 @@ impl Default for GenParams {
             objects_per_room: 3,
             robots: 1,
             max_time: 180.0,
+            encounters: 0,
         }
     }
 }
@@ -56,7 +61,7 @@ impl Default for GenParams {
 pub(super) const MIN_ROOM_DEPTH: f64 = 3.5;
 
 /// The parameter names a spec or `proxemic.generate` accepts.
-pub const PARAM_NAMES: [&str; 11] = [
+pub const PARAM_NAMES: [&str; 12] = [
     "width",
     "height",
     "corridor_width",
@@ -68,6 +73,7 @@ pub const PARAM_NAMES: [&str; 11] = [
     "objects_per_room",
     "robots",
     "max_time",
+    "encounters",
 ];
 
 fn perr(source: &str, field: &str, expected: impl Into<String>, found: impl Into<String>) -> CoreError {
@@ -110,6 +116,7 @@ impl GenParams {
             "objects_per_room" => self.objects_per_room = integer()?,
             "robots" => self.robots = integer()?,
             "max_time" => self.max_time = number()?,
+            "encounters" => self.encounters = integer()?,
             _ => {
                 return Err(perr(
                     source,
@@ -154,6 +161,9 @@ impl GenParams {
                 "an integer in [0, 8]",
                 self.objects_per_room.to_string(),
             ));
+        }
+        if self.encounters > 1 {
+            return Err(perr(source, "encounters", "an integer in [0, 1]", self.encounters.to_string()));
         }
         if !(1..=8).contains(&self.robots) {
             return Err(perr(source, "robots", "an integer in [1, 8]", self.robots.to_string()));

@@ -15,8 +15,9 @@ fn generated_scenes_are_valid_and_round_trip() {
         GenParams { robots: 3, density: 3.0, ..GenParams::default() },
         GenParams { width: 40.0, height: 22.0, group_share: 0.6, robots: 2, ..GenParams::default() },
         GenParams { width: 12.0, height: 11.0, corridor_width: 2.4, door_width: 1.4, ..GenParams::default() },
+        GenParams { encounters: 1, density: 2.5, robots: 2, ..GenParams::default() },
     ];
-    for seed in 0..40u64 {
+    for seed in 0..50u64 {
         let p = &settings[seed as usize % settings.len()];
         let g = generate(seed, p).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
         assert_eq!(g.scenario.robots.len(), p.robots);
