@@ -110,7 +110,7 @@ pub fn generate(seed: u64, p: &GenParams) -> Result<Generated> {
     let draft =
         render(seed, p, &plan, &objects, &people, &activities, &[(corner[0], [corner[1][0], corner[1][1]])]);
     let draft = Scenario::from_toml_str(&draft, &source)?;
-    let tasks = sample_tasks(&draft, 0, p.robots, seed ^ 0x5EED_0F_0B075)?;
+    let tasks = sample_tasks(&draft, 0, p.robots, seed ^ 0x05EE_D0F0_B075)?;
     if p.encounters > 0 {
         let ends: Vec<Vec2> =
             tasks.iter().flat_map(|(s, g)| [Vec2::new(s[0], s[1]), Vec2::new(g[0], g[1])]).collect();
