@@ -53,7 +53,7 @@ test-rust: ## Rust unit and integration tests (property tests with a fixed seed:
 test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
 	$(PY) -m pytest -q
 
-test-full: setup ## the full social-vs-A* comparison suites (60 seeds per scene; pytest -m full)
+test-full: setup ## the full social-vs-A* comparison suite on the whole test split (60 seeds per scene, 60 generated scenes; pytest -m full)
 	$(PY) -m pytest -q -m full tests/test_social_vs_astar.py
 
 install-check: system-deps ## `pip install .` into a fresh venv, then gym.make from another directory

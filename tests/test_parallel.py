@@ -275,11 +275,12 @@ def test_museum_robots_keep_out_of_intimate_zones_while_they_have_room():
 
 
 def test_bad_input_is_a_clear_error(write_scenario):
-    # A robot count outside [1, N] is one mistake, one class, whichever side of 1..N it falls.
-    for bad in (0, -2, 5):
+    # A robot count outside [1, 8] is one mistake, one class, whichever side it falls (counts past
+    # the file's 4 robots get sampled extra robots, up to 8).
+    for bad in (0, -2, 9):
         with pytest.raises(ScenarioError) as e:
             proxemic.parallel_env("daza2021_fig15", robots=bad)
-        assert e.value.field == "robots" and "[1, 4]" in e.value.expected and e.value.found == str(bad)
+        assert e.value.field == "robots" and "[1, 8]" in e.value.expected and e.value.found == str(bad)
     with pytest.raises(InputError, match="robots") as e:
         proxemic.parallel_env("daza2021_fig15", robots="two")
     assert e.value.field == "robots"

@@ -76,6 +76,13 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'proxemic' has no attribute {name!r}")
 
 
+def generate(seed: int, **params: float) -> Scenario:
+    """A generated scene as a scenario; see :func:`proxemic.scenarios.generate`."""
+    from proxemic.scenarios import generate as make
+
+    return make(seed, **params)
+
+
 def evaluate(policy: Any = None, **kwargs: Any) -> EvalResult:
     """A policy (and built-in planners) on seeded episodes; see :func:`proxemic.evaluation.evaluate`."""
     from proxemic.evaluation import evaluate as run
@@ -99,6 +106,7 @@ __all__ = [
     "UnknownNameError",
     "__version__",
     "evaluate",
+    "generate",
     "parallel_env",
     "parse_time_of_day",
     "vector_env",

@@ -37,6 +37,10 @@ def step_worlds(
 def metric_registry() -> list[MetricInfo]: ...
 def scenario_schema() -> str: ...
 
+GENERATE_PARAMS: list[str]
+
+def generate(spec: str) -> tuple[Scenario, str]: ...
+
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""
 

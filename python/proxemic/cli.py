@@ -277,6 +277,22 @@ def cmd_scenes(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_generate(args: argparse.Namespace) -> int:
+    """Writes a generated scene's scenario file."""
+    params: dict[str, float] = {}
+    for key in scenarios.GENERATE_PARAMS:
+        value = getattr(args, key, None)
+        if value is not None:
+            params[key] = value
+    text = scenarios.generate_toml(args.seed, **params)
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(text)
+    name = scenarios.generated_name(args.seed, **params)
+    print(f"wrote {out} ({name}; load it with gym.make('proxemic/Generated-v0', scenario={name!r}) or by path)")
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line on stderr (exit code 2), naming the argument."""
 
@@ -434,6 +450,25 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
     r.add_argument("--out", default="out/reproduce", help="output folder; the paper's name is appended")
     r.set_defaults(func=cmd_reproduce)
+    g = sub.add_parser("generate", help="write a generated scene (seeded floor plan, furniture, people, robots)")
+    g.add_argument("--seed", type=int, required=True, help="the scene's seed (a non-negative integer)")
+    g.add_argument("--robots", type=_positive_int, help="robots (default 1, at most 8)")
+    g.add_argument("--encounters", type=int, help="conversation groups on each robot's way (0 or 1; default 0)")
+    g.add_argument("--objects-per-room", dest="objects_per_room", type=int, help="objects per room (default 3)")
+    for key, unit in [
+        ("width", "m"),
+        ("height", "m"),
+        ("corridor_width", "m"),
+        ("door_width", "m"),
+        ("density", "people per 100 m^2"),
+        ("group_share", "share"),
+        ("walker_share", "share"),
+        ("seated_share", "share"),
+        ("max_time", "s"),
+    ]:
+        g.add_argument(f"--{key.replace('_', '-')}", dest=key, type=_finite_float, help=f"{key} ({unit})")
+    g.add_argument("--out", default="scene.toml", help="the scenario file to write (default: scene.toml)")
+    g.set_defaults(func=cmd_generate)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
     sc = sub.add_parser("schema", help="print the JSON Schema of scenario files (for editor completion)")

@@ -616,6 +616,7 @@ def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
 VERDICT_METRICS: tuple[tuple[str, str], ...] = (
     ("time_to_goal", "times"),
     ("path_length", "times"),
+    ("l_ratio", "times"),
     ("psi_personal", "share"),
     ("ospace_pct", "share"),
     ("interaction_crossings", "share"),

@@ -21,8 +21,15 @@ ENV_IDS: dict[str, str] = {
 }
 
 
+#: The environment id of generated scenes: ``gym.make(GENERATED_ENV_ID, scenario="generated/3?robots=1")``
+#: (default ``generated/0``; see :func:`proxemic.scenarios.generate`).
+GENERATED_ENV_ID = "proxemic/Generated-v0"
+
+
 def register_envs() -> None:
-    """Registers every bundled scenario as a gymnasium environment (idempotent)."""
+    """Registers every bundled scenario, and generated scenes, as gymnasium environments (idempotent)."""
+    if GENERATED_ENV_ID not in gym.registry:
+        gym.register(id=GENERATED_ENV_ID, entry_point="proxemic.env:ProxemicEnv", kwargs={"scenario": "generated/0"})
     for env_id, scenario in ENV_IDS.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, entry_point="proxemic.env:ProxemicEnv", kwargs={"scenario": scenario})

@@ -95,6 +95,65 @@ def check_planner(name: str) -> None:
         )
 
 
+#: Prefix of a generated scene's name: ``generated/<seed>`` or ``generated/<seed>?key=value&...``.
+GENERATED_PREFIX = "generated/"
+
+#: Parameters of :func:`generate` (and of a ``generated/<seed>?...`` name), in the core's order.
+GENERATE_PARAMS: tuple[str, ...] = tuple(_core.GENERATE_PARAMS)
+
+
+def generated_name(seed: int, **params: float) -> str:
+    """The scenario name ``generated/<seed>?key=value&...`` of a generated scene.
+
+    Raises:
+        InputError: `seed` not a non-negative integer, a parameter value not a number.
+        UnknownNameError: a parameter name not in ``GENERATE_PARAMS``.
+    """
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise input_error("seed", "a non-negative integer", seed)
+    pairs = []
+    for key, value in params.items():
+        if key not in GENERATE_PARAMS:
+            raise UnknownNameError(
+                f"unknown generator parameter {key!r}: expected one of {list(GENERATE_PARAMS)}",
+                field=key,
+                expected=f"one of {list(GENERATE_PARAMS)}",
+                found=key,
+            )
+        pairs.append(
+            f"{key}={_number(value, key):g}"
+            if key not in ("robots", "objects_per_room", "encounters")
+            else f"{key}={value}"
+        )
+    query = "?" + "&".join(pairs) if pairs else ""
+    return f"{GENERATED_PREFIX}{int(seed)}{query}"
+
+
+def generate(seed: int, **params: float) -> _core.Scenario:
+    """A generated scene (a seeded floor plan with furniture, people and robots) as a scenario.
+
+    Same seed and parameters, same scene. Parameters (defaults and ranges in ``docs`` and the
+    core's ``GenParams``): ``width`` (m, 24, [12, 60]), ``height`` (m, 16, [10, 40]),
+    ``corridor_width`` (m, 3, [2.4, 6]), ``door_width`` (m, 1.8, [1.4, 3]), ``density`` (people per
+    100 m^2, 1.5, [0, 6]), ``group_share`` (0.3), ``walker_share`` (0.4), ``seated_share`` (0.2),
+    ``objects_per_room`` (3, [0, 8]), ``robots`` (1, [1, 8]), ``max_time`` (s, 180, [30, 3600]),
+    ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way).
+    The same scene is ``gym.make("proxemic/Generated-v0", scenario=generated_name(seed, ...))``.
+
+    Raises:
+        ScenarioError: a parameter out of its range, naming it.
+        UnknownNameError: an unknown parameter name.
+        InputError: a seed or value of the wrong type.
+    """
+    core, _text = _core.generate(generated_name(seed, **params))
+    return core
+
+
+def generate_toml(seed: int, **params: float) -> str:
+    """The scenario file text of :func:`generate`'s scene (loads back as the same scenario)."""
+    return _core.generate(generated_name(seed, **params))[1]
+
+
 def load(
     scenario: str | Path | _core.Scenario,
     *,
@@ -109,6 +168,10 @@ def load(
 
     Args:
         scenario: Bundled name, env id (``"proxemic/Museum-v0"``) or path of a scenario file, or an
+
+
+        scenario: Bundled name or path of a scenario file, a generated scene's name
+            (``generated/<seed>`` or ``generated/<seed>?key=value&...``, see :func:`generate`), or an
             already validated scenario.
         planner: If given, every robot uses this built-in planner (one of ``PLANNERS``) instead of the file's.
         eband: If given, every robot's elastic-band gains (``contraction_gain``,
@@ -117,6 +180,8 @@ def load(
     """
     if isinstance(scenario, _core.Scenario):
         core = scenario
+    elif str(scenario).startswith(GENERATED_PREFIX):
+        core, _text = _core.generate(str(scenario))
     else:
         core = _core.Scenario.from_file(str(resolve(scenario)))
     if planner is not None:

@@ -832,6 +832,18 @@ fn points_to_array<'py>(py: Python<'py>, pts: &[Vec2]) -> PyResult<Bound<'py, Py
     PyArray1::from_vec(py, flat).reshape([pts.len(), 2])
 }
 
+/// A generated scene from its spec `generated/<seed>[?key=value&...]`: the validated scenario
+/// and its scenario file text. Raises `ScenarioError` naming the seed or parameter that is wrong.
+#[pyfunction]
+fn generate(py: Python<'_>, spec: &str) -> PyResult<(PyScenario, String)> {
+    let spec = spec.to_string();
+    let g = enter_core(py, move || {
+        let (seed, params) = proxemic_core::scenario::generate::parse_spec(&spec)?;
+        proxemic_core::scenario::generate::generate(seed, &params)
+    })?;
+    Ok((PyScenario { inner: g.scenario }, g.toml))
+}
+
 /// The compiled core of proxemic.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -851,9 +863,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("EBAND_GAINS", EBAND_GAINS.to_vec())?;
     m.add_class::<PyScenario>()?;
     m.add_class::<PyWorld>()?;
+    m.add("GENERATE_PARAMS", proxemic_core::scenario::generate::PARAM_NAMES.to_vec())?;
     m.add_function(wrap_pyfunction!(parse_time_of_day, m)?)?;
     m.add_function(wrap_pyfunction!(step_worlds, m)?)?;
     m.add_function(wrap_pyfunction!(metric_registry, m)?)?;
     m.add_function(wrap_pyfunction!(scenario_schema, m)?)?;
+    m.add_function(wrap_pyfunction!(generate, m)?)?;
     Ok(())
 }

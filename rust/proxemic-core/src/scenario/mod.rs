@@ -28,10 +28,13 @@
 //! - `schema.rs`: the JSON Schema of the file format ([`json_schema`], from the raw types), the
 //!   scenario reference of the docs and `proxemic schema`;
 //! - `model.rs`: the validated types ([`Scenario`] and its parts) and their accessors;
-//! - `overrides.rs`: the `with_*` builders, copies of a scenario with one setting replaced.
+//! - `overrides.rs`: the `with_*` builders, copies of a scenario with one setting replaced;
+//! - `generate/`: generated scenes (a seeded floor plan, furniture, people and robots written as a
+//!   scenario file), and robot tasks sampled free and reachable in any scenario.
 
 mod build;
 mod check;
+pub mod generate;
 mod load;
 mod model;
 mod overrides;
@@ -48,4 +51,5 @@ pub use model::{
     InteractionShape, Object, ObjectKind, Person, PlannerKind, Proxemics, Randomize, RewardWeights, Robot,
     SEAT_SPACING, SPEED_PRESETS, Scenario, Scene, Sensors, Wall,
 };
+pub use overrides::{EXTRA_ROBOTS_SEED, MAX_ROBOTS};
 pub use schema::json_schema;

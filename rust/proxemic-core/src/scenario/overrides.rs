@@ -5,6 +5,13 @@ use super::check::{Checker, err};
 use super::model::{PlannerKind, Scenario};
 use crate::error::Result;
 
+/// Most robots [`Scenario::with_robots`] makes when it samples extra ones.
+pub const MAX_ROBOTS: usize = 8;
+
+/// Seed of the extra robots' sampled tasks in [`Scenario::with_robots`] (fixed: the same extra
+/// robots in every episode and run).
+pub const EXTRA_ROBOTS_SEED: u64 = 0x00AB_0075;
+
 impl Scenario {
     /// A copy with every robot's planner replaced by `name` (one of [`PlannerKind::NAMES`]).
     pub fn with_planner(&self, name: &str) -> Result<Self> {
@@ -37,21 +44,49 @@ impl Scenario {
         Ok(s)
     }
 
-    /// A copy with only the first `n` robots (1 <= `n` <= the number of `[[robot]]` entries).
-    /// Followers of a robot that is left out stay at their place at its tour's start.
+    /// A copy with `n` robots (1 <= `n` <= [`MAX_ROBOTS`]): the first `n` robots of the file, and
+    /// if `n` is more than the file has, extra robots shaped like robot 0 (radius, limits,
+    /// planner) whose starts and goals are sampled free and reachable the way generated scenes'
+    /// are ([`generate::sample_tasks`](super::generate::sample_tasks), seed [`EXTRA_ROBOTS_SEED`]),
+    /// named `robot_<index>`. Followers of a robot that is left out stay at their place at its
+    /// tour's start. Errors name `robots`: a count out of range, or no room for the extra robots.
     pub fn with_robots(&self, n: usize) -> Result<Self> {
-        if n == 0 || n > self.robots.len() {
+        if n == 0 || n > MAX_ROBOTS.max(self.robots.len()) {
             return Err(err(
                 &self.source,
                 "robots",
                 format!(
-                    "a number of robots in [1, {}] (the [[robot]] entries of the file)",
+                    "a number of robots in [1, {}] (the file's {} [[robot]] entries, then sampled ones)",
+                    MAX_ROBOTS.max(self.robots.len()),
                     self.robots.len()
                 ),
                 n.to_string(),
             ));
         }
         let mut s = self.clone();
+        if n > self.robots.len() {
+            let tasks = super::generate::sample_tasks(
+                self,
+                self.robots.len(),
+                n - self.robots.len(),
+                EXTRA_ROBOTS_SEED,
+            )?;
+            for (k, (start, goal)) in tasks.into_iter().enumerate() {
+                let mut r = self.robots[0].clone();
+                let index = self.robots.len() + k;
+                r.name = format!("robot_{index}");
+                while s.robots.iter().any(|q| q.name == r.name) {
+                    r.name.push('_');
+                }
+                r.start = start;
+                r.goal = goal;
+                r.approach = None;
+                r.waypoints.clear();
+                r.dwell = 0.0;
+                s.robots.push(r);
+            }
+            return Ok(s);
+        }
         s.robots.truncate(n);
         for p in &mut s.persons {
             if p.guide_robot.is_some_and(|j| j >= n) {

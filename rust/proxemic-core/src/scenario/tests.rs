@@ -183,11 +183,11 @@ fn robot_subsets_and_per_robot_planners() {
     let s = parse(&two).expect("valid");
     assert_eq!(s.with_robots(1).expect("one").robots.len(), 1);
     assert_eq!(s.with_robots(2).expect("two").robots.len(), 2);
-    for bad in [0, 3] {
+    for bad in [0, 9] {
         match s.with_robots(bad) {
             Err(CoreError::Scenario { field, expected, found, .. }) => {
                 assert_eq!(field, "robots");
-                assert!(expected.contains("[1, 2]"), "{expected}");
+                assert!(expected.contains("[1, 8]"), "{expected}");
                 assert_eq!(found, bad.to_string());
             }
             other => panic!("expected a scenario error, got {other:?}"),

@@ -1,0 +1,91 @@
+"""Generated scenes from Python: proxemic.generate, scenario names, gym.make, parallel_env, the CLI."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import gymnasium as gym
+import pytest
+
+import proxemic
+from proxemic import _core, scenarios
+from proxemic.errors import InputError, ScenarioError, UnknownNameError
+
+
+def _desc(core: proxemic.Scenario) -> dict:
+    d = json.loads(core.to_json())
+    d.pop("source", None)
+    return d
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_generated_scene_round_trips_through_its_file(seed: int, tmp_path) -> None:
+    params = {"robots": 1 + seed % 3, "density": 1.0 + seed % 4, "encounters": seed % 2}
+    core = proxemic.generate(seed, **params)
+    path = tmp_path / "scene.toml"
+    path.write_text(scenarios.generate_toml(seed, **params))
+    back, _ = scenarios.load(str(path))
+    assert _desc(back) == _desc(core)
+    assert core.num_robots == params["robots"]
+
+
+def test_same_seed_same_scene() -> None:
+    assert scenarios.generate_toml(5) == scenarios.generate_toml(5)
+    assert scenarios.generate_toml(5) != scenarios.generate_toml(6)
+    assert _desc(proxemic.generate(5)) == _desc(scenarios.load("generated/5")[0])
+
+
+def test_bad_parameters_are_typed_errors() -> None:
+    with pytest.raises(ScenarioError, match="robots"):
+        proxemic.generate(0, robots=0)
+    with pytest.raises(ScenarioError, match="density"):
+        proxemic.generate(0, density=99)
+    with pytest.raises(UnknownNameError, match="colour"):
+        proxemic.generate(0, colour=1)
+    with pytest.raises(InputError, match="seed"):
+        proxemic.generate(-1)
+    with pytest.raises(ScenarioError, match="seed"):
+        scenarios.load("generated/abc")
+    with pytest.raises(ScenarioError, match="width"):
+        _core.generate("generated/1?width=wide")
+
+
+def test_generated_scenes_run_in_gym_parallel_env_and_eval() -> None:
+    env = gym.make("proxemic/Generated-v0", scenario="generated/3?robots=2")
+    obs, _ = env.reset(seed=0)
+    obs2, *_ = env.step(env.action_space.sample())
+    assert set(obs) == set(obs2)
+    env.close()
+    penv = proxemic.parallel_env("generated/4?robots=3")
+    obs, _ = penv.reset(seed=0)
+    assert sorted(obs) == ["robot_0", "robot_1", "robot_2"]
+    penv.close()
+    res = proxemic.evaluate(scenario="generated/2", planners=["astar"], episodes=1, workers=1)
+    assert len(res.records) == 1
+
+
+def test_parallel_env_samples_extra_robots_in_a_bundled_scene() -> None:
+    """The museum has one robot in its file; 4 robots get sampled starts and goals (the same every time)."""
+    env = proxemic.parallel_env("museum", robots=4)
+    obs, _ = env.reset(seed=0)
+    assert len(obs) == 4
+    env.close()
+    a = json.loads(scenarios.load("museum")[0].with_robots(4).to_json())["robots"]
+    b = json.loads(scenarios.load("museum")[0].with_robots(4).to_json())["robots"]
+    assert [(r["start"], r["goal"]) for r in a] == [(r["start"], r["goal"]) for r in b]
+    with pytest.raises(ScenarioError, match="robots"):
+        proxemic.parallel_env("museum", robots=9)
+
+
+def test_cli_generate_writes_a_loadable_scene(tmp_path) -> None:
+    out = tmp_path / "scene.toml"
+    cmd = [sys.executable, "-m", "proxemic.cli", "generate", "--seed", "7", "--robots", "2", "--out", str(out)]
+    done = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    core, _ = scenarios.load(str(out))
+    assert core.num_robots == 2
+    assert _desc(core) == _desc(proxemic.generate(7, robots=2))
+    bad = subprocess.run([*cmd[:-2], "--density", "50", "--out", str(out)], capture_output=True, text=True, check=False)
+    assert bad.returncode == 2 and "density" in bad.stderr
