@@ -88,5 +88,5 @@ def test_calderita_keeps_out_of_the_table_space_during_the_therapy() -> None:
     # paper; plain A* on the same scene crosses the table's space while its therapy is on.
     social, _ = run("calderita_exp2_path2", None)
     plain, _ = run("calderita_exp2_path2", None, planner="astar")
-    assert social["psi_object_ot_table"] == 0.0
-    assert plain["psi_object_ot_table"] > 0.0
+    assert social["psi_object_active_ot_table"] == 0.0
+    assert plain["psi_object_active_ot_table"] > 0.0
