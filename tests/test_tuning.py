@@ -46,9 +46,9 @@ def test_runner_trajectory_is_the_executed_one():
     assert rec.people.shape[:2] == (len(poses), env.world.num_people)
 
 
-def _g_recomputed(gains: dict[str, float], seeds: list[int], w: dict[str, float]) -> float:
-    """G of a gain point from fresh episodes, with this test's own H, D, Q, P."""
-    env = ProxemicEnv(TARGET, autopilot=True, planner="eband", eband=gains)
+def _g_recomputed(gains: dict[str, float], seeds: list[int], w: dict[str, float], planner: str) -> float:
+    """G of a gain point from fresh episodes of `planner`, with this test's own H, D, Q, P."""
+    env = ProxemicEnv(TARGET, autopilot=True, planner=planner, eband=gains)
     dt = env.core_scenario.control_dt
     costs = []
     for seed in seeds:
@@ -93,7 +93,8 @@ def test_tune_writes_every_point_and_g_comes_from_the_trajectories(tmp_path):
     best = result["best"]
     assert best["G"] == min(float(t["G"]) for t in trials)
     assert len({round(float(t["G"]), 9) for t in trials}) == 3  # different gains, different G
-    g = _g_recomputed({"repulsion_gain": best["repulsion_gain"]}, result["seeds"], result["weights"])
+    assert result["planner"] == "calderita"  # the default: Calderita's own band, on its social path
+    g = _g_recomputed({"repulsion_gain": best["repulsion_gain"]}, result["seeds"], result["weights"], result["planner"])
     assert g == pytest.approx(best["G"], rel=1e-9)
 
 
@@ -133,7 +134,8 @@ def test_tune_cli_bad_input_exits_non_zero(tmp_path, capsys):
     assert main([*base, "--planner", "teleport"]) == 2
     assert 'planner: expected one of ["astar"' in capsys.readouterr().err
     assert main([*base, "--planner", "astar"]) == 2
-    assert "planner: expected a planner with tunable gains, one of eband, got astar" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "planner: expected a planner with tunable gains, one of calderita, eband, got astar" in err
     assert main([*base, "--gain", "kc=0:1"]) == 2
     assert 'eband.kc: expected an elastic-band gain among ["contraction_gain"' in capsys.readouterr().err
     assert main([*base, "--gain", "repulsion_gain=2:1"]) == 2

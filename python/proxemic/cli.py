@@ -7,6 +7,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 import time
 from pathlib import Path
 from typing import Any, NoReturn
@@ -107,7 +108,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     print(headline_text(result.summary))
     if note := robots_note(result.summary) or policy_robot_note(cfg):
         print()
-        print(note)
+        print(textwrap.fill(note, 100))
     for v in result.verdicts:
         print()
         print(v)

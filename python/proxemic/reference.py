@@ -29,6 +29,7 @@ RECORD_COLUMNS: dict[str, str] = {
     "scenario": "The scene's name ([scene] name of the scenario file).",
     "planner": "The built-in planner or the policy's name that drove the robot.",
     "seed": "The episode's seed (the same seeds for every planner).",
+    "robot": "The robot the record scores (0 for single-robot scenes; every robot of a multi-robot scene).",
     "reward": "The episode's return: the sum of the env's rewards (terms in docs/envs.md).",
 }
 
