@@ -151,7 +151,7 @@ impl World {
         }
         if self.statics[i].planner == PlannerKind::Calderita {
             // Calderita §5.3: the elastic band starts from the new global path.
-            rb.band = ElasticBand::new(rb.follower.path(), self.statics[i].eband).ok();
+            rb.band = calderita_band(rb.follower.path(), self.statics[i].eband);
         }
         rb.last_plan_step = self.steps;
         rb.replans += 1;
@@ -490,7 +490,20 @@ impl World {
                 .collect();
             let social = |q: Vec2| zones.density(&people, q).min(1.0);
             band.update(&clearance, Some(&social));
-            rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
+            let full = band.points().len() >= band.params().max_bubbles;
+            if band.is_connected() || !full {
+                rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
+            } else {
+                // A broken band that filled its bubbles (bisecting towards a point without
+                // clearance, e.g. a doorpost) is dropped, and the robot follows the global path
+                // until the next plan makes a new band (the paper's band is re-created from every
+                // new plan too). A band broken by a bubble that merely touches the inflation is
+                // followed, as the `eband` planner does.
+                rb.band = None;
+                if let Some(sp) = &rb.social_path {
+                    rb.follower = PathFollower::new(sp.points.clone(), FollowerParams::default());
+                }
+            }
         } else {
             let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
             let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
@@ -498,6 +511,20 @@ impl World {
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         }
     }
+}
+
+/// Bubbles per metre of path a `calderita` band may hold: bubbles of the smallest radius
+/// (`min_bubble` 0.05 m, overlap 0.7) are 0.07 m apart, 14 per metre; a band that needs more is
+/// broken anyway, and the cap keeps its bisection from filling `max_bubbles` (4096) on every step.
+const CALDERITA_BUBBLES_PER_METRE: f64 = 64.0;
+
+/// The `calderita` planner's band along `path` with `params`, its bubble count capped by the
+/// path's length ([`CALDERITA_BUBBLES_PER_METRE`]); `None` for an invalid path.
+fn calderita_band(path: &[Vec2], params: crate::control::eband::EbandParams) -> Option<ElasticBand> {
+    let length: f64 = path.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    let cap = (CALDERITA_BUBBLES_PER_METRE * length).ceil().max(2.0);
+    let max_bubbles = params.max_bubbles.min(cap as usize).max(2);
+    ElasticBand::new(path, crate::control::eband::EbandParams { max_bubbles, ..params }).ok()
 }
 
 /// The people model of a social global planner's map.
