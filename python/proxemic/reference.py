@@ -67,6 +67,7 @@ def unit_label(key: str) -> str:
     """``label (unit)`` of a metric, or the label alone for a dimensionless one."""
     info = metric_info(key)
     unit = "" if info["unit"] in ("", "bool") else info["unit"]
+    unit = unit.replace(" (", ", ").removesuffix(")") if " (" in unit else unit  # "m (centre)" -> "m, centre"
     return f"{info['label']} ({unit})" if unit else info["label"]
 
 
