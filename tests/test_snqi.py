@@ -44,7 +44,12 @@ def test_normalisation_is_median_p95_clamped():
 
 
 def test_episode_score_by_hand():
-    stats = {"hc_count": (0.0, 2.0), "near_misses": (1.0, 5.0), "force_exceed_events": (0.0, 10.0), "jerk_avg": (1.0, 3.0)}
+    stats = {
+        "hc_count": (0.0, 2.0),
+        "near_misses": (1.0, 5.0),
+        "force_exceed_events": (0.0, 10.0),
+        "jerk_avg": (1.0, 3.0),
+    }
     r = _rec("x", True, t=25.0, hc=1, near=3, force=5, comfort=0.2, jerk=2.0)
     # 1 - 0.8*0.25 - 2*0.5 - 1*0.5 - 0.5*0.2 - 1.5*0.5 - 0.3*0.5
     expected = 1.0 - 0.2 - 1.0 - 0.5 - 0.1 - 0.75 - 0.15

@@ -154,9 +154,7 @@ def sensitivity_line(records: Sequence[Mapping[str, Any]], baseline: str = BASEL
     order = " > ".join(f"{p} ({means[p]:+.3f})" for p in base)
     if len(base) < 2:
         return f"SNQI (robot-sf, canonical weights): {order}."
-    changes = [
-        f"{w} x{f:g}: {' > '.join(r)}" for w, f, r in sensitivity(records, stats) if r != base
-    ]
+    changes = [f"{w} x{f:g}: {' > '.join(r)}" for w, f, r in sensitivity(records, stats) if r != base]
     moved = "; ".join(changes) if changes else "unchanged when any one weight moves by -50% or +50%"
     return f"SNQI ranking (robot-sf, canonical weights): {order}. Sensitivity: {moved}."
 
