@@ -53,6 +53,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
         )
         print()
         print(headline_text(result.summary))
+        print()
+        print(textwrap.fill(result.snqi_line, 100))
         for v in result.verdicts:
             print()
             print(v)
@@ -109,6 +111,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
     if note := robots_note(result.summary) or policy_robot_note(cfg):
         print()
         print(textwrap.fill(note, 100))
+    print()
+    print(textwrap.fill(result.snqi_line, 100))
     for v in result.verdicts:
         print()
         print(v)

@@ -19,7 +19,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from proxemic import _core, reference, scenarios
+from proxemic import _core, reference, scenarios, snqi
 from proxemic.errors import EpisodeError, MissingExtraError, ProxemicError, input_error, require_extra
 from proxemic.policy import PolicyActor, PolicyRef, build_policy, check_policy
 
@@ -53,6 +53,7 @@ MEAN_METRICS = (
     "psi_objects_active",
     "psi_objects_any",
     "reward",
+    "snqi",
 )
 
 
@@ -92,6 +93,8 @@ def _metric_info(key: str) -> MetricInfo:
     """
     if key == "reward":
         return MetricInfo("return", "", fmt=_FORMATS["reward"])
+    if key == "snqi":  # over the records of an evaluation, not a metric of one episode (proxemic.snqi)
+        return MetricInfo("SNQI", "", high=snqi.WEIGHTS["w_success"], fmt=".3f")
     m = reference.metric_info(key)
     if key in (*RATE_METRICS, "collision"):
         return MetricInfo(m["label"], "% of episodes", 0.0, 1.0, ".0%")
@@ -125,6 +128,7 @@ HEADLINE = (
     "psi_personal",
     "interaction_crossings",
     "psi_objects_active",
+    "snqi",
 )
 
 # Two-sided 95% Student t quantiles for 1..30 degrees of freedom (Fisher & Yates tables).
@@ -268,6 +272,7 @@ def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool
         "seed": seed,
         "robot": 0,
         "reward": rec.total_reward,
+        "max_time": float(env.scenario["episode"]["max_time"]),
     }
     record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
@@ -306,6 +311,7 @@ def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
             "seed": seed,
             "robot": i,
             "reward": float(totals[i]),
+            "max_time": float(env.scenario["episode"]["max_time"]),
         }
         record.update(flatten_metrics(metrics, env.scenario))
         results.append(EpisodeResult(record))
@@ -486,10 +492,14 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
 
     Rates ``m`` have ``m_lo``/``m_hi``; means have ``m_ci`` (half-width), ``m_n`` (episodes with
     a value) and ``m_lo``/``m_hi``: the interval clipped to the metric's bounds (:data:`METRICS`).
-    ``collision`` is the rate of episodes with any collision. ``episodes`` counts the seeds and
+    ``collision`` is the rate of episodes with any collision. ``snqi`` is robot-sf's composite
+    (:mod:`proxemic.snqi`), normalised on the plain ``astar`` episodes among `records` (all of
+    them when ``astar`` did not run). ``episodes`` counts the seeds and
     ``robots`` the robots per episode: on a multi-robot scene every robot of every episode is one
     sample (records with a ``robot`` column), so rates and means are over all robots.
     """
+    stats = snqi.baseline_stats(records)
+    records = [{**r, "snqi": snqi.episode_snqi(r, stats)} for r in records]
     rows = []
     planners = list(dict.fromkeys(r["planner"] for r in records))
     for planner in planners:
@@ -718,12 +728,13 @@ def verdicts(records: Sequence[Mapping[str, Any]], labels: Sequence[str], polici
     return out
 
 
-def summary_report(rows: Sequence[dict[str, Any]], verdict_lines: Sequence[str]) -> str:
-    """The markdown summary: headline table, verdicts, then the full table."""
+def summary_report(rows: Sequence[dict[str, Any]], verdict_lines: Sequence[str], snqi_line: str = "") -> str:
+    """The markdown summary: headline table, the SNQI ranking and its sensitivity, verdicts, then the full table."""
     note = robots_note(rows)
     parts = [
         headline_markdown(rows),
         *([note] if note else []),
+        *([snqi_line] if snqi_line else []),
         "Rates: % of episodes [95% Wilson interval]; means [95% Student t interval, clipped to the metric's "
         "range]; (n=) when only n episodes have a value (time to goal: successes only).",
     ]
@@ -820,7 +831,12 @@ class EvalResult:
 
     def summary_markdown(self) -> str:
         """Headline table, verdicts and full table, as written to ``summary.md``."""
-        return summary_report(self.summary, self.verdicts)
+        return summary_report(self.summary, self.verdicts, self.snqi_line)
+
+    @property
+    def snqi_line(self) -> str:
+        """The planners' ranking by mean SNQI and how it moves with each weight at -50% / +50%."""
+        return snqi.sensitivity_line(self.records)
 
 
 def _check_config(cfg: EvalConfig) -> None:

@@ -94,6 +94,9 @@ class EpisodeMetrics(TypedDict):
     smooth_k: int
     d_t: float
     tau: float
+    near_misses: int
+    force_exceed_events: int
+    comfort_exposure: float | None
 
 
 class MetricInfo(TypedDict):

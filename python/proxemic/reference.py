@@ -31,6 +31,7 @@ RECORD_COLUMNS: dict[str, str] = {
     "seed": "The episode's seed (the same seeds for every planner).",
     "robot": "The robot the record scores (0 for single-robot scenes; every robot of a multi-robot scene).",
     "reward": "The episode's return: the sum of the env's rewards (terms in docs/envs.md).",
+    "max_time": "The scenario's episode time limit (s, [episode] max_time): the horizon of SNQI's normalised time.",
 }
 
 #: Markers around the generated part of a docs page.

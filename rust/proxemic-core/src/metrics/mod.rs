@@ -16,7 +16,9 @@
 //! - [`groups`]: o-spaces and interaction crossings (item 19);
 //! - [`objects`]: the objects' interaction spaces (Calderita et al.'s Ψ per object);
 //! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
-//!   `d_t`, `tau`.
+//!   `d_t`, `tau`;
+//! - [`snqi`]: the inputs of robot-sf's SNQI composite that the others do not give (near
+//!   misses, force-exceed events, comfort exposure).
 //!
 //! [`registry`] describes every key of a serialised report (unit, better direction, definition,
 //! formula, source): the metric reference of the docs is generated from it.
@@ -68,6 +70,7 @@ pub mod papers;
 pub mod proximity;
 mod recorder;
 pub mod registry;
+pub mod snqi;
 #[cfg(test)]
 mod tests;
 
@@ -89,6 +92,7 @@ pub use papers::PaperMetrics;
 pub use proximity::{ClearanceMetrics, ProximityMetrics};
 pub use recorder::{EpisodeRecorder, EpisodeReport, Outcome, RecorderSetup, SceneLog, Snapshot};
 pub use registry::{Better, METRICS, MetricInfo, Per, metric_info};
+pub use snqi::SnqiMetrics;
 
 /// Contact bit of [`EvalContext::collision_steps`] and of the world's physics contacts: the robot
 /// touched a person.
@@ -126,6 +130,9 @@ pub struct FullMetrics {
     /// The seed papers' own metrics.
     #[serde(flatten)]
     pub papers: PaperMetrics,
+    /// The SNQI inputs not given by the other families.
+    #[serde(flatten)]
+    pub snqi: SnqiMetrics,
 }
 
 /// The robot's samples, shared by the families.
@@ -182,6 +189,9 @@ pub fn evaluate(
         objects: objects::evaluate(&s, objects),
         clearance: proximity::evaluate_clearance(&s, traj, people, ctx),
         papers: papers::evaluate(&s, traj.dt, ctx, collisions.success, path_length),
+        snqi: snqi::evaluate(&s, traj, people, |t, i| {
+            proximity::force_on_person(&s, traj, people, &ctx.params, t, i)
+        }),
         collisions,
         efficiency,
     })

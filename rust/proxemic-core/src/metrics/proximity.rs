@@ -186,6 +186,32 @@ fn social_force_sums(s: &Samples, traj: &Trajectory, people: &PeopleTracks, q: &
     (sf_people, sf_robot)
 }
 
+/// Magnitude of the robot's social force on person `i` at instant `t` (m/s², the per-pair term
+/// of `social_force_on_people`).
+pub(crate) fn force_on_person(
+    s: &Samples,
+    traj: &Trajectory,
+    people: &PeopleTracks,
+    q: &MetricParams,
+    t: usize,
+    i: usize,
+) -> f64 {
+    let np = people.count;
+    let heading = people.headings[t * np + i];
+    let robot_dir = Vec2::new(s.yaw[t].cos(), s.yaw[t].sin());
+    let person_dir = Vec2::new(heading.cos(), heading.sin());
+    let (on_person, _) = social_forces(
+        s.pos[t],
+        traj.robot_radius,
+        robot_dir,
+        people.positions[t * np + i],
+        people.radii[i],
+        person_dir,
+        q,
+    );
+    on_person.norm()
+}
+
 /// Francis et al. time to collision of two discs with relative position `dp` (other minus
 /// robot), relative velocity `dv` (other minus robot) and contact distance `r` (item 20 of
 /// `docs/metrics.md`).

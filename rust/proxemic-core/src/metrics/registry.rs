@@ -103,6 +103,7 @@ const PEOPLE: &str = "Distance to people";
 const GROUPS: &str = "Groups and interactions";
 const OBJECTS: &str = "Objects (time-dependent spaces)";
 const STATIC: &str = "Static geometry";
+const SNQI: &str = "SNQI inputs";
 
 const NONE: (Option<f64>, Option<f64>) = (None, None);
 const POS: (Option<f64>, Option<f64>) = (Some(0.0), None);
@@ -914,10 +915,49 @@ pub const METRICS: &[MetricInfo] = &[
         "",
         "Francis et al. 2023",
     ),
+    // SNQI inputs
+    m(
+        "near_misses",
+        SNQI,
+        "near misses",
+        "instants",
+        Lower,
+        POS,
+        "Instants at which the closest person's surface gap is at least 0 and under 0.5 m (an \
+         instant in contact is a collision, not a near miss). An input of the SNQI composite of \
+         `proxemic eval` summaries.",
+        "instants with `0 ≤ min_i s_i,t < 0.5 m`",
+        "robot-sf (SNQI)",
+    ),
+    m(
+        "force_exceed_events",
+        SNQI,
+        "force-exceed events",
+        "instant-person pairs",
+        Lower,
+        POS,
+        "(instant, person) pairs at which the robot's social force on the person (the force of \
+         `social_force_on_people`) is above 2.0 m/s². robot-sf takes the total social force of its \
+         pedestrian simulator on the person; we take the robot's own, so that it measures the \
+         robot's effect (README: choices).",
+        "pairs `(t, i)` with `|F_R→i,t| > 2.0 m/s²`",
+        "robot-sf (SNQI)",
+    ),
+    m(
+        "comfort_exposure",
+        SNQI,
+        "comfort exposure",
+        "fraction",
+        Lower,
+        FLAG,
+        "Share of (instant, person) pairs that are force-exceed events; 0 without people.",
+        "`force_exceed_events / (K (T + 1))` over the `K` people",
+        "robot-sf (SNQI)",
+    ),
 ];
 
 /// The sections of the reference, in order.
-pub const FAMILIES: [&str; 7] = [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC];
+pub const FAMILIES: [&str; 8] = [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC, SNQI];
 
 /// The reference entry of `key`, if it is a metric.
 pub fn metric_info(key: &str) -> Option<&'static MetricInfo> {

@@ -620,6 +620,9 @@ fn serializes_one_key_per_metric_in_the_record_order() {
         "smooth_k",
         "d_t",
         "tau",
+        "near_misses",
+        "force_exceed_events",
+        "comfort_exposure",
     ];
     assert_eq!(keys, expected);
 }
@@ -716,4 +719,32 @@ proptest::proptest! {
             }
         }
     }
+}
+
+#[test]
+fn snqi_near_misses_and_force_exceed_events() {
+    // The passing person: closest gap 0.15 m at x = 5 (a near miss), 0.67 m at x = 4 and 6; the
+    // robot's force on them peaks at 2.1 exp(-0.5) * 0.75 = 0.96 m/s², under 2.0.
+    let (robot, pos, vel, head) = passing_person();
+    let people =
+        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
+    let m = run(&t, &people, &ctx(9.0));
+    assert_eq!(m.snqi.near_misses, 1);
+    assert_eq!(m.snqi.force_exceed_events, 0);
+    assert_close(m.snqi.comfort_exposure, 0.0);
+    // A person at (5, 0.5) facing the robot's line: gap -0.05 m at x = 5 is a contact, not a near
+    // miss, and the force there is 2.1 exp(0.05 / 0.3) * 1 = 2.48 m/s² > 2.0: one event of 10.
+    let pos = vec![Vec2::new(5.0, 0.5); robot.len()];
+    let head = vec![-std::f64::consts::FRAC_PI_2; robot.len()];
+    let people =
+        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let m = run(&t, &people, &ctx(9.0));
+    assert_eq!(m.snqi.near_misses, 0);
+    assert_eq!(m.snqi.force_exceed_events, 1);
+    assert_close(m.snqi.comfort_exposure, 0.1);
+    // Without people: no events, exposure 0.
+    let m = run(&t, &PeopleTracks::none(), &ctx(9.0));
+    assert_eq!((m.snqi.near_misses, m.snqi.force_exceed_events), (0, 0));
+    assert_close(m.snqi.comfort_exposure, 0.0);
 }
