@@ -89,3 +89,45 @@ def test_cli_generate_writes_a_loadable_scene(tmp_path) -> None:
     assert _desc(core) == _desc(proxemic.generate(7, robots=2))
     bad = subprocess.run([*cmd[:-2], "--density", "50", "--out", str(out)], capture_output=True, text=True, check=False)
     assert bad.returncode == 2 and "density" in bad.stderr
+
+
+def _docs_params() -> dict[str, tuple[float, float, float]]:
+    """The parameter table of docs/generated.md: name -> (default, low, high)."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "generated.md").read_text()
+    rows = re.findall(r"^\| `(\w+)` \| [^|]+ \| ([\d.]+) \| \[([\d.]+), ([\d.]+)\] \|", text, flags=re.M)
+    return {name: (float(d), float(lo), float(hi)) for name, d, lo, hi in rows}
+
+
+def test_the_docs_parameter_table_is_the_cores() -> None:
+    """docs/generated.md lists every generator parameter with the core's default and range."""
+    table = _docs_params()
+    assert list(table) == list(scenarios.GENERATE_PARAMS)
+    default_toml = scenarios.generate_toml(3)
+    for name, row in table.items():
+        integer = name in ("objects_per_room", "robots", "encounters")
+        default, low, high = (int(v) for v in row) if integer else row
+        step = 1 if integer else 0.01
+        assert scenarios.generate_toml(3, **{name: default}) == default_toml, f"{name}: default {default}"
+        # the two shares of the non-group people sum to at most 1: each bound with the other at 0
+        others = {"walker_share": 0.0} if name == "seated_share" else {}
+        others = {"seated_share": 0.0} if name == "walker_share" else others
+        for ok in (low, high):
+            scenarios.generate_toml(3, **{name: ok}, **others)
+        for bad in (low - step, high + step):
+            if bad < 0:
+                continue
+            with pytest.raises(ScenarioError, match=name):
+                scenarios.generate_toml(3, **{name: bad}, **others)
+
+
+def test_the_docs_example_runs(capsys) -> None:
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "generated.md").read_text()
+    (block,) = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    exec(compile(block, "docs/generated.md", "exec"), {})
+    assert capsys.readouterr().out.count(" ran\n") == 3

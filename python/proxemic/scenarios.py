@@ -132,7 +132,7 @@ def generated_name(seed: int, **params: float) -> str:
 def generate(seed: int, **params: float) -> _core.Scenario:
     """A generated scene (a seeded floor plan with furniture, people and robots) as a scenario.
 
-    Same seed and parameters, same scene. Parameters (defaults and ranges in ``docs`` and the
+    Same seed and parameters, same scene. Parameters (defaults and ranges in ``docs/generated.md`` and the
     core's ``GenParams``): ``width`` (m, 24, [12, 60]), ``height`` (m, 16, [10, 40]),
     ``corridor_width`` (m, 3, [2.4, 6]), ``door_width`` (m, 1.8, [1.4, 3]), ``density`` (people per
     100 m^2, 1.5, [0, 6]), ``group_share`` (0.3), ``walker_share`` (0.4), ``seated_share`` (0.2),
