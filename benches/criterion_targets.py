@@ -47,7 +47,10 @@ TARGETS: tuple[tuple[str, float, str], ...] = (
 
 def median_us(root: Path, bench_id: str, since: float) -> float | None:
     """The median time per iteration (us) criterion saved for `bench_id` after `since`, if any."""
-    path = root.joinpath(*bench_id.split("/"), "new", "estimates.json")
+    # A benchmark group's function is a directory inside the group's; a bare function's id keeps
+    # its slashes as underscores.
+    grouped = root.joinpath(*bench_id.split("/"), "new", "estimates.json")
+    path = grouped if grouped.exists() else root / bench_id.replace("/", "_") / "new" / "estimates.json"
     try:
         if path.stat().st_mtime < since:
             return None

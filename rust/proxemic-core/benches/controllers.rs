@@ -16,8 +16,8 @@ use proxemic_core::control::daza2021::{
 };
 use proxemic_core::control::eband::{EbandParams, ElasticBand};
 use proxemic_core::control::social_momentum::{Agent, SocialMomentumParams, social_momentum};
-use proxemic_core::map::{Bounds, DistanceField, GridSpec, OccupancyGrid, StaticGeometry};
 use proxemic_core::groups::PersonState;
+use proxemic_core::map::{Bounds, DistanceField, GridSpec, OccupancyGrid, StaticGeometry};
 use proxemic_core::math::Vec2;
 use proxemic_core::perception::{Individual, SocialConfig, perceive};
 use rand::{Rng, SeedableRng};
