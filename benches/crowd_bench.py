@@ -35,6 +35,8 @@ BUILD_TARGET_S = 2.0
 #: The issue's target for an env step of the largest crowd with the ``social`` planner (microseconds).
 STEP_TARGET_US = 2000.0
 WIDTH, HEIGHT = 100.0, 60.0
+#: Least distance between any two placed points of the crowd (m).
+CLEARANCE = 0.8
 
 
 def crowd_scenario(people: int, seed: int = 1) -> str:
@@ -50,12 +52,25 @@ def crowd_scenario(people: int, seed: int = 1) -> str:
         lines += ["[[wall]]", f"from = [{x0}, {y0}]", f"to = [{x1}, {y1}]"]
     lines += ["[[robot]]", "start = [2, 30, 0]", "goal = [98, 30]", 'planner = "social"']
     lines += ["[episode]", "max_time = 300"]
+    # Every placed point (standing poses, route ends) at least CLEARANCE from the others: the
+    # scenario check rejects people placed overlapping. A coarse grid of cells finds neighbours.
+    cells: dict[tuple[int, int], list[tuple[float, float]]] = {}
+
+    def free_point() -> tuple[float, float]:
+        while True:
+            x, y = round(rng.uniform(5, 95), 2), round(rng.uniform(3, 57), 2)
+            cx, cy = int(x // CLEARANCE), int(y // CLEARANCE)
+            near = (q for i in (-1, 0, 1) for j in (-1, 0, 1) for q in cells.get((cx + i, cy + j), ()))
+            if all((x - qx) ** 2 + (y - qy) ** 2 >= CLEARANCE**2 for qx, qy in near):
+                cells.setdefault((cx, cy), []).append((x, y))
+                return x, y
+
     for i in range(people):
-        x, y = rng.uniform(5, 95), rng.uniform(3, 57)
+        x, y = free_point()
         if i % 3 == 0:
             lines += ["[[person]]", 'behaviour = "standing"', f"pose = [{x:.2f}, {y:.2f}, {rng.uniform(-3, 3):.2f}]"]
         else:
-            x2, y2 = rng.uniform(5, 95), rng.uniform(3, 57)
+            x2, y2 = free_point()
             lines += ["[[person]]", f"route = [[{x:.2f}, {y:.2f}], [{x2:.2f}, {y2:.2f}]]"]
     return "\n".join(lines) + "\n"
 

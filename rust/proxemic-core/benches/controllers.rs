@@ -1,6 +1,9 @@
 //! Local controller benchmarks: a Social Momentum step with 10, 50 and 200 people (median and 99th
-//! percentile of single calls, target <= 20 us median at 50 people), and an elastic-band update on
-//! a 20 m path.
+//! percentile of single calls, target <= 20 us median at 50 people), the same step as the
+//! `daza2021` planner runs it (Daza et al. 2021: intimate discs and group o-spaces, no comfort
+//! term) and as `sousa2022` runs it (Sousa et al. 2022: the individuals' fully asymmetric
+//! Gaussians, built in the step) at 50 people (target <= 20 us too), and an elastic-band update
+//! on a 20 m path. `benches/criterion_targets.py` checks the medians against the targets.
 //!
 //! Run with `cargo bench --bench controllers` (add `-- --quick` for a short run).
 
@@ -8,10 +11,15 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use proxemic_core::control::Limits;
+use proxemic_core::control::daza2021::{
+    Daza2021Params, MobileObject, PeopleSpaces, RobotState, daza2021_decide, daza2021_social_momentum,
+};
 use proxemic_core::control::eband::{EbandParams, ElasticBand};
 use proxemic_core::control::social_momentum::{Agent, SocialMomentumParams, social_momentum};
+use proxemic_core::groups::PersonState;
 use proxemic_core::map::{Bounds, DistanceField, GridSpec, OccupancyGrid, StaticGeometry};
 use proxemic_core::math::Vec2;
+use proxemic_core::perception::{Individual, SocialConfig, perceive};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
@@ -76,6 +84,16 @@ fn scenes(geom: &StaticGeometry, n: usize, count: usize, seed: u64, min_dist: f6
     out
 }
 
+/// A scene as Daza et al. 2021's Algorithm 1 sees it, with the perception's groups and individuals.
+struct PaperScene {
+    robot: RobotState,
+    vel: Vec2,
+    objects: Vec<MobileObject>,
+    groups: Vec<Vec<usize>>,
+    decision: proxemic_core::control::daza2021::Daza2021Decision,
+    individuals: Vec<Individual>,
+}
+
 fn sm_step(s: &Scene, geom: &StaticGeometry, params: &SocialMomentumParams) -> Option<Vec2> {
     social_momentum(s.pos, s.vel, ROBOT_RADIUS, s.goal, &s.people, Some(geom), &Limits::PEPPER, DT, params)
 }
@@ -122,6 +140,56 @@ fn benches(c: &mut Criterion) {
             b.iter(|| {
                 k = (k + 1) % sc.len();
                 black_box(sm_step(black_box(&sc[k]), &geom, &params))
+            })
+        });
+    }
+
+    // The paper planners' Social Momentum at 50 people: Algorithm 1's agents (and, for sousa2022,
+    // the Gaussians of the perceived individuals) are built in the timed step, as the world does
+    // every step; the perception (groups) is shared by every robot and done once per step.
+    let params = Daza2021Params::default();
+    let cfg = SocialConfig::default();
+    let paper: Vec<PaperScene> = scenes(&geom, 50, 64, 92, 0.8)
+        .into_iter()
+        .map(|s| {
+            let objects: Vec<MobileObject> = s
+                .people
+                .iter()
+                .map(|a| MobileObject { pos: a.pos, vel: a.vel, radius: 0.2, id: None })
+                .collect();
+            let states: Vec<PersonState> = s
+                .people
+                .iter()
+                .map(|a| PersonState { pos: a.pos, heading: a.vel.y.atan2(a.vel.x), vel: a.vel })
+                .collect();
+            let per = perceive(&cfg, &states, &vec![Vec::new(); states.len()], &[]).expect("perception");
+            let groups: Vec<Vec<usize>> = per.groups.multi().cloned().collect();
+            let robot = RobotState { pos: s.pos, pref_vel: s.vel, radius: ROBOT_RADIUS };
+            let path = [s.pos, s.goal + (s.goal - s.pos) * 3.0];
+            let decision = daza2021_decide(&robot, &path, &objects, &groups, &params).expect("decision");
+            PaperScene { robot, vel: s.vel, objects, groups, decision, individuals: per.individuals }
+        })
+        .collect();
+    for (name, gaussians) in [("daza2021", false), ("sousa2022", true)] {
+        let mut k = 0usize;
+        c.bench_function(&format!("sm/{name}_step_50_people"), |b| {
+            b.iter(|| {
+                k = (k + 1) % paper.len();
+                let s = &paper[k];
+                let spaces =
+                    if gaussians { PeopleSpaces::Gaussians(&s.individuals) } else { PeopleSpaces::Intimate };
+                black_box(daza2021_social_momentum(
+                    &s.robot,
+                    s.vel,
+                    &s.objects,
+                    &s.groups,
+                    &s.decision,
+                    spaces,
+                    Some(&geom),
+                    &Limits::PEPPER,
+                    DT,
+                    &params,
+                ))
             })
         });
     }

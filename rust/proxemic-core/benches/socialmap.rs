@@ -1,18 +1,21 @@
 //! Social map and social planner costs on the museum at 0.1 m (issue targets in brackets):
 //! full rebuild with 50 people and 10 object spaces (2 ms), incremental update when 5 of the 50
-//! move (0.5 ms), social A* across the museum (5 ms) beside plain A* on the same map, and group
-//! detection for 200 people (200 us).
+//! move (0.5 ms), the same two for the `calderita` planner's map (the contours of the summed
+//! density `G_d` of the people, Calderita et al. §4.1/§5.2.1), social A* across the museum (5 ms)
+//! beside plain A* on the same map, and group detection for 200 people (200 us).
+//! `benches/criterion_targets.py` checks the medians against the targets.
 #![allow(missing_docs)] // criterion_group! generates an undocumented public function
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use proxemic_core::groups::{GroupMethod, PersonState, detect};
+use proxemic_core::groups::{DensityParams, GroupMethod, PersonState, detect};
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use proxemic_core::math::Vec2;
 use proxemic_core::perception::{SocialConfig, perceive};
 use proxemic_core::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable};
+use proxemic_core::proxemics::DensityZones;
 use proxemic_core::scenario::Scenario;
-use proxemic_core::socialmap::SocialMap;
+use proxemic_core::socialmap::{SocialMap, density_layer};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -77,6 +80,26 @@ fn bench(c: &mut Criterion) {
         bch.iter(|| {
             flip = !flip;
             map.update_people(if flip { &after.individuals } else { &perception.individuals });
+        })
+    });
+    // Calderita's map: the people layer from the density contours of the 50 people, recomputed
+    // whole on every update (what `SocialPlanning` does before each calderita plan).
+    let zones = DensityZones::new(DensityParams::default(), cfg.zones).expect("density zones");
+    let mut density_map = SocialMap::new(grid.clone(), &objects, cfg.costs);
+    g.bench_function("calderita_full_rebuild_50_people_10_objects", |bch| {
+        bch.iter(|| {
+            density_map.rebuild::<proxemic_core::perception::Individual>(&[], &factors);
+            let layer = density_layer(&spec, &zones, density_map.costs(), &crowd);
+            density_map.set_people_factors(&layer);
+        })
+    });
+    let mut flip = false;
+    g.bench_function("calderita_update_5_of_50_move", |bch| {
+        bch.iter(|| {
+            flip = !flip;
+            density_map.set_object_factors(&factors);
+            let layer = density_layer(&spec, &zones, density_map.costs(), if flip { &moved } else { &crowd });
+            density_map.set_people_factors(&layer);
         })
     });
     g.bench_function("perceive_50_people", |bch| {

@@ -331,32 +331,79 @@ fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect) -> Vec<bool> {
     if !inside || grid.cost[spec.index(cx as usize, cy as usize)] >= LETHAL {
         return vec![true; w * h];
     }
+    // Without an obstacle in the rect the walk to every cell is its Chebyshev distance, never
+    // longer than the straight line: every cell is open, no walk needed.
+    let row = |iy: usize| &grid.cost[spec.index(a0, iy)..=spec.index(a1, iy)];
+    if (b0..=b1).all(|iy| row(iy).iter().all(|&c| c < LETHAL)) {
+        return vec![true; w * h];
+    }
     let (sx, sy) = (cx as usize - a0, cy as usize - b0);
-    let mut steps = vec![u16::MAX; w * h];
+    // Breadth-first, one layer (walk length) at a time, on bit rows: bit `x % 64` of word
+    // `y * words + x / 64` is the rect-local cell (x, y). Only the cells of a layer that are in
+    // sight expand to the next layer (the free, unvisited 8-neighbours of them).
+    let words = w.div_ceil(64);
+    let mut free = vec![0u64; words * h];
+    for y in 0..h {
+        for (x, &c) in row(b0 + y).iter().enumerate() {
+            if c < LETHAL {
+                free[y * words + x / 64] |= 1 << (x % 64);
+            }
+        }
+    }
+    let mut visited = vec![0u64; words * h];
+    let mut layer = vec![0u64; words * h];
+    let mut next = vec![0u64; words * h];
+    let mut expand = vec![0u64; words * h];
     let mut open = vec![false; w * h];
-    let mut queue = std::collections::VecDeque::with_capacity(w * h);
-    steps[sy * w + sx] = 0;
-    queue.push_back((sx, sy));
-    while let Some((x, y)) = queue.pop_front() {
-        let k = steps[y * w + x];
-        let (dx, dy) = (x as f64 - sx as f64, y as f64 - sy as f64);
-        if f64::from(k) > (dx * dx + dy * dy).sqrt() + SIGHT_SLACK {
-            continue; // reached only the long way round: out of sight, and so is what lies beyond
-        }
-        open[y * w + x] = true;
-        for (ox, oy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
-            let (nx, ny) = (x as i64 + ox, y as i64 + oy);
-            if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                continue;
+    let bit = |x: usize| 1u64 << (x % 64);
+    layer[sy * words + sx / 64] = bit(sx);
+    visited[sy * words + sx / 64] = bit(sx);
+    let (mut lo, mut hi) = (sy, sy); // the rows the current layer may occupy
+    let mut k = 0u32;
+    loop {
+        let mut any = false;
+        for y in lo..=hi {
+            for j in 0..words {
+                let mut bits = layer[y * words + j];
+                let mut keep = 0u64;
+                while bits != 0 {
+                    let b = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let x = j * 64 + b;
+                    let (dx, dy) = (x as f64 - sx as f64, y as f64 - sy as f64);
+                    if f64::from(k) > (dx * dx + dy * dy).sqrt() + SIGHT_SLACK {
+                        continue; // reached only the long way round: out of sight, and so is what lies beyond
+                    }
+                    open[y * w + x] = true;
+                    keep |= 1 << b;
+                }
+                expand[y * words + j] = keep;
+                any |= keep != 0;
             }
-            let (nx, ny) = (nx as usize, ny as usize);
-            let j = ny * w + nx;
-            if steps[j] != u16::MAX || grid.cost[spec.index(a0 + nx, b0 + ny)] >= LETHAL {
-                continue;
-            }
-            steps[j] = k + 1;
-            queue.push_back((nx, ny));
         }
+        if !any {
+            break;
+        }
+        let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
+        for y in nlo..=nhi {
+            for j in 0..words {
+                let mut acc = 0u64;
+                for yy in y.saturating_sub(1).max(lo)..=(y + 1).min(hi) {
+                    let e = &expand[yy * words..(yy + 1) * words];
+                    let cur = e[j];
+                    let from_west = if j > 0 { e[j - 1] >> 63 } else { 0 };
+                    let from_east = if j + 1 < words { e[j + 1] << 63 } else { 0 };
+                    acc |= cur | (cur << 1) | from_west | (cur >> 1) | from_east;
+                }
+                let i = y * words + j;
+                let fresh = acc & free[i] & !visited[i];
+                visited[i] |= fresh;
+                next[i] = fresh;
+            }
+        }
+        std::mem::swap(&mut layer, &mut next);
+        (lo, hi) = (nlo, nhi);
+        k += 1;
     }
     open
 }
@@ -938,6 +985,86 @@ mod tests {
         let near = cost_at(&m, Vec2::new(5.55, 5.05));
         let far = cost_at(&m, Vec2::new(6.55, 5.05));
         assert!(near > far && far > 0);
+    }
+
+    /// The walk of [`in_sight`] as first written (a queue of cell pairs, every cell walked), the
+    /// reference its faster form must match cell for cell.
+    fn in_sight_reference(grid: &CostGrid, centre: Vec2, rect: Rect) -> Vec<bool> {
+        let spec = &grid.spec;
+        let (a0, b0, a1, b1) = rect;
+        let (w, h) = (a1 + 1 - a0, b1 + 1 - b0);
+        let res = spec.resolution;
+        let cx = ((centre.x - spec.origin.x) / res).floor();
+        let cy = ((centre.y - spec.origin.y) / res).floor();
+        let inside = cx >= a0 as f64 && cx <= a1 as f64 && cy >= b0 as f64 && cy <= b1 as f64;
+        if !inside || grid.cost[spec.index(cx as usize, cy as usize)] >= LETHAL {
+            return vec![true; w * h];
+        }
+        let (sx, sy) = (cx as usize - a0, cy as usize - b0);
+        let mut steps = vec![u16::MAX; w * h];
+        let mut open = vec![false; w * h];
+        let mut queue = std::collections::VecDeque::new();
+        steps[sy * w + sx] = 0;
+        queue.push_back((sx, sy));
+        while let Some((x, y)) = queue.pop_front() {
+            let k = steps[y * w + x];
+            let (dx, dy) = (x as f64 - sx as f64, y as f64 - sy as f64);
+            if f64::from(k) > (dx * dx + dy * dy).sqrt() + SIGHT_SLACK {
+                continue;
+            }
+            open[y * w + x] = true;
+            for (ox, oy) in [(-1i64, -1i64), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                let (nx, ny) = (x as i64 + ox, y as i64 + oy);
+                if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let (nx, ny) = (nx as usize, ny as usize);
+                let j = ny * w + nx;
+                if steps[j] != u16::MAX || grid.cost[spec.index(a0 + nx, b0 + ny)] >= LETHAL {
+                    continue;
+                }
+                steps[j] = k + 1;
+                queue.push_back((nx, ny));
+            }
+        }
+        open
+    }
+
+    #[test]
+    fn in_sight_matches_the_reference_walk() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(19);
+        for case in 0..200 {
+            let mut g = grid(12.0, 9.0);
+            // Random wall segments and blocks, some cases with none (the open fast path).
+            let walls = if case % 5 == 0 { 0 } else { rng.random_range(1..8) };
+            for _ in 0..walls {
+                let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
+                let (len, vertical) = (rng.random_range(1..60), rng.random_bool(0.5));
+                for t in 0..len {
+                    let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
+                    if ix < g.spec.width && iy < g.spec.height {
+                        let i = g.spec.index(ix, iy);
+                        g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
+                    }
+                }
+            }
+            let (x0, y0) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
+            let rect = (
+                x0,
+                y0,
+                (x0 + rng.random_range(0..80)).min(g.spec.width - 1),
+                (y0 + rng.random_range(0..80)).min(g.spec.height - 1),
+            );
+            // Mostly a centre inside the rect (the walk), sometimes anywhere.
+            let c = if case % 7 == 0 {
+                Vec2::new(rng.random_range(-0.5..12.5), rng.random_range(-0.5..9.5))
+            } else {
+                let cell = (rng.random_range(rect.0..=rect.2), rng.random_range(rect.1..=rect.3));
+                g.spec.center(cell.0, cell.1)
+            };
+            assert_eq!(in_sight(&g, c, rect), in_sight_reference(&g, c, rect), "case {case}");
+        }
     }
 
     #[test]

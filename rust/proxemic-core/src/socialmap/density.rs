@@ -63,9 +63,12 @@ pub fn density_layer(
     if people.is_empty() {
         return out;
     }
+    // Each person's facing once, not once per cell (the same sum as `density_factor`'s).
+    let facing: Vec<(Vec2, Vec2)> = people.iter().map(|p| (p.pos, p.facing())).collect();
     for iy in 0..spec.height {
         for ix in 0..spec.width {
-            out[spec.index(ix, iy)] = density_factor(zones, costs, people, spec.center(ix, iy));
+            let g = zones.density_facing(&facing, spec.center(ix, iy));
+            out[spec.index(ix, iy)] = zone_factor(zones, costs, g);
         }
     }
     out
@@ -133,6 +136,30 @@ mod tests {
             PersonState::standing(Vec2::new(0.0, -2.0), 0.0),
         ];
         assert_eq!(density_factor(&z, &c, &wide, Vec2::zeros()), 2.0);
+    }
+
+    #[test]
+    fn the_layer_of_a_crowd_is_the_factor_at_each_cell_centre_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        let z = zones();
+        let c = SocialCosts::default();
+        let spec = GridSpec { origin: Vec2::new(0.0, 0.0), resolution: 0.1, width: 120, height: 90 };
+        let crowd: Vec<PersonState> = (0..25)
+            .map(|_| {
+                let p = Vec2::new(rng.random_range(0.0..12.0), rng.random_range(0.0..9.0));
+                PersonState::standing(p, rng.random_range(-3.2..3.2))
+            })
+            .collect();
+        let layer = density_layer(&spec, &z, &c, &crowd);
+        let facing: Vec<(Vec2, Vec2)> = crowd.iter().map(|p| (p.pos, p.facing())).collect();
+        for iy in 0..spec.height {
+            for ix in 0..spec.width {
+                let x = spec.center(ix, iy);
+                assert_eq!(z.density_facing(&facing, x).to_bits(), z.density(&crowd, x).to_bits());
+                assert_eq!(layer[spec.index(ix, iy)], density_factor(&z, &c, &crowd, x));
+            }
+        }
     }
 
     #[test]

@@ -506,8 +506,11 @@ fn action_set(
 /// Step 4 of [`social_momentum`]: the agents whose comfort zone the robot could enter within the
 /// comfort horizon, and what a sample's intrusion into them is.
 struct Comfort {
-    /// `(pos - p_i, v_i, R_i)` per agent.
-    agents: Vec<(Vec2, Vec2, f64)>,
+    /// Per agent: `pos - p_i`, `v_i`, `R_i`, the squared radius above which a squared distance
+    /// surely gives a distance `>= R_i` (no intrusion, the term is exactly 0), and the first
+    /// comfort instant (index) at which any sample could bring the robot into the zone (none
+    /// can before: the robot covers at most `vmax t` by time `t`).
+    agents: Vec<ComfortAgent>,
     vel: Vec2,
     goal_dir: Vec2,
     accel: f64,
@@ -528,13 +531,30 @@ impl Comfort {
     ) -> Self {
         let vmax = limits.max_speed;
         let t_c = params.comfort_horizon;
-        let agents: Vec<(Vec2, Vec2, f64)> = if params.comfort_weight > 0.0 && t_c > 0.0 {
+        let h = t_c / COMFORT_SAMPLES as f64;
+        let agents: Vec<ComfortAgent> = if params.comfort_weight > 0.0 && t_c > 0.0 {
             others
                 .iter()
                 .filter(|a| {
                     a.comfort > 0.0 && (pos - a.pos).norm() - a.comfort <= (vmax + a.vel.norm()) * t_c
                 })
-                .map(|a| (pos - a.pos, a.vel, a.comfort))
+                .map(|a| {
+                    let d0 = pos - a.pos;
+                    // At instant t the robot is within vmax t of pos and the agent within
+                    // |v_i| t of p_i: no intrusion while |d0| - (vmax + |v_i|) t clears R_i
+                    // (by a margin far above rounding).
+                    let (dist, closing) = (d0.norm(), vmax + a.vel.norm());
+                    let first = (0..COMFORT_SAMPLES)
+                        .find(|&k| dist - closing * ((k as f64 + 1.0) * h) < a.comfort + 1e-9)
+                        .unwrap_or(COMFORT_SAMPLES);
+                    ComfortAgent {
+                        d0,
+                        vel: a.vel,
+                        r: a.comfort,
+                        clear2: a.comfort * a.comfort * (1.0 + 1e-12),
+                        first,
+                    }
+                })
                 .collect()
         } else {
             Vec::new()
@@ -561,12 +581,29 @@ impl Comfort {
             // down or sidestep for someone's comfort, but it does not retreat along its way.
             w -= self.goal_dir * w.dot(&self.goal_dir).min(0.0);
             q += w * h;
-            for &(d0, vi, r) in &self.agents {
-                c += (r - (d0 + q - vi * t).norm()).max(0.0);
+            // Terms that are exactly 0 (no intrusion) are skipped: the sum is the same, bit for bit.
+            for a in &self.agents {
+                if k < a.first {
+                    continue;
+                }
+                let d2 = (a.d0 + q - a.vel * t).norm_squared();
+                if d2 > a.clear2 {
+                    continue;
+                }
+                c += (a.r - d2.sqrt()).max(0.0);
             }
         }
         c / COMFORT_SAMPLES as f64
     }
+}
+
+/// An agent of the comfort term (see [`Comfort`]).
+struct ComfortAgent {
+    d0: Vec2,
+    vel: Vec2,
+    r: f64,
+    clear2: f64,
+    first: usize,
 }
 
 /// What the collision filter and the scores of one step look at.
