@@ -116,3 +116,27 @@ fn extra_robots_are_sampled_in_bundled_scenes() {
     }
     World::new(four).expect("a world with the sampled robots");
 }
+
+/// With `encounters = 1` a conversation group stands on the robot's way in at least 9 of tuning
+/// scenes 0-29 (the rate `ENCOUNTER_DOOR_MARGIN` was chosen for; 4 before), each of 2-3 members
+/// round a spot at least 2.5 m from the robot's start and goal.
+#[test]
+fn encounters_stand_on_the_way_in_most_scenes() {
+    let p = GenParams { encounters: 1, density: 2.5, ..GenParams::default() };
+    let mut placed = 0;
+    for seed in 0..30u64 {
+        let s = generate(seed, &p).expect("scene").scenario;
+        let members: Vec<_> = s.persons.iter().filter(|q| q.group == Some(900)).collect();
+        if members.is_empty() {
+            continue;
+        }
+        placed += 1;
+        assert!((2..=3).contains(&members.len()), "seed {seed}: {} members", members.len());
+        let spot = members[0].spot.expect("a conversation spot");
+        let r = &s.robots[0];
+        for end in [[r.start[0], r.start[1]], r.goal] {
+            assert!(Vec2::new(end[0] - spot[0], end[1] - spot[1]).norm() >= 2.5, "seed {seed}");
+        }
+    }
+    assert!(placed >= 9, "an encounter in {placed} of 30 scenes");
+}
