@@ -372,8 +372,13 @@ pub(super) fn encounter(
         let members = (0..size)
             .map(|k| {
                 let a = a0 + TAU * k as f64 / size as f64;
-                let home = [round2(c.x + (ring + 0.5) * a.cos()), round2(c.y + (ring + 0.5) * a.sin())];
-                GPerson::Conversation { group, home, spot: [c.x, c.y], end }
+                let dir = Vec2::new(a.cos(), a.sin());
+                // A member starts 0.5 m outside the ring, or on it when that is too near a wall
+                // or furniture (the centre keeps `ring + 0.35` from them, so the ring is clear).
+                let out = c + dir * (ring + 0.5);
+                let clear = geometry.distance(out) >= 0.3 && !geometry.segment_hits(c + dir * ring, out);
+                let home = if clear { out } else { c + dir * ring };
+                GPerson::Conversation { group, home: [round2(home.x), round2(home.y)], spot: [c.x, c.y], end }
             })
             .collect();
         return Some(members);

@@ -140,3 +140,12 @@ fn encounters_stand_on_the_way_in_most_scenes() {
     }
     assert!(placed >= 9, "an encounter in {placed} of 30 scenes");
 }
+
+/// Encounter scenes of the test split build (a member's start once fell in a wall: seed 10045).
+#[test]
+fn encounter_scenes_of_the_test_split_build() {
+    let p = GenParams { encounters: 1, density: 2.5, ..GenParams::default() };
+    for seed in 10_000..10_060u64 {
+        generate(seed, &p).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+    }
+}
