@@ -16,15 +16,17 @@
 //! - [`groups`]: o-spaces and interaction crossings (item 19);
 //! - [`objects`]: the objects' interaction spaces (Calderita et al.'s Ψ per object);
 //! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
-//!   `d_t`, `tau`.
+//!   `d_t`, `tau`;
+//! - [`fault`]: who hit whom, the contact events by fault (SEAN 2.0, HuNavSim);
+//! - [`people_cost`]: the robot's cost to people (delay, extra distance, path deviation) against
+//!   the episode replayed without the robots.
 //!
 //! [`registry`] describes every key of a serialised report (unit, better direction, definition,
 //! formula, source): the metric reference of the docs is generated from it.
 //!
 //! Each family returns its own struct, flattened into [`FullMetrics`] (one key per metric when
 //! serialised, in the families' order above, the room-left part of [`proximity`] after
-//! [`objects`]). Not computed: STL (needs a reference time), item 14, item 23 (needs a robot-free
-//! replay) and the learned scores of item 24.
+//! [`objects`]). Not computed: STL (needs a reference time), item 14 and the learned scores of item 24.
 //!
 //! # Conventions
 //! - The robot is sampled at the control instants `t = 0..=T` (`N = T + 1` samples, `T` steps of
@@ -59,12 +61,14 @@
 
 pub mod collisions;
 pub mod efficiency;
+pub mod fault;
 pub mod groups;
 mod input;
 mod interactions;
 pub mod motion;
 pub mod objects;
 pub mod papers;
+pub mod people_cost;
 pub mod proximity;
 mod recorder;
 pub mod registry;
@@ -77,6 +81,7 @@ use crate::error::Result;
 use crate::math::Vec2;
 pub use collisions::CollisionMetrics;
 pub use efficiency::EfficiencyMetrics;
+pub use fault::FaultMetrics;
 pub use groups::GroupMetrics;
 pub use input::{
     DEFAULT_ZONES, EvalContext, Groups, InteractionLink, LinkKind, MetricParams, OSpace, ObjectSpaces,
@@ -86,6 +91,7 @@ pub use interactions::{GATHERED_RADIUS, InteractionObject, STILL_SPEED, interact
 pub use motion::MotionMetrics;
 pub use objects::ObjectMetrics;
 pub use papers::PaperMetrics;
+pub use people_cost::{PeopleCostMetrics, RobotFreeTracks};
 pub use proximity::{ClearanceMetrics, ProximityMetrics};
 pub use recorder::{EpisodeRecorder, EpisodeReport, Outcome, RecorderSetup, SceneLog, Snapshot};
 pub use registry::{Better, METRICS, MetricInfo, Per, metric_info};
@@ -126,6 +132,12 @@ pub struct FullMetrics {
     /// The seed papers' own metrics.
     #[serde(flatten)]
     pub papers: PaperMetrics,
+    /// Who hit whom: the contact events by fault.
+    #[serde(flatten)]
+    pub fault: FaultMetrics,
+    /// The robot's cost to people, against the robot-free run.
+    #[serde(flatten)]
+    pub people_cost: PeopleCostMetrics,
 }
 
 /// The robot's samples, shared by the families.
@@ -172,7 +184,8 @@ pub fn evaluate(
 ) -> Result<FullMetrics> {
     input::validate(traj, people, groups, objects, ctx)?;
     let s = Samples::new(traj);
-    let collisions = collisions::evaluate(&s, traj, people, ctx.collision_steps);
+    let touches = fault::touches(&s, traj, people, ctx.collision_steps);
+    let collisions = collisions::evaluate(&s, traj, people, ctx.collision_steps, &touches);
     let efficiency = efficiency::evaluate(&s, traj, ctx, collisions.success);
     let path_length = efficiency.path_length;
     Ok(FullMetrics {
@@ -182,6 +195,14 @@ pub fn evaluate(
         objects: objects::evaluate(&s, objects),
         clearance: proximity::evaluate_clearance(&s, traj, people, ctx),
         papers: papers::evaluate(&s, traj.dt, ctx, collisions.success, path_length),
+        fault: fault::evaluate(s.steps, people.count, &touches, ctx.collision_steps),
+        people_cost: people_cost::evaluate(
+            s.n,
+            people.count,
+            traj.dt,
+            people.positions,
+            ctx.robot_free.as_ref(),
+        ),
         collisions,
         efficiency,
     })
