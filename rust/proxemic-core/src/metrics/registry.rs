@@ -173,7 +173,8 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         POS,
         "Steps with a person collision: the physics' person contact, or a negative surface gap on \
-         the swept relative motion.",
+         the swept relative motion; whoever's fault (`collisions_robot_fault`, \
+         `collisions_person_fault`).",
         "",
         "Francis et al. 2023 (HC)",
     ),
@@ -949,7 +950,7 @@ pub const METRICS: &[MetricInfo] = &[
     m(
         "collisions_static",
         OUTCOME,
-        "wall/furniture contact events",
+        "wall/furniture contacts",
         "events",
         Lower,
         POS,
