@@ -236,7 +236,10 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "personal_seconds"): "personal-zone time: social 163.1 s vs plain A* 204.0 s (20% less, claim 50%)",
     ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 12/20 episodes (centre reading: 0/20)",
     ("care_center", "personal_seconds"): "personal-zone time: social 88.2 s vs plain A* 104.9 s (16% less, claim 50%)",
-    ("care_center", "collisions"): "collision rate: social 5% (1/20) vs plain A* 15% (claim: <= 2%)",
+    ("care_center", "collisions"): "collision rate: social 5% (1/20) vs plain A* 10% (claim: <= 2%)",
+    # Since a person walking into a stopped robot no longer ends its episode (issue 23), plain A*'s
+    # episode on the 20th CI seed, a collision before, reaches the goal in 24.8 s: one more pair.
+    ("care_center", "time"): "paired time to goal: social/astar 1.307 [95% CI 1.195, 1.446], 17 pairs (claim: <= 1.3)",
     (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 13/50 scenes (centre reading: 0/50)",
     (GENERATED, "personal_seconds"): "personal-zone time: social 43.6 s vs plain A* 58.8 s (26% less, claim 50%)",
     (GENERATED, "active_object_seconds"): "active object-space time: social 10.4 s vs plain A* 10.0 s (claim 80% less)",

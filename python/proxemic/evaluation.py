@@ -54,6 +54,14 @@ MEAN_METRICS = (
     "psi_objects_any",
     "reward",
     "snqi",
+    # Who hit whom (contact events by fault) and the robot's cost to people (robot-free replay).
+    "collisions_robot_fault",
+    "collisions_person_fault",
+    "collisions_static",
+    "ped_delay_s_mean",
+    "ped_delay_s_max",
+    "ped_extra_distance_m_mean",
+    "ped_path_deviation_m_mean",
 )
 
 
@@ -117,7 +125,8 @@ METRIC_GROUPS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ),
 )
 
-#: The columns of the headline table (terminal and top of ``summary.md``); "collision" is HC or WC.
+#: The columns of the headline table (terminal and top of ``summary.md``); "collision" is a collision
+#: that ends the episode (walls, furniture, a robot, or a person by the robot's fault).
 #: "o-space crossings" are the robot's crossings of the segments joining people in interaction
 #: (person-person, i.e. through a group's o-space, and person-object).
 HEADLINE = (
@@ -483,8 +492,12 @@ def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float, f
 
 
 def _collided(record: Mapping[str, Any]) -> bool:
-    """A collision of any kind (with a person, walls or furniture, another robot)."""
-    return record.get("outcome") == "collision" or any(bool(record.get(k)) for k in ("hc", "wc", "ac"))
+    """A collision (walls or furniture, another robot, or a person by the robot's fault).
+
+    A person walking into a stopped robot (``collisions_person_fault``) is not one: it is in
+    ``hc`` but neither ends the episode nor counts here.
+    """
+    return record.get("outcome") == "collision" or bool(record.get("collision"))
 
 
 def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:

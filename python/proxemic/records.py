@@ -97,6 +97,15 @@ class EpisodeMetrics(TypedDict):
     near_misses: int
     force_exceed_events: int
     comfort_exposure: float | None
+    collisions_robot_fault: int
+    collisions_person_fault: int
+    collisions_static: int
+    ped_delay_s_mean: float | None
+    ped_delay_s_max: float | None
+    ped_extra_distance_m_mean: float | None
+    ped_extra_distance_m_max: float | None
+    ped_path_deviation_m_mean: float | None
+    ped_path_deviation_m_max: float | None
 
 
 class MetricInfo(TypedDict):

@@ -1,10 +1,12 @@
 //! The outcome and the collisions (items 1-4 of `docs/metrics.md`): success, collision, timeout,
 //! time to goal, and the steps with a collision by kind. A step collides with a person when the
 //! physics says so or when the swept relative motion of the two discs overlaps (CrowdNav's test),
-//! with the static geometry or another robot when the physics says so.
+//! with the static geometry or another robot when the physics says so. A person contact ends the
+//! episode (a collision, failing success) only when it is the robot's fault ([`super::fault`]).
 
 use serde::Serialize;
 
+use super::fault::Touch;
 use super::{CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, PeopleTracks, Samples, Trajectory};
 use crate::geom::distance_point_segment;
 use crate::math::{EPS, Vec2};
@@ -15,9 +17,11 @@ pub struct CollisionMetrics {
     /// Number of control steps `T` (samples minus one, 0 for an empty trajectory).
     pub steps: usize,
     /// Success S (`docs/metrics.md` item 1): the robot centre came within `success_radius` of the goal at
-    /// some instant with no collision (any kind) in any step ending at or before it.
+    /// some instant with no collision (static, robot, or a person contact that is the robot's
+    /// fault) in any step ending at or before it; a person walking into the robot does not fail it.
     pub success: bool,
-    /// Any collision of any kind (`docs/metrics.md` item 2).
+    /// A collision that ends the episode (`docs/metrics.md` item 2): with walls or furniture, with
+    /// another robot, or with a person by the robot's fault ([`super::fault`]).
     pub collision: bool,
     /// Timeout TO (`docs/metrics.md` item 3): neither success nor any collision in the recording.
     pub timeout: bool,
@@ -54,12 +58,13 @@ pub(crate) fn swept_gap(p0: Vec2, p1: Vec2, q0: Vec2, q1: Vec2, rr: f64, r: f64)
 }
 
 /// The outcome and collisions of the recording `s` among `people`, with the physics' `CONTACT_*`
-/// bits `contacts` per step (or none).
+/// bits `contacts` per step (or none) and each step's person `touches` ([`super::fault::touches`]).
 pub(crate) fn evaluate(
     s: &Samples,
     traj: &Trajectory,
     people: &PeopleTracks,
     contacts: &[u8],
+    touches: &[Touch],
 ) -> CollisionMetrics {
     let np = people.count;
     let person = |t: usize, i: usize| people.positions[t * np + i];
@@ -84,7 +89,8 @@ pub(crate) fn evaluate(
         hc_count += usize::from(hit_person);
         wc_count += usize::from(hit_static);
         ac_count += usize::from(hit_robot);
-        if (hit_person || hit_static || hit_robot) && first_collision_instant.is_none() {
+        let robot_fault = touches.get(k * np..(k + 1) * np).is_some_and(|t| t.contains(&Touch::RobotFault));
+        if (robot_fault || hit_static || hit_robot) && first_collision_instant.is_none() {
             first_collision_instant = Some(k + 1);
         }
     }

@@ -188,6 +188,9 @@ pub struct EvalContext<'a> {
     pub collision_steps: &'a [u8],
     /// Thresholds and constants.
     pub params: MetricParams,
+    /// The episode replayed without the robots, for the robot's cost to people; `None` leaves
+    /// those metrics `None`.
+    pub robot_free: Option<super::RobotFreeTracks<'a>>,
 }
 fn bad(field: impl Into<String>, expected: &str, found: impl std::fmt::Display) -> CoreError {
     CoreError::input(field, expected, found.to_string())

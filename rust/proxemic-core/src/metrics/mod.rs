@@ -19,14 +19,16 @@
 //!   `d_t`, `tau`;
 //! - [`snqi`]: the inputs of robot-sf's SNQI composite that the others do not give (near
 //!   misses, force-exceed events, comfort exposure).
+//! - [`fault`]: who hit whom, the contact events by fault (SEAN 2.0, HuNavSim);
+//! - [`people_cost`]: the robot's cost to people (delay, extra distance, path deviation) against
+//!   the episode replayed without the robots.
 //!
 //! [`registry`] describes every key of a serialised report (unit, better direction, definition,
 //! formula, source): the metric reference of the docs is generated from it.
 //!
 //! Each family returns its own struct, flattened into [`FullMetrics`] (one key per metric when
 //! serialised, in the families' order above, the room-left part of [`proximity`] after
-//! [`objects`]). Not computed: STL (needs a reference time), item 14, item 23 (needs a robot-free
-//! replay) and the learned scores of item 24.
+//! [`objects`]). Not computed: STL (needs a reference time), item 14 and the learned scores of item 24.
 //!
 //! # Conventions
 //! - The robot is sampled at the control instants `t = 0..=T` (`N = T + 1` samples, `T` steps of
@@ -61,12 +63,14 @@
 
 pub mod collisions;
 pub mod efficiency;
+pub mod fault;
 pub mod groups;
 mod input;
 mod interactions;
 pub mod motion;
 pub mod objects;
 pub mod papers;
+pub mod people_cost;
 pub mod proximity;
 mod recorder;
 pub mod registry;
@@ -80,6 +84,7 @@ use crate::error::Result;
 use crate::math::Vec2;
 pub use collisions::CollisionMetrics;
 pub use efficiency::EfficiencyMetrics;
+pub use fault::FaultMetrics;
 pub use groups::GroupMetrics;
 pub use input::{
     DEFAULT_ZONES, EvalContext, Groups, InteractionLink, LinkKind, MetricParams, OSpace, ObjectSpaces,
@@ -89,6 +94,7 @@ pub use interactions::{GATHERED_RADIUS, InteractionObject, STILL_SPEED, interact
 pub use motion::MotionMetrics;
 pub use objects::ObjectMetrics;
 pub use papers::PaperMetrics;
+pub use people_cost::{PeopleCostMetrics, RobotFreeTracks};
 pub use proximity::{ClearanceMetrics, ProximityMetrics};
 pub use recorder::{EpisodeRecorder, EpisodeReport, Outcome, RecorderSetup, SceneLog, Snapshot};
 pub use registry::{Better, METRICS, MetricInfo, Per, metric_info};
@@ -133,6 +139,12 @@ pub struct FullMetrics {
     /// The SNQI inputs not given by the other families.
     #[serde(flatten)]
     pub snqi: SnqiMetrics,
+    /// Who hit whom: the contact events by fault.
+    #[serde(flatten)]
+    pub fault: FaultMetrics,
+    /// The robot's cost to people, against the robot-free run.
+    #[serde(flatten)]
+    pub people_cost: PeopleCostMetrics,
 }
 
 /// The robot's samples, shared by the families.
@@ -179,7 +191,8 @@ pub fn evaluate(
 ) -> Result<FullMetrics> {
     input::validate(traj, people, groups, objects, ctx)?;
     let s = Samples::new(traj);
-    let collisions = collisions::evaluate(&s, traj, people, ctx.collision_steps);
+    let touches = fault::touches(&s, traj, people, ctx.collision_steps);
+    let collisions = collisions::evaluate(&s, traj, people, ctx.collision_steps, &touches);
     let efficiency = efficiency::evaluate(&s, traj, ctx, collisions.success);
     let path_length = efficiency.path_length;
     Ok(FullMetrics {
@@ -192,6 +205,14 @@ pub fn evaluate(
         snqi: snqi::evaluate(&s, traj, people, |t, i| {
             proximity::force_on_person(&s, traj, people, &ctx.params, t, i)
         }),
+        fault: fault::evaluate(s.steps, people.count, &touches, ctx.collision_steps),
+        people_cost: people_cost::evaluate(
+            s.n,
+            people.count,
+            traj.dt,
+            people.positions,
+            ctx.robot_free.as_ref(),
+        ),
         collisions,
         efficiency,
     })

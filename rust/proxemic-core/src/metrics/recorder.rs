@@ -5,9 +5,10 @@
 use serde::Serialize;
 
 use super::collisions::swept_gap;
+use super::fault::{StepContact, Touch, classify_step};
 use super::{
-    CONTACT_PERSON, EvalContext, FullMetrics, Groups, InteractionLink, MetricParams, OSpace, ObjectSpaces,
-    PeopleTracks, Trajectory, evaluate,
+    CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, EvalContext, FullMetrics, Groups, InteractionLink,
+    MetricParams, OSpace, ObjectSpaces, PeopleTracks, RobotFreeTracks, Trajectory, evaluate,
 };
 use crate::error::Result;
 use crate::math::Vec2;
@@ -176,6 +177,8 @@ pub struct EpisodeRecorder {
     contacts: Vec<u8>,
     min_robot_gap: f64,
     outcome: Outcome,
+    /// Scratch: the last step's touch per person.
+    touches: Vec<Touch>,
 }
 
 impl EpisodeRecorder {
@@ -187,6 +190,7 @@ impl EpisodeRecorder {
             contacts: Vec::new(),
             min_robot_gap: f64::INFINITY,
             outcome: Outcome::Running,
+            touches: Vec::new(),
         }
     }
 
@@ -208,10 +212,12 @@ impl EpisodeRecorder {
     }
 
     /// Adds one control step ending at `pose`, at the instant `log` last received, with the
-    /// physics' `CONTACT_*` bits of the step; returns the outcome after it. A collision (physics
-    /// contact, or a negative surface gap to a person anywhere on the relative motion swept over
-    /// the step) ends the episode before the goal does; the goal before the time limit. Steps
-    /// after the end are ignored.
+    /// physics' `CONTACT_*` bits of the step; returns the outcome after it. A collision (a static
+    /// or robot contact, or a person contact that is the robot's fault, [`super::fault`]: the
+    /// physics' person contact or a negative surface gap anywhere on the relative motion swept
+    /// over the step, with the robot moving toward the person) ends the episode before the goal
+    /// does; the goal before the time limit. A person walking into the robot does not end it.
+    /// Steps after the end are ignored.
     pub fn record(&mut self, log: &SceneLog, pose: [f64; 3], contacts: u8, out_of_time: bool) -> Outcome {
         if self.outcome != Outcome::Running {
             return self.outcome;
@@ -223,17 +229,31 @@ impl EpisodeRecorder {
         let rr = self.setup.robot_radius;
         // A log that does not hold both instants (a caller's error) has no people to sweep past;
         // `evaluate` reports the mismatch.
-        let swept = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
-            (Some(before), Some(after)) => before
-                .iter()
-                .zip(after)
-                .zip(&log.people_radii)
-                .any(|((&a, &b), &r)| swept_gap(p0, p1, a, b, rr, r) < 0.0),
-            _ => false,
+        let (swept, robot_fault) = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
+            (Some(before), Some(after)) => {
+                let swept = before
+                    .iter()
+                    .zip(after)
+                    .zip(&log.people_radii)
+                    .any(|((&a, &b), &r)| swept_gap(p0, p1, a, b, rr, r) < 0.0);
+                let step = StepContact {
+                    p0,
+                    p1,
+                    vel: (p1 - p0) / self.setup.dt,
+                    robot_radius: rr,
+                    before,
+                    after,
+                    radii: &log.people_radii,
+                    physics_person: contacts & CONTACT_PERSON != 0,
+                };
+                classify_step(&step, &mut self.touches);
+                (swept, self.touches.contains(&Touch::RobotFault))
+            }
+            _ => (false, false),
         };
         let bits = contacts | if swept { CONTACT_PERSON } else { 0 };
         self.contacts.push(bits);
-        self.outcome = if bits != 0 {
+        self.outcome = if robot_fault || bits & (CONTACT_STATIC | CONTACT_ROBOT) != 0 {
             Outcome::Collision
         } else if (p1 - self.setup.goal).norm() <= self.setup.success_radius {
             Outcome::Success
@@ -268,7 +288,8 @@ impl EpisodeRecorder {
     /// Evaluates the recording in the scene `log` (its first instants, one per recorded pose):
     /// every metric of [`FullMetrics`], with `clearance` the distance from a point to the static
     /// geometry (m) and `zones` the Hall zone radii (m, centre distance: intimate, personal,
-    /// social).
+    /// social), and `robot_free` the episode replayed without the robots (for the robot's cost to
+    /// people; `None` leaves those metrics `None`).
     ///
     /// # Errors
     /// [`crate::error::CoreError::Input`] when `log` holds fewer instants than the recording,
@@ -280,6 +301,7 @@ impl EpisodeRecorder {
         clearance: &dyn Fn(Vec2) -> f64,
         zones: [f64; 3],
         params: MetricParams,
+        robot_free: Option<RobotFreeTracks>,
     ) -> Result<EpisodeReport> {
         let n = self.poses.len();
         if log.instants() < n {
@@ -320,6 +342,7 @@ impl EpisodeRecorder {
             zones,
             collision_steps: &self.contacts,
             params,
+            robot_free,
         };
         let metrics = evaluate(&traj, &people, &groups, &objects, &ctx)?;
         let astar_length = s.astar_path.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
@@ -387,7 +410,7 @@ mod tests {
 
         fn eval(&self) -> EpisodeReport {
             self.rec
-                .evaluate(&self.log, &|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default())
+                .evaluate(&self.log, &|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default(), None)
                 .expect("valid")
         }
     }
@@ -467,7 +490,7 @@ mod tests {
         let mut run = Run::new(&[Vec2::new(1.5, 1.0)]);
         run.step(1.0, 0.0, 0, false);
         run.log.restart(&[0.2]);
-        let e = run.rec.evaluate(&run.log, &|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default());
+        let e = run.rec.evaluate(&run.log, &|_| 1.0, [0.45, 1.2, 3.6], MetricParams::default(), None);
         assert!(matches!(e, Err(crate::error::CoreError::Input { .. })), "{e:?}");
     }
 }

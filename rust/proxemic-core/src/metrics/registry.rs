@@ -121,9 +121,11 @@ pub const METRICS: &[MetricInfo] = &[
         Neither,
         NONE,
         "How the episode ended: `success`, `collision` or `timeout` (`running` before the end). A \
-         collision (physics contact, or a negative surface gap anywhere on the relative motion swept \
-         over a step) ends the episode before the goal does; reaching the goal ends it before the \
-         time limit.",
+         collision (a contact with walls, furniture or another robot, or with a person while the \
+         robot moved toward them: physics contact, or a negative surface gap anywhere on the \
+         relative motion swept over a step) ends the episode before the goal does; reaching the \
+         goal ends it before the time limit. A person walking into a robot that is stopped or \
+         moving away does not end it (`collisions_person_fault`).",
         "",
         "Francis et al. 2023; CrowdNav's swept test",
     ),
@@ -134,8 +136,10 @@ pub const METRICS: &[MetricInfo] = &[
         "bool",
         Higher,
         FLAG,
-        "The robot centre came within the success radius of the goal with no collision of any kind \
-         in a step ending at or before that instant.",
+        "The robot centre came within the success radius of the goal with no collision in a step \
+         ending at or before that instant: no contact with walls, furniture or another robot, and \
+         no person contact that is the robot's fault. Person-at-fault contacts (a person walking \
+         into a stopped robot) do not fail it.",
         "",
         "Francis et al. 2023 (S)",
     ),
@@ -146,7 +150,8 @@ pub const METRICS: &[MetricInfo] = &[
         "bool",
         Lower,
         FLAG,
-        "Any collision in the recording.",
+        "A collision that ends the episode: with walls, furniture or another robot, or with a \
+         person by the robot's fault (`collisions_robot_fault`).",
         "",
         "Francis et al. 2023 (C)",
     ),
@@ -169,7 +174,8 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         POS,
         "Steps with a person collision: the physics' person contact, or a negative surface gap on \
-         the swept relative motion.",
+         the swept relative motion; whoever's fault (`collisions_robot_fault`, \
+         `collisions_person_fault`).",
         "",
         "Francis et al. 2023 (HC)",
     ),
@@ -954,6 +960,119 @@ pub const METRICS: &[MetricInfo] = &[
         "`force_exceed_events / (K (T + 1))` over the `K` people",
         "robot-sf (SNQI)",
     ),
+    // Who hit whom (the fault rule: rust/proxemic-core/src/metrics/fault.rs)
+    m(
+        "collisions_robot_fault",
+        OUTCOME,
+        "robot-at-fault person contacts",
+        "events",
+        Lower,
+        POS,
+        "Contact events with a person (a run of consecutive steps touching them, counted once) in \
+         which the robot moved toward the person: its velocity along the direction robot → person \
+         above 0.05 m/s in some step of the run. Such a contact ends the episode and fails success.",
+        "`v_R · (p_i − p_R)/|p_i − p_R| > 0.05 m/s`",
+        "SEAN 2.0 (robot on person collision); HuNavSim",
+    ),
+    m(
+        "collisions_person_fault",
+        OUTCOME,
+        "person-at-fault contacts",
+        "events",
+        Neither,
+        POS,
+        "Contact events with a person who moved into the robot while it was stopped or moving \
+         away (its velocity toward the person at most 0.05 m/s in every step of the run). Counted \
+         in `hc_count` but not a collision: it neither ends the episode nor fails success.",
+        "",
+        "SEAN 2.0 (person on robot collision); HuNavSim",
+    ),
+    m(
+        "collisions_static",
+        OUTCOME,
+        "wall/furniture contacts",
+        "events",
+        Lower,
+        POS,
+        "Contact events with walls or furniture (runs of steps with the physics' static contact, \
+         counted once each).",
+        "",
+        "SEAN 2.0 (static obstacle collision)",
+    ),
+    // The robot's cost to people (counterfactual: rust/proxemic-core/src/metrics/people_cost.rs)
+    m(
+        "ped_delay_s_mean",
+        PEOPLE,
+        "people's mean delay",
+        "s",
+        Lower,
+        POS,
+        "Mean over the scene's people of each person's delay against the same episode replayed \
+         without the robots (same seed, people only): the largest lateness of a stage change of \
+         their script (way-point reached, walk leg done, task finished) that the robot-free run \
+         makes within the episode, one not yet made counting until the episode's end; 0 for a \
+         person whose robot-free run makes none (standing, talking). `None` without people.",
+        "`mean_i max(0, max_k (r_ik − c_ik) dt)`",
+        "ours (a robot-free replay; after Katyal et al. 2022's pedestrian velocity)",
+    ),
+    m(
+        "ped_delay_s_max",
+        PEOPLE,
+        "people's max delay",
+        "s",
+        Lower,
+        POS,
+        "The largest person's delay (see `ped_delay_s_mean`).",
+        "`max_i max(0, max_k (r_ik − c_ik) dt)`",
+        "ours",
+    ),
+    m(
+        "ped_extra_distance_m_mean",
+        PEOPLE,
+        "people's mean extra distance",
+        "m",
+        Lower,
+        POS,
+        "Mean over people of the extra distance walked to the last stage change both the episode \
+         and its robot-free replay made (episode minus robot-free, floored at 0; 0 without one).",
+        "`mean_i max(0, L_i(0..r_ik*) − L^free_i(0..c_ik*))`",
+        "ours",
+    ),
+    m(
+        "ped_extra_distance_m_max",
+        PEOPLE,
+        "people's max extra distance",
+        "m",
+        Lower,
+        POS,
+        "The largest person's extra distance (see `ped_extra_distance_m_mean`).",
+        "",
+        "ours",
+    ),
+    m(
+        "ped_path_deviation_m_mean",
+        PEOPLE,
+        "people's mean path deviation",
+        "m",
+        Lower,
+        POS,
+        "Mean over people of each person's path deviation: the largest distance from where they \
+         are at an instant of the episode to their robot-free path (the polyline of their \
+         robot-free positions over the episode); 0 when the two tracks are identical.",
+        "`mean_i max_t dist(p_i(t), path^free_i)`",
+        "ours",
+    ),
+    m(
+        "ped_path_deviation_m_max",
+        PEOPLE,
+        "people's max path deviation",
+        "m",
+        Lower,
+        POS,
+        "The largest person's path deviation (see `ped_path_deviation_m_mean`).",
+        "",
+        "ours",
+    ),
 ];
 
 /// The sections of the reference, in order.
@@ -987,6 +1106,7 @@ mod tests {
             zones: crate::metrics::DEFAULT_ZONES,
             collision_steps: &[],
             params: crate::metrics::MetricParams::default(),
+            robot_free: None,
         };
         let metrics = evaluate(&traj, &PeopleTracks::none(), &Groups::none(), &ObjectSpaces::none(), &ctx)
             .expect("valid input");

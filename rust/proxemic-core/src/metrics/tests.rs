@@ -26,6 +26,7 @@ fn ctx(geodesic: f64) -> EvalContext<'static> {
         zones: DEFAULT_ZONES,
         collision_steps: &[],
         params: MetricParams::default(),
+        robot_free: None,
     }
 }
 
@@ -623,6 +624,15 @@ fn serializes_one_key_per_metric_in_the_record_order() {
         "near_misses",
         "force_exceed_events",
         "comfort_exposure",
+        "collisions_robot_fault",
+        "collisions_person_fault",
+        "collisions_static",
+        "ped_delay_s_mean",
+        "ped_delay_s_max",
+        "ped_extra_distance_m_mean",
+        "ped_extra_distance_m_max",
+        "ped_path_deviation_m_mean",
+        "ped_path_deviation_m_max",
     ];
     assert_eq!(keys, expected);
 }

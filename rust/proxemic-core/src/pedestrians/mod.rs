@@ -33,8 +33,10 @@
 //! The files: `force.rs` (the parameters, the interaction and group forces), `crowd.rs` (the
 //! crowd's arrays and the substep: plan, forces, integration), `spawn.rs` (a new episode's
 //! crowd), `steer.rs` (each script's motion for a substep), `follow.rs` (followers of a robot's
-//! tour), `scripts.rs` (the scripts, planned once when the world is built).
+//! tour), `scripts.rs` (the scripts, planned once when the world is built), `counterfactual.rs`
+//! (the episode's people replayed without the robots, for the robot's cost to people).
 
+mod counterfactual;
 mod crowd;
 mod follow;
 mod force;
@@ -44,6 +46,7 @@ mod steer;
 #[cfg(test)]
 mod tests;
 
+pub use counterfactual::{RobotFree, Stages};
 pub use crowd::{Crowd, GuideState};
 pub use follow::{FOLLOW_GAP, GATHER_REACH, ROBOT_SPACE, SLOT_REACHED, TRAIL_REACHED, TRAIL_SPACING};
 pub use force::{SocialForceParams, interaction_force};

@@ -122,6 +122,9 @@ impl World {
         }
         let z = self.social.config().zones;
         let clearance = |p: Vec2| self.geometry.distance(p);
+        let mut robot_free = self.robot_free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        robot_free.advance(&self.geometry, &self.field);
+        let free = robot_free.tracks();
         robots
             .iter()
             .map(|&i| {
@@ -130,9 +133,18 @@ impl World {
                     &clearance,
                     [z.intimate, z.personal, z.social],
                     MetricParams::default(),
+                    Some(free),
                 )
             })
             .collect()
+    }
+
+    /// Wall-clock time spent this episode stepping the people, and stepping them again without
+    /// the robots for the robot's cost to people (so far: the robot-free run is stepped when the
+    /// metrics are asked for).
+    pub fn people_step_times(&self) -> (std::time::Duration, std::time::Duration) {
+        let free = self.robot_free.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        (self.crowd_time, free.elapsed())
     }
 
     /// The recorded poses `[x, y, theta]` of robot `i` since the reset, instant 0 first.

@@ -102,6 +102,8 @@ impl World {
                 .collect(),
             now: GroundTruth::default(),
             log: SceneLog::new(Vec::new(), Vec::new()),
+            robot_free: std::sync::Mutex::new(crate::pedestrians::RobotFree::default()),
+            crowd_time: std::time::Duration::ZERO,
             scenario,
         };
         // The objects are the world's for good; the people's radii come with each reset.

@@ -53,7 +53,7 @@ use crate::metrics::{
     EpisodeRecorder, InteractionLink, InteractionObject, OSpace, Outcome, RecorderSetup, SceneLog, Snapshot,
 };
 use crate::pedestrians::scripts::Script;
-use crate::pedestrians::{Crowd, GuideState, SocialForceParams};
+use crate::pedestrians::{Crowd, GuideState, RobotFree, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::social::{SocialPath, SocialPlanning};
 use crate::plan::{CostGrid, PathPlanner};
@@ -169,6 +169,13 @@ pub struct World {
     now: GroundTruth,
     /// The scene since the reset, for every robot's metrics.
     log: SceneLog,
+    /// The episode's people replayed without the robots (the robot's cost to people), stepped
+    /// lazily when the metrics are asked for (behind a lock: [`World::episode_metrics`] takes
+    /// `&self`).
+    robot_free: std::sync::Mutex<RobotFree>,
+    /// Wall-clock time spent stepping the people this episode (to compare with the robot-free
+    /// run's, [`World::people_step_times`]).
+    crowd_time: std::time::Duration,
 }
 
 /// The ground truth of one instant that the metrics need: the groups' o-spaces, the interaction
@@ -239,6 +246,9 @@ impl World {
         self.observe_interactions();
         self.log.restart(&self.crowd.radius);
         self.log.push(&self.now.snapshot(&self.crowd));
+        *self.robot_free.get_mut().unwrap_or_else(std::sync::PoisonError::into_inner) =
+            RobotFree::new(&self.crowd, self.statics.len(), self.scenario.control_dt());
+        self.crowd_time = std::time::Duration::ZERO;
         for i in 0..self.statics.len() {
             let robot = self.start_robot(i, recorders.get_mut(i).and_then(Option::take));
             self.robots.push(robot);
@@ -526,7 +536,13 @@ impl World {
             .zip(&self.statics)
             .map(|(rb, st)| (Vec2::new(rb.pose[0], rb.pose[1]), st.radius, rb.velocity))
             .collect();
+        let start = std::time::Instant::now();
         self.crowd.step(dt, &robots, &self.geometry, &self.field);
+        self.crowd_time += start.elapsed();
+        self.robot_free
+            .get_mut()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .record(&guides, &self.crowd);
         self.steps += 1;
         self.observe_interactions();
         self.log.push(&self.now.snapshot(&self.crowd));
