@@ -129,6 +129,7 @@ def test_eval_suite_runs_every_archetype_with_both_planners(tmp_path: Path, caps
     metric_keys = [m["key"] for m in proxemic.reference.metric_registry()]
     numeric = {k for k in metric_keys if any(re.fullmatch(r"-?[\d.]+(e-?\d+)?", r.get(k) or "") for r in rows)}
     assert numeric and numeric <= set(table[0])
+    assert {"success", "collision", "hc"} <= set(table[0])  # rates: booleans averaged
     for a in francis2023.ARCHETYPES:
         assert a in printed and f"| {a} |" in summary
 

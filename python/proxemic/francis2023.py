@@ -200,7 +200,8 @@ def metric_means(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     Every registry metric with a numeric value in the records is a column (None where no episode
     of that archetype and planner has one).
     """
-    keys = [k for k in _registry_keys() if any(_is_number(r.get(k)) for r in records)]
+    # Booleans (success, hc, ...) count as 0/1: their mean is the rate.
+    keys = [k for k in _registry_keys() if any(_is_number(r.get(k)) or isinstance(r.get(k), bool) for r in records)]
     out = []
     for a in dict.fromkeys(r["archetype"] for r in records):
         for p in dict.fromkeys(r["planner"] for r in records):
@@ -210,7 +211,8 @@ def metric_means(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
             row: dict[str, Any] = {"archetype": a, "planner": p, "episodes": len(recs)}
             row["collision"] = sum(evaluation._collided(r) for r in recs) / len(recs)
             for k in keys:
-                vals = [float(r[k]) for r in recs if _is_number(r.get(k)) and math.isfinite(float(r[k]))]
+                vals = [float(r[k]) for r in recs if _is_number(r.get(k)) or isinstance(r.get(k), bool)]
+                vals = [x for x in vals if math.isfinite(x)]
                 row[k] = sum(vals) / len(vals) if vals else None
             out.append(row)
     return out
