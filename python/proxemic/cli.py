@@ -81,11 +81,44 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _eval_suite(args: argparse.Namespace) -> int:
+    """``eval --suite francis2023``: every archetype with every planner, a table per archetype."""
+    from proxemic import francis2023
+
+    if args.policy or args.video:
+        print("proxemic: error: --suite runs built-in planners only (no --policy, no --video)", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    result = francis2023.run_suite(
+        args.planner or ["astar"],
+        args.episodes,
+        seed=args.seed,
+        out=Path(args.out),
+        workers=args.workers,
+        max_time=args.max_time,
+        archetypes=args.archetype,
+    )
+    print()
+    print(francis2023.headline_text(result.summary))
+    print()
+    episodes = sum(1 for r in result.records if r.get("robot", 0) == 0)
+    print(
+        f"{episodes} episodes in {time.perf_counter() - t0:.1f} s; wrote {args.out}/episodes.csv (with an archetype "
+        "column), episodes.parquet, archetypes.csv (every metric per archetype) and summary.md"
+    )
+    return 0
+
+
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
     from proxemic.evaluation import EvalConfig, headline_text, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
+    if args.suite:
+        return _eval_suite(args)
+    if args.max_time is not None:
+        print("proxemic: error: --max-time applies to a --suite run", file=sys.stderr)
+        return 2
     policies = []
     if args.policy:
         name = args.policy_name or args.policy.partition(":")[0].rpartition(".")[2].removesuffix(".py")
@@ -359,6 +392,22 @@ def build_parser() -> argparse.ArgumentParser:
     d.set_defaults(func=cmd_demo)
     e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
     e.add_argument("--scenario", default="museum", help=f"{SCENARIO_HELP} (default: museum)")
+    e.add_argument(
+        "--suite",
+        choices=["francis2023"],
+        default=None,
+        help="run a scenario suite instead of one scenario: francis2023 (every archetype of Francis et al. 2023, "
+        "episode k on the scene of seed k; a table per archetype)",
+    )
+    e.add_argument(
+        "--archetype", action="append", default=None, help="with --suite: run only this archetype (repeat for more)"
+    )
+    e.add_argument(
+        "--max-time",
+        type=float,
+        default=None,
+        help="with --suite: episode length in seconds, in [5, 600] (default: each archetype's own)",
+    )
     e.add_argument(
         "--planner",
         action="append",

@@ -25,11 +25,17 @@ ENV_IDS: dict[str, str] = {
 #: (default ``generated/0``; see :func:`proxemic.scenarios.generate`).
 GENERATED_ENV_ID = "proxemic/Generated-v0"
 
+#: The environment id of the Francis et al. 2023 archetypes:
+#: ``gym.make(FRANCIS2023_ENV_ID, archetype="crossing_90", scene_seed=3)`` (see :mod:`proxemic.francis2023`).
+FRANCIS2023_ENV_ID = "proxemic/Francis2023-v0"
+
 
 def register_envs() -> None:
     """Registers every bundled scenario, and generated scenes, as gymnasium environments (idempotent)."""
     if GENERATED_ENV_ID not in gym.registry:
         gym.register(id=GENERATED_ENV_ID, entry_point="proxemic.env:ProxemicEnv", kwargs={"scenario": "generated/0"})
+    if FRANCIS2023_ENV_ID not in gym.registry:
+        gym.register(id=FRANCIS2023_ENV_ID, entry_point="proxemic.francis2023:make_env")
     for env_id, scenario in ENV_IDS.items():
         if env_id not in gym.registry:
             gym.register(id=env_id, entry_point="proxemic.env:ProxemicEnv", kwargs={"scenario": scenario})

@@ -832,15 +832,13 @@ fn points_to_array<'py>(py: Python<'py>, pts: &[Vec2]) -> PyResult<Bound<'py, Py
     PyArray1::from_vec(py, flat).reshape([pts.len(), 2])
 }
 
-/// A generated scene from its spec `generated/<seed>[?key=value&...]`: the validated scenario
-/// and its scenario file text. Raises `ScenarioError` naming the seed or parameter that is wrong.
+/// A generated scene from its spec `generated/<seed>[?key=value&...]` or
+/// `francis2023/<archetype>[?seed=N&max_time=T]`: the validated scenario and its scenario file
+/// text. Raises `ScenarioError` naming the seed, archetype or parameter that is wrong.
 #[pyfunction]
 fn generate(py: Python<'_>, spec: &str) -> PyResult<(PyScenario, String)> {
     let spec = spec.to_string();
-    let g = enter_core(py, move || {
-        let (seed, params) = proxemic_core::scenario::generate::parse_spec(&spec)?;
-        proxemic_core::scenario::generate::generate(seed, &params)
-    })?;
+    let g = enter_core(py, move || proxemic_core::scenario::generate::generate_spec(&spec))?;
     Ok((PyScenario { inner: g.scenario }, g.toml))
 }
 
@@ -864,6 +862,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyScenario>()?;
     m.add_class::<PyWorld>()?;
     m.add("GENERATE_PARAMS", proxemic_core::scenario::generate::PARAM_NAMES.to_vec())?;
+    m.add("FRANCIS2023_ARCHETYPES", proxemic_core::scenario::generate::francis2023::ARCHETYPES.to_vec())?;
     m.add_function(wrap_pyfunction!(parse_time_of_day, m)?)?;
     m.add_function(wrap_pyfunction!(step_worlds, m)?)?;
     m.add_function(wrap_pyfunction!(metric_registry, m)?)?;

@@ -22,6 +22,7 @@
 //! centimetres (angles to hundredths of a radian) before it is written, so the text holds exactly
 //! the numbers drawn. Same seed and parameters, same text, bit for bit.
 
+pub mod francis2023;
 mod furnish;
 mod layout;
 mod params;
@@ -86,6 +87,16 @@ pub fn spec(seed: u64, p: &GenParams) -> String {
     } else {
         format!("generated/{seed}?{}", pairs.join("&"))
     }
+}
+
+/// The scene of any generator spec: `generated/<seed>[?...]` ([`parse_spec`], [`generate`]) or
+/// `francis2023/<archetype>[?seed=N&max_time=T]` ([`francis2023::generate`]).
+pub fn generate_spec(spec: &str) -> Result<Generated> {
+    if spec.starts_with(francis2023::PREFIX) {
+        return francis2023::generate(spec);
+    }
+    let (seed, params) = parse_spec(spec)?;
+    generate(seed, &params)
 }
 
 /// Start of the generated scenes' day (the agenda's activities are times of day).

@@ -1,0 +1,369 @@
+//! One function per archetype of Francis et al. 2023 (the scenario names are the paper's; the
+//! ranges are ours, chosen so every draw is a feasible instance of the archetype for a Pepper-like
+//! robot of 0.24 m radius and 0.55 m/s). Every drawn value carries its range and unit beside it.
+//!
+//! Frame: the robot's main direction of travel is +x; y grows to its left.
+
+use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+
+use super::{Draft, Goal, H, Ped, ROBOT_SPEED, WALL, round2};
+
+/// Lays out archetype `name` (one of [`super::ARCHETYPES`]).
+pub(super) fn lay_out(name: &str, d: &mut Draft) {
+    match name {
+        "frontal_approach" => frontal_approach(d),
+        "pedestrian_obstruction" => pedestrian_obstruction(d),
+        "robot_overtaking" => robot_overtaking(d),
+        "pedestrian_overtaking" => pedestrian_overtaking(d),
+        "crossing_90" => crossing(d, FRAC_PI_2),
+        "crossing_45" => crossing(d, FRAC_PI_4),
+        "narrow_hallway" => narrow_hallway(d),
+        "narrow_doorway" => narrow_doorway(d),
+        "blind_corner" => blind_corner(d),
+        "entering_room" => room_and_corridor(d, true),
+        "exiting_room" => room_and_corridor(d, false),
+        "joining_group" => group(d, true),
+        "leaving_group" => group(d, false),
+        "following_person" => following_person(d),
+        "accompanying_person" => accompanying_person(d),
+        "dense_crowd" => dense_crowd(d),
+        _ => robot_crowding(d),
+    }
+}
+
+/// Francis et al. 2023, "Frontal Approach": the robot and a person walk toward each other on the
+/// same line in an open space and must pass.
+fn frontal_approach(d: &mut Draft) {
+    let w = d.draw("hall_width", 4.0, 6.0, "m"); // a wide hall: room to pass on either side
+    let l = d.draw("hall_length", 10.0, 14.0, "m");
+    let ahead = d.draw("person_ahead", 6.0, 9.0, "m"); // where the person starts, ahead of the robot
+    let off = d.draw("person_offset", -0.2, 0.2, "m"); // lateral offset from the robot's line
+    let v = d.draw("person_speed", 0.8, 1.3, "m/s"); // ordinary walking speeds
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    let x0 = (1.0 + ahead).min(l - 0.6);
+    d.person(Ped::Walk { route: vec![[x0, y + off], [0.5, y + off]], speed: v });
+    d.robot_to([1.0, y], [l - 1.0, y]);
+    d.time_for(l - 2.0);
+    d.what = format!("a person {ahead} m ahead on the robot's line walks toward it in a hall {w} m wide");
+}
+
+/// Francis et al. 2023, "Pedestrian Obstruction": a person stands in the robot's way in a hallway,
+/// and the robot has to go round them.
+fn pedestrian_obstruction(d: &mut Draft) {
+    let w = d.draw("hall_width", 2.4, 3.2, "m"); // room to pass the person on either side
+    let l = d.draw("hall_length", 10.0, 13.0, "m");
+    let ahead = d.draw("person_ahead", 4.0, 6.0, "m");
+    let off = d.draw("person_offset", -0.3, 0.3, "m"); // from the hall's centre line
+    let facing = d.draw("person_heading", -PI, PI, "rad");
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    d.person(Ped::Stand { pose: [1.0 + ahead, y + off, facing], group: None });
+    d.robot_to([1.0, y], [l - 1.0, y]);
+    d.time_for(l - 2.0);
+    d.what = format!("a person stands {ahead} m ahead in the robot's way in a hallway {w} m wide");
+}
+
+/// Francis et al. 2023, "Robot Overtaking": the robot overtakes a slower person walking ahead of
+/// it in the same direction along a hallway.
+fn robot_overtaking(d: &mut Draft) {
+    let w = d.draw("hall_width", 2.0, 3.0, "m");
+    let l = d.draw("hall_length", 16.0, 20.0, "m");
+    let ahead = d.draw("person_ahead", 2.0, 3.5, "m");
+    let off = d.draw("person_offset", -0.2, 0.2, "m");
+    let v = d.draw("person_speed", 0.25, 0.4, "m/s"); // slower than the robot's 0.55 m/s
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    // The person stops 4 m short of the hall's end: the robot has caught up long before.
+    d.person(Ped::Walk { route: vec![[1.0 + ahead, y + off], [l - 4.0, y + off]], speed: v });
+    d.robot_to([1.0, y], [l - 1.0, y]);
+    d.time_for(l - 2.0);
+    d.what = format!(
+        "the robot overtakes a person walking at {v} m/s {ahead} m ahead of it in a hallway {w} m wide"
+    );
+}
+
+/// Francis et al. 2023, "Pedestrian Overtaking": a faster person coming from behind overtakes the
+/// robot in a hallway.
+fn pedestrian_overtaking(d: &mut Draft) {
+    let w = d.draw("hall_width", 2.0, 3.0, "m");
+    let l = d.draw("hall_length", 14.0, 18.0, "m");
+    let behind = d.draw("person_behind", 1.5, 3.0, "m"); // the person starts this far behind the robot
+    let off = d.draw("person_offset", -0.2, 0.2, "m");
+    let v = d.draw("person_speed", 1.0, 1.4, "m/s"); // brisk walking, faster than the robot
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    d.person(Ped::Walk { route: vec![[0.6, y + off], [l - 0.6, y + off]], speed: v });
+    d.robot_to([0.6 + behind, y], [l - 3.0, y]);
+    d.time_for(l - 3.6 - behind);
+    d.what = format!("a person {behind} m behind the robot overtakes it at {v} m/s in a hallway {w} m wide");
+}
+
+/// Francis et al. 2023, "Intersection" (a person crossing the robot's path): the person's straight
+/// path crosses the robot's at `angle` (90 deg: perpendicular; 45 deg: oblique, coming from ahead),
+/// timed so both reach the crossing point at about the same time.
+fn crossing(d: &mut Draft, angle: f64) {
+    let to_cross = d.draw("robot_to_crossing", 3.5, 5.5, "m"); // robot start to the crossing point
+    let beyond = d.draw("robot_beyond_crossing", 4.0, 6.0, "m"); // crossing point to the robot's goal
+    let v = d.draw("person_speed", 0.8, 1.2, "m/s");
+    let timing = d.draw("timing", 0.9, 1.2, ""); // person's time to the crossing / robot's
+    let side = d.side("person_side"); // +1: the person comes from the robot's left
+    // The person's heading: at `angle` to the robot's path, from the robot's `side`; at 45 deg
+    // it comes from ahead (heading pi - 45 deg from the robot's +x), crossing obliquely.
+    let heading = if angle >= FRAC_PI_2 - 1e-9 { -side * FRAC_PI_2 } else { -side * (PI - angle) };
+    let dir = [heading.cos(), heading.sin()];
+    let walk = v * timing * to_cross / ROBOT_SPEED;
+    let (yc, xc) = (0.0, 1.0 + to_cross);
+    let p0 = [xc - dir[0] * walk, yc - dir[1] * walk];
+    let p1 = [xc + dir[0] * 3.0, yc + dir[1] * 3.0];
+    let (r0, r1) = ([1.0, yc], [xc + beyond, yc]);
+    let xs = [p0[0], p1[0], r0[0], r1[0]];
+    let ys = [p0[1], p1[1], r0[1], r1[1]];
+    let lo = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min) - 1.0;
+    let hi = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) + 1.0;
+    let (x0, y0, x1, y1) = (lo(&xs), lo(&ys), hi(&xs), hi(&ys));
+    d.room(x0, y0, x1, y1);
+    d.person(Ped::Walk { route: vec![p0, p1], speed: v });
+    d.robot_to(r0, r1);
+    d.time_for(to_cross + beyond);
+    d.what = format!(
+        "a person's path crosses the robot's at {:.0} deg, {to_cross} m ahead of the robot, in an open room",
+        angle.to_degrees()
+    );
+}
+
+/// Francis et al. 2023, "Narrow Hallway": the robot and a person pass each other, in opposite
+/// directions, in a hallway barely wide enough for both.
+fn narrow_hallway(d: &mut Draft) {
+    let w = d.draw("hall_width", 1.2, 1.6, "m"); // 0.48 m of robot and 0.4 m of person, and a little
+    let l = d.draw("hall_length", 8.0, 12.0, "m");
+    let v = d.draw("person_speed", 0.8, 1.2, "m/s");
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    d.person(Ped::Walk { route: vec![[l - 0.6, y], [0.5, y]], speed: v });
+    d.robot_to([0.8, y], [l - 0.8, y]);
+    d.time_for(l - 1.6);
+    d.what = format!("the robot and a person pass each other in a hallway {w} m wide");
+}
+
+/// Francis et al. 2023, "Narrow Doorway": the robot and a person go through a doorway wide enough
+/// for one, in opposite directions.
+fn narrow_doorway(d: &mut Draft) {
+    let door = d.draw("door_width", 0.9, 1.2, "m"); // a single door leaf
+    let depth = d.draw("room_depth", 5.0, 6.0, "m"); // each room's extent along x
+    let span = d.draw("room_width", 4.0, 6.0, "m"); // the rooms' extent along y (the wall's length)
+    let door_off = d.draw("door_offset", -0.5, 0.5, "m"); // the doorway's centre off the wall's middle
+    let r_before = d.draw("robot_before_door", 2.5, 3.5, "m");
+    let p_after = d.draw("person_beyond_door", 1.5, 3.0, "m");
+    let v = d.draw("person_speed", 0.8, 1.2, "m/s");
+    let xw = depth; // the dividing wall's west face
+    let yd = span / 2.0 + door_off;
+    d.room(0.0, 0.0, 2.0 * depth + WALL, span);
+    d.wall([xw + H, 0.0], [xw + H, yd - door / 2.0 - H]);
+    d.wall([xw + H, yd + door / 2.0 + H], [xw + H, span]);
+    let east = xw + WALL;
+    d.person(Ped::Walk {
+        route: vec![[east + p_after, yd], [east + 0.5, yd], [xw - 0.5, yd], [xw - 2.5, yd]],
+        speed: v,
+    });
+    d.robot_to([xw - r_before, yd], [east + 2.5, yd]);
+    d.time_for(r_before + 2.7);
+    d.what = format!("the robot and a person cross a doorway {door} m wide in opposite directions");
+}
+
+/// Francis et al. 2023, "Blind Corner": the robot and a person meet at the corner of an L-shaped
+/// corridor; the walls hide each from the other until the corner.
+fn blind_corner(d: &mut Draft) {
+    let w = d.draw("corridor_width", 1.6, 2.4, "m");
+    let leg1 = d.draw("robot_leg", 5.0, 7.0, "m"); // the robot's leg (west-east), to the corner
+    let leg2 = d.draw("person_leg", 5.0, 7.0, "m"); // the other leg (south-north), from the corner
+    let p_from = d.draw("person_from_corner", 2.5, 4.5, "m"); // the person's start up the other leg
+    let v = d.draw("person_speed", 0.8, 1.2, "m/s");
+    // Clear floor: [0, leg1 + w] x [0, w] and [leg1, leg1 + w] x [0, w + leg2].
+    let (x1, y1) = (leg1 + w, w + leg2);
+    d.wall([0.0, -H], [x1, -H]); // south
+    d.wall([x1 + H, 0.0], [x1 + H, y1]); // east
+    d.wall([leg1, y1 + H], [x1, y1 + H]); // north end of the person's leg
+    d.wall([-H, 0.0], [-H, w]); // west end of the robot's leg
+    // The inner corner, convex seen from the floor: faces without overhang.
+    d.face([0.0 - H, w], [leg1, w], [0.0, 1.0]);
+    d.face([leg1, w], [leg1, y1 + H], [-1.0, 0.0]);
+    let xm = leg1 + w / 2.0;
+    d.person(Ped::Walk { route: vec![[xm, w / 2.0 + p_from], [xm, w / 2.0], [0.5, w / 2.0]], speed: v });
+    d.robot_to([0.8, w / 2.0], [xm, y1 - 0.8]);
+    d.robots[0].0[2] = 0.0; // facing down its leg, toward the corner
+    d.time_for(leg1 + leg2);
+    d.what = format!("the robot and a person meet at the blind corner of an L-shaped corridor {w} m wide");
+}
+
+/// Francis et al. 2023, "Entering Room" / "Exiting Room": a corridor along x with a room to its
+/// north through a doorway. Entering: the robot goes from the corridor into the room while a
+/// person comes out. Exiting: the robot comes out of the room into the corridor while a person
+/// walks along the corridor past the doorway, toward the side the robot turns to.
+fn room_and_corridor(d: &mut Draft, entering: bool) {
+    let cw = d.draw("corridor_width", 1.8, 2.4, "m");
+    let door = d.draw("door_width", 0.9, 1.2, "m");
+    let rw = d.draw("room_width", 4.0, 6.0, "m");
+    let rd = d.draw("room_depth", 5.0, 6.0, "m");
+    let side = d.side("corridor_side"); // +1: the robot's corridor end of the trip is east of the door
+    let along = d.draw("corridor_distance", 3.0, 4.5, "m"); // robot's corridor end to the door, along x
+    let inside = d.draw("room_distance", 2.0, 3.0, "m"); // robot's room end, into the room from the door
+    let v = d.draw("person_speed", 0.6, 1.0, "m/s");
+    let l = 12.0;
+    let dx = l / 2.0;
+    let ry = cw + WALL; // the room's south face
+    // The corridor [0, l] x [0, cw]; its north wall has the doorway.
+    d.wall([0.0, -H], [l, -H]);
+    d.wall([-H, 0.0], [-H, cw]);
+    d.wall([l + H, 0.0], [l + H, cw]);
+    d.wall([0.0, cw + H], [dx - door / 2.0 - H, cw + H]);
+    d.wall([dx + door / 2.0 + H, cw + H], [l, cw + H]);
+    let (rx0, rx1) = (dx - rw / 2.0, dx + rw / 2.0);
+    d.wall([rx0 - H, ry], [rx0 - H, ry + rd]);
+    d.wall([rx1 + H, ry], [rx1 + H, ry + rd]);
+    d.wall([rx0, ry + rd + H], [rx1, ry + rd + H]);
+    let corridor_end = [dx + side * along, cw / 2.0];
+    let room_end = [dx, ry + inside];
+    if entering {
+        let from = d.draw("person_in_room", 2.5, rd - 0.6, "m"); // the person's start, into the room
+        let p0 = [dx, ry + from];
+        d.person(Ped::Walk {
+            route: vec![p0, [dx, ry + 0.5], [dx, cw / 2.0], [dx + side * (along + 1.0), cw / 2.0]],
+            speed: v,
+        });
+        d.robot_to(corridor_end, room_end);
+        d.what = format!("the robot enters a room through a doorway {door} m wide as a person comes out");
+    } else {
+        let from = d.draw("person_from_door", 3.0, 5.0, "m"); // along the corridor, on the robot's side
+        let y = cw / 2.0;
+        d.person(Ped::Walk { route: vec![[dx + side * from, y], [dx - side * from, y]], speed: v });
+        d.robot_to(room_end, corridor_end);
+        d.what = format!("the robot leaves a room through a doorway {door} m wide as a person walks past it");
+    }
+    d.time_for(along + inside + cw);
+}
+
+/// Francis et al. 2023, "Join Group" / "Leave Group": a group standing in conversation (an
+/// F-formation of 2-4 people facing its o-space centre, one ground-truth group). Joining: the robot comes from afar to the group's edge (an approach
+/// task: the edge of the group's personal space, facing it). Leaving: the robot stands in the
+/// group's circle, between two members, and leaves for a goal away from it.
+fn group(d: &mut Draft, joining: bool) {
+    let n = d.draw_int("group_size", 2, if joining { 4 } else { 3 });
+    let a0 = d.draw("group_orientation", -PI, PI, "rad"); // the first member's bearing from the centre
+    let far = d.draw("robot_distance", 5.0, 7.0, "m"); // the robot's far end from the group's centre
+    let size = 2.0 * far + 3.0;
+    let c = [size / 2.0, size / 2.0];
+    d.room(0.0, 0.0, size, size);
+    // The members evenly on a circle of radius 0.4 + 0.1 n around the o-space centre (as the
+    // conversation script places its members), facing the centre. Standing people: an approach
+    // task targets people who do not move.
+    let r = 0.4 + 0.1 * n as f64;
+    for k in 0..n {
+        let a = a0 + std::f64::consts::TAU * k as f64 / n as f64;
+        d.person(Ped::Stand { pose: [c[0] + r * a.cos(), c[1] + r * a.sin(), a + PI], group: Some(1) });
+    }
+    if joining {
+        let bearing = d.draw("robot_bearing", -PI, PI, "rad"); // the robot's start, seen from the centre
+        let far_end = [c[0] + far * bearing.cos(), c[1] + far * bearing.sin()];
+        let theta = (c[1] - far_end[1]).atan2(c[0] - far_end[0]);
+        d.robots.push(([round2(far_end[0]), round2(far_end[1]), round2(theta)], Goal::Group(1)));
+        d.what = format!("the robot joins a conversation group of {n} from {far} m away");
+    } else {
+        // In the circle, between the first two members, a quarter metre outside their circle.
+        let a = a0 + PI / n as f64;
+        let start = [c[0] + (r + 0.25) * a.cos(), c[1] + (r + 0.25) * a.sin()];
+        let theta = a + PI; // facing the centre
+        let turn = d.draw("goal_turn", -0.5, 0.5, "rad"); // the goal's bearing off the robot's place's
+        let goal = [c[0] + far * (a + turn).cos(), c[1] + far * (a + turn).sin()];
+        d.robots.push(([round2(start[0]), round2(start[1]), round2(theta)], Goal::Point(super::pt2(goal))));
+        d.what = format!("the robot leaves a conversation group of {n} it stood in, for a goal {far} m away");
+    }
+    d.time_for(far);
+}
+
+/// Francis et al. 2023, "Following Human": the robot follows a person walking ahead of it. The
+/// robot's goal is a point `gap` behind where the person stops (the robot is not told to track
+/// the person: it reaches the goal behind them, and the social metrics judge how it trails them).
+fn following_person(d: &mut Draft) {
+    let w = d.draw("hall_width", 2.5, 3.5, "m");
+    let l = d.draw("hall_length", 14.0, 18.0, "m");
+    let ahead = d.draw("person_ahead", 1.5, 2.5, "m");
+    let v = d.draw("person_speed", 0.4, 0.5, "m/s"); // below the robot's 0.55 m/s: it can keep up
+    let gap = d.draw("follow_gap", 1.2, 1.6, "m"); // the goal's distance behind the person's end
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    let end = l - 1.0;
+    d.person(Ped::Walk { route: vec![[1.0 + ahead, y], [end, y]], speed: v });
+    d.robot_to([1.0, y], [end - gap, y]);
+    d.time_for(end - gap - 1.0);
+    d.what = format!(
+        "the robot follows a person walking {ahead} m ahead of it, to {gap} m behind where they stop"
+    );
+}
+
+/// Francis et al. 2023, "Accompanying Human": the robot walks side by side with a person. The
+/// robot's goal is beside the person's end point, `spacing` to the side (as for following, the
+/// robot is not told to keep pace: its goal does).
+fn accompanying_person(d: &mut Draft) {
+    let w = d.draw("hall_width", 3.5, 4.5, "m");
+    let l = d.draw("hall_length", 12.0, 16.0, "m");
+    let spacing = d.draw("side_spacing", 0.8, 1.2, "m"); // centre to centre, side by side
+    let side = d.side("person_side"); // +1: the person walks on the robot's left
+    let v = d.draw("person_speed", 0.45, 0.55, "m/s"); // about the robot's pace
+    d.room(0.0, 0.0, l, w);
+    let (yr, yp) = (w / 2.0 - side * spacing / 2.0, w / 2.0 + side * spacing / 2.0);
+    d.person(Ped::Walk { route: vec![[1.0, yp], [l - 1.0, yp]], speed: v });
+    d.robot_to([1.0, yr], [l - 1.0, yr]);
+    d.time_for(l - 2.0);
+    d.what =
+        format!("the robot walks side by side with a person, {spacing} m apart, along a hall {w} m wide");
+}
+
+/// Francis et al. 2023, crowd navigation ("dense crowd"): the robot crosses a stretch of hall
+/// where people mill about at a density of at least 1 person/m^2.
+fn dense_crowd(d: &mut Draft) {
+    let w = d.draw("hall_width", 3.0, 4.0, "m");
+    let l = d.draw("hall_length", 12.0, 14.0, "m");
+    let lc = d.draw("crowd_length", 3.0, 4.0, "m"); // the crowd's stretch along the hall
+    let rho = d.draw("density", 1.0, 1.5, "people/m^2"); // at least 1 person/m^2
+    d.room(0.0, 0.0, l, w);
+    let x0 = l / 2.0 - lc / 2.0;
+    // A grid of nx x ny places over the crowd's stretch (the whole width), nx * ny >= rho * area.
+    let nx = (lc * rho.sqrt()).ceil() as usize;
+    let ny = (w * rho.sqrt()).ceil() as usize;
+    let (cx, cy) = (lc / nx as f64, w / ny as f64);
+    for i in 0..nx {
+        for j in 0..ny {
+            let p = [x0 + (i as f64 + 0.5) * cx + d.jitter(0.05), (j as f64 + 0.5) * cy + d.jitter(0.05)];
+            // Back and forth along the hall, within the crowd's stretch.
+            let reach = 0.5 + (d.jitter(0.2) + 0.2).abs();
+            let dir = if i < nx / 2 { 1.0 } else { -1.0 };
+            let q = [p[0] + dir * reach, p[1]];
+            let speed = 0.45 + d.jitter(0.15);
+            d.person(Ped::Loop { route: vec![p, q], speed });
+        }
+    }
+    d.robot_to([1.0, w / 2.0], [l - 1.0, w / 2.0]);
+    d.time_for(l - 2.0);
+    d.what =
+        format!("the robot crosses a crowd of {} people milling over {lc} m of a hall {w} m wide", nx * ny);
+}
+
+/// Francis et al. 2023, "Robot Crowding": several robots in one passage, in both directions.
+/// Robot 0 is the one a single-robot env drives; the others run their built-in planners (or are
+/// driven too, in the PettingZoo env).
+fn robot_crowding(d: &mut Draft) {
+    let w = d.draw("hall_width", 2.4, 3.2, "m");
+    let l = d.draw("hall_length", 10.0, 14.0, "m");
+    let k = d.draw_int("robots", 3, 4);
+    d.room(0.0, 0.0, l, w);
+    let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
+    for i in 0..k {
+        let off = d.jitter(0.3); // lateral offset from the centre line (m)
+        let depth = 1.0 + 1.3 * (i / 2) as f64; // robots in a row 1.3 m apart at each end
+        let (from, to) = if i % 2 == 0 { (depth, l - depth) } else { (l - depth, depth) };
+        d.robot_to([from, y + off], [to, y + off]);
+    }
+    d.time_for(l - 2.0);
+    d.what = format!("{k} robots cross a hallway {w} m wide in both directions");
+}
