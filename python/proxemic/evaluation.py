@@ -52,6 +52,8 @@ MEAN_METRICS = (
     "interaction_crossings",
     "psi_objects_active",
     "psi_objects_any",
+    "recoveries",
+    "monitor_stalled_time",
     "reward",
 )
 

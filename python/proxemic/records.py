@@ -94,6 +94,8 @@ class EpisodeMetrics(TypedDict):
     smooth_k: int
     d_t: float
     tau: float
+    recoveries: int
+    monitor_stalled_time: float
 
 
 class MetricInfo(TypedDict):

@@ -16,7 +16,9 @@
 //! - [`groups`]: o-spaces and interaction crossings (item 19);
 //! - [`objects`]: the objects' interaction spaces (Calderita et al.'s Ψ per object);
 //! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
-//!   `d_t`, `tau`.
+//!   `d_t`, `tau`;
+//! - [`recovery`]: the built-in planner's progress monitor (`recoveries`, `monitor_stalled_time`),
+//!   not from the trajectory but from the planner, appended after every other key of the report.
 //!
 //! [`registry`] describes every key of a serialised report (unit, better direction, definition,
 //! formula, source): the metric reference of the docs is generated from it.
@@ -67,6 +69,7 @@ pub mod objects;
 pub mod papers;
 pub mod proximity;
 mod recorder;
+pub mod recovery;
 pub mod registry;
 #[cfg(test)]
 mod tests;
@@ -88,6 +91,7 @@ pub use objects::ObjectMetrics;
 pub use papers::PaperMetrics;
 pub use proximity::{ClearanceMetrics, ProximityMetrics};
 pub use recorder::{EpisodeRecorder, EpisodeReport, Outcome, RecorderSetup, SceneLog, Snapshot};
+pub use recovery::RecoveryMetrics;
 pub use registry::{Better, METRICS, MetricInfo, Per, metric_info};
 
 /// Contact bit of [`EvalContext::collision_steps`] and of the world's physics contacts: the robot
