@@ -52,6 +52,8 @@ MEAN_METRICS = (
     "interaction_crossings",
     "psi_objects_active",
     "psi_objects_any",
+    "recoveries",
+    "monitor_stalled_time",
     "reward",
     "snqi",
     # Who hit whom (contact events by fault) and the robot's cost to people (robot-free replay).

@@ -106,6 +106,8 @@ class EpisodeMetrics(TypedDict):
     ped_extra_distance_m_max: float | None
     ped_path_deviation_m_mean: float | None
     ped_path_deviation_m_max: float | None
+    recoveries: int
+    monitor_stalled_time: float
 
 
 class MetricInfo(TypedDict):

@@ -12,7 +12,8 @@
 //! Submodules: [`mode_switch`] (the mode switch of Daza 2021 Algorithm 1 as the `social` planner
 //! runs it, and each local planner's choice of mode), [`daza2021`] (Algorithm 1 as published, for
 //! the `daza2021` and `sousa2022` planners), [`orca`], [`social_momentum`] and [`eband`] (the local planners),
-//! and [`orca_crowd`] (ORCA as the robots run it among people).
+//! [`orca_crowd`] (ORCA as the robots run it among people) and [`progress`] (the progress monitor
+//! and recovery every built-in planner runs).
 //!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
@@ -22,6 +23,7 @@ pub mod eband;
 pub mod mode_switch;
 pub mod orca;
 pub mod orca_crowd;
+pub mod progress;
 pub mod social_momentum;
 
 use crate::math::{Vec2, rotate, wrap_angle};

@@ -22,6 +22,8 @@
 //! - [`fault`]: who hit whom, the contact events by fault (SEAN 2.0, HuNavSim);
 //! - [`people_cost`]: the robot's cost to people (delay, extra distance, path deviation) against
 //!   the episode replayed without the robots.
+//! - [`recovery`]: the built-in planner's progress monitor (`recoveries`, `monitor_stalled_time`),
+//!   not from the trajectory but from the planner, appended after every other key of the report.
 //!
 //! [`registry`] describes every key of a serialised report (unit, better direction, definition,
 //! formula, source): the metric reference of the docs is generated from it.
@@ -73,6 +75,7 @@ pub mod papers;
 pub mod people_cost;
 pub mod proximity;
 mod recorder;
+pub mod recovery;
 pub mod registry;
 pub mod snqi;
 #[cfg(test)]
@@ -97,6 +100,7 @@ pub use papers::PaperMetrics;
 pub use people_cost::{PeopleCostMetrics, RobotFreeTracks};
 pub use proximity::{ClearanceMetrics, ProximityMetrics};
 pub use recorder::{EpisodeRecorder, EpisodeReport, Outcome, RecorderSetup, SceneLog, Snapshot};
+pub use recovery::RecoveryMetrics;
 pub use registry::{Better, METRICS, MetricInfo, Per, metric_info};
 pub use snqi::SnqiMetrics;
 

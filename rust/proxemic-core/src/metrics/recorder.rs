@@ -48,6 +48,10 @@ pub struct EpisodeReport {
     /// Every metric.
     #[serde(flatten)]
     pub metrics: FullMetrics,
+    /// The built-in planner's progress monitor (zero from [`EpisodeRecorder::evaluate`]; the
+    /// world fills it in).
+    #[serde(flatten)]
+    pub recovery: super::RecoveryMetrics,
 }
 
 /// What stays fixed over a robot's episode.
@@ -353,6 +357,7 @@ impl EpisodeRecorder {
             geodesic_length: s.geodesic_length.is_finite().then_some(s.geodesic_length),
             min_robot_gap: self.min_robot_gap.is_finite().then_some(self.min_robot_gap),
             metrics,
+            recovery: super::RecoveryMetrics::default(),
         })
     }
 }

@@ -104,6 +104,7 @@ const GROUPS: &str = "Groups and interactions";
 const OBJECTS: &str = "Objects (time-dependent spaces)";
 const STATIC: &str = "Static geometry";
 const SNQI: &str = "SNQI inputs";
+const RECOVERY: &str = "Progress monitor";
 
 const NONE: (Option<f64>, Option<f64>) = (None, None);
 const POS: (Option<f64>, Option<f64>) = (Some(0.0), None);
@@ -1073,10 +1074,38 @@ pub const METRICS: &[MetricInfo] = &[
         "",
         "ours",
     ),
+    // Progress monitor
+    m(
+        "recoveries",
+        RECOVERY,
+        "recoveries",
+        "count",
+        Lower,
+        POS,
+        "Recoveries of the built-in planner's progress monitor: each time the geodesic distance to \
+         the current target had not fallen by `progress.distance` (default 0.5 m) within \
+         `progress.window` (default 15 s), the robot backed out and re-planned round the people \
+         blocking it. 0 when the built-in planner does not run or its monitor is off.",
+        "",
+        "ours",
+    ),
+    m(
+        "monitor_stalled_time",
+        RECOVERY,
+        "stalled time (monitor)",
+        "s",
+        Lower,
+        POS,
+        "Seconds the progress monitor considered the robot stalled: from the start of each window \
+         without progress that ended in a recovery to the progress that ended the stall (or the \
+         episode's end). Unlike `stalled_time`, it counts a robot that moves without getting closer.",
+        "",
+        "ours",
+    ),
 ];
 
 /// The sections of the reference, in order.
-pub const FAMILIES: [&str; 8] = [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC, SNQI];
+pub const FAMILIES: [&str; 9] = [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC, SNQI, RECOVERY];
 
 /// The reference entry of `key`, if it is a metric.
 pub fn metric_info(key: &str) -> Option<&'static MetricInfo> {
@@ -1117,6 +1146,7 @@ mod tests {
             geodesic_length: Some(4.0),
             min_robot_gap: None,
             metrics,
+            recovery: crate::metrics::RecoveryMetrics::default(),
         };
         let value = serde_json::to_value(&report).expect("serialisable");
         let keys: Vec<&str> = value.as_object().expect("an object").keys().map(String::as_str).collect();

@@ -426,6 +426,9 @@ pub struct Robot {
     /// Seconds the robot stands still at each waypoint (a tour stop), in [0, 3600]; default 0
     /// (it passes through). Followers (`guide = "robot:<name>"`) gather around it there.
     pub dwell: f64,
+    /// The built-in planner's progress monitor (defaults: on, 0.5 m in 15 s); file table
+    /// `progress = { enabled, distance, window }`.
+    pub progress: crate::control::progress::ProgressParams,
 }
 
 /// The elastic band's force gains (dimensionless, each in `[0, EbandGains::MAX]`), as tuned by

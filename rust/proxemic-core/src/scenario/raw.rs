@@ -457,6 +457,23 @@ pub(super) struct RawRobot {
     /// Seconds the robot stands still at each waypoint, in [0, 3600].
     #[serde(default)]
     pub(super) dwell: f64,
+    /// The built-in planner's progress monitor (every built-in planner runs it).
+    #[serde(default)]
+    pub(super) progress: RawProgress,
+}
+
+#[derive(Deserialize, JsonSchema, Default)]
+#[serde(deny_unknown_fields)]
+/// The progress monitor: a robot that has not come `distance` metres closer to its target
+/// (geodesic distance) within `window` seconds recovers (backs out, re-plans round the people
+/// blocking it).
+pub(super) struct RawProgress {
+    /// Whether the monitor runs (default true).
+    pub(super) enabled: Option<bool>,
+    /// Progress that counts (metres of geodesic distance), in (0, 10] (default 0.5).
+    pub(super) distance: Option<f64>,
+    /// Time to make it (s), in (0, 600] (default 15).
+    pub(super) window: Option<f64>,
 }
 
 #[derive(Deserialize, JsonSchema, Default)]

@@ -5,7 +5,7 @@ use super::{Layout, World};
 use crate::error::{CoreError, Result};
 use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
-use crate::metrics::{EpisodeReport, MetricParams};
+use crate::metrics::{EpisodeReport, MetricParams, RecoveryMetrics};
 use crate::pedestrians::Crowd;
 use crate::plan::CostGrid;
 use crate::scenario::Scenario;
@@ -92,7 +92,8 @@ impl World {
     }
 
     /// Every metric of every robot's episode so far (`docs/metrics.md`; the zones are the
-    /// scenario's Hall zones, the thresholds [`MetricParams::default`]).
+    /// scenario's Hall zones, the thresholds [`MetricParams::default`]), with the progress
+    /// monitor's record ([`RecoveryMetrics`]).
     ///
     /// # Errors
     /// [`CoreError::Input`] before the first reset, or if a recorded value is not finite.
@@ -128,13 +129,19 @@ impl World {
         robots
             .iter()
             .map(|&i| {
-                self.robots[i].recorder.evaluate(
+                let rb = &self.robots[i];
+                let mut report = rb.recorder.evaluate(
                     &self.log,
                     &clearance,
                     [z.intimate, z.personal, z.social],
                     MetricParams::default(),
                     Some(free),
-                )
+                )?;
+                report.recovery = RecoveryMetrics {
+                    recoveries: rb.progress.recoveries(),
+                    monitor_stalled_time: rb.progress.stalled_time(),
+                };
+                Ok(report)
             })
             .collect()
     }

@@ -34,6 +34,7 @@ mod daza;
 pub mod layout;
 pub mod observe;
 pub mod planners;
+mod recovery;
 pub mod reward;
 pub mod tours;
 
@@ -43,6 +44,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::control::eband::{EbandParams, ElasticBand};
 use crate::control::mode_switch::{Mode, SocialControlParams};
 use crate::control::orca::{ObstacleSet, Orca};
+use crate::control::progress::ProgressMonitor;
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::map::geometry::StaticGeometry;
@@ -122,6 +124,8 @@ struct RobotRuntime {
     /// Whether the robot stands at its current target (a tour stop), and for how much longer (s).
     dwelling: bool,
     dwell_left: f64,
+    /// The progress monitor ([`crate::control::progress`]).
+    progress: ProgressMonitor,
 }
 
 /// A cost grid shared by all robots with the same inflation radius.
@@ -341,6 +345,7 @@ impl World {
             leg: 0,
             dwelling: false,
             dwell_left: 0.0,
+            progress: ProgressMonitor::new(r.progress, geodesic, start),
         }
     }
 

@@ -166,6 +166,7 @@ impl World {
                     && self.planning[i]
                     && rb.outcome == Outcome::Running
                     && !rb.dwelling
+                    && !rb.progress.holds_path()
                     && self.steps > 0
                     && self.steps.is_multiple_of(SOCIAL_CHECK_PERIOD)
                     && self.steps >= rb.last_plan_step + SOCIAL_MIN_REPLAN
@@ -291,6 +292,7 @@ impl World {
                 self.robots[i].mode = Mode::FollowPath;
                 continue;
             }
+            self.watch_progress(i, dt);
             if self.robots[i].dwelling {
                 // At a tour stop: stand still (the desired velocity stays zero).
                 self.robots[i].mode = Mode::Wait;
@@ -298,7 +300,12 @@ impl World {
             }
             (desired[i], partial_goals[i]) = self.follow_path(i, dt);
             let kind = self.statics[i].planner;
+            // While a recovery path is held, a planner with a local planner follows it with ORCA
+            // among everyone (no social terms): it passes the people it waited for.
+            let recovering = self.robots[i].progress.holds_path()
+                && (local_planner(kind).is_some() || kind.daza2021_family());
             let mode = match local_planner(kind) {
+                _ if recovering => Mode::Orca,
                 Some(local) => self.local_step(i, local, partial_goals[i], &mut desired[i], dt),
                 None if kind.daza2021_family() => {
                     self.daza_step(i, &mut partial_goals[i], &mut desired[i], dt)
@@ -306,7 +313,11 @@ impl World {
                 None => Mode::FollowPath,
             };
             if mode == Mode::Orca {
-                if kind.daza2021_family() { orca_robots_only.push(i) } else { orca_active.push(i) }
+                if kind.daza2021_family() && !recovering {
+                    orca_robots_only.push(i)
+                } else {
+                    orca_active.push(i)
+                }
             }
             self.robots[i].mode = mode;
         }
@@ -544,7 +555,7 @@ fn local_planner(kind: PlannerKind) -> Option<LocalPlanner> {
 
 /// Whether the straight segment `ab` crosses only passable cells of `grid` (sampled every half
 /// cell; cells the segment starts in are allowed, so a robot already in the inflation can leave).
-fn segment_clear(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
+pub(super) fn segment_clear(grid: &CostGrid, a: Vec2, b: Vec2) -> bool {
     let len = (b - a).norm();
     let n = (len / (0.5 * grid.spec.resolution)).ceil() as usize;
     let start = grid.spec.cell_of(a);

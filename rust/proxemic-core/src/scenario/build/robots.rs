@@ -1,9 +1,10 @@
 //! Robots (`[[robot]]`): limits, goals or approach tasks, tours; start overlaps.
 
+use crate::control::progress::ProgressParams;
 use crate::error::Result;
 use crate::scenario::check::{Checker, check_unique, err};
 use crate::scenario::model::{Approach, Behaviour, EbandGains, Person, Proxemics, Robot};
-use crate::scenario::raw::{RawApproach, RawRobot};
+use crate::scenario::raw::{RawApproach, RawProgress, RawRobot};
 
 /// Checks the robots (at least one, unique names), their goals or approach tasks (to `persons`
 /// under the social model `prox`) inside the bounds `b`.
@@ -78,6 +79,7 @@ fn build_robot(
             format!("dwell = {} without waypoints", r.dwell),
         ));
     }
+    let progress = build_progress(ck, &f, &r.progress)?;
     Ok(Robot {
         name: r.name.clone().unwrap_or_else(|| format!("robot_{i}")),
         start: r.start,
@@ -98,7 +100,25 @@ fn build_robot(
         )?,
         waypoints: r.waypoints.clone(),
         dwell: r.dwell,
+        progress,
     })
+}
+
+/// Robot field `f`'s progress monitor: the defaults with the file's values, checked.
+fn build_progress(ck: &Checker<'_>, f: &str, raw: &RawProgress) -> Result<ProgressParams> {
+    let mut p = ProgressParams::default();
+    if let Some(e) = raw.enabled {
+        p.enabled = e;
+    }
+    if let Some(d) = raw.distance {
+        ck.range(&format!("{f}.progress.distance"), d, 0.0, ProgressParams::MAX_DISTANCE, true)?;
+        p.distance = d;
+    }
+    if let Some(w) = raw.window {
+        ck.range(&format!("{f}.progress.window"), w, 0.0, ProgressParams::MAX_WINDOW, true)?;
+        p.window = w;
+    }
+    Ok(p)
 }
 
 /// Robots must not start overlapping: every pair of start discs at least touching-free.
