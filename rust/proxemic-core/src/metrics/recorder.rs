@@ -75,6 +75,8 @@ pub struct Snapshot<'a> {
     pub velocities: &'a [Vec2],
     /// People's headings (rad).
     pub headings: &'a [f64],
+    /// Whether each person is in the scene (empty: everyone is).
+    pub present: &'a [bool],
     /// The groups' o-spaces at this instant.
     pub ospaces: &'a [OSpace],
     /// The interaction segments at this instant.
@@ -93,6 +95,7 @@ pub struct SceneLog {
     positions: Vec<Vec2>,
     velocities: Vec<Vec2>,
     headings: Vec<f64>,
+    present: Vec<bool>,
     ospace_offsets: Vec<usize>,
     ospaces: Vec<OSpace>,
     link_offsets: Vec<usize>,
@@ -110,6 +113,7 @@ impl SceneLog {
             positions: Vec::new(),
             velocities: Vec::new(),
             headings: Vec::new(),
+            present: Vec::new(),
             ospace_offsets: vec![0],
             ospaces: Vec::new(),
             link_offsets: vec![0],
@@ -126,6 +130,7 @@ impl SceneLog {
         self.positions.clear();
         self.velocities.clear();
         self.headings.clear();
+        self.present.clear();
         self.ospace_offsets.clear();
         self.ospace_offsets.push(0);
         self.ospaces.clear();
@@ -147,6 +152,7 @@ impl SceneLog {
         fill(&mut self.positions, s.positions);
         fill(&mut self.velocities, s.velocities);
         self.headings.extend((0..np).map(|i| s.headings.get(i).copied().unwrap_or(0.0)));
+        self.present.extend((0..np).map(|i| s.present.get(i).copied().unwrap_or(true)));
         self.ospaces.extend_from_slice(s.ospaces);
         self.ospace_offsets.push(self.ospaces.len());
         self.links.extend_from_slice(s.links);
@@ -163,6 +169,12 @@ impl SceneLog {
     fn people_at(&self, t: usize) -> Option<&[Vec2]> {
         let np = self.people_radii.len();
         self.positions.get(t * np..(t + 1) * np)
+    }
+
+    /// Whether each person is in the scene at instant `t`, if logged.
+    fn present_at(&self, t: usize) -> Option<&[bool]> {
+        let np = self.people_radii.len();
+        self.present.get(t * np..(t + 1) * np)
     }
 }
 
@@ -223,12 +235,20 @@ impl EpisodeRecorder {
         let rr = self.setup.robot_radius;
         // A log that does not hold both instants (a caller's error) has no people to sweep past;
         // `evaluate` reports the mismatch.
+        // Absent people (replayed people coming or going) are not swept past.
         let swept = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
-            (Some(before), Some(after)) => before
-                .iter()
-                .zip(after)
-                .zip(&log.people_radii)
-                .any(|((&a, &b), &r)| swept_gap(p0, p1, a, b, rr, r) < 0.0),
+            (Some(before), Some(after)) => {
+                let (was, is) =
+                    (log.present_at(prev_t).unwrap_or(&[]), log.present_at(prev_t + 1).unwrap_or(&[]));
+                let here =
+                    |i: usize| was.get(i).copied().unwrap_or(true) && is.get(i).copied().unwrap_or(true);
+                before
+                    .iter()
+                    .zip(after)
+                    .zip(&log.people_radii)
+                    .enumerate()
+                    .any(|(i, ((&a, &b), &r))| here(i) && swept_gap(p0, p1, a, b, rr, r) < 0.0)
+            }
             _ => false,
         };
         let bits = contacts | if swept { CONTACT_PERSON } else { 0 };
@@ -304,6 +324,7 @@ impl EpisodeRecorder {
             headings: &log.headings[..n * np],
             radii: &log.people_radii,
             count: np,
+            present: &log.present[..n * np],
         };
         let groups = Groups {
             ospace_offsets: &log.ospace_offsets[..=n],
@@ -359,6 +380,7 @@ mod tests {
             positions: people,
             velocities: &ZEROS[..n],
             headings: &HEADINGS[..n],
+            present: &[],
             ospaces: &[],
             links: &[],
             active: &[],

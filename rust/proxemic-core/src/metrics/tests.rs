@@ -165,8 +165,14 @@ fn passing_person() -> (Vec<[f64; 3]>, Vec<Vec2>, Vec<Vec2>, Vec<f64>) {
 #[test]
 fn person_at_known_position() {
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     let m = run(&t, &people, &ctx(9.0));
     let d: Vec<f64> = (0..10).map(|x| ((x as f64 - 5.0).powi(2) + 0.49).sqrt()).collect();
@@ -193,8 +199,14 @@ fn person_at_known_position() {
 #[test]
 fn custom_zones_move_the_boundaries() {
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     let mut c = ctx(9.0);
     c.zones = [1.0, 2.0, 3.0];
@@ -211,8 +223,14 @@ fn head_on_time_to_collision() {
     let robot = line(2);
     let pos = [Vec2::new(10.0, 0.0), Vec2::new(9.0, 0.0), Vec2::new(8.0, 0.0)];
     let vel = [Vec2::new(-1.0, 0.0); 3];
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &[PI; 3], radii: &[0.3], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[PI; 3],
+        radii: &[0.3],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(20.0, 0.0));
     let mut c = ctx(20.0);
     c.params.ttc_threshold = 4.0;
@@ -229,8 +247,14 @@ fn swept_test_catches_tunnelling() {
     let robot = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     let pos = [Vec2::zeros(); 2];
     let vel = [Vec2::zeros(); 2];
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &[0.0; 2], radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[0.0; 2],
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(1.0, 0.0));
     let m = run(&t, &people, &ctx(2.0));
     // Both samples have a gap of 0.45 m, the swept motion passes through the person.
@@ -279,7 +303,14 @@ fn social_force_on_a_single_pair() {
     let pos = [Vec2::new(1.0, 0.0)];
     let vel = [Vec2::zeros()];
     let t = Trajectory { robot_radius: 0.3, ..traj(&robot, 1.0, Vec2::new(5.0, 0.0)) };
-    let facing = PeopleTracks { positions: &pos, velocities: &vel, headings: &[PI], radii: &[0.2], count: 1 };
+    let facing = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[PI],
+        radii: &[0.2],
+        count: 1,
+        present: &[],
+    };
     let m = run(&t, &facing, &ctx(5.0));
     let f = 2.1 * ((0.5f64 - 1.0) / 0.3).exp();
     assert!(close(m.clearance.social_force_on_people, f));
@@ -412,8 +443,14 @@ fn smooth_with_one_angle_and_no_success() {
 fn empty_and_single_point_trajectories() {
     let polygons = [vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)]];
     let objects = ObjectSpaces { polygons: &polygons, active: &[] };
-    let people =
-        PeopleTracks { positions: &[], velocities: &[], headings: &[], radii: &[0.2, 0.3], count: 2 };
+    let people = PeopleTracks {
+        positions: &[],
+        velocities: &[],
+        headings: &[],
+        radii: &[0.2, 0.3],
+        count: 2,
+        present: &[],
+    };
     let t = traj(&[], 0.1, Vec2::zeros());
     let m = evaluate(&t, &people, &Groups::none(), &objects, &ctx(1.0)).expect("empty is valid");
     assert_eq!(m.collisions.steps, 0);
@@ -491,8 +528,14 @@ fn bad_inputs_are_errors_not_panics() {
     // People: wrong lengths and non-finite values.
     let pos = [Vec2::zeros(); 2];
     let vel = [Vec2::zeros(); 3];
-    let short =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &[0.0; 3], radii: &[0.2], count: 1 };
+    let short = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[0.0; 3],
+        radii: &[0.2],
+        count: 1,
+        present: &[],
+    };
     assert!(is_err(&good, &short, &g, &o, &ctx(1.0)));
     let pos3 = [Vec2::zeros(), Vec2::new(f64::NAN, 0.0), Vec2::zeros()];
     let nanp = PeopleTracks { positions: &pos3, ..short };
@@ -627,8 +670,14 @@ fn serializes_one_key_per_metric_in_the_record_order() {
 #[test]
 fn deterministic() {
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     assert_eq!(run(&t, &people, &ctx(9.0)), run(&t, &people, &ctx(9.0)));
 }
@@ -685,7 +734,7 @@ proptest::proptest! {
         let square = vec![vec![Vec2::new(-1.0, -1.0), Vec2::new(1.0, -1.0), Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0)]];
         let active: Vec<bool> = (0..n).map(|t| t % 2 == 0).collect();
         let objects = ObjectSpaces { polygons: &square, active: &active };
-        let people = PeopleTracks { positions: &positions, velocities: &velocities, headings: &headings, radii: &radii, count: np };
+        let people = PeopleTracks { positions: &positions, velocities: &velocities, headings: &headings, radii: &radii, count: np, present: &[] };
         let astar = [Vec2::new(-5.0, 0.0), Vec2::new(5.0, 3.0)];
         let mut c = ctx(7.0);
         c.astar_path = &astar;
