@@ -4,8 +4,8 @@
 //! around the crowd's clock, with the segment's slope as its velocity and its direction as the
 //! heading (kept while the track stands still). It is present from its first sample to its last
 //! and absent before and after: an absent person stands parked far outside every scene
-//! ([`parked_at`], [`PARK_ORIGIN`] and [`PARK_SPACING`] apart, farther than any interaction
-//! reaches), is flagged in [`Crowd::present`] and is left out of the neighbour search, the
+//! ([`parked_at`]: rows from [`PARK_ORIGIN`], [`PARK_SPACING`] apart, farther than any
+//! interaction reaches), is flagged in [`Crowd::present`] and is left out of the neighbour search, the
 //! robots' observations and lidar, and the metrics.
 //!
 //! A person whose replay has a `react_radius` reacts once a robot's centre comes within it while
@@ -24,9 +24,13 @@ use crate::math::Vec2;
 /// beyond every scene's bounds.
 pub const PARK_ORIGIN: [f64; 2] = [1.0e4, -1.0e4];
 
-/// Distance (metres) between parked people along +x: more than every interaction's range (the
-/// social force cut-off, group detection's distances), so that parked people never interact.
+/// Distance (metres) between parked people: more than every interaction's range (the social
+/// force cut-off, group detection's distances), so that parked people never interact.
 pub const PARK_SPACING: f64 = 20.0;
+
+/// Parked people stand in rows of this many, every other one a metre off the row: never all on
+/// one line, the degenerate case of the perception's Delaunay triangulation (slow there).
+pub const PARK_ROW: usize = 32;
 
 /// How far ahead on its track (seconds) a reacting person heads.
 pub const REACT_LOOKAHEAD: f64 = 1.0;
@@ -36,7 +40,9 @@ pub const REACT_MAX_SPEED: f64 = 2.0;
 
 /// Where person `i` stands while absent.
 pub fn parked_at(i: usize) -> Vec2 {
-    Vec2::new(PARK_ORIGIN[0] + PARK_SPACING * i as f64, PARK_ORIGIN[1])
+    let (col, row) = (i % PARK_ROW, i / PARK_ROW);
+    let zigzag = if col % 2 == 1 { 1.0 } else { 0.0 };
+    Vec2::new(PARK_ORIGIN[0] + PARK_SPACING * col as f64, PARK_ORIGIN[1] - PARK_SPACING * row as f64 - zigzag)
 }
 
 /// Position and velocity of `track` (`[t, x, y]` samples in strictly increasing time) at time
