@@ -50,7 +50,9 @@ def test_the_docs_converter_turns_a_social_gan_file_into_a_replay(tmp_path):
     exec(compile(_blocks()[1], str(PAGE), "exec"), namespace)
     # Social-GAN's format: frame, ped, x, y, tab-separated, one annotation every 10 frames.
     src = tmp_path / "crowds.txt"
-    src.write_text("780\t1.0\t8.46\t3.59\n780\t2.0\t9.57\t3.79\n790\t1.0\t9.05\t3.55\n790\t2.0\t9.90\t3.70\n800\t1.0\t9.60\t3.50\n")
+    src.write_text(
+        "780\t1.0\t8.46\t3.59\n780\t2.0\t9.57\t3.79\n790\t1.0\t9.05\t3.55\n790\t2.0\t9.90\t3.70\n800\t1.0\t9.60\t3.50\n"
+    )
     namespace["convert"](str(src), str(tmp_path / "tracks.csv"))  # type: ignore[operator]
     (tmp_path / "scene.toml").write_text(SCENE.format(t0=31.2))
     env = ProxemicEnv(scenario=str(tmp_path / "scene.toml"))
@@ -58,7 +60,9 @@ def test_the_docs_converter_turns_a_social_gan_file_into_a_replay(tmp_path):
         env.reset(seed=0)
         persons = env.scenario["persons"]
         assert [p["behaviour"] for p in persons] == ["replay", "replay"]
-        np.testing.assert_allclose(persons[0]["track"], [[0.0, 8.46, 3.59], [0.4, 9.05, 3.55], [0.8, 9.60, 3.50]], atol=1e-9)
+        np.testing.assert_allclose(
+            persons[0]["track"], [[0.0, 8.46, 3.59], [0.4, 9.05, 3.55], [0.8, 9.60, 3.50]], atol=1e-9
+        )
         sim = env.unwrapped.ws.sim
 
         def body(i: int) -> np.ndarray:
