@@ -49,7 +49,10 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     each activity, staying for it with the therapist facing the residents, leaving after). The
     museum (``proxemic/Museum-v0``) has 52 people with all of these but residents; the care center
     (``proxemic/CareCenter-v0``) runs a morning agenda whose activities end and start during the
-    episode.
+    episode. Recorded people (a scenario's ``[[replay]]`` track files, e.g. converted ETH/UCY
+    recordings) are where their files say, present from their first sample to their last (absent
+    people are parked far away and left out of observations and metrics), and react to the robot
+    within ``react_radius`` (``docs/recorded-crowds.md``).
 
     ## Action Space
 

@@ -73,7 +73,7 @@ pub(crate) fn evaluate(
     let mut first_collision_instant: Option<usize> = None;
     for k in 0..s.steps {
         let bits = contacts.get(k).copied().unwrap_or(0);
-        let swept = (0..np).any(|i| {
+        let swept = (0..np).filter(|&i| people.is_present(k, i) && people.is_present(k + 1, i)).any(|i| {
             swept_gap(
                 s.pos[k],
                 s.pos[k + 1],

@@ -208,6 +208,7 @@ mod tests {
             ospaces: &[],
             links: &[],
             active: &[],
+            present: &[],
         }
     }
 

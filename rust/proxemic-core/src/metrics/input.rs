@@ -37,12 +37,21 @@ pub struct PeopleTracks<'a> {
     pub radii: &'a [f64],
     /// Number of people `P`.
     pub count: usize,
+    /// Whether each person is in the scene at each instant (row-major like `positions`); empty:
+    /// everyone always is. An absent person (a replayed person before its track starts or after
+    /// it ends) counts in no metric at that instant, nor in the step's swept collision test.
+    pub present: &'a [bool],
 }
 
 impl PeopleTracks<'_> {
     /// No people.
     pub fn none() -> PeopleTracks<'static> {
-        PeopleTracks { positions: &[], velocities: &[], headings: &[], radii: &[], count: 0 }
+        PeopleTracks { positions: &[], velocities: &[], headings: &[], radii: &[], count: 0, present: &[] }
+    }
+
+    /// Whether person `i` is in the scene at instant `t`.
+    pub fn is_present(&self, t: usize, i: usize) -> bool {
+        self.present.get(t * self.count + i).copied().unwrap_or(true)
     }
 }
 
@@ -278,6 +287,13 @@ fn validate_people(people: &PeopleTracks, n: usize) -> Result<()> {
     }
     if people.radii.len() != p {
         return Err(bad("people.radii", &format!("{p} entries"), people.radii.len()));
+    }
+    if !people.present.is_empty() && people.present.len() != rows {
+        return Err(bad(
+            "people.present",
+            &format!("0 or {rows} entries (N = {n} x P = {p})"),
+            people.present.len(),
+        ));
     }
     for (k, &v) in people.positions.iter().enumerate() {
         check_vec("people.positions", k, v)?;

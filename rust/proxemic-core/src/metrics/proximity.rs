@@ -18,10 +18,10 @@ pub struct ProximityMetrics {
     /// Min surface gap to any person (m, CrowdNav; negative = overlap); `None` likewise.
     pub gap_person_min: Option<f64>,
     /// CP_avg (m, HuNav; `docs/metrics.md` item 15): mean over instants of the closest person's
-    /// centre-to-centre distance; `None` likewise.
+    /// centre-to-centre distance (over the instants with someone present); `None` likewise.
     pub cp_avg: Option<f64>,
     /// Calderita's d_min per person (m, centre-to-centre, min over instants); `None` entries for
-    /// an empty trajectory.
+    /// an empty trajectory, and for a person never present during it.
     pub d_min: Vec<Option<f64>>,
     /// Discomfort frequency (CrowdNav; `docs/metrics.md` item 16): fraction of instants with
     /// `0 <= min_i gap < discomfort_gap` (surface gap); 0 without people; `None` without samples.
@@ -84,6 +84,8 @@ pub(crate) fn evaluate(
     let mut dist_person_min: Option<f64> = None;
     let mut gap_person_min: Option<f64> = None;
     let mut cp_sum = 0.0;
+    // Instants with someone present (every instant unless replayed people come and go).
+    let mut with_people = 0usize;
     let mut discomfort = 0usize;
     let mut discomfort_sum = 0.0;
     let mut compliant = 0usize;
@@ -92,6 +94,9 @@ pub(crate) fn evaluate(
         let mut closest = f64::INFINITY;
         let mut closest_gap = f64::INFINITY;
         for (i, dm) in d_min.iter_mut().enumerate() {
+            if !people.is_present(t, i) {
+                continue;
+            }
             let d = (people.positions[t * np + i] - s.pos[t]).norm();
             let gap = d - rr - people.radii[i];
             closest = closest.min(d);
@@ -100,7 +105,8 @@ pub(crate) fn evaluate(
                 *m = m.min(d);
             }
         }
-        if np > 0 {
+        if closest.is_finite() {
+            with_people += 1;
             dist_person_min = Some(dist_person_min.map_or(closest, |m| m.min(closest)));
             gap_person_min = Some(gap_person_min.map_or(closest_gap, |m| m.min(closest_gap)));
             cp_sum += closest;
@@ -114,10 +120,16 @@ pub(crate) fn evaluate(
         }
         zone_counts[zone_of(closest, &ctx.zones)] += 1;
     }
+    // A person never present at any instant has no distance.
+    for dm in &mut d_min {
+        if dm.is_some_and(f64::is_infinite) {
+            *dm = None;
+        }
+    }
     ProximityMetrics {
         dist_person_min,
         gap_person_min,
-        cp_avg: (np > 0 && n > 0).then(|| cp_sum / n as f64),
+        cp_avg: (with_people > 0).then(|| cp_sum / with_people as f64),
         d_min,
         discomfort_frequency: frac(discomfort, n),
         discomfort_gap_avg: (discomfort > 0).then(|| discomfort_sum / discomfort as f64),
@@ -142,7 +154,7 @@ pub(crate) fn evaluate_clearance(
     let mut ttc_below = 0usize;
     for t in 0..s.steps {
         let mut step_min = f64::INFINITY;
-        for i in 0..np {
+        for i in (0..np).filter(|&i| people.is_present(t, i)) {
             let dp = people.positions[t * np + i] - s.pos[t];
             let dv = people.velocities[t * np + i] - s.vel[t];
             step_min = step_min.min(time_to_collision(dp, dv, rr + people.radii[i]));
@@ -172,7 +184,7 @@ fn social_force_sums(s: &Samples, traj: &Trajectory, people: &PeopleTracks, q: &
     for t in 0..s.n {
         let mut on_robot = Vec2::zeros();
         let robot_dir = Vec2::new(s.yaw[t].cos(), s.yaw[t].sin());
-        for i in 0..np {
+        for i in (0..np).filter(|&i| people.is_present(t, i)) {
             let heading = people.headings[t * np + i];
             let person_dir = Vec2::new(heading.cos(), heading.sin());
             let qi = people.positions[t * np + i];

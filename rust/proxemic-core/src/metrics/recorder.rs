@@ -80,6 +80,8 @@ pub struct Snapshot<'a> {
     pub velocities: &'a [Vec2],
     /// People's headings (rad).
     pub headings: &'a [f64],
+    /// Whether each person is in the scene (empty: everyone is).
+    pub present: &'a [bool],
     /// The groups' o-spaces at this instant.
     pub ospaces: &'a [OSpace],
     /// The interaction segments at this instant.
@@ -98,6 +100,7 @@ pub struct SceneLog {
     positions: Vec<Vec2>,
     velocities: Vec<Vec2>,
     headings: Vec<f64>,
+    present: Vec<bool>,
     ospace_offsets: Vec<usize>,
     ospaces: Vec<OSpace>,
     link_offsets: Vec<usize>,
@@ -115,6 +118,7 @@ impl SceneLog {
             positions: Vec::new(),
             velocities: Vec::new(),
             headings: Vec::new(),
+            present: Vec::new(),
             ospace_offsets: vec![0],
             ospaces: Vec::new(),
             link_offsets: vec![0],
@@ -131,6 +135,7 @@ impl SceneLog {
         self.positions.clear();
         self.velocities.clear();
         self.headings.clear();
+        self.present.clear();
         self.ospace_offsets.clear();
         self.ospace_offsets.push(0);
         self.ospaces.clear();
@@ -152,6 +157,7 @@ impl SceneLog {
         fill(&mut self.positions, s.positions);
         fill(&mut self.velocities, s.velocities);
         self.headings.extend((0..np).map(|i| s.headings.get(i).copied().unwrap_or(0.0)));
+        self.present.extend((0..np).map(|i| s.present.get(i).copied().unwrap_or(true)));
         self.ospaces.extend_from_slice(s.ospaces);
         self.ospace_offsets.push(self.ospaces.len());
         self.links.extend_from_slice(s.links);
@@ -168,6 +174,12 @@ impl SceneLog {
     fn people_at(&self, t: usize) -> Option<&[Vec2]> {
         let np = self.people_radii.len();
         self.positions.get(t * np..(t + 1) * np)
+    }
+
+    /// Whether each person is in the scene at instant `t`, if logged.
+    fn present_at(&self, t: usize) -> Option<&[bool]> {
+        let np = self.people_radii.len();
+        self.present.get(t * np..(t + 1) * np)
     }
 }
 
@@ -233,8 +245,25 @@ impl EpisodeRecorder {
         let rr = self.setup.robot_radius;
         // A log that does not hold both instants (a caller's error) has no people to sweep past;
         // `evaluate` reports the mismatch.
+        // Absent people (replayed people coming or going) are neither swept past nor touched: they
+        // count as far away for this step.
         let (swept, robot_fault) = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
             (Some(before), Some(after)) => {
+                let (was, is) =
+                    (log.present_at(prev_t).unwrap_or(&[]), log.present_at(prev_t + 1).unwrap_or(&[]));
+                let here =
+                    |i: usize| was.get(i).copied().unwrap_or(true) && is.get(i).copied().unwrap_or(true);
+                let far = Vec2::new(1e9, 1e9);
+                let (kept_before, kept_after): (Vec<Vec2>, Vec<Vec2>);
+                let (before, after) = if (0..before.len()).all(here) {
+                    (before, after)
+                } else {
+                    kept_before =
+                        before.iter().enumerate().map(|(i, &a)| if here(i) { a } else { far }).collect();
+                    kept_after =
+                        after.iter().enumerate().map(|(i, &b)| if here(i) { b } else { far }).collect();
+                    (&kept_before[..], &kept_after[..])
+                };
                 let swept = before
                     .iter()
                     .zip(after)
@@ -330,6 +359,7 @@ impl EpisodeRecorder {
             headings: &log.headings[..n * np],
             radii: &log.people_radii,
             count: np,
+            present: &log.present[..n * np],
         };
         let groups = Groups {
             ospace_offsets: &log.ospace_offsets[..=n],
@@ -387,6 +417,7 @@ mod tests {
             positions: people,
             velocities: &ZEROS[..n],
             headings: &HEADINGS[..n],
+            present: &[],
             ospaces: &[],
             links: &[],
             active: &[],

@@ -1105,7 +1105,8 @@ pub const METRICS: &[MetricInfo] = &[
 ];
 
 /// The sections of the reference, in order.
-pub const FAMILIES: [&str; 9] = [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC, SNQI, RECOVERY];
+pub const FAMILIES: [&str; 9] =
+    [OUTCOME, EFFICIENCY, MOTION, PEOPLE, GROUPS, OBJECTS, STATIC, SNQI, RECOVERY];
 
 /// The reference entry of `key`, if it is a metric.
 pub fn metric_info(key: &str) -> Option<&'static MetricInfo> {

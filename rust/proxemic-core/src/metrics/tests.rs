@@ -166,8 +166,14 @@ fn passing_person() -> (Vec<[f64; 3]>, Vec<Vec2>, Vec<Vec2>, Vec<f64>) {
 #[test]
 fn person_at_known_position() {
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     let m = run(&t, &people, &ctx(9.0));
     let d: Vec<f64> = (0..10).map(|x| ((x as f64 - 5.0).powi(2) + 0.49).sqrt()).collect();
@@ -194,8 +200,14 @@ fn person_at_known_position() {
 #[test]
 fn custom_zones_move_the_boundaries() {
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     let mut c = ctx(9.0);
     c.zones = [1.0, 2.0, 3.0];
@@ -212,8 +224,14 @@ fn head_on_time_to_collision() {
     let robot = line(2);
     let pos = [Vec2::new(10.0, 0.0), Vec2::new(9.0, 0.0), Vec2::new(8.0, 0.0)];
     let vel = [Vec2::new(-1.0, 0.0); 3];
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &[PI; 3], radii: &[0.3], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[PI; 3],
+        radii: &[0.3],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(20.0, 0.0));
     let mut c = ctx(20.0);
     c.params.ttc_threshold = 4.0;
@@ -230,8 +248,14 @@ fn swept_test_catches_tunnelling() {
     let robot = [[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
     let pos = [Vec2::zeros(); 2];
     let vel = [Vec2::zeros(); 2];
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &[0.0; 2], radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[0.0; 2],
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(1.0, 0.0));
     let m = run(&t, &people, &ctx(2.0));
     // Both samples have a gap of 0.45 m, the swept motion passes through the person.
@@ -280,7 +304,14 @@ fn social_force_on_a_single_pair() {
     let pos = [Vec2::new(1.0, 0.0)];
     let vel = [Vec2::zeros()];
     let t = Trajectory { robot_radius: 0.3, ..traj(&robot, 1.0, Vec2::new(5.0, 0.0)) };
-    let facing = PeopleTracks { positions: &pos, velocities: &vel, headings: &[PI], radii: &[0.2], count: 1 };
+    let facing = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[PI],
+        radii: &[0.2],
+        count: 1,
+        present: &[],
+    };
     let m = run(&t, &facing, &ctx(5.0));
     let f = 2.1 * ((0.5f64 - 1.0) / 0.3).exp();
     assert!(close(m.clearance.social_force_on_people, f));
@@ -413,8 +444,14 @@ fn smooth_with_one_angle_and_no_success() {
 fn empty_and_single_point_trajectories() {
     let polygons = [vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(0.0, 1.0)]];
     let objects = ObjectSpaces { polygons: &polygons, active: &[] };
-    let people =
-        PeopleTracks { positions: &[], velocities: &[], headings: &[], radii: &[0.2, 0.3], count: 2 };
+    let people = PeopleTracks {
+        positions: &[],
+        velocities: &[],
+        headings: &[],
+        radii: &[0.2, 0.3],
+        count: 2,
+        present: &[],
+    };
     let t = traj(&[], 0.1, Vec2::zeros());
     let m = evaluate(&t, &people, &Groups::none(), &objects, &ctx(1.0)).expect("empty is valid");
     assert_eq!(m.collisions.steps, 0);
@@ -492,8 +529,14 @@ fn bad_inputs_are_errors_not_panics() {
     // People: wrong lengths and non-finite values.
     let pos = [Vec2::zeros(); 2];
     let vel = [Vec2::zeros(); 3];
-    let short =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &[0.0; 3], radii: &[0.2], count: 1 };
+    let short = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &[0.0; 3],
+        radii: &[0.2],
+        count: 1,
+        present: &[],
+    };
     assert!(is_err(&good, &short, &g, &o, &ctx(1.0)));
     let pos3 = [Vec2::zeros(), Vec2::new(f64::NAN, 0.0), Vec2::zeros()];
     let nanp = PeopleTracks { positions: &pos3, ..short };
@@ -640,8 +683,14 @@ fn serializes_one_key_per_metric_in_the_record_order() {
 #[test]
 fn deterministic() {
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        count: 1,
+        present: &[],
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     assert_eq!(run(&t, &people, &ctx(9.0)), run(&t, &people, &ctx(9.0)));
 }
@@ -698,7 +747,7 @@ proptest::proptest! {
         let square = vec![vec![Vec2::new(-1.0, -1.0), Vec2::new(1.0, -1.0), Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0)]];
         let active: Vec<bool> = (0..n).map(|t| t % 2 == 0).collect();
         let objects = ObjectSpaces { polygons: &square, active: &active };
-        let people = PeopleTracks { positions: &positions, velocities: &velocities, headings: &headings, radii: &radii, count: np };
+        let people = PeopleTracks { positions: &positions, velocities: &velocities, headings: &headings, radii: &radii, count: np, present: &[] };
         let astar = [Vec2::new(-5.0, 0.0), Vec2::new(5.0, 3.0)];
         let mut c = ctx(7.0);
         c.astar_path = &astar;
@@ -736,8 +785,14 @@ fn snqi_near_misses_and_force_exceed_events() {
     // The passing person: closest gap 0.15 m at x = 5 (a near miss), 0.67 m at x = 4 and 6; the
     // robot's force on them peaks at 2.1 exp(-0.5) * 0.75 = 0.96 m/s², under 2.0.
     let (robot, pos, vel, head) = passing_person();
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        present: &[],
+        count: 1,
+    };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
     let m = run(&t, &people, &ctx(9.0));
     assert_eq!(m.snqi.near_misses, 1);
@@ -747,8 +802,14 @@ fn snqi_near_misses_and_force_exceed_events() {
     // miss, and the force there is 2.1 exp(0.05 / 0.3) * 1 = 2.48 m/s² > 2.0: one event of 10.
     let pos = vec![Vec2::new(5.0, 0.5); robot.len()];
     let head = vec![-std::f64::consts::FRAC_PI_2; robot.len()];
-    let people =
-        PeopleTracks { positions: &pos, velocities: &vel, headings: &head, radii: &[0.25], count: 1 };
+    let people = PeopleTracks {
+        positions: &pos,
+        velocities: &vel,
+        headings: &head,
+        radii: &[0.25],
+        present: &[],
+        count: 1,
+    };
     let m = run(&t, &people, &ctx(9.0));
     assert_eq!(m.snqi.near_misses, 0);
     assert_eq!(m.snqi.force_exceed_events, 1);

@@ -21,6 +21,12 @@ pub struct Crowd {
     pub radius: Vec<f64>,
     /// Ground-truth group ids.
     pub group: Vec<Option<u32>>,
+    /// Whether each person is in the scene (false for a replayed person before its track's
+    /// first sample and after its last: it is then parked far away, see
+    /// [`super::replay::parked_at`]).
+    pub present: Vec<bool>,
+    /// Replayed people: whether they react to a robot (walk with the forces).
+    pub(super) reacting: Vec<bool>,
     pub(super) speed: Vec<f64>,
     pub(super) target: Vec<usize>,
     pub(super) dwell_left: Vec<f64>,
@@ -85,10 +91,12 @@ pub(super) struct NeighbourBins {
 const BRUTE_FORCE_MAX: usize = 64;
 
 impl NeighbourBins {
-    fn rebuild(&mut self, pos: &[Vec2], cell: f64) {
+    /// Bins the people at `pos` who are `present` (absent people are left out).
+    fn rebuild(&mut self, pos: &[Vec2], present: &[bool], cell: f64) {
         let (mut lo, mut hi) =
             (Vec2::new(f64::INFINITY, f64::INFINITY), Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY));
-        for p in pos {
+        let here = |i: usize| present.get(i).copied().unwrap_or(true);
+        for p in pos.iter().enumerate().filter(|(i, _)| here(*i)).map(|(_, p)| p) {
             lo = lo.inf(p);
             hi = hi.sup(p);
         }
@@ -99,7 +107,7 @@ impl NeighbourBins {
         let cells = self.nx * self.ny;
         self.start.clear();
         self.start.resize(cells + 1, 0);
-        for p in pos {
+        for p in pos.iter().enumerate().filter(|(i, _)| here(*i)).map(|(_, p)| p) {
             let k = self.key(*p);
             self.start[k + 1] += 1;
         }
@@ -108,8 +116,8 @@ impl NeighbourBins {
         }
         let mut fill = self.start.clone();
         self.items.clear();
-        self.items.resize(pos.len(), 0);
-        for (i, p) in pos.iter().enumerate() {
+        self.items.resize(self.start[cells], 0);
+        for (i, p) in pos.iter().enumerate().filter(|(i, _)| here(*i)) {
             let k = self.key(*p);
             self.items[fill[k]] = i;
             fill[k] += 1;
@@ -197,13 +205,15 @@ impl Crowd {
         let n = self.len();
         // 1. Scripts: waypoints, dwelling, programs (from the snapshot, in index order).
         for i in 0..n {
-            self.plan_step(i, h);
+            self.plan_step(i, h, robots);
         }
         self.time += h;
         // 2. Forces from the snapshot (Jacobi).
         self.sum_forces(robots, field);
         // 3. Integrate (semi-implicit Euler), with the hard constraints.
         self.integrate(h, robots, geometry, field);
+        // 4. Replayed people on their tracks at the new time (or parked while absent).
+        self.place_replays();
     }
 
     /// The force on every moving person from the snapshot (into `scratch`): driving, other
@@ -215,7 +225,7 @@ impl Crowd {
         self.scratch.resize(n, Vec2::zeros());
         let binned = n > BRUTE_FORCE_MAX;
         if binned {
-            self.bins.rebuild(&self.pos, p.cutoff);
+            self.bins.rebuild(&self.pos, &self.present, p.cutoff);
         }
         for i in 0..n {
             if !self.moving[i] {

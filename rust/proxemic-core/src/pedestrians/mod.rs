@@ -28,18 +28,24 @@
 //! people additionally never step to within [`YIELD_GAP`] of a robot's body: such a step is
 //! cancelled and they wait.
 //!
+//! Recorded people (`[[replay]]` tracks) follow their tracks exactly, present only between their
+//! first and last samples, and walk with the same forces once a robot comes near
+//! ([`replay`]).
+//!
 //! Every random draw (initial route phase, speed jitter) comes from the episode's seeded
 //!
 //! The files: `force.rs` (the parameters, the interaction and group forces), `crowd.rs` (the
 //! crowd's arrays and the substep: plan, forces, integration), `spawn.rs` (a new episode's
 //! crowd), `steer.rs` (each script's motion for a substep), `follow.rs` (followers of a robot's
-//! tour), `scripts.rs` (the scripts, planned once when the world is built), `counterfactual.rs`
-//! (the episode's people replayed without the robots, for the robot's cost to people).
+//! tour), `replay.rs` (recorded people), `scripts.rs` (the scripts, planned once when the world is built),
+//! `counterfactual.rs` (the episode's people replayed without the robots, for the robot's cost to
+//! people).
 
 mod counterfactual;
 mod crowd;
 mod follow;
 mod force;
+pub mod replay;
 pub mod scripts;
 mod spawn;
 mod steer;

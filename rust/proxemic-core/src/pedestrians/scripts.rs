@@ -101,12 +101,24 @@ pub enum Script {
         /// follower's own at the start.
         places: Vec<Vec<Vec2>>,
     },
+    /// A recorded person (see [`crate::pedestrians::replay`]).
+    Replay {
+        /// The track, `[t, x, y]` samples (seconds after the episode start, metres).
+        track: Vec<[f64; 3]>,
+        /// The person reacts once a robot's centre comes within this distance (metres; 0: never).
+        react_radius: f64,
+    },
 }
 
 impl Script {
-    /// The trivial script of a walker or standing person (anything else stands still).
+    /// The script of a walker, a standing or a replayed person, which needs no planning
+    /// (anything else stands still).
     pub fn basic(p: &Person) -> Self {
-        if p.behaviour == Behaviour::Walker { Script::Walker } else { Script::Still }
+        match p.behaviour {
+            Behaviour::Walker => Script::Walker,
+            Behaviour::Replay => Script::Replay { track: p.track.clone(), react_radius: p.react_radius },
+            _ => Script::Still,
+        }
     }
 }
 
@@ -207,7 +219,7 @@ pub fn plan_scripts(s: &Scenario, geometry: &StaticGeometry, field: &DistanceFie
     let mut out = Vec::with_capacity(persons.len());
     for (i, p) in persons.iter().enumerate() {
         let script = match p.behaviour {
-            Behaviour::Walker => Script::Walker,
+            Behaviour::Walker | Behaviour::Replay => Script::basic(p),
             Behaviour::Standing | Behaviour::Seated => Script::Still,
             Behaviour::Visitor => visitor(s, geometry, &mut router, i)?,
             Behaviour::Conversation => conversation(s, geometry, &mut router, i)?,

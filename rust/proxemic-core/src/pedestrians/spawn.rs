@@ -3,6 +3,7 @@
 
 use rand::Rng;
 
+use super::replay::{parked_at, track_at};
 use super::scripts::{Face, Script, Task, Until};
 use super::{Crowd, SocialForceParams};
 use crate::math::Vec2;
@@ -41,13 +42,27 @@ impl Crowd {
             let route: Vec<Vec2> = p.route.iter().map(|w| Vec2::new(w[0], w[1])).collect();
             let walker = *script == Script::Walker;
             let jitter = randomize.speed_jitter;
-            let speed = if *script != Script::Still && jitter > 0.0 {
+            let replay = matches!(script, Script::Replay { .. });
+            let speed = if *script != Script::Still && !replay && jitter > 0.0 {
                 p.speed * rng.random_range(1.0 - jitter..=1.0 + jitter)
             } else {
                 p.speed
             };
             let (pos, target, heading, task, clock) =
                 initial_state(p, script, &route, randomize, keep_clear, rng);
+            // A replayed person is in the scene if its track has begun at t = 0.
+            let present = match script {
+                Script::Replay { track, .. } => track_at(track, 0.0).is_some(),
+                _ => true,
+            };
+            let (pos, vel) = match script {
+                Script::Replay { track, .. } => {
+                    track_at(track, 0.0).unwrap_or((parked_at(c.len()), Vec2::zeros()))
+                }
+                _ => (pos, Vec2::zeros()),
+            };
+            c.present.push(present);
+            c.reacting.push(false);
             c.script.push(script.clone());
             c.task.push(task);
             c.leg.push(0);
@@ -55,7 +70,7 @@ impl Crowd {
             c.stuck.push(0.0);
             c.gathered.push(matches!(script, Script::RobotFollower { .. }).then_some(0));
             c.pos.push(pos);
-            c.vel.push(Vec2::zeros());
+            c.vel.push(vel);
             c.heading.push(heading);
             c.radius.push(p.radius);
             c.group.push(p.group);
@@ -147,6 +162,8 @@ fn initial_state<R: Rng>(
             (at, usize::MAX, d.y.atan2(d.x))
         }
         Script::Guide { .. } => (route[0], 0, p.pose[2]),
+        // Placed by the caller (on its track at t = 0, or parked), facing along its first segment.
+        Script::Replay { .. } => (Vec2::new(p.pose[0], p.pose[1]), 0, p.pose[2]),
         Script::Still => (Vec2::new(p.pose[0], p.pose[1]), 0, p.pose[2]),
     };
     (pos, target, heading, task, clock)

@@ -20,8 +20,9 @@ pub(super) fn bearing(pos: Vec2, q: Vec2) -> Option<f64> {
 
 impl Crowd {
     /// Advances person `i`'s script by `h` seconds and sets its motion for this substep:
-    /// `moving`, `desired` (velocity) and `face_want`.
-    pub(super) fn plan_step(&mut self, i: usize, h: f64) {
+    /// `moving`, `desired` (velocity) and `face_want`; `robots` (centre, radius, velocity) are
+    /// what replayed people react to.
+    pub(super) fn plan_step(&mut self, i: usize, h: f64, robots: &[(Vec2, f64, Vec2)]) {
         self.moving[i] = true;
         self.face_want[i] = None;
         self.desired[i] = Vec2::zeros();
@@ -36,6 +37,7 @@ impl Crowd {
                 self.robot_follower_step(i, h, *robot, *start, places)
             }
             Script::Program(prog) => self.program_step(i, h, prog),
+            Script::Replay { track, react_radius } => self.replay_step(i, h, track, *react_radius, robots),
         }
         self.script[i] = script;
     }

@@ -12,7 +12,7 @@ use crate::error::Result;
 
 /// Arrays of tables a file that `extends` another may add to the base's instead of replacing
 /// them, by listing their names in `append` (e.g. `append = ["person"]`).
-pub const APPENDABLE: [&str; 5] = ["wall", "object", "person", "robot", "activity"];
+pub const APPENDABLE: [&str; 6] = ["wall", "object", "person", "robot", "activity", "replay"];
 
 /// How many `extends` links a scenario file may chain.
 pub const MAX_EXTENDS: usize = 4;

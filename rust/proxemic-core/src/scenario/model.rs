@@ -124,6 +124,11 @@ pub enum Behaviour {
     /// Care-center staff member (a therapist): like a resident, but stands on the far side of
     /// the object, facing the residents.
     Staff,
+    /// A recorded person: not written in `[[person]]` but made from each track of a
+    /// `[[replay]]` file. Follows its track exactly (linear interpolation between samples), is
+    /// present only from its first sample to its last, and walks with the social force model
+    /// toward the track once a robot comes within the replay's `react_radius`.
+    Replay,
 }
 
 /// Built-in planners a robot can run.
@@ -362,6 +367,12 @@ pub struct Person {
     pub attends: Vec<usize>,
     /// Resident, staff: arrival lead before an activity starts (seconds; default 120).
     pub lead: f64,
+    /// Replay: the track, `[t, x, y]` samples (seconds after the episode start, scene metres),
+    /// at least two, in strictly increasing time.
+    pub track: Vec<[f64; 3]>,
+    /// Replay: the person reacts once a robot's centre comes within this distance (metres; 0:
+    /// never).
+    pub react_radius: f64,
 }
 
 impl Default for Person {
@@ -390,6 +401,8 @@ impl Default for Person {
             gather_radius: d_gather_radius(),
             attends: Vec::new(),
             lead: d_lead_minutes() * 60.0,
+            track: Vec::new(),
+            react_radius: 0.0,
         }
     }
 }

@@ -44,6 +44,41 @@ pub(super) struct RawScenario {
     /// Agenda items (`[[activity]]`): an activity on an object, in time of day.
     #[serde(default)]
     pub(super) activity: Vec<RawActivity>,
+    /// Recorded crowds (`[[replay]]`): every track of a `t,id,x,y` CSV file becomes a person who
+    /// follows it.
+    #[serde(default)]
+    pub(super) replay: Vec<RawReplay>,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+/// A recorded crowd (`[[replay]]`): a CSV file with the header `t,id,x,y` (seconds, any label,
+/// metres); each `id`'s rows, in increasing time, are one person's track, followed exactly
+/// (linear interpolation between samples) from its first sample to its last, when the person
+/// appears and leaves.
+pub(super) struct RawReplay {
+    /// Path of the CSV file, relative to the scenario file.
+    pub(super) file: String,
+    /// A person reacts when a robot's centre comes within this distance of theirs (metres; 0,
+    /// the default: never): from then on they walk with the social force model toward their
+    /// track instead of following it exactly.
+    #[serde(default)]
+    pub(super) react_radius: f64,
+    /// Where the recording's origin lies in the scene, `[x, y]` (metres; default `[0, 0]`).
+    #[serde(default, deserialize_with = "exact")]
+    #[schemars(with = "[f64; 2]")]
+    pub(super) offset: [f64; 2],
+    /// Rotation of the recording's axes in the scene (radians, counter-clockwise; default 0),
+    /// applied before `offset`: scene = R(rotate) (x, y) + offset.
+    #[serde(default)]
+    pub(super) rotate: f64,
+    /// Recording time at the episode's start (seconds; default 0): a sample at `t` happens
+    /// `t - t0` seconds into the episode.
+    #[serde(default)]
+    pub(super) t0: f64,
+    /// Body radius of the replayed people (metres), in (0, 0.5]; default 0.2.
+    #[serde(default = "d_person_radius")]
+    pub(super) radius: f64,
 }
 
 #[derive(Deserialize, JsonSchema)]

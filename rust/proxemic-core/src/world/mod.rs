@@ -198,6 +198,7 @@ impl GroundTruth {
             positions: &crowd.pos,
             velocities: &crowd.vel,
             headings: &crowd.heading,
+            present: &crowd.present,
             ospaces: &self.ospaces,
             links: &self.links,
             active: &self.active,

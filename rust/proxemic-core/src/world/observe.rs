@@ -30,9 +30,15 @@ pub const PERSON_OUT: usize = 6;
 pub const CONTACT_RANGE: f64 = 0.5;
 
 impl World {
-    /// Centre distance from `p` to the closest person (m; +inf without people).
+    /// Centre distance from `p` to the closest person present (m; +inf without people).
     pub(super) fn closest_person(&self, p: Vec2) -> f64 {
-        self.crowd.pos.iter().map(|q| (q - p).norm()).fold(f64::INFINITY, f64::min)
+        let c = &self.crowd;
+        c.pos
+            .iter()
+            .zip(&c.present)
+            .filter(|(_, h)| **h)
+            .map(|(q, _)| (q - p).norm())
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Closest surface gap from robot `i` to any other robot (+inf alone).
@@ -122,11 +128,11 @@ impl World {
             obs[2] = v.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
             obs[3] = v.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
             obs[4] = rb.wz.clamp(-OBS_MAX_ANGULAR, OBS_MAX_ANGULAR);
-            // K nearest people within sensor range, ties broken by index.
+            // K nearest people present within sensor range, ties broken by index.
             self.scratch_people.clear();
             for (j, q) in self.crowd.pos.iter().enumerate() {
                 let d = (q - p).norm();
-                if d <= range {
+                if d <= range && self.crowd.present[j] {
                     self.scratch_people.push((d, j));
                 }
             }
@@ -194,7 +200,9 @@ impl World {
         let range = self.scenario.sensors.lidar_range;
         let (p, th) = (Vec2::new(self.robots[i].pose[0], self.robots[i].pose[1]), self.robots[i].pose[2]);
         self.scratch_discs.clear();
-        for (q, r) in self.crowd.pos.iter().zip(&self.crowd.radius) {
+        for ((q, r), _) in
+            self.crowd.pos.iter().zip(&self.crowd.radius).zip(&self.crowd.present).filter(|(_, h)| **h)
+        {
             self.scratch_discs.push((*q, *r));
         }
         for (j, (other, ost)) in self.robots.iter().zip(&self.statics).enumerate() {

@@ -7,6 +7,7 @@ mod objects;
 pub(super) mod people;
 pub(super) mod polygons;
 mod proxemics;
+mod replay;
 mod robots;
 mod scene;
 
@@ -29,6 +30,9 @@ pub(super) fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
     for (i, (person, rp)) in persons.iter_mut().zip(&raw.person).enumerate() {
         person.features = proxemics::person_features(&ck, i, rp, &proxemics.features)?;
     }
+    let replayed =
+        replay::build_replays(&ck, &raw.replay, file, b, &proxemics::default_features(&proxemics.features))?;
+    persons.extend(replayed);
     let (agenda, activities) = objects::build_agenda(&ck, &raw.agenda, &raw.activity, &objects)?;
 
     let robots = robots::build_robots(&ck, &raw.robot, &persons, &proxemics, b)?;

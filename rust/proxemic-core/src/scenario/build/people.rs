@@ -17,6 +17,7 @@ fn behaviour_fields(b: Behaviour) -> &'static [&'static str] {
         Behaviour::Follower => &["guide", "gather_radius"],
         Behaviour::Seated => &["seat", "place"],
         Behaviour::Resident | Behaviour::Staff => &["home", "attends", "lead_minutes"],
+        Behaviour::Replay => &[],
     }
 }
 
@@ -149,6 +150,7 @@ fn build_person(
         Behaviour::Follower => follower_pose(&x)?,
         Behaviour::Seated => seated_pose(&x)?,
         Behaviour::Resident | Behaviour::Staff => attendee_pose(&x, &mut person)?,
+        Behaviour::Replay => return Err(replay_in_person(ck, &x.f)),
     };
     person.pose = pose;
     person.route.clone_from(&p.route);
@@ -235,6 +237,16 @@ fn route_pose(x: &PersonInput<'_>, person: &mut Person) -> Result<[f64; 3]> {
     }
     let (a, c) = (p.route[0], p.route[1]);
     Ok([a[0], a[1], (c[1] - a[1]).atan2(c[0] - a[0])])
+}
+
+/// `behaviour = "replay"` in a `[[person]]`: recorded people come from `[[replay]]` files.
+fn replay_in_person(ck: &Checker<'_>, f: &str) -> crate::error::CoreError {
+    err(
+        ck.file,
+        format!("{f}.behaviour"),
+        "a scripted behaviour (recorded people come from a [[replay]] table's file)",
+        "\"replay\"",
+    )
 }
 
 /// Standing: the given pose.

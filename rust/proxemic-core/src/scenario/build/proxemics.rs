@@ -146,6 +146,11 @@ fn influence_vectors(ck: &Checker<'_>, r: &RawProxemics) -> Result<[Vec<f64>; 4]
     Ok(influence)
 }
 
+/// The features of a person who gives none: 0.5 each, 0.70 for `emotional_state`.
+pub(super) fn default_features(names: &[String]) -> Vec<f64> {
+    names.iter().map(|n| if n == "emotional_state" { 0.70 } else { 0.5 }).collect()
+}
+
 /// A person's feature vector: explicit `features`, or the emotional state looked up in Sousa
 /// 2022 Table 1; features not given default to their neutral value (0.70 for the emotional
 /// state, 0.5 otherwise).
@@ -157,7 +162,7 @@ pub(super) fn person_features(
 ) -> Result<Vec<f64>> {
     let file = ck.file;
     let f = format!("person[{i}]");
-    let mut fv: Vec<f64> = names.iter().map(|n| if n == "emotional_state" { 0.70 } else { 0.5 }).collect();
+    let mut fv = default_features(names);
     if !raw.features.is_empty() {
         if raw.features.len() != names.len() {
             return Err(err(
