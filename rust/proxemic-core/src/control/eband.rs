@@ -36,9 +36,10 @@
 //!
 //! # Topology maintenance
 //! After every iteration: an interior bubble is removed when its neighbours already satisfy the
-//! overlap criterion `|b_{i-1} - b_{i+1}| < overlap (ρ̃_{i-1} + ρ̃_{i+1})`; then every consecutive
+//! overlap criterion `|b_{i-1} - b_{i+1}| < overlap (ρ̂_{i-1} + ρ̂_{i+1})`; then every consecutive
 //! pair that fails it gets midpoints inserted by bisection (depth at most `max_insert_depth`, band
-//! at most `max_bubbles` points). [`ElasticBand::is_connected`] reports whether every consecutive
+//! at most `max_bubbles` points). Here `ρ̂ = max(ρ̃, min_bubble)`: a point without clearance is
+//! spaced like a bubble of `min_bubble`, so bisection towards it stops. [`ElasticBand::is_connected`] reports whether every consecutive
 //! pair of bubbles overlaps (`|b_i - b_{i+1}| < ρ̃_i + ρ̃_{i+1}` with positive radii), which makes
 //! the polyline free of obstacles; when it is false the band is broken and the caller should
 //! replan.
@@ -194,6 +195,17 @@ pub struct ElasticBand {
 #[inline]
 fn sanitize(x: f64) -> f64 {
     if x > 0.0 { x } else { 0.0 }
+}
+
+/// The radius a bubble of clearance `r` is spaced by in topology maintenance: `r` capped at
+/// `max_bubble` and floored at `min_bubble` (m). The floor bounds the bisection towards a point
+/// without clearance (a doorpost the global path grazes): bubbles there are `2 overlap min_bubble`
+/// apart instead of ever closer until `max_bubbles` is filled, so the band stays usable while the
+/// repulsion pushes those bubbles out (Quinlan and Khatib space bubbles by their radii; a radius of
+/// zero is their "broken band", reported by [`ElasticBand::is_connected`], which is unchanged).
+#[inline]
+fn spacing_radius(r: f64, p: &EbandParams) -> f64 {
+    r.min(p.max_bubble).max(p.min_bubble)
 }
 
 #[inline]
@@ -404,7 +416,7 @@ impl ElasticBand {
         if n < 2 {
             return;
         }
-        let cap = |r: f64| r.min(p.max_bubble);
+        let cap = |r: f64| spacing_radius(r, &p);
         let overlaps = |a: Vec2, ra: f64, b: Vec2, rb: f64| (a - b).norm() < p.overlap * (cap(ra) + cap(rb));
         let radii: Vec<f64> = self.points.iter().map(|q| rho(*q)).collect();
         self.steps.resize(n, (Vec2::zeros(), 1.0));
@@ -455,7 +467,7 @@ impl ElasticBand {
         rho: &dyn Fn(Vec2) -> f64,
     ) {
         let p = &self.params;
-        let cap = |r: f64| r.min(p.max_bubble);
+        let cap = |r: f64| spacing_radius(r, p);
         if (a.0 - b.0).norm() < p.overlap * (cap(a.1) + cap(b.1))
             || depth >= p.max_insert_depth
             || out.len() + remaining >= p.max_bubbles
@@ -546,6 +558,20 @@ mod tests {
         b.update(&|_| 1.0, None);
         assert_eq!(b.points(), &[v(1.0, 1.0)]);
         assert!(b.is_connected());
+    }
+
+    #[test]
+    fn bisection_towards_points_without_clearance_stops_at_the_min_bubble_spacing() {
+        // A 1 m stretch of the path without clearance (and no gradient to push it out): its
+        // bubbles are spaced like min_bubble ones (2 * 0.7 * 0.05 = 0.07 m apart), so a band
+        // through it holds about 15 of them instead of bisecting until `max_bubbles` is filled.
+        // The band is reported broken all the same.
+        let clearance = |q: Vec2| if (q.x - 5.0).abs() < 0.5 { 0.0 } else { 1.0 };
+        let path = line(v(0.0, 0.0), v(10.0, 0.0), 20);
+        let mut b = band(&path);
+        b.update(&clearance, None);
+        assert!(b.points().len() < 100, "{} bubbles", b.points().len());
+        assert!(!b.is_connected());
     }
 
     #[test]
