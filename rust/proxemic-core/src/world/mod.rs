@@ -24,7 +24,7 @@
 //! Files: [`layout`] (the output row), [`reward`] (reward terms and each robot's record of the
 //! step), [`observe`] (observations and the people buffer), [`tours`], `build` (construction
 //! and its checks), `access` (accessors and queries), [`planners`] (the built-in planners'
-//! bookkeeping and dispatch to [`crate::control`]), [`batch`] (several worlds stepped in one call,
+//! bookkeeping and dispatch to [`crate::control`]), `stop` (the `astar_stop` planner's step), [`batch`] (several worlds stepped in one call,
 //! in parallel threads).
 
 mod access;
@@ -35,6 +35,7 @@ pub mod layout;
 pub mod observe;
 pub mod planners;
 pub mod reward;
+mod stop;
 pub mod tours;
 
 use rand::{Rng, SeedableRng};
@@ -43,6 +44,7 @@ use rand_chacha::ChaCha8Rng;
 use crate::control::eband::{EbandParams, ElasticBand};
 use crate::control::mode_switch::{Mode, SocialControlParams};
 use crate::control::orca::{ObstacleSet, Orca};
+use crate::control::stop_and_wait::StopAndWait;
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::map::geometry::StaticGeometry;
@@ -122,6 +124,8 @@ struct RobotRuntime {
     /// Whether the robot stands at its current target (a tour stop), and for how much longer (s).
     dwelling: bool,
     dwell_left: f64,
+    /// The stop-and-wait rule's state (astar_stop planner only).
+    stop: StopAndWait,
 }
 
 /// A cost grid shared by all robots with the same inflation radius.
@@ -331,6 +335,7 @@ impl World {
             leg: 0,
             dwelling: false,
             dwell_left: 0.0,
+            stop: StopAndWait::new(),
         }
     }
 

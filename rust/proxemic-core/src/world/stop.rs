@@ -1,0 +1,65 @@
+//! The `astar_stop` planner's step: the rule of [`crate::control::stop_and_wait`] on the robot's
+//! plain A* path, among the people and the other robots, and its re-plan around the blockers.
+
+use super::World;
+use super::planners::plan_path;
+use crate::control::mode_switch::Mode;
+use crate::control::stop_and_wait::{Body, Robot, StopDecision, StopParams, max_reach, with_temporary_obstacles};
+use crate::control::{FollowerParams, PathFollower};
+use crate::math::Vec2;
+
+impl World {
+    /// Robot `i`'s stop-and-wait step: keeps the follower's `desired` velocity while the corridor
+    /// ahead is clear ([`Mode::FollowPath`]), or sets it to zero while someone is in the way
+    /// ([`Mode::Wait`]), re-planning the plain A* path around them after the wait.
+    pub(super) fn stop_step(&mut self, i: usize, desired: &mut Vec2, dt: f64) -> Mode {
+        let params = StopParams::default();
+        let st = &self.statics[i];
+        let rb = &self.robots[i];
+        let p = Vec2::new(rb.pose[0], rb.pose[1]);
+        let robot = Robot {
+            radius: st.radius,
+            speed: rb.exec_v.norm(),
+            max_speed: st.limits.max_speed,
+            max_decel: st.limits.max_accel,
+        };
+        let c = &self.crowd;
+        let mut others: Vec<Body> = (0..c.len()).map(|k| Body { pos: c.pos[k], radius: c.radius[k] }).collect();
+        others.extend(
+            self.robots
+                .iter()
+                .zip(&self.statics)
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, (o, s))| Body { pos: Vec2::new(o.pose[0], o.pose[1]), radius: s.radius }),
+        );
+        let length = max_reach(&robot, robot.max_speed, &others, dt, &params);
+        let samples = (length / params.sample).ceil().max(1.0) as usize;
+        let mut ahead = Vec::with_capacity(samples + 1);
+        ahead.push(p);
+        ahead.extend((1..=samples).map(|k| rb.follower.point_ahead(k as f64 * params.sample)));
+        let decision = self.robots[i].stop.update(&ahead, &robot, &others, dt, &params);
+        match decision {
+            StopDecision::Go => Mode::FollowPath,
+            StopDecision::Stop => {
+                *desired = Vec2::zeros();
+                Mode::Wait
+            }
+            StopDecision::Replan(blocking) => {
+                let around: Vec<(Body, f64)> = blocking
+                    .iter()
+                    .filter_map(|&k| others.get(k))
+                    .map(|&b| (b, robot.radius + b.radius + params.margin))
+                    .collect();
+                let st = &self.statics[i];
+                let grid = with_temporary_obstacles(&self.grids[st.grid_index].grid, &around);
+                let goal = st.route[self.robots[i].leg];
+                if let Some(path) = plan_path(&mut self.planner, &grid, p, goal) {
+                    self.robots[i].follower = PathFollower::new(path, FollowerParams::default());
+                }
+                *desired = Vec2::zeros();
+                Mode::Wait
+            }
+        }
+    }
+}
