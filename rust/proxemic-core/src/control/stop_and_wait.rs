@@ -4,12 +4,16 @@
 //! Not a paper's method: the field-standard "stop when something is in the way" behaviour of a
 //! path-following base, with the re-plan around a blocker that a navigation stack's recovery
 //! does. The rule, every control step:
-//! - **Corridor ahead.** Someone (a person or another robot) *blocks* the robot when their centre
-//!   is within `half_width = r_robot + r_other + margin` of the path ahead and their projection
-//!   on it is ahead of the robot (arc length in `(0, reach]`, so nobody beside or behind the
-//!   robot counts), with the reach the stopping distance plus the same clearance:
-//!   `reach = v^2 / (2 a_max) + v dt + r_robot + r_other + margin` (`v` the robot's speed, `a_max`
-//!   its maximum deceleration, `dt` one control period of reaction).
+//! - **Corridor ahead.** Someone (a person or another robot) *blocks* the robot when their centre,
+//!   now or where their current velocity takes them within [`StopParams::horizon`] (1.5 s, so a
+//!   robot or person about to cross in front counts), is within `half_width = r_robot + r_other +
+//!   margin` of the path ahead and their projection on it is ahead of the robot (arc length in
+//!   `(0, reach]`, so nobody beside or behind the robot counts), with the reach the stopping
+//!   distance plus the same clearance: `reach = v^2 / (2 a_max) + v dt + r_robot + r_other +
+//!   margin` (`v` the robot's speed, `a_max` its maximum deceleration, `dt` one control period of
+//!   reaction). Among robots, only those with the right of way (a lower index) count where they
+//!   are about to be; the others count where they are. Past the end of the path (the robot's target, where it stops anyway), only
+//!   someone the robot would touch there blocks (closer to the end than `r_robot + r_other`).
 //! - **Stop.** A moving robot with a blocker in its corridor (at its current speed's reach) stops
 //!   (desired velocity zero: it brakes at its deceleration limit).
 //! - **Resume.** A stopped robot moves on when its corridor is clear at the reach of its maximum
@@ -32,11 +36,15 @@ pub struct StopParams {
     pub wait: f64,
     /// Spacing of the points sampled along the path ahead (m); default 0.1.
     pub sample: f64,
+    /// How far ahead in time the others' positions are predicted at their current velocities (s);
+    /// default 1.5 (sampled every 0.25 s): about the stopping time at full speed (1 s for Pepper)
+    /// plus a half-second of reaction.
+    pub horizon: f64,
 }
 
 impl Default for StopParams {
     fn default() -> Self {
-        StopParams { margin: 0.3, wait: 2.0, sample: 0.1 }
+        StopParams { margin: 0.3, wait: 2.0, sample: 0.1, horizon: 1.5 }
     }
 }
 
@@ -47,7 +55,16 @@ pub struct Body {
     pub pos: Vec2,
     /// Radius (m).
     pub radius: f64,
+    /// Velocity (m/s).
+    pub vel: Vec2,
+    /// Whether its predicted positions count, not only where it is now: true for people and for
+    /// robots with the right of way over this one (a lower index); a robot gives way to those
+    /// about to cross its path, so that two robots meeting do not both stop for each other.
+    pub predicted: bool,
 }
+
+/// Step of the prediction of the others' positions (s).
+const PREDICTION_STEP: f64 = 0.25;
 
 /// The robot itself this step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,11 +111,12 @@ fn arc_lengths(ahead: &[Vec2]) -> Vec<f64> {
     out
 }
 
-/// The closest point of the polyline to `q`: (arc length, distance). A projection before the
-/// polyline's start gets a negative arc length (the signed distance along the first segment), so
-/// that someone behind or beside the robot is told from someone ahead.
-fn project(ahead: &[Vec2], arc: &[f64], q: Vec2) -> (f64, f64) {
-    let Some(&first) = ahead.first() else { return (f64::NEG_INFINITY, f64::INFINITY) };
+/// The closest point of the polyline to `q`: (arc length, distance, whether it lies past the
+/// polyline's end). A projection before the polyline's start gets a negative arc length (the
+/// signed distance along the first segment), so that someone behind or beside the robot is told
+/// from someone ahead.
+fn project(ahead: &[Vec2], arc: &[f64], q: Vec2) -> (f64, f64, bool) {
+    let Some(&first) = ahead.first() else { return (f64::NEG_INFINITY, f64::INFINITY, false) };
     let mut best = (0.0, (q - first).norm());
     if let Some(&second) = ahead.get(1) {
         let d = second - first;
@@ -126,21 +144,44 @@ fn project(ahead: &[Vec2], arc: &[f64], q: Vec2) -> (f64, f64) {
             best = (arc[k - 1] + t * len2.sqrt(), d);
         }
     }
-    best
+    // Past the end: beyond the last segment of non-zero length (the samples repeat the end).
+    let last = ahead.windows(2).rev().find(|w| (w[1] - w[0]).norm_squared() > 1e-24);
+    let past_end = last.is_some_and(|w| {
+        let (a, b) = (w[0], w[1]);
+        (q - b).dot(&(b - a)) > 0.0 && (best.0 - arc[arc.len() - 1]).abs() < 1e-9
+    });
+    (best.0, best.1, past_end)
 }
 
 /// The indices of `others` in the corridor ahead of `robot` along `ahead` (a polyline starting at
 /// the robot's centre, along its path), each with the reach of `speed` (see the module docs).
-pub fn blockers(ahead: &[Vec2], robot: &Robot, speed: f64, others: &[Body], dt: f64, params: &StopParams) -> Vec<usize> {
+/// `ends_at_goal`: the polyline ends at the robot's target (where it stops), not merely at the
+/// reach.
+pub fn blockers(
+    ahead: &[Vec2],
+    ends_at_goal: bool,
+    robot: &Robot,
+    speed: f64,
+    others: &[Body],
+    dt: f64,
+    params: &StopParams,
+) -> Vec<usize> {
     let arc = arc_lengths(ahead);
+    let samples = (params.horizon.max(0.0) / PREDICTION_STEP).floor() as usize;
     others
         .iter()
         .enumerate()
         .filter(|(_, o)| {
-            let half_width = robot.radius + o.radius + params.margin;
+            let touch = robot.radius + o.radius;
+            let half_width = touch + params.margin;
             let limit = reach(speed, robot.max_decel, dt, robot.radius, o.radius, params.margin);
-            let (s, d) = project(ahead, &arc, o.pos);
-            s > 0.0 && s <= limit && d <= half_width
+            let samples = if o.predicted { samples } else { 0 };
+            (0..=samples).any(|k| {
+                let q = o.pos + o.vel * (k as f64 * PREDICTION_STEP);
+                let (s, d, past_end) = project(ahead, &arc, q);
+                let width = if past_end && ends_at_goal { touch } else { half_width };
+                s > 0.0 && s <= limit && d <= width
+            })
         })
         .map(|(k, _)| k)
         .collect()
@@ -173,24 +214,26 @@ impl StopAndWait {
     }
 
     /// One control step of `dt` seconds for `robot`, with `ahead` its path ahead (a polyline from
-    /// its centre, at least [`max_reach`] at its maximum speed long) among `others`.
+    /// its centre, at least [`max_reach`] at its maximum speed long, or ending at its target, then
+    /// `ends_at_goal`) among `others`.
     pub fn update(
         &mut self,
         ahead: &[Vec2],
+        ends_at_goal: bool,
         robot: &Robot,
         others: &[Body],
         dt: f64,
         params: &StopParams,
     ) -> StopDecision {
         if !self.stopped {
-            if blockers(ahead, robot, robot.speed, others, dt, params).is_empty() {
+            if blockers(ahead, ends_at_goal, robot, robot.speed, others, dt, params).is_empty() {
                 return StopDecision::Go;
             }
             self.stopped = true;
             self.waited = 0.0;
             return StopDecision::Stop;
         }
-        let blocking = blockers(ahead, robot, robot.max_speed, others, dt, params);
+        let blocking = blockers(ahead, ends_at_goal, robot, robot.max_speed, others, dt, params);
         if blocking.is_empty() {
             *self = Self::new();
             return StopDecision::Go;
@@ -246,7 +289,7 @@ mod tests {
     }
 
     fn person(x: f64, y: f64) -> Body {
-        Body { pos: Vec2::new(x, y), radius: 0.2 }
+        Body { pos: Vec2::new(x, y), radius: 0.2, vel: Vec2::zeros(), predicted: true }
     }
 
     /// A straight path from the origin along +x, 5 m.
@@ -267,12 +310,15 @@ mod tests {
     fn stops_for_a_person_ahead() {
         let p = StopParams::default();
         let mut s = StopAndWait::new();
-        let d = s.update(&straight(), &pepper(0.55), &[person(1.0, 0.1)], DT, &p);
+        let d = s.update(&straight(), false, &pepper(0.55), &[person(1.0, 0.1)], DT, &p);
         assert_eq!(d, StopDecision::Stop);
         assert!(s.stopped());
         // Farther than the reach at full speed (1.07 m): no stop yet.
         let mut s = StopAndWait::new();
-        assert_eq!(s.update(&straight(), &pepper(0.55), &[person(1.2, 0.0)], DT, &p), StopDecision::Go);
+        assert_eq!(
+            s.update(&straight(), false, &pepper(0.55), &[person(1.2, 0.0)], DT, &p),
+            StopDecision::Go
+        );
     }
 
     #[test]
@@ -280,7 +326,7 @@ mod tests {
         let p = StopParams::default();
         let mut s = StopAndWait::new();
         for q in [person(0.0, 0.5), person(-0.5, 0.0), person(-0.3, 0.3), person(0.8, 0.8)] {
-            assert_eq!(s.update(&straight(), &pepper(0.55), &[q], DT, &p), StopDecision::Go, "{q:?}");
+            assert_eq!(s.update(&straight(), false, &pepper(0.55), &[q], DT, &p), StopDecision::Go, "{q:?}");
         }
         assert!(!s.stopped());
     }
@@ -288,8 +334,39 @@ mod tests {
     #[test]
     fn stops_for_another_robot_ahead_too() {
         let p = StopParams::default();
-        let robot = Body { pos: Vec2::new(0.9, -0.2), radius: 0.24 };
-        assert_eq!(blockers(&straight(), &pepper(0.4), 0.4, &[person(3.0, 0.0), robot], DT, &p), vec![1]);
+        let robot = Body { pos: Vec2::new(0.9, -0.2), radius: 0.24, vel: Vec2::zeros(), predicted: true };
+        assert_eq!(
+            blockers(&straight(), false, &pepper(0.4), 0.4, &[person(3.0, 0.0), robot], DT, &p),
+            vec![1]
+        );
+    }
+
+    #[test]
+    fn stops_for_someone_about_to_cross_ahead() {
+        // A robot 1.2 m to the side of the path, 0.8 m ahead, coming at 0.55 m/s: not in the
+        // corridor now, in it within the horizon.
+        let p = StopParams::default();
+        let crossing =
+            Body { pos: Vec2::new(0.8, -1.2), radius: 0.24, vel: Vec2::new(0.0, 0.55), predicted: true };
+        assert_eq!(blockers(&straight(), false, &pepper(0.55), 0.55, &[crossing], DT, &p), vec![0]);
+        let leaving = Body { vel: Vec2::new(0.0, -0.55), ..crossing };
+        assert!(blockers(&straight(), false, &pepper(0.55), 0.55, &[leaving], DT, &p).is_empty());
+        // A robot without the right of way over this one counts only where it is.
+        let giving_way = Body { predicted: false, ..crossing };
+        assert!(blockers(&straight(), false, &pepper(0.55), 0.55, &[giving_way], DT, &p).is_empty());
+    }
+
+    #[test]
+    fn past_the_goal_only_someone_the_robot_would_touch_blocks() {
+        // The path ends at the goal 0.5 m ahead; a person 0.6 m beyond it is in the corridor's
+        // reach but the robot stops at its goal first.
+        let p = StopParams::default();
+        let path = [Vec2::new(0.0, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.5, 0.0)];
+        assert!(blockers(&path, true, &pepper(0.3), 0.3, &[person(1.1, 0.0)], DT, &p).is_empty());
+        // Not the goal (the path goes on beyond what was sampled): it blocks.
+        assert_eq!(blockers(&path, false, &pepper(0.3), 0.3, &[person(1.1, 0.0)], DT, &p), vec![0]);
+        // Standing at the goal: it blocks.
+        assert_eq!(blockers(&path, true, &pepper(0.3), 0.3, &[person(0.7, 0.0)], DT, &p), vec![0]);
     }
 
     #[test]
@@ -298,8 +375,8 @@ mod tests {
         // the path, does not block; one on the path past the corner does.
         let p = StopParams::default();
         let path = [Vec2::new(0.0, 0.0), Vec2::new(0.5, 0.0), Vec2::new(0.5, 2.0)];
-        assert!(blockers(&path, &pepper(0.55), 0.55, &[person(1.3, 0.0)], DT, &p).is_empty());
-        assert_eq!(blockers(&path, &pepper(0.55), 0.55, &[person(0.5, 0.5)], DT, &p), vec![0]);
+        assert!(blockers(&path, false, &pepper(0.55), 0.55, &[person(1.3, 0.0)], DT, &p).is_empty());
+        assert_eq!(blockers(&path, false, &pepper(0.55), 0.55, &[person(0.5, 0.5)], DT, &p), vec![0]);
     }
 
     #[test]
@@ -307,14 +384,23 @@ mod tests {
         let p = StopParams::default();
         let mut s = StopAndWait::new();
         // At 0.3 m/s the reach is 0.85 m.
-        assert_eq!(s.update(&straight(), &pepper(0.3), &[person(0.8, 0.0)], DT, &p), StopDecision::Stop);
+        assert_eq!(
+            s.update(&straight(), false, &pepper(0.3), &[person(0.8, 0.0)], DT, &p),
+            StopDecision::Stop
+        );
         // Still there (the robot has stopped): stand.
-        assert_eq!(s.update(&straight(), &pepper(0.0), &[person(0.8, 0.0)], DT, &p), StopDecision::Stop);
+        assert_eq!(
+            s.update(&straight(), false, &pepper(0.0), &[person(0.8, 0.0)], DT, &p),
+            StopDecision::Stop
+        );
         // Stepped just out of the reach at standstill but within the reach at full speed: still
         // stand (no creeping up).
-        assert_eq!(s.update(&straight(), &pepper(0.0), &[person(1.0, 0.0)], DT, &p), StopDecision::Stop);
+        assert_eq!(
+            s.update(&straight(), false, &pepper(0.0), &[person(1.0, 0.0)], DT, &p),
+            StopDecision::Stop
+        );
         // Gone to the side: go.
-        assert_eq!(s.update(&straight(), &pepper(0.0), &[person(0.9, 1.5)], DT, &p), StopDecision::Go);
+        assert_eq!(s.update(&straight(), false, &pepper(0.0), &[person(0.9, 1.5)], DT, &p), StopDecision::Go);
         assert!(!s.stopped());
     }
 
@@ -324,10 +410,10 @@ mod tests {
         let mut s = StopAndWait::new();
         let me = pepper(0.0);
         let them = [person(0.7, 0.0)];
-        assert_eq!(s.update(&straight(), &pepper(0.2), &them, DT, &p), StopDecision::Stop);
+        assert_eq!(s.update(&straight(), false, &pepper(0.2), &them, DT, &p), StopDecision::Stop);
         let mut replan_at = None;
         for k in 1..=40 {
-            match s.update(&straight(), &me, &them, DT, &p) {
+            match s.update(&straight(), false, &me, &them, DT, &p) {
                 StopDecision::Stop => {}
                 StopDecision::Replan(b) => {
                     assert_eq!(b, vec![0]);
@@ -361,6 +447,6 @@ mod tests {
         pts.extend(path.cells.iter().map(|&(x, y)| spec.center(x, y)));
         let closest = pts[1..].iter().map(|q| (q - them[0].pos).norm()).fold(f64::INFINITY, f64::min);
         assert!(closest > clearance, "the new path keeps {closest:.2} m > {clearance:.2} m from the person");
-        assert_eq!(s.update(&pts, &me, &them, DT, &p), StopDecision::Go);
+        assert_eq!(s.update(&pts, false, &me, &them, DT, &p), StopDecision::Go);
     }
 }

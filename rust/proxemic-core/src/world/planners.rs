@@ -459,7 +459,8 @@ impl World {
             })
             .collect();
         let n = if people == PeopleAs::Absent { 0 } else { self.crowd.pos.len() };
-        let intimate = if people == PeopleAs::IntimateZones { self.social.config().zones.intimate } else { 0.0 };
+        let intimate =
+            if people == PeopleAs::IntimateZones { self.social.config().zones.intimate } else { 0.0 };
         let people = OrcaPeople {
             pos: &self.crowd.pos[..n],
             vel: &self.crowd.vel[..n],

@@ -4,7 +4,9 @@
 use super::World;
 use super::planners::plan_path;
 use crate::control::mode_switch::Mode;
-use crate::control::stop_and_wait::{Body, Robot, StopDecision, StopParams, max_reach, with_temporary_obstacles};
+use crate::control::stop_and_wait::{
+    Body, Robot, StopDecision, StopParams, max_reach, with_temporary_obstacles,
+};
 use crate::control::{FollowerParams, PathFollower};
 use crate::math::Vec2;
 
@@ -24,21 +26,25 @@ impl World {
             max_decel: st.limits.max_accel,
         };
         let c = &self.crowd;
-        let mut others: Vec<Body> = (0..c.len()).map(|k| Body { pos: c.pos[k], radius: c.radius[k] }).collect();
-        others.extend(
-            self.robots
-                .iter()
-                .zip(&self.statics)
-                .enumerate()
-                .filter(|&(j, _)| j != i)
-                .map(|(_, (o, s))| Body { pos: Vec2::new(o.pose[0], o.pose[1]), radius: s.radius }),
-        );
+        // People always count where they are about to be; a robot only when it has the right of
+        // way over this one (a lower index).
+        let mut others: Vec<Body> = (0..c.len())
+            .map(|k| Body { pos: c.pos[k], radius: c.radius[k], vel: c.vel[k], predicted: true })
+            .collect();
+        for (j, (o, s)) in self.robots.iter().zip(&self.statics).enumerate() {
+            if j != i {
+                let pos = Vec2::new(o.pose[0], o.pose[1]);
+                others.push(Body { pos, radius: s.radius, vel: o.velocity, predicted: j < i });
+            }
+        }
         let length = max_reach(&robot, robot.max_speed, &others, dt, &params);
         let samples = (length / params.sample).ceil().max(1.0) as usize;
         let mut ahead = Vec::with_capacity(samples + 1);
         ahead.push(p);
         ahead.extend((1..=samples).map(|k| rb.follower.point_ahead(k as f64 * params.sample)));
-        let decision = self.robots[i].stop.update(&ahead, &robot, &others, dt, &params);
+        // The path ends within the reach: its end is the robot's current target.
+        let ends_at_goal = rb.follower.point_ahead(length + params.sample) == rb.follower.point_ahead(length);
+        let decision = self.robots[i].stop.update(&ahead, ends_at_goal, &robot, &others, dt, &params);
         match decision {
             StopDecision::Go => Mode::FollowPath,
             StopDecision::Stop => {
