@@ -261,7 +261,20 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {}
 #: (scene set, claim) -> the measured figure, for claims against ``astar_orca`` that do not hold on
 #: the test split (CI sets).
-KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}
+KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {
+    (
+        "care_center",
+        "personal_seconds",
+    ): "personal-zone time: social 88.2 s vs astar_orca 143.2 s (38% less, claim 50%)",
+    (
+        "care_center",
+        "collisions",
+    ): "collision rate: social 5% (1/20) vs astar_orca 0% (claim: <= the baseline's and <= 2%)",
+    (
+        GENERATED,
+        "active_object_seconds",
+    ): "active object-space time: social 10.4 s vs astar_orca 10.0 s (claim 80% less)",
+}
 #: The same for the full test split.
 KNOWN_FULL_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}
 #: (scene set, claim) -> the measured figure, where plain A* never does what the claim cuts.
@@ -272,7 +285,13 @@ NOT_EXERCISED: dict[tuple[str, str], str] = {
     (GENERATED, "interaction_crossings"): "plain A* crosses no interaction in the 50 generated scenes (0)",
 }
 #: The same for ``astar_orca``.
-NOT_EXERCISED_VS_ORCA: dict[tuple[str, str], str] = {}
+NOT_EXERCISED_VS_ORCA: dict[tuple[str, str], str] = {
+    ("care_center", "ospace_entries"): "astar_orca enters no o-space in the care center (0 entries on 20 test seeds)",
+    (
+        "care_center",
+        "interaction_crossings",
+    ): "astar_orca crosses no interaction in the care center (0 on 20 test seeds)",
+}
 
 
 def _seeds(scene: str, full: bool) -> tuple[int, ...]:

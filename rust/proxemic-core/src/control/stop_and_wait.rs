@@ -213,27 +213,37 @@ impl StopAndWait {
         self.stopped
     }
 
-    /// One control step of `dt` seconds for `robot`, with `ahead` its path ahead (a polyline from
-    /// its centre, at least [`max_reach`] at its maximum speed long, or ending at its target, then
-    /// `ends_at_goal`) among `others`.
+    /// One control step of `dt` seconds for `robot` among `others`, with `corridors` the polylines
+    /// ahead of it, each with whether it ends at the robot's target (see [`blockers`]): its path
+    /// ahead (from its centre, at least [`max_reach`] at its maximum speed long, or ending at its
+    /// target) and the straight line along its velocity (a robot off its path, after a push or a
+    /// re-plan, moves along neither alone). Someone in any of them blocks.
     pub fn update(
         &mut self,
-        ahead: &[Vec2],
-        ends_at_goal: bool,
+        corridors: &[(&[Vec2], bool)],
         robot: &Robot,
         others: &[Body],
         dt: f64,
         params: &StopParams,
     ) -> StopDecision {
+        let blocking = |speed: f64| -> Vec<usize> {
+            let mut b: Vec<usize> = corridors
+                .iter()
+                .flat_map(|&(ahead, end)| blockers(ahead, end, robot, speed, others, dt, params))
+                .collect();
+            b.sort_unstable();
+            b.dedup();
+            b
+        };
         if !self.stopped {
-            if blockers(ahead, ends_at_goal, robot, robot.speed, others, dt, params).is_empty() {
+            if blocking(robot.speed).is_empty() {
                 return StopDecision::Go;
             }
             self.stopped = true;
             self.waited = 0.0;
             return StopDecision::Stop;
         }
-        let blocking = blockers(ahead, ends_at_goal, robot, robot.max_speed, others, dt, params);
+        let blocking = blocking(robot.max_speed);
         if blocking.is_empty() {
             *self = Self::new();
             return StopDecision::Go;
@@ -310,13 +320,13 @@ mod tests {
     fn stops_for_a_person_ahead() {
         let p = StopParams::default();
         let mut s = StopAndWait::new();
-        let d = s.update(&straight(), false, &pepper(0.55), &[person(1.0, 0.1)], DT, &p);
+        let d = s.update(&[(&straight()[..], false)], &pepper(0.55), &[person(1.0, 0.1)], DT, &p);
         assert_eq!(d, StopDecision::Stop);
         assert!(s.stopped());
         // Farther than the reach at full speed (1.07 m): no stop yet.
         let mut s = StopAndWait::new();
         assert_eq!(
-            s.update(&straight(), false, &pepper(0.55), &[person(1.2, 0.0)], DT, &p),
+            s.update(&[(&straight()[..], false)], &pepper(0.55), &[person(1.2, 0.0)], DT, &p),
             StopDecision::Go
         );
     }
@@ -326,7 +336,11 @@ mod tests {
         let p = StopParams::default();
         let mut s = StopAndWait::new();
         for q in [person(0.0, 0.5), person(-0.5, 0.0), person(-0.3, 0.3), person(0.8, 0.8)] {
-            assert_eq!(s.update(&straight(), false, &pepper(0.55), &[q], DT, &p), StopDecision::Go, "{q:?}");
+            assert_eq!(
+                s.update(&[(&straight()[..], false)], &pepper(0.55), &[q], DT, &p),
+                StopDecision::Go,
+                "{q:?}"
+            );
         }
         assert!(!s.stopped());
     }
@@ -385,22 +399,25 @@ mod tests {
         let mut s = StopAndWait::new();
         // At 0.3 m/s the reach is 0.85 m.
         assert_eq!(
-            s.update(&straight(), false, &pepper(0.3), &[person(0.8, 0.0)], DT, &p),
+            s.update(&[(&straight()[..], false)], &pepper(0.3), &[person(0.8, 0.0)], DT, &p),
             StopDecision::Stop
         );
         // Still there (the robot has stopped): stand.
         assert_eq!(
-            s.update(&straight(), false, &pepper(0.0), &[person(0.8, 0.0)], DT, &p),
+            s.update(&[(&straight()[..], false)], &pepper(0.0), &[person(0.8, 0.0)], DT, &p),
             StopDecision::Stop
         );
         // Stepped just out of the reach at standstill but within the reach at full speed: still
         // stand (no creeping up).
         assert_eq!(
-            s.update(&straight(), false, &pepper(0.0), &[person(1.0, 0.0)], DT, &p),
+            s.update(&[(&straight()[..], false)], &pepper(0.0), &[person(1.0, 0.0)], DT, &p),
             StopDecision::Stop
         );
         // Gone to the side: go.
-        assert_eq!(s.update(&straight(), false, &pepper(0.0), &[person(0.9, 1.5)], DT, &p), StopDecision::Go);
+        assert_eq!(
+            s.update(&[(&straight()[..], false)], &pepper(0.0), &[person(0.9, 1.5)], DT, &p),
+            StopDecision::Go
+        );
         assert!(!s.stopped());
     }
 
@@ -410,10 +427,10 @@ mod tests {
         let mut s = StopAndWait::new();
         let me = pepper(0.0);
         let them = [person(0.7, 0.0)];
-        assert_eq!(s.update(&straight(), false, &pepper(0.2), &them, DT, &p), StopDecision::Stop);
+        assert_eq!(s.update(&[(&straight()[..], false)], &pepper(0.2), &them, DT, &p), StopDecision::Stop);
         let mut replan_at = None;
         for k in 1..=40 {
-            match s.update(&straight(), false, &me, &them, DT, &p) {
+            match s.update(&[(&straight()[..], false)], &me, &them, DT, &p) {
                 StopDecision::Stop => {}
                 StopDecision::Replan(b) => {
                     assert_eq!(b, vec![0]);
@@ -447,6 +464,6 @@ mod tests {
         pts.extend(path.cells.iter().map(|&(x, y)| spec.center(x, y)));
         let closest = pts[1..].iter().map(|q| (q - them[0].pos).norm()).fold(f64::INFINITY, f64::min);
         assert!(closest > clearance, "the new path keeps {closest:.2} m > {clearance:.2} m from the person");
-        assert_eq!(s.update(&pts, false, &me, &them, DT, &p), StopDecision::Go);
+        assert_eq!(s.update(&[(&pts[..], false)], &me, &them, DT, &p), StopDecision::Go);
     }
 }

@@ -44,7 +44,11 @@ impl World {
         ahead.extend((1..=samples).map(|k| rb.follower.point_ahead(k as f64 * params.sample)));
         // The path ends within the reach: its end is the robot's current target.
         let ends_at_goal = rb.follower.point_ahead(length + params.sample) == rb.follower.point_ahead(length);
-        let decision = self.robots[i].stop.update(&ahead, ends_at_goal, &robot, &others, dt, &params);
+        // The straight line along the robot's velocity, as long as the path's corridor.
+        let heading =
+            if robot.speed > 1e-3 { vec![p, p + rb.exec_v * (length / robot.speed)] } else { Vec::new() };
+        let corridors: [(&[Vec2], bool); 2] = [(&ahead, ends_at_goal), (&heading, false)];
+        let decision = self.robots[i].stop.update(&corridors, &robot, &others, dt, &params);
         match decision {
             StopDecision::Go => Mode::FollowPath,
             StopDecision::Stop => {
