@@ -11,6 +11,7 @@ import proxemic
 from proxemic import scenarios
 from proxemic.cli import main
 from proxemic.errors import ScenarioError, UnknownNameError
+from proxemic.evaluation import BASELINE_PLANNERS
 from proxemic.tuning import TUNABLE_PLANNERS
 
 
@@ -46,7 +47,11 @@ def test_eval_accepts_an_env_id(tmp_path, capsys):
     assert main(args) == 0, capsys.readouterr().err
     with (out / "episodes.csv").open() as fh:
         rows = list(csv.DictReader(fh))
-    assert [(r["scenario"], r["planner"], r["robot"]) for r in rows] == [("daza2021_path1", "astar", "0")]
+    # eval's default planners are the non-social baselines
+    assert [(r["scenario"], r["planner"], r["robot"]) for r in rows] == [
+        ("daza2021_path1", p, "0") for p in BASELINE_PLANNERS
+    ]
+    assert list(BASELINE_PLANNERS) == ["astar", "astar_orca", "astar_stop"]
 
 
 def test_tune_and_video_accept_an_env_id():

@@ -206,8 +206,8 @@ def test_a_multi_robot_scene_scores_every_robot(tmp_path, capsys):
     assert robots_note([{"robots": 1}]) == ""
     # the CLI prints the note too
     out = tmp_path / "multi"
-    args = ["eval", "--scenario", "care_center_multi", "--episodes", "1", "--workers", "1", "--out", str(out)]
-    assert main(args) == 0
+    args = ["eval", "--scenario", "care_center_multi", "--planner", "astar", "--episodes", "1", "--workers", "1"]
+    assert main([*args, "--out", str(out)]) == 0
     assert "Every robot scored: the planner drives all 3 robots" in capsys.readouterr().out
     with (out / "episodes.csv").open() as fh:
         assert [r["robot"] for r in csv.DictReader(fh)] == ["0", "1", "2"]

@@ -162,10 +162,10 @@ def test_plain_astar_robots_collide_at_the_crossing_and_it_is_counted():
 
 def test_mixed_planners_and_autopilot_sets():
     env = proxemic.parallel_env(
-        "daza2021_fig15", planners={"robot_1": "astar", "robot_2": "orca"}, autopilot={"robot_3"}
+        "daza2021_fig15", planners={"robot_1": "astar", "robot_2": "astar_orca"}, autopilot={"robot_3"}
     )
     planners = [r["planner"] for r in env.scenario["robots"]]
-    assert planners[1:3] == ["astar", "orca"]
+    assert planners[1:3] == ["astar", "astar_orca"]
     env.reset(seed=0)
     # robot_3 is on autopilot: its action may be left out; the others must act.
     zero = np.zeros(3, np.float32)

@@ -66,14 +66,16 @@ def test_topdown_overlays_are_switchable_and_leave_the_episode_unchanged():
 def test_demo_writes_tables_and_plots(tmp_path, capsys):
     assert main(["demo", "--episodes", "1", "--workers", "1", "--out", str(tmp_path)]) == 0
     text = capsys.readouterr().out
-    header = next(line for line in text.splitlines() if line.split() == ["astar", "social_astar", "social"])
+    assert DEMO_PLANNERS == ("astar", "astar_orca", "astar_stop", "social_astar", "social")
+    header = next(line for line in text.splitlines() if line.split() == list(DEMO_PLANNERS))
     assert header.startswith(" ")  # the terminal's headline: a line per metric, a column per planner
     assert "success (%)" in text and "time to goal (s)" in text
     for scenario in ("museum", "care_center"):
         # the headline table (header, separator, one row per planner), then a verdict per pair, then all metrics
         summary = (tmp_path / scenario / "summary.md").read_text()
         assert summary.split("\n\n")[0].count("\n") == 1 + len(DEMO_PLANNERS)
-        assert summary.count("\n- ") == 3 and "social vs astar" in summary
+        pairs = len(DEMO_PLANNERS) * (len(DEMO_PLANNERS) - 1) // 2
+        assert summary.count("\n- ") == pairs and "social vs astar" in summary and "social vs astar_orca" in summary
         all_metrics = summary.split("## All metrics\n\n")[1]
         assert all_metrics.count("\n") == 2 + len(DEMO_PLANNERS)
         assert (tmp_path / scenario / "trajectories_social_map.png").stat().st_size > 10_000

@@ -16,14 +16,16 @@ import numpy as np
 
 from proxemic import scenarios
 from proxemic.errors import ProxemicError
+from proxemic.evaluation import BASELINE_PLANNERS
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
 DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None), ("calderita_exp1", None))
 
 
-#: The demo's planners: plain A*, the social global planner alone, and proxemic's own social planner
-#: (social A* with Daza 2021's mode switch: Social Momentum near people and ORCA among robots).
-DEMO_PLANNERS = ("astar", "social_astar", "social")
+#: The demo's planners: the non-social baselines (plain A* blind to people, plain A* with ORCA, plain
+#: A* that stops for whoever is in its way), the social global planner alone, and proxemic's own social
+#: planner (social A* with Daza 2021's mode switch: Social Momentum near people and ORCA among robots).
+DEMO_PLANNERS = ("astar", "astar_orca", "astar_stop", "social_astar", "social")
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
@@ -128,7 +130,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
         return 2
     cfg = EvalConfig(
         scenario=args.scenario,
-        planners=args.planner or ([] if policies else ["astar"]),
+        planners=args.planner or ([] if policies else list(BASELINE_PLANNERS)),
         episodes=args.episodes,
         seed=args.seed,
         out=Path(args.out),
@@ -383,7 +385,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument(
         "--planner",
         action="append",
-        help=_planner_help("planner(s) to compare (default: astar, social_astar and social)"),
+        help=_planner_help("planner(s) to compare (default: " + ", ".join(DEMO_PLANNERS) + ")"),
     )
     d.add_argument("--episodes", type=_positive_int, default=10, help="seeded episodes per planner (default: 10)")
     d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
@@ -411,7 +413,11 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument(
         "--planner",
         action="append",
-        help=_planner_help("a built-in planner; repeat to compare (default: astar without --policy)"),
+        help=_planner_help(
+            "a built-in planner; repeat to compare (default without --policy: the non-social baselines "
+            + ", ".join(BASELINE_PLANNERS)
+            + ")"
+        ),
     )
     e.add_argument(
         "--policy",

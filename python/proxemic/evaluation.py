@@ -26,6 +26,11 @@ from proxemic.policy import PolicyActor, PolicyRef, build_policy, check_policy
 T = TypeVar("T")
 R = TypeVar("R")
 
+#: The non-social baselines, the default planners of ``proxemic eval`` (without ``--policy``) and of
+#: :func:`evaluate`: plain A* blind to people, plain A* followed with ORCA (people do not
+#: reciprocate), plain A* that stops for whoever is in its way and re-plans around them after 2 s.
+BASELINE_PLANNERS: tuple[str, ...] = ("astar", "astar_orca", "astar_stop")
+
 #: Metrics summarised as rates (0/1 per episode), with Wilson intervals: success, collisions with
 #: people (HC) and with walls or furniture (WC), timeout.
 RATE_METRICS = ("success", "hc", "wc", "timeout")
@@ -954,7 +959,7 @@ def evaluate(
     scenario: str = "museum",
     episodes: int = 20,
     seed: int = 0,
-    planners: Sequence[str] = ("astar",),
+    planners: Sequence[str] = BASELINE_PLANNERS,
     name: str | None = None,
     out: str | Path | None = None,
     workers: int = 1,

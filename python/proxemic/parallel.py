@@ -85,7 +85,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             robots: Use the first `robots` robot definitions of the scenario (default: all).
             planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``, for
                 example ``"daza2021"``, Daza et al. 2021 Algorithm 1 with ORCA among the robots
-                only) or per agent (``{"robot_1": "orca"}``; the others keep the scenario's).
+                only) or per agent (``{"robot_1": "astar_orca"}``; the others keep the scenario's).
             autopilot: True, or the agents driven by their built-in planner (actions ignored).
             planner_actions: Run the built-in planners of the agents not on autopilot too, for
                 ``info["planner_action"]`` and ``info["planner_mode"]``. False skips their cost

@@ -275,7 +275,8 @@ fn over_200_random_scenes_the_social_robot_never_walks_into_an_intimate_zone_and
 
 #[test]
 fn named_planners_all_drive_the_museum_without_touching_walls() {
-    for planner in ["astar", "social_astar", "social", "orca", "social_momentum", "eband"] {
+    for planner in ["astar", "social_astar", "social", "astar_orca", "astar_stop", "social_momentum", "eband"]
+    {
         // Seed 2: in seed 1 of the 50-person museum plain A* (blind to people) runs into a
         // visitor at doorway D3 after 4 m, which ends the episode before this test's point.
         let run = simulate(load("museum", planner), 2);

@@ -190,7 +190,7 @@ pub enum LocalPlanner {
     /// Social Momentum while people are within [`SocialControlParams::people_range`], else the
     /// global path (the `social_momentum` planner).
     SocialMomentum,
-    /// ORCA every step (the `orca` planner).
+    /// ORCA every step (the `astar_orca` planner).
     Orca,
 }
 

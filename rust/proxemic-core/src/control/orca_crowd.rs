@@ -40,7 +40,8 @@ pub struct OrcaPeople<'a> {
     /// Radii (m).
     pub radius: &'a [f64],
     /// Radius of the intimate zone (m): a person's disc is at least this minus a robot's
-    /// typical radius (0.24 m), so the robot stays out of the zone.
+    /// typical radius (0.24 m), so the robot stays out of the zone; 0 for the body radius alone
+    /// (the non-social `astar_orca` baseline).
     pub intimate: f64,
 }
 

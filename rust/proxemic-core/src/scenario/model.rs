@@ -147,8 +147,15 @@ pub enum PlannerKind {
     /// and our comfort term in Social Momentum. It is none of the papers' systems as published:
     /// see [`PlannerKind::Daza2021`] and [`PlannerKind::Sousa2022`] for those.
     Social,
-    /// Plain A* global path; ORCA against everyone (people do not reciprocate).
-    Orca,
+    /// Non-social baseline: the plain A* path followed with ORCA every step; people are
+    /// non-cooperating agents (the robot takes the whole avoidance, van den Berg et al. 2011 with
+    /// alpha = 1) at their body radius, the robots running ORCA this step cooperate (half each).
+    /// No social terms. Formerly named `orca`.
+    AstarOrca,
+    /// Non-social baseline: the plain A* path, stopping while someone (person or robot) is in the
+    /// corridor ahead within the stopping distance, and re-planning the plain A* path around the
+    /// blockers after a 2 s wait ([`crate::control::stop_and_wait`]).
+    AstarStop,
     /// Plain A* global path; Social Momentum whenever people are near.
     SocialMomentum,
     /// Plain A* global path deformed by an elastic band (static clearance and people's spaces).
@@ -177,7 +184,8 @@ impl PlannerKind {
             "astar" => Some(PlannerKind::Astar),
             "social_astar" => Some(PlannerKind::SocialAstar),
             "social" => Some(PlannerKind::Social),
-            "orca" => Some(PlannerKind::Orca),
+            "astar_orca" => Some(PlannerKind::AstarOrca),
+            "astar_stop" => Some(PlannerKind::AstarStop),
             "social_momentum" => Some(PlannerKind::SocialMomentum),
             "eband" => Some(PlannerKind::Eband),
             "daza2021" => Some(PlannerKind::Daza2021),
@@ -192,7 +200,8 @@ impl PlannerKind {
         "astar",
         "social_astar",
         "social",
-        "orca",
+        "astar_orca",
+        "astar_stop",
         "social_momentum",
         "eband",
         "daza2021",

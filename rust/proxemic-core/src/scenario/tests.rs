@@ -193,8 +193,8 @@ fn robot_subsets_and_per_robot_planners() {
             other => panic!("expected a scenario error, got {other:?}"),
         }
     }
-    let m = s.with_robot_planner(1, "orca").expect("known planner");
-    assert_eq!(m.robots[1].planner, PlannerKind::Orca);
+    let m = s.with_robot_planner(1, "astar_orca").expect("known planner");
+    assert_eq!(m.robots[1].planner, PlannerKind::AstarOrca);
     assert_eq!(m.robots[0].planner, s.robots[0].planner);
     match s.with_robot_planner(1, "teleport") {
         Err(CoreError::Scenario { field, found, .. }) => {
@@ -203,7 +203,7 @@ fn robot_subsets_and_per_robot_planners() {
         }
         other => panic!("expected a scenario error, got {other:?}"),
     }
-    assert!(s.with_robot_planner(2, "orca").is_err());
+    assert!(s.with_robot_planner(2, "astar_orca").is_err());
 }
 
 #[test]

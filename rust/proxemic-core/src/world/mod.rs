@@ -24,7 +24,7 @@
 //! Files: [`layout`] (the output row), [`reward`] (reward terms and each robot's record of the
 //! step), [`observe`] (observations and the people buffer), [`tours`], `build` (construction
 //! and its checks), `access` (accessors and queries), [`planners`] (the built-in planners'
-//! bookkeeping and dispatch to [`crate::control`]), [`batch`] (several worlds stepped in one call,
+//! bookkeeping and dispatch to [`crate::control`]), `stop` (the `astar_stop` planner's step), [`batch`] (several worlds stepped in one call,
 //! in parallel threads).
 
 mod access;
@@ -36,6 +36,7 @@ pub mod observe;
 pub mod planners;
 mod recovery;
 pub mod reward;
+mod stop;
 pub mod tours;
 
 use rand::{Rng, SeedableRng};
@@ -45,6 +46,7 @@ use crate::control::eband::{EbandParams, ElasticBand};
 use crate::control::mode_switch::{Mode, SocialControlParams};
 use crate::control::orca::{ObstacleSet, Orca};
 use crate::control::progress::ProgressMonitor;
+use crate::control::stop_and_wait::StopAndWait;
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::map::geometry::StaticGeometry;
@@ -126,6 +128,8 @@ struct RobotRuntime {
     dwell_left: f64,
     /// The progress monitor ([`crate::control::progress`]).
     progress: ProgressMonitor,
+    /// The stop-and-wait rule's state (astar_stop planner only).
+    stop: StopAndWait,
 }
 
 /// A cost grid shared by all robots with the same inflation radius.
@@ -347,6 +351,7 @@ impl World {
             dwelling: false,
             dwell_left: 0.0,
             progress: ProgressMonitor::new(r.progress, geodesic, start),
+            stop: StopAndWait::new(),
         }
     }
 

@@ -286,6 +286,8 @@ impl World {
         let mut orca_active: Vec<usize> = Vec::new();
         // Robots in ORCA mode among the robots only (Daza 2021 line 8: people are not agents).
         let mut orca_robots_only: Vec<usize> = Vec::new();
+        // Robots of the non-social `astar_orca` baseline: people at their body radius.
+        let mut orca_bodies: Vec<usize> = Vec::new();
         let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
         for i in 0..n {
             if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
@@ -310,22 +312,26 @@ impl World {
                 None if kind.daza2021_family() => {
                     self.daza_step(i, &mut partial_goals[i], &mut desired[i], dt)
                 }
+                None if kind == PlannerKind::AstarStop => self.stop_step(i, &mut desired[i], dt),
                 None => Mode::FollowPath,
             };
             if mode == Mode::Orca {
-                if kind.daza2021_family() && !recovering {
-                    orca_robots_only.push(i)
-                } else {
-                    orca_active.push(i)
+                match kind {
+                    _ if kind.daza2021_family() && !recovering => orca_robots_only.push(i),
+                    PlannerKind::AstarOrca => orca_bodies.push(i),
+                    _ => orca_active.push(i),
                 }
             }
             self.robots[i].mode = mode;
         }
         if !orca_active.is_empty() {
-            self.orca_step(&orca_active, &partial_goals, &mut desired, dt, true);
+            self.orca_step(&orca_active, &partial_goals, &mut desired, dt, PeopleAs::IntimateZones);
+        }
+        if !orca_bodies.is_empty() {
+            self.orca_step(&orca_bodies, &partial_goals, &mut desired, dt, PeopleAs::Bodies);
         }
         if !orca_robots_only.is_empty() {
-            self.orca_step(&orca_robots_only, &partial_goals, &mut desired, dt, false);
+            self.orca_step(&orca_robots_only, &partial_goals, &mut desired, dt, PeopleAs::Absent);
         }
         let stride = self.layout.stride;
         for (i, &d) in desired.iter().enumerate() {
@@ -438,15 +444,15 @@ impl World {
         row[lay.mode.offset] = f64::from(rb.mode.code());
     }
 
-    /// ORCA for the robots in `active`, among the other robots, the static geometry and, when
-    /// `with_people`, the people.
+    /// ORCA for the robots in `active`, among the other robots, the static geometry and the
+    /// people as `people` says.
     fn orca_step(
         &mut self,
         active: &[usize],
         partial_goals: &[Vec2],
         desired: &mut [Vec2],
         dt: f64,
-        with_people: bool,
+        people: PeopleAs,
     ) {
         let robots: Vec<OrcaRobot> = self
             .robots
@@ -459,12 +465,14 @@ impl World {
                 max_speed: st.limits.max_speed,
             })
             .collect();
-        let n = if with_people { self.crowd.pos.len() } else { 0 };
+        let n = if people == PeopleAs::Absent { 0 } else { self.crowd.pos.len() };
+        let intimate =
+            if people == PeopleAs::IntimateZones { self.social.config().zones.intimate } else { 0.0 };
         let people = OrcaPeople {
             pos: &self.crowd.pos[..n],
             vel: &self.crowd.vel[..n],
             radius: &self.crowd.radius[..n],
-            intimate: self.social.config().zones.intimate,
+            intimate,
         };
         let step = self.steps as u64;
         orca_among_people(
@@ -538,6 +546,18 @@ fn calderita_band(path: &[Vec2], params: crate::control::eband::EbandParams) -> 
     ElasticBand::new(path, crate::control::eband::EbandParams { max_bubbles, ..params }).ok()
 }
 
+/// How a batch of robots running ORCA sees the people.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PeopleAs {
+    /// Not at all (Daza 2021 line 8: among the robots only).
+    Absent,
+    /// Non-cooperating agents whose disc keeps the robot out of their intimate zone (the social
+    /// planners in ORCA mode).
+    IntimateZones,
+    /// Non-cooperating agents at their body radius, no social term (the `astar_orca` baseline).
+    Bodies,
+}
+
 /// The people model of a social global planner's map.
 fn people_model(kind: PlannerKind) -> PeopleModel {
     if kind == PlannerKind::Calderita { PeopleModel::Density } else { PeopleModel::Individuals }
@@ -548,7 +568,7 @@ fn local_planner(kind: PlannerKind) -> Option<LocalPlanner> {
     match kind {
         PlannerKind::Social => Some(LocalPlanner::ModeSwitch),
         PlannerKind::SocialMomentum => Some(LocalPlanner::SocialMomentum),
-        PlannerKind::Orca => Some(LocalPlanner::Orca),
+        PlannerKind::AstarOrca => Some(LocalPlanner::Orca),
         _ => None,
     }
 }
