@@ -71,14 +71,7 @@ BUNDLED_SCENES = tuple(ENV_IDS.values())
 CI_SEEDS = splits.TEST_EPISODE_SEEDS[:20]
 #: (scene, baseline) -> the measured figure, where the baseline succeeds more than 5 points less often
 #: than ``social`` on the test split (strict xfails).
-KNOWN_SHORTFALLS: dict[tuple[str, str], str] = {
-    ("museum", "astar_orca"): (
-        "museum: astar_orca succeeds in 80% (16/20; 4 timeouts, ORCA stalled on the plain A* path in the crowd)"
-        " vs social 100% (20/20)"
-    ),
-    ("museum", "astar_stop"): "museum: astar_stop succeeds in 90% (18/20) vs social 100% (20/20)",
-    ("care_center", "astar_stop"): "care_center: astar_stop succeeds in 80% (16/20) vs social 95% (19/20)",
-}
+KNOWN_SHORTFALLS: dict[tuple[str, str], str] = {}
 
 
 def _outcomes(scene: str, seed: int) -> dict[str, list[bool]]:

@@ -252,7 +252,6 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "personal_seconds"): "personal-zone time: social 163.1 s vs plain A* 204.0 s (20% less, claim 50%)",
     ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 12/20 episodes (centre reading: 0/20)",
     ("care_center", "personal_seconds"): "personal-zone time: social 88.2 s vs plain A* 104.9 s (16% less, claim 50%)",
-    ("care_center", "collisions"): "collision rate: social 5% (1/20) vs plain A* 10% (claim: <= 2%)",
     # Since a person walking into a stopped robot no longer ends its episode (issue 23), plain A*'s
     # episode on the 20th CI seed, a collision before, reaches the goal in 24.8 s: one more pair.
     ("care_center", "time"): "paired time to goal: social/astar 1.307 [95% CI 1.195, 1.446], 17 pairs (claim: <= 1.3)",
@@ -270,10 +269,6 @@ KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {
         "personal_seconds",
     ): "personal-zone time: social 88.2 s vs astar_orca 143.2 s (38% less, claim 50%)",
     (
-        "care_center",
-        "collisions",
-    ): "collision rate: social 5% (1/20) vs astar_orca 0% (claim: <= the baseline's and <= 2%)",
-    (
         GENERATED,
         "active_object_seconds",
     ): "active object-space time: social 10.4 s vs astar_orca 10.0 s (claim 80% less)",
@@ -284,8 +279,6 @@ KNOWN_FULL_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}
 NOT_EXERCISED: dict[tuple[str, str], str] = {
     ("care_center", "ospace_entries"): "plain A* enters no o-space in the care center (0 entries on 20 test seeds)",
     ("care_center", "interaction_crossings"): "plain A* crosses no interaction in the care center (0 on 20 test seeds)",
-    (GENERATED, "ospace_entries"): "plain A* enters no o-space in the 50 generated scenes (0 entries)",
-    (GENERATED, "interaction_crossings"): "plain A* crosses no interaction in the 50 generated scenes (0)",
 }
 #: The same for ``astar_orca``.
 NOT_EXERCISED_VS_ORCA: dict[tuple[str, str], str] = {

@@ -67,7 +67,19 @@ def test_cli_video_and_eval_video(tmp_path: Path, capsys: pytest.CaptureFixture[
     assert main([*argv, "--max-steps", "5", "--width", "96", "--height", "64", "--overlay", "zones"]) == 0
     assert _decode(mp4).shape == (6, 64, 96, 3)
     out = tmp_path / "eval"
-    argv = ["eval", "--scenario", "daza2021_path1", "--episodes", "2", "--workers", "1", "--out", str(out)]
+    argv = [
+        "eval",
+        "--scenario",
+        "daza2021_path1",
+        "--planner",
+        "astar",
+        "--episodes",
+        "2",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+    ]
     assert main([*argv, "--video", "1"]) == 0
     videos = sorted((out / "videos").iterdir())
     assert [v.name for v in videos] == ["astar_seed0.mp4"]
