@@ -38,7 +38,11 @@ PLANNERS = ("social", "astar_orca")
 MAX_TIMEOUTS = 0.02
 MAX_COLLISIONS = 0.02
 #: (planner, claim, full split) -> the measured figure, for claims that do not hold.
-KNOWN_FAILURES: dict[tuple[str, str, bool], str] = {}
+KNOWN_FAILURES: dict[tuple[str, str, bool], str] = {
+    ("astar_orca", "timeouts", True): (
+        "astar_orca: timeouts in 2/60 generated scenes of the test split (3.3%, claim <= 2%), 15 recoveries in all"
+    ),
+}
 
 
 def _run(planner: str, seed: int) -> dict[str, Any]:
