@@ -19,7 +19,8 @@ Evaluate it beside the planners, on the same seeds (``PROXEMIC_PPO_MODEL`` names
 default ``out/ppo/ppo_daza2021_path3.zip``)::
 
     proxemic eval --scenario daza2021_path3 --policy examples.train_ppo:make --policy-name ppo \
-        --planner astar --planner social --episodes 20 --out out/ppo/eval
+        --planner astar --planner astar_orca --planner astar_stop --planner social --episodes 20 \
+        --out out/ppo/eval
 """
 
 from __future__ import annotations
@@ -106,7 +107,7 @@ def make(observation_space: Any, action_space: Any) -> PPOPolicy:
 
 
 def main() -> None:
-    """Trains, then evaluates the model against astar and social on the same seeds."""
+    """Trains, then evaluates the model against astar, astar_orca, astar_stop and social on the same seeds."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenario", default=DEFAULT_SCENE)
     ap.add_argument("--steps", type=int, default=150_000, help="training env steps (default: 150000)")
@@ -124,7 +125,7 @@ def main() -> None:
         scenario=args.scenario,
         episodes=args.episodes,
         seed=1000,
-        planners=["astar", "social"],
+        planners=["astar", "astar_orca", "astar_stop", "social"],
         out=Path(args.out) / "eval",
         progress=True,
     )

@@ -414,6 +414,18 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "InputError",
         "actions",
     ),
+    (
+        "core-step-strided-state",
+        "env = stepped()\nws = env.unwrapped.ws\nws.world.step(ws._actions, ws._physics, np.zeros(2 * ws.sim.state.size)[::2], ws.sim.contacts, ws.out, ws.people)",
+        "InputError",
+        "state",
+    ),
+    (
+        "core-step-worlds-uint8-contacts-as-float",
+        "env = stepped()\nws = env.unwrapped.ws\n_core.step_worlds([ws.world], ws._actions, ws._physics, ws.sim.state, ws.sim.contacts.astype(np.float64), ws.out, ws.people)",
+        "InputError",
+        "contacts",
+    ),
     ("core-parse-time", "_core.parse_time_of_day('ten past')", "InputError", "time_of_day"),
     (
         "core-set-planning-length",

@@ -476,41 +476,14 @@ impl PyWorld {
         people_out: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
         self.calls += 1;
-        let actions = array_of::<f64>(py, "actions", "float64", actions)?;
-        let state = array_of::<f64>(py, "state", "float64", state)?;
-        let contacts = array_of::<u8>(py, "contacts", "uint8", contacts)?;
-        let out = array_of::<f64>(py, "out", "float64", out)?;
-        let people_out = array_of::<f64>(py, "people_out", "float64", people_out)?;
-        {
-            let actions = actions.try_readonly().map_err(|_| busy(py, "actions"))?;
-            let a = actions.as_slice().map_err(|_| {
-                input_err(
-                    py,
-                    "actions",
-                    "a C-contiguous float64 array".into(),
-                    "a non-contiguous array".into(),
-                )
-            })?;
-            let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
-            let o = flat_mut(py, "out", &mut out_rw)?;
-            let w = &mut self.inner;
-            enter_core(py, move || w.command(a, o))?;
-        }
-        physics.call0()?;
-        let state_ro = state.try_readonly().map_err(|_| busy(py, "state"))?;
-        let contacts_ro = contacts.try_readonly().map_err(|_| busy(py, "contacts"))?;
-        let s = state_ro.as_slice().map_err(|_| {
-            input_err(py, "state", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
-        })?;
-        let c = contacts_ro.as_slice().map_err(|_| {
-            input_err(py, "contacts", "a C-contiguous uint8 array".into(), "a non-contiguous array".into())
-        })?;
-        let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
-        let mut people_rw = people_out.try_readwrite().map_err(|_| busy(py, "people_out"))?;
-        let o = flat_mut(py, "out", &mut out_rw)?;
-        let p = flat_mut(py, "people_out", &mut people_rw)?;
         let w = &mut self.inner;
-        enter_core(py, move || w.step(s, c, o, p))
+        two_phase_step(
+            py,
+            StepBuffers { actions, physics, state, contacts, out, people_out },
+            w,
+            |w, a, o| w.command(a, o),
+            |w, s, c, o, p| w.step(s, c, o, p),
+        )
     }
 
     /// Calls into the core since the world was built: `step` and `reset` calls (a diagnostic:
@@ -775,36 +748,63 @@ fn step_worlds(
     let mut cores: Vec<&mut CoreWorld> = refs.iter_mut().map(|r| &mut r.inner).collect();
     let threads = threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get));
-    let actions = array_of::<f64>(py, "actions", "float64", actions)?;
-    let state = array_of::<f64>(py, "state", "float64", state)?;
-    let contacts = array_of::<u8>(py, "contacts", "uint8", contacts)?;
-    let out = array_of::<f64>(py, "out", "float64", out)?;
-    let people_out = array_of::<f64>(py, "people_out", "float64", people_out)?;
+    two_phase_step(
+        py,
+        StepBuffers { actions, physics, state, contacts, out, people_out },
+        &mut cores[..],
+        world::batch::command_batch,
+        |ws, s, c, o, p| world::batch::step_batch(ws, s, c, o, p, threads),
+    )
+}
+
+/// The Python buffers of one control step (`World.step`, `step_worlds`).
+struct StepBuffers<'a, 'py> {
+    actions: &'a Bound<'py, PyAny>,
+    physics: &'a Bound<'py, PyAny>,
+    state: &'a Bound<'py, PyAny>,
+    contacts: &'a Bound<'py, PyAny>,
+    out: &'a Bound<'py, PyAny>,
+    people_out: &'a Bound<'py, PyAny>,
+}
+
+/// One control step in two phases around the Python physics callback: checks the buffers (an
+/// `InputError` naming the field for a wrong dtype, shape, layout or a borrowed array), runs
+/// `command(target, actions, out)` without the GIL, calls `physics()` with it, then runs
+/// `step(target, state, contacts, out, people_out)` without the GIL.
+fn two_phase_step<W: Send + ?Sized>(
+    py: Python<'_>,
+    b: StepBuffers<'_, '_>,
+    target: &mut W,
+    command: impl FnOnce(&mut W, &[f64], &mut [f64]) -> Result<(), CoreError> + Send,
+    step: impl FnOnce(&mut W, &[f64], &[u8], &mut [f64], &mut [f64]) -> Result<(), CoreError> + Send,
+) -> PyResult<()> {
+    let contiguous = |field: &str| {
+        let dtype = if field == "contacts" { "uint8" } else { "float64" };
+        input_err(py, field, format!("a C-contiguous {dtype} array"), "a non-contiguous array".into())
+    };
+    let actions = array_of::<f64>(py, "actions", "float64", b.actions)?;
+    let state = array_of::<f64>(py, "state", "float64", b.state)?;
+    let contacts = array_of::<u8>(py, "contacts", "uint8", b.contacts)?;
+    let out = array_of::<f64>(py, "out", "float64", b.out)?;
+    let people_out = array_of::<f64>(py, "people_out", "float64", b.people_out)?;
     {
         let actions = actions.try_readonly().map_err(|_| busy(py, "actions"))?;
-        let a = actions.as_slice().map_err(|_| {
-            input_err(py, "actions", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
-        })?;
+        let a = actions.as_slice().map_err(|_| contiguous("actions"))?;
         let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
         let o = flat_mut(py, "out", &mut out_rw)?;
-        let ws = &mut cores[..];
-        enter_core(py, move || world::batch::command_batch(ws, a, o))?;
+        let t = &mut *target;
+        enter_core(py, move || command(t, a, o))?;
     }
-    physics.call0()?;
+    b.physics.call0()?;
     let state_ro = state.try_readonly().map_err(|_| busy(py, "state"))?;
     let contacts_ro = contacts.try_readonly().map_err(|_| busy(py, "contacts"))?;
-    let s = state_ro.as_slice().map_err(|_| {
-        input_err(py, "state", "a C-contiguous float64 array".into(), "a non-contiguous array".into())
-    })?;
-    let c = contacts_ro.as_slice().map_err(|_| {
-        input_err(py, "contacts", "a C-contiguous uint8 array".into(), "a non-contiguous array".into())
-    })?;
+    let s = state_ro.as_slice().map_err(|_| contiguous("state"))?;
+    let c = contacts_ro.as_slice().map_err(|_| contiguous("contacts"))?;
     let mut out_rw = out.try_readwrite().map_err(|_| busy(py, "out"))?;
     let mut people_rw = people_out.try_readwrite().map_err(|_| busy(py, "people_out"))?;
     let o = flat_mut(py, "out", &mut out_rw)?;
     let p = flat_mut(py, "people_out", &mut people_rw)?;
-    let ws = &mut cores[..];
-    enter_core(py, move || world::batch::step_batch(ws, s, c, o, p, threads))
+    enter_core(py, move || step(target, s, c, o, p))
 }
 
 /// The metric reference: one dict per key of an episode's metrics (`key`, `family`, `label`,
