@@ -215,15 +215,17 @@ pub enum PeopleSpaces<'a> {
     Intimate,
     /// Sousa 2022 §4.5 (the `sousa2022` planner): the perception's individuals (a person alone,
     /// or a group as one individual), each with its fully asymmetric Gaussian reshaped by the
-    /// socialization features; the keep-out region is the Gaussian's intimate level. Their
-    /// `members` index the people of `objects`.
+    /// socialization features; the keep-out region is the Gaussian's **personal** level (zone
+    /// distance below Hall's personal radius: Sousa runs Daza's method "for avoiding the personal
+    /// space of persons" and its path "respects groups and individual space imposed by Gaussian
+    /// functions"). Their `members` index the people of `objects`.
     Gaussians(&'a [Individual]),
 }
 
 /// Social Momentum's parameters in Algorithm 1: the project's defaults
 /// ([`SocialMomentumParams::default`]) with **no comfort term** (`comfort_weight = 0`): Daza
-/// 2021 and Sousa 2022 only keep the robot out of the intimate zone, which the collision filter
-/// enforces. The other values (λ, action set, horizon, safety margin) are not given by either
+/// 2021 only keeps the robot out of the intimate zone, Sousa 2022 out of the Gaussians' personal
+/// level ([`PeopleSpaces`]), which the collision filter enforces. The other values (λ, action set, horizon, safety margin) are not given by either
 /// paper; ours are documented on [`SocialMomentumParams`].
 pub fn social_momentum_params() -> SocialMomentumParams {
     SocialMomentumParams { comfort_weight: 0.0, ..SocialMomentumParams::default() }
@@ -246,7 +248,9 @@ pub fn social_momentum_params() -> SocialMomentumParams {
 ///   and robots outside human groups are obstacles only (weight 0): Social Momentum's momentum
 ///   term is about people, and no weighting is given by either paper;
 /// - with Sousa's Gaussians a robot taking part in a group keeps Daza's disc (it carries no
-///   socialization features).
+///   socialization features);
+/// - with Sousa's Gaussians the keep-out level is Hall's personal radius of `params.zones` as a
+///   zone distance (Sousa 2022 §4.5, see [`PeopleSpaces::Gaussians`]).
 pub fn daza2021_agents(
     robot: &RobotState,
     objects: &[MobileObject],
@@ -308,15 +312,22 @@ pub fn daza2021_agents(
                 // own, its members' bodies are obstacles below.
                 let radius = if members.len() == 1 { first.radius } else { 0.0 };
                 let agent = Agent { pos: ind.centre, vel, radius, weight: 1.0, comfort: 0.0 };
-                match GaussianSpace::of_individual(ind, intimate) {
+                // Sousa 2022 §4.5: Daza's method is used "for avoiding the personal space of
+                // persons", and the path "respects groups and individual space imposed by
+                // Gaussian functions": the keep-out level is the Gaussian's personal contour
+                // (zone distance = Hall's personal radius, 1 m with Daza's radii).
+                match GaussianSpace::of_individual(ind, params.zones.personal) {
                     Ok(g) => {
                         agents.push(agent);
                         shapes.push(AgentShape::Gaussian(g));
                     }
                     // An individual whose Gaussian is invalid (it cannot be, from the
-                    // perception) falls back to Daza's intimate disc.
+                    // perception) falls back to a disc at the personal radius.
                     Err(_) => {
-                        agents.push(Agent { radius: radius.max(intimate - robot.radius), ..agent });
+                        agents.push(Agent {
+                            radius: radius.max(params.zones.personal - robot.radius),
+                            ..agent
+                        });
                         shapes.push(AgentShape::Disc);
                     }
                 }
@@ -668,7 +679,8 @@ mod tests {
         // The group: one Gaussian individual at its centre with no body, then its members' bodies
         // as obstacles; the person alone: a Gaussian with its body.
         assert_eq!(agents.len(), 4);
-        assert!(matches!(shapes[0], AgentShape::Gaussian(g) if g.keep_out() == 0.5));
+        // Sousa 2022 §4.5: the keep-out level is the Gaussian's personal contour (Daza's 1 m).
+        assert!(matches!(shapes[0], AgentShape::Gaussian(g) if g.keep_out() == 1.0));
         assert!(
             (agents[0].pos - v(3.0, 0.0)).norm() < 1e-9 && agents[0].radius == 0.0 && agents[0].weight == 1.0
         );

@@ -166,9 +166,13 @@ pub enum PlannerKind {
     /// people's intimate zones and the groups' o-spaces; only robots on a collision course run
     /// ORCA among the robots only; otherwise the path is followed. Hall radii 0.5 / 1 / 4 m.
     Daza2021,
-    /// Sousa et al. 2022 §4.5: [`PlannerKind::Daza2021`] whose Social Momentum keeps out of the
-    /// fully asymmetric Gaussians of the people and of the Delaunay groups (a group as one
-    /// individual), reshaped by the socialization features.
+    /// Sousa et al. 2022: [`PlannerKind::Daza2021`]'s local step (Algorithm 1) whose Social
+    /// Momentum keeps out of the personal level of the fully asymmetric Gaussians of the people
+    /// and of the Delaunay groups (a group as one individual), reshaped by the socialization
+    /// features (§4.5), on a global path planned on the cost map of those Gaussians (§3.1, Fig.
+    /// 3: "the provided path planning method must include the values of Gaussian functions as a
+    /// cost function"): the scenario's social map of the individuals, searched by A* and
+    /// re-planned on triggers like [`PlannerKind::SocialAstar`]'s.
     Sousa2022,
     /// Calderita et al.'s system as published: Dijkstra on the time-dependent social cost map
     /// with the people's zones as contours of the summed density (§4.1, §5.1-5.2), the elastic
@@ -216,9 +220,13 @@ impl PlannerKind {
         matches!(self, PlannerKind::Daza2021 | PlannerKind::Sousa2022)
     }
 
-    /// Whether the planner's global path is the social A* path (re-planned on triggers).
+    /// Whether the planner's global path is the social A* path (re-planned on triggers); for
+    /// [`PlannerKind::Sousa2022`] it is Sousa 2022 §3.1's path on the Gaussians' cost map.
     pub fn social_global(self) -> bool {
-        matches!(self, PlannerKind::SocialAstar | PlannerKind::Social | PlannerKind::Calderita)
+        matches!(
+            self,
+            PlannerKind::SocialAstar | PlannerKind::Social | PlannerKind::Calderita | PlannerKind::Sousa2022
+        )
     }
 }
 

@@ -592,8 +592,8 @@ fn every_planner_name_parses_to_its_own_kind_and_the_papers_planners_are_listed(
     assert_eq!(PlannerKind::parse("sousa2022"), Some(PlannerKind::Sousa2022));
     assert!(PlannerKind::Daza2021.daza2021_family() && PlannerKind::Sousa2022.daza2021_family());
     assert!(!PlannerKind::Social.daza2021_family());
-    // Plain A* global path: neither is a social-map planner.
-    assert!(!PlannerKind::Daza2021.social_global() && !PlannerKind::Sousa2022.social_global());
+    // Daza 2021 line 1: plain A*; Sousa 2022 §3.1: the path on the Gaussians' cost map.
+    assert!(!PlannerKind::Daza2021.social_global() && PlannerKind::Sousa2022.social_global());
     assert_eq!(PlannerKind::parse("daza"), None);
 }
 

@@ -14,11 +14,13 @@ use crate::scenario::PlannerKind;
 
 impl World {
     /// Robot `i`'s local step with the `daza2021` or `sousa2022` planner: its mode, with Social
-    /// Momentum the new `desired` velocity, and the partial goal on its plain A* path (written to
+    /// Momentum the new `desired` velocity, and the partial goal on its global path (written to
     /// `partial_goal`, for ORCA).
     ///
-    /// - Line 1's plain A* path is the follower's path (re-planned with plain A* only when the
-    ///   robot is pushed off it, as for every plain-A* planner).
+    /// - Line 1's path is the follower's path: plain A* for `daza2021` (re-planned with plain A*
+    ///   only when the robot is pushed off it, as for every plain-A* planner); for `sousa2022`
+    ///   the path on the social map of Sousa's Gaussians (Sousa 2022 §3.1, Fig. 3; re-planned on
+    ///   the social planners' triggers, see [`crate::scenario::PlannerKind::Sousa2022`]).
     /// - Line 3's mobile objects: every person (no identity) and every other robot (its index as
     ///   identity), at their current positions and velocities; the robot's own preferred
     ///   velocity for the collision cone is the path follower's `desired`.

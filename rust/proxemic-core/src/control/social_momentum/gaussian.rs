@@ -9,18 +9,20 @@
 //!
 //! - **Collision filter, not the score.** Daza 2021 (Algorithm 1, lines 16 and 19, and §5: "the
 //!   intimate zones of people will never be invaded") uses Social Momentum only to keep the robot
-//!   out of the intimate zone; Sousa 2022 changes the *shape* of that zone. So a Gaussian agent
+//!   out of a zone; Sousa 2022 changes the *shape* of that zone. So a Gaussian agent
 //!   rejects a sample whose constant-velocity motion over the collision horizon brings the robot's
 //!   centre to a *zone distance* below [`GaussianSpace::keep_out`] `+ safety_margin`, where the
 //!   zone distance of a point is `zone_scale * sqrt(2 q)` with `exp(-q)` the Gaussian's value
 //!   there (the distance the social map compares with Hall's radii, see
 //!   [`crate::socialmap::SpaceFunction`]). The momentum and efficiency terms are unchanged (they
 //!   use the individual's centre and velocity); no cost term is added (Daza 2021 has none).
-//! - **The level.** Paper: not given. Ours: `keep_out` is Hall's intimate radius of the scenario
-//!   (Daza 2021: 0.5 m), centre to centre like every Hall radius in proxemic. With all four
-//!   sigmas equal to the zone scale the keep-out region is then the disc of radius `keep_out`
-//!   (a test checks this), so the Gaussian model only differs from a disc where the features or a
-//!   group stretch it.
+//! - **The level.** `keep_out` is the caller's. The `sousa2022` planner passes Hall's personal
+//!   radius (Daza 2021: 1 m; Sousa 2022 §4.5: Daza's method is used "for avoiding the personal
+//!   space of persons", and the path "respects groups and individual space imposed by Gaussian
+//!   functions"), centre to centre like every Hall radius in proxemic. With all four sigmas
+//!   equal to the zone scale the keep-out region is the disc of radius `keep_out` (a test checks
+//!   this), so the Gaussian model only differs from a disc where the features or a group stretch
+//!   it.
 //! - **Bodies.** A Gaussian agent is also checked as a disc of its `radius` (the disc model's
 //!   bound), so a Gaussian shrunk by the features never lets the robot touch the person. A group
 //!   individual has no body at its centre: give it radius 0 and pass its members as disc agents
@@ -70,9 +72,9 @@ pub struct GaussianSpace {
 impl GaussianSpace {
     /// A Gaussian facing `heading` (rad, world frame) with per-side sigmas `sides` (m, validated
     /// by [`Asymmetric::validate`]), the length `zone_scale` (m, `> 0`) that turns `sqrt(2 q)`
-    /// into a zone distance, and the keep-out zone distance `keep_out` (m, `>= 0`; Hall's
-    /// intimate radius, 0.5 m in Daza 2021). Errors name `heading`, the side, `zone_scale` or
-    /// `keep_out`.
+    /// into a zone distance, and the keep-out zone distance `keep_out` (m, `>= 0`; the
+    /// `sousa2022` planner's is Hall's personal radius, 1 m in Daza 2021). Errors name
+    /// `heading`, the side, `zone_scale` or `keep_out`.
     pub fn new(heading: f64, sides: Asymmetric, zone_scale: f64, keep_out: f64) -> Result<Self> {
         if !heading.is_finite() {
             return Err(CoreError::input("heading", "a finite angle in radians", heading.to_string()));
