@@ -898,9 +898,8 @@ mod tests {
             }
             assert_eq!(m.object_layer(), &want[..], "round {round}");
             assert!(m.mark.iter().all(|&b| !b));
-            for c in 0..want.len() {
-                let expected =
-                    m.costs().encode(m.people_layer()[c].max(want[c])).max(m.static_layer().cost[c]);
+            for (c, &w) in want.iter().enumerate() {
+                let expected = m.costs().encode(m.people_layer()[c].max(w)).max(m.static_layer().cost[c]);
                 assert_eq!(m.grid().cost[c], expected);
             }
         }
