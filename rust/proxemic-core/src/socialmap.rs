@@ -520,24 +520,30 @@ impl SocialMap {
         for &k in &changed {
             self.object_factor[k] = factors[k];
         }
-        // Cells of changed objects: recompute as the max over every object covering them.
-        let mut dirty: Vec<u32> =
-            changed.iter().flat_map(|&k| self.object_cells[k].iter().copied()).collect();
-        dirty.sort_unstable();
-        dirty.dedup();
-        for &c in &dirty {
-            self.objects[c as usize] = 1.0;
+        // Cells of changed objects (marked, each once): recompute as the max over every object
+        // covering them, in the objects' order.
+        self.mark.resize(self.static_grid.spec.len(), false);
+        let mut dirty: Vec<u32> = Vec::new();
+        for &k in &changed {
+            for &c in &self.object_cells[k] {
+                if !self.mark[c as usize] {
+                    self.mark[c as usize] = true;
+                    self.objects[c as usize] = 1.0;
+                    dirty.push(c);
+                }
+            }
         }
         for (k, cells) in self.object_cells.iter().enumerate() {
             let f = self.object_factor[k];
             for &c in cells {
-                if dirty.binary_search(&c).is_ok() && f > self.objects[c as usize] {
+                if self.mark[c as usize] && f > self.objects[c as usize] {
                     self.objects[c as usize] = f;
                 }
             }
         }
         for &c in &dirty {
             self.combine(c as usize);
+            self.mark[c as usize] = false;
         }
         self.touched = dirty.len();
     }
@@ -858,6 +864,45 @@ mod tests {
         let spec =
             GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(w, h) }, 0.1).expect("valid grid");
         CostGrid { spec, cost: vec![0; spec.len()] }
+    }
+
+    #[test]
+    fn object_factor_updates_equal_the_max_over_the_covering_objects() {
+        // Overlapping interaction spaces whose factors change a few at a time: every cell of
+        // the object layer is the largest factor of the objects covering it (1 where none).
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+        let polys: Vec<Vec<Vec2>> = (0..12)
+            .map(|_| {
+                let (x, y) = (rng.random_range(0.5..7.0), rng.random_range(0.5..7.0));
+                let (w, h) = (rng.random_range(0.3..2.5), rng.random_range(0.3..2.5));
+                vec![Vec2::new(x, y), Vec2::new(x + w, y), Vec2::new(x + w, y + h), Vec2::new(x, y + h)]
+            })
+            .collect();
+        let mut m = SocialMap::new(grid(10.0, 10.0), &polys, SocialCosts::default());
+        let mut factors: Vec<f64> = (0..polys.len()).map(|_| rng.random_range(1.0..3.5)).collect();
+        m.rebuild::<Disc>(&[], &factors);
+        for round in 0..30 {
+            if round > 0 {
+                for _ in 0..rng.random_range(1..4) {
+                    let k = rng.random_range(0..factors.len());
+                    factors[k] = rng.random_range(1.0..3.5);
+                }
+                m.set_object_factors(&factors);
+            }
+            let mut want = vec![1.0f64; m.grid().spec.len()];
+            for (cells, &f) in m.object_cells.iter().zip(&factors) {
+                for &c in cells {
+                    want[c as usize] = want[c as usize].max(f);
+                }
+            }
+            assert_eq!(m.object_layer(), &want[..], "round {round}");
+            assert!(m.mark.iter().all(|&b| !b));
+            for (c, &w) in want.iter().enumerate() {
+                let expected = m.costs().encode(m.people_layer()[c].max(w)).max(m.static_layer().cost[c]);
+                assert_eq!(m.grid().cost[c], expected);
+            }
+        }
     }
 
     fn cost_at(m: &SocialMap, p: Vec2) -> u8 {

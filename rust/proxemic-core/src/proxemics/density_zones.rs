@@ -70,9 +70,14 @@ impl DensityZones {
         people.iter().map(|&(pos, f)| self.term(pos, f, x)).sum()
     }
 
+    /// The Gaussian's parameters (σ per side and the group threshold's).
+    pub(crate) fn params(&self) -> &DensityParams {
+        &self.params
+    }
+
     /// One person's Gaussian at `x`, the person at `pos` facing the unit vector `f`.
     #[inline]
-    fn term(&self, pos: Vec2, f: Vec2, x: Vec2) -> f64 {
+    pub(crate) fn term(&self, pos: Vec2, f: Vec2, x: Vec2) -> f64 {
         let d = x - pos;
         self.params.gaussian_local(f.x * d.x + f.y * d.y, -f.y * d.x + f.x * d.y)
     }

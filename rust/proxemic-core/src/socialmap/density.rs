@@ -53,6 +53,15 @@ fn zone_factor(zones: &DensityZones, costs: &SocialCosts, g: f64) -> f64 {
 
 /// The people layer of a grid `spec` (row-major, one factor per cell, evaluated at the cell
 /// centres) for `people` (module docs).
+///
+/// Bit for bit the factor of [`density_factor`] at every cell centre, computed tile by tile
+/// ([`TILE`] cells square). Per tile, a person whose exponent is above 40 over the whole tile
+/// adds exactly 0 to every cell's sum (Kirby's Gaussian is cut there, see
+/// [`crate::groups::DensityParams::gaussian_local`]) and is left out; the people whose exponent
+/// can fall to [`NEAR_EXPONENT`] in the tile are summed per cell, and the others are bounded by
+/// their largest value in the tile. A cell whose sum lies, with that bound and a margin for
+/// rounding, between the same contour levels at both ends gets that zone's factor; any other cell
+/// is summed over every person not left out, in their order: the same sum as [`density_factor`].
 pub fn density_layer(
     spec: &GridSpec,
     zones: &DensityZones,
@@ -65,13 +74,84 @@ pub fn density_layer(
     }
     // Each person's facing once, not once per cell (the same sum as `density_factor`'s).
     let facing: Vec<(Vec2, Vec2)> = people.iter().map(|p| (p.pos, p.facing())).collect();
-    for iy in 0..spec.height {
-        for ix in 0..spec.width {
-            let g = zones.density_facing(&facing, spec.center(ix, iy));
-            out[spec.index(ix, iy)] = zone_factor(zones, costs, g);
+    let params = zones.params();
+    let levels = zones.levels();
+    let thresholds = [levels[2], levels[1], levels[0], zones.phi()];
+    // How many contour levels (and φ) `g` reaches: every comparison `zone_factor` makes is
+    // monotone in `g`, so equal classes at both ends of an interval give equal factors inside.
+    let class = |g: f64| thresholds.iter().filter(|&&t| g >= t).count();
+    let (mut some, mut near) = (Vec::with_capacity(people.len()), Vec::with_capacity(people.len()));
+    for ty in (0..spec.height).step_by(TILE) {
+        let y1 = (ty + TILE).min(spec.height) - 1;
+        for tx in (0..spec.width).step_by(TILE) {
+            let x1 = (tx + TILE).min(spec.width) - 1;
+            let (lo, hi) = (spec.center(tx, ty), spec.center(x1, y1));
+            some.clear();
+            near.clear();
+            let mut far = 0.0;
+            for (i, &(pos, f)) in facing.iter().enumerate() {
+                let q = exponent_lower_bound(params, pos, f, lo, hi);
+                if q > 40.0 * (1.0 + 1e-9) {
+                    continue;
+                }
+                some.push(i);
+                if q <= NEAR_EXPONENT {
+                    near.push(i);
+                } else {
+                    far += (-q).exp();
+                }
+            }
+            let far = far * (1.0 + 1e-9);
+            for iy in ty..=y1 {
+                for ix in tx..=x1 {
+                    let x = spec.center(ix, iy);
+                    let g_near: f64 = near.iter().map(|&i| zones.term(facing[i].0, facing[i].1, x)).sum();
+                    let (g_lo, g_hi) = (g_near * (1.0 - 1e-12), (g_near + far) * (1.0 + 1e-12));
+                    let g = if class(g_lo) == class(g_hi) {
+                        g_near
+                    } else {
+                        some.iter().map(|&i| zones.term(facing[i].0, facing[i].1, x)).sum()
+                    };
+                    out[spec.index(ix, iy)] = zone_factor(zones, costs, g);
+                }
+            }
         }
     }
     out
+}
+
+/// Side of the square tiles of [`density_layer`] (cells).
+const TILE: usize = 8;
+
+/// People whose exponent can fall to this in a tile are summed per cell by [`density_layer`]
+/// (`exp(-10) = 4.5e-5`: the others together stay far below the contour levels' gaps).
+const NEAR_EXPONENT: f64 = 10.0;
+
+/// A lower bound on Kirby's exponent `u²/(2σ_u²) + v²/(2σ_s²)` (see
+/// [`crate::groups::DensityParams::gaussian_local`]) of the person at `pos` facing the unit
+/// vector `f`, over the axis-aligned box `lo`-`hi` (m): each axis term's minimum over the box,
+/// less a relative margin far above rounding.
+fn exponent_lower_bound(p: &crate::groups::DensityParams, pos: Vec2, f: Vec2, lo: Vec2, hi: Vec2) -> f64 {
+    let c = (lo + hi) * 0.5 - pos;
+    let (hx, hy) = (0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y));
+    let (u, du) = (f.x * c.x + f.y * c.y, f.x.abs() * hx + f.y.abs() * hy);
+    let (v, dv) = (-f.y * c.x + f.x * c.y, f.y.abs() * hx + f.x.abs() * hy);
+    let side = |m: f64, s: f64| m * m / (2.0 * s * s);
+    let qu = if u - du > 0.0 {
+        side(u - du, p.sigma_h)
+    } else if u + du < 0.0 {
+        side(u + du, p.sigma_r)
+    } else {
+        0.0
+    };
+    let qv = if v - dv > 0.0 {
+        side(v - dv, p.sigma_s)
+    } else if v + dv < 0.0 {
+        side(v + dv, p.sigma_s)
+    } else {
+        0.0
+    };
+    (qu + qv) * (1.0 - 1e-9)
 }
 
 #[cfg(test)]
@@ -159,6 +239,45 @@ mod tests {
                 assert_eq!(z.density_facing(&facing, x).to_bits(), z.density(&crowd, x).to_bits());
                 assert_eq!(layer[spec.index(ix, iy)], density_factor(&z, &c, &crowd, x));
             }
+        }
+    }
+
+    #[test]
+    fn the_tiled_layer_of_clustered_crowds_is_the_factor_at_each_cell_centre_bit_for_bit() {
+        // Tight clusters (merged intimate regions, many contour crossings inside a tile), other
+        // sigmas, a grid whose size is no multiple of the tile, and costs that do not grow with
+        // the zone: every cell must still be `density_factor`'s.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(6);
+        let costs = [
+            SocialCosts::default(),
+            SocialCosts { personal_cost: 1.5, social_cost: 3.0, public_cost: 1.2, ..SocialCosts::default() },
+        ];
+        let params = [
+            DensityParams::default(),
+            DensityParams { sigma_h: 1.0, sigma_r: 0.6, sigma_s: 0.8, k: 0.3, ..DensityParams::default() },
+        ];
+        let spec = GridSpec { origin: Vec2::new(-1.0, 0.5), resolution: 0.1, width: 163, height: 97 };
+        for (c, dp) in costs.iter().zip(params) {
+            let z = DensityZones::new(dp, HallZones::EVALUATION).expect("valid");
+            let mut crowd = Vec::new();
+            for _ in 0..8 {
+                let centre = Vec2::new(rng.random_range(-1.0..15.0), rng.random_range(0.5..10.0));
+                for _ in 0..rng.random_range(1..7) {
+                    let off = Vec2::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+                    crowd.push(PersonState::standing(centre + off, rng.random_range(-3.2..3.2)));
+                }
+            }
+            let layer = density_layer(&spec, &z, c, &crowd);
+            let mut zones_seen = std::collections::BTreeSet::new();
+            for iy in 0..spec.height {
+                for ix in 0..spec.width {
+                    let want = density_factor(&z, c, &crowd, spec.center(ix, iy));
+                    assert_eq!(layer[spec.index(ix, iy)].to_bits(), want.to_bits(), "cell ({ix}, {iy})");
+                    zones_seen.insert(want.to_bits());
+                }
+            }
+            assert_eq!(zones_seen.len(), 4, "every factor appears");
         }
     }
 

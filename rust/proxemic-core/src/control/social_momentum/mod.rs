@@ -378,6 +378,9 @@ struct Near {
     bound2: f64,
     /// A Gaussian keep-out region and its exponent level (safety margin included).
     gaussian: Option<(GaussianSpace, f64)>,
+    /// How far the Gaussian's keep-out region reaches from the centre (m, its
+    /// [`GaussianSpace::reach`] grown by a margin far above rounding; 0 for a disc).
+    gaussian_reach: f64,
 }
 
 impl Near {
@@ -393,6 +396,11 @@ impl Near {
         let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
         (t > 0.0 && (d0 + dv * t).norm_squared() < self.bound2)
             || self.gaussian.is_some_and(|(g, level)| {
+                // Farther than the region's reach all along the horizon: the exact minimum
+                // cannot fall below the level, no need to look for it.
+                if d0.norm() - dd.sqrt() * horizon > self.gaussian_reach {
+                    return false;
+                }
                 let (q, t) = g.min_along(d0, dv, horizon);
                 t > 0.0 && q < level
             })
@@ -447,9 +455,11 @@ fn people_sets(
             Some(AgentShape::Gaussian(g)) => Some((*g, g.level(params.safety_margin))),
             _ => None,
         };
-        let reach = gaussian.map_or(bound, |(g, _)| bound.max(g.reach(params.safety_margin)));
+        let g_reach = gaussian.map_or(0.0, |(g, _)| g.reach(params.safety_margin));
+        let reach = bound.max(g_reach);
         if dist - reach <= (vmax + a.vel.norm()) * horizon {
-            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound, gaussian });
+            let gaussian_reach = g_reach * (1.0 + 1e-9) + 1e-9;
+            near.push(Near { pos: a.pos, vel: a.vel, bound2: bound * bound, gaussian, gaussian_reach });
         }
         let in_fov = match heading {
             Some(h) => params.field_of_view >= std::f64::consts::TAU || (-d0).dot(&h) >= dist * cos_half_fov,
@@ -511,6 +521,13 @@ struct Comfort {
     /// comfort instant (index) at which any sample could bring the robot into the zone (none
     /// can before: the robot covers at most `vmax t` by time `t`).
     agents: Vec<ComfortAgent>,
+    /// Per comfort instant `k`, the agents (indices into `agents`, ascending) whose zone some
+    /// sample could reach at that instant: from `k >= first` on, and only while the agent's own
+    /// position at `t_k` lies within `R_i + vmax t_k` of `pos` (the robot covers at most
+    /// `vmax t_k`), with a margin far above rounding. The others' terms are exactly 0 there.
+    candidates: [Vec<usize>; COMFORT_SAMPLES],
+    /// Whether any instant has a candidate (otherwise every intrusion is 0).
+    active: bool,
     vel: Vec2,
     goal_dir: Vec2,
     accel: f64,
@@ -559,12 +576,35 @@ impl Comfort {
         } else {
             Vec::new()
         };
-        Comfort { agents, vel, goal_dir, accel: limits.max_accel.min(1e3), vmax, dt, horizon: t_c }
+        let candidates = std::array::from_fn(|k| {
+            let t = (k as f64 + 1.0) * h;
+            // |q| <= vmax t (every step of the sample's way is clamped to vmax), so the robot's
+            // offset `d0 + q - v_i t` is at least |d0 - v_i t| - vmax t from the agent.
+            let reach = vmax * t * (1.0 + 1e-9) + 1e-6;
+            (0..agents.len())
+                .filter(|&i| {
+                    let a = &agents[i];
+                    k >= a.first && (a.d0 - a.vel * t).norm() - reach < a.r
+                })
+                .collect()
+        });
+        let active = candidates.iter().any(|c: &Vec<usize>| !c.is_empty());
+        Comfort {
+            agents,
+            candidates,
+            active,
+            vel,
+            goal_dir,
+            accel: limits.max_accel.min(1e3),
+            vmax,
+            dt,
+            horizon: t_c,
+        }
     }
 
     /// Mean intrusion (m) of the sample `v` into the comfort zones over the comfort horizon.
     fn intrusion(&self, v: Vec2) -> f64 {
-        if self.agents.is_empty() {
+        if !self.active {
             return 0.0;
         }
         // The sample's way over the horizon: it keeps accelerating the way it turned (at the
@@ -582,10 +622,8 @@ impl Comfort {
             w -= self.goal_dir * w.dot(&self.goal_dir).min(0.0);
             q += w * h;
             // Terms that are exactly 0 (no intrusion) are skipped: the sum is the same, bit for bit.
-            for a in &self.agents {
-                if k < a.first {
-                    continue;
-                }
+            for &i in &self.candidates[k] {
+                let a = &self.agents[i];
                 let d2 = (a.d0 + q - a.vel * t).norm_squared();
                 if d2 > a.clear2 {
                     continue;
@@ -635,7 +673,12 @@ fn collides(scene: &Scene, v: Vec2, horizon: f64) -> bool {
         return true;
     }
     let end = pos + v * horizon;
+    // An edge farther than the swept length plus the bound cannot come within the bound.
+    let sweep = v.norm() * horizon * (1.0 + 1e-9) + 1e-9;
     scene.edges.iter().any(|&(a, b, d_now)| {
+        if d_now - sweep >= scene.wall_bound {
+            return false;
+        }
         let d = segment_segment_distance(pos, end, a, b);
         d < scene.wall_bound && d < d_now
     })

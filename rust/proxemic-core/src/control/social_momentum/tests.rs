@@ -426,3 +426,126 @@ fn inside_an_obstacle_stops() {
     );
     assert_eq!(out, None);
 }
+
+/// Random people around the origin (some standing, some walking, comfort zones of 0-1.5 m).
+fn random_crowd(rng: &mut ChaCha8Rng, n: usize) -> Vec<Agent> {
+    (0..n)
+        .map(|_| Agent {
+            pos: v(rng.random_range(-8.0..8.0), rng.random_range(-8.0..8.0)),
+            vel: v(rng.random_range(-1.3..1.3), rng.random_range(-1.3..1.3)),
+            radius: rng.random_range(0.0..0.4),
+            weight: 1.0,
+            comfort: if rng.random_bool(0.2) { 0.0 } else { rng.random_range(0.3..1.5) },
+        })
+        .collect()
+}
+
+#[test]
+fn the_comfort_candidates_give_the_full_sum_bit_for_bit() {
+    // The straightforward intrusion: every agent of the comfort term at every instant, no term
+    // skipped. The per-instant candidate lists must leave the sum unchanged, bit for bit.
+    let reference = |c: &Comfort, v: Vec2| -> f64 {
+        let dv0 = v - c.vel;
+        let turn = if dv0.norm() > 1e-9 { dv0 / dv0.norm() } else { Vec2::zeros() };
+        let h = c.horizon / COMFORT_SAMPLES as f64;
+        let (mut q, mut sum) = (Vec2::zeros(), 0.0);
+        for k in 0..COMFORT_SAMPLES {
+            let t = (k as f64 + 1.0) * h;
+            let mut w = clamp_norm(v + turn * c.accel * (t - c.dt).max(0.0), c.vmax);
+            w -= c.goal_dir * w.dot(&c.goal_dir).min(0.0);
+            q += w * h;
+            for a in &c.agents {
+                sum += (a.r - (a.d0 + q - a.vel * t).norm()).max(0.0);
+            }
+        }
+        sum / COMFORT_SAMPLES as f64
+    };
+    let p = SocialMomentumParams::default();
+    let l = Limits::PEPPER;
+    let mut rng = ChaCha8Rng::seed_from_u64(31);
+    let (mut nonzero, mut skipped) = (0, 0);
+    for _ in 0..300 {
+        let vel = v(rng.random_range(-0.4..0.4), rng.random_range(-0.4..0.4));
+        let goal_dir = {
+            let a: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            v(a.cos(), a.sin())
+        };
+        let n = rng.random_range(0..40);
+        let others = random_crowd(&mut rng, n);
+        let c = Comfort::new(Vec2::zeros(), vel, goal_dir, &others, &l, DT, &p);
+        skipped += c.agents.len() * COMFORT_SAMPLES - c.candidates.iter().map(Vec::len).sum::<usize>();
+        for s in action_set(vel, goal_dir * 2.0, goal_dir, l.max_accel * DT, l.max_speed, &p) {
+            let (fast, slow) = (c.intrusion(s), reference(&c, s));
+            assert_eq!(fast.to_bits(), slow.to_bits(), "sample {s:?}: {fast} vs {slow}");
+            nonzero += usize::from(slow > 0.0);
+        }
+    }
+    // The check means something: intrusions happen, and terms are skipped.
+    assert!(nonzero > 1000 && skipped > 1000, "{nonzero} non-zero intrusions, {skipped} terms skipped");
+}
+
+#[test]
+fn the_collision_prefilters_change_no_verdict() {
+    // The straightforward collision filter: every near agent's disc and exact Gaussian minimum,
+    // every nearby wall edge, no distance pre-check.
+    let reference = |scene: &Scene, v: Vec2, horizon: f64| -> bool {
+        let pos = scene.pos;
+        let person = scene.near.iter().any(|a| {
+            let (d0, dv) = (pos - a.pos, v - a.vel);
+            let dd = dv.norm_squared();
+            let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
+            (t > 0.0 && (d0 + dv * t).norm_squared() < a.bound2)
+                || a.gaussian.is_some_and(|(g, level)| {
+                    let (q, t) = g.min_along(d0, dv, horizon);
+                    t > 0.0 && q < level
+                })
+        });
+        let end = pos + v * horizon;
+        person
+            || scene.edges.iter().any(|&(a, b, d_now)| {
+                let d = segment_segment_distance(pos, end, a, b);
+                d < scene.wall_bound && d < d_now
+            })
+    };
+    let geom = room();
+    let p = SocialMomentumParams::default();
+    let l = Limits::PEPPER;
+    let mut rng = ChaCha8Rng::seed_from_u64(32);
+    let (mut hits, mut total) = (0, 0);
+    for _ in 0..300 {
+        let pos = v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5));
+        if geom.contains(pos) {
+            continue;
+        }
+        let vel = v(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5));
+        let n = rng.random_range(0..30);
+        let others: Vec<Agent> =
+            random_crowd(&mut rng, n).into_iter().map(|a| Agent { pos: a.pos * 0.6, ..a }).collect();
+        let shapes: Vec<AgentShape> = (0..n)
+            .map(|_| {
+                if rng.random_bool(0.5) {
+                    return AgentShape::Disc;
+                }
+                let sides = crate::proxemics::Asymmetric {
+                    front: rng.random_range(0.3..2.5),
+                    rear: rng.random_range(0.3..2.5),
+                    right: rng.random_range(0.3..2.5),
+                    left: rng.random_range(0.3..2.5),
+                };
+                let g = GaussianSpace::new(rng.random_range(-3.2..3.2), sides, 1.0, 0.5).expect("valid");
+                AgentShape::Gaussian(g)
+            })
+            .collect();
+        let wall_bound = R + p.safety_margin;
+        let edges = nearby_edges(pos, Some(&geom), l.max_speed * p.horizon + wall_bound).expect("outside");
+        let (near, _) = people_sets(pos, vel, R, None, &others, &shapes, l.max_speed, &p);
+        let scene = Scene { pos, partial_goal: pos, wall_bound, edges: &edges, near: &near, reactive: &[] };
+        for s in action_set(vel, v(1.0, 0.0), v(1.0, 0.0), l.max_accel * DT, l.max_speed, &p) {
+            let fast = collides(&scene, s, p.horizon);
+            assert_eq!(fast, reference(&scene, s, p.horizon), "sample {s:?} at {pos:?}");
+            hits += usize::from(fast);
+            total += 1;
+        }
+    }
+    assert!(hits > 1000 && total - hits > 1000, "{hits} of {total} samples collide");
+}
