@@ -248,16 +248,15 @@ RELATIVE = (*REDUCTIONS, "collisions", "success", "time")
 
 #: (scene set, claim) -> the measured figure, for claims that do not hold on the test split (CI sets).
 KNOWN_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 20/20 episodes (centre reading: 0/20)",
-    ("museum", "personal_seconds"): "personal-zone time: social 160.0 s vs plain A* 232.8 s (31% less, claim 50%)",
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 19/20 episodes (centre reading: 0/20)",
+    ("museum", "personal_seconds"): "personal-zone time: social 188.2 s vs plain A* 232.8 s (19% less, claim 50%)",
     ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 12/20 episodes (centre reading: 0/20)",
     ("care_center", "personal_seconds"): "personal-zone time: social 88.4 s vs plain A* 111.9 s (21% less, claim 50%)",
     # Since a person walking into a stopped robot no longer ends its episode (issue 23), plain A*'s
     # episode on seed 1019, a collision before, reaches the goal: one more pair.
-    ("care_center", "time"): "paired time to goal: social/astar 1.332 [95% CI 1.216, 1.467], 18 pairs (claim: <= 1.3)",
-    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 12/50 scenes (centre reading: 0/50)",
-    (GENERATED, "personal_seconds"): "personal-zone time: social 50.6 s vs plain A* 62.8 s (19% less, claim 50%)",
-    (GENERATED, "active_object_seconds"): "active object-space time: social 10.4 s vs plain A* 5.6 s (claim 80% less)",
+    ("care_center", "time"): "paired time to goal: social/astar 1.338 [95% CI 1.219, 1.475], 18 pairs (claim: <= 1.3)",
+    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 11/50 scenes (centre reading: 0/50)",
+    (GENERATED, "personal_seconds"): "personal-zone time: social 47.8 s vs plain A* 62.8 s (24% less, claim 50%)",
 }
 #: The same for the full test split.
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {}
@@ -268,10 +267,6 @@ KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {
         "care_center",
         "personal_seconds",
     ): "personal-zone time: social 88.4 s vs astar_orca 143.2 s (38% less, claim 50%)",
-    (
-        GENERATED,
-        "active_object_seconds",
-    ): "active object-space time: social 10.4 s vs astar_orca 10.4 s (claim 80% less)",
 }
 #: The same for the full test split.
 KNOWN_FULL_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}

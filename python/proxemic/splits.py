@@ -13,6 +13,12 @@ What was tuned on which split (every entry below was looked at on the tuning spl
   0-59 (``TUNING_EPISODE_SEEDS``), the seeds the claims suite used before the split existed;
 - the museum's corridor widening and the care center's shortened task: edited while looking at
   those same seeds 0-59;
+- the ``social`` planner's active-object comfort term (``SOCIAL_OBJECT_COMFORT`` in
+  ``proxemic-core``'s ``world/planners.rs``, issue 15): chosen with
+  ``examples/tune_social_claims.py --episodes 40 --scenes 100`` (episode seeds 0-39 of the museum
+  and care center, generated scene seeds 0-99 with the claims' query), as were the levers tried
+  and left out (body-edge keep-out radius in Social Momentum, a step aside when every sample
+  collides, a wider comfort zone round people: each cost time to goal or added collisions there);
 - the generator's constants (room sizes, the keep-clear margins round doorways and people, the
   shares of people): set by hand without running any planner on generated scenes; its defaults
   were checked for validity (the scene builds a world) on generated seeds of the tuning split

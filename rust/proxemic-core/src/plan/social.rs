@@ -184,6 +184,12 @@ impl SocialPlanning {
         out.extend(self.object_names.iter().map(|n| self.agenda.active(n, time_of_day)));
     }
 
+    /// The interaction polygons of the objects with one (world frame, m), in the order of
+    /// [`Self::object_names`].
+    pub fn object_polygons(&self) -> &[Vec<Vec2>] {
+        &self.object_polygons
+    }
+
     /// R(t) of every object with an interaction space at `time_of_day`.
     pub fn object_factors(&self, time_of_day: f64) -> Vec<f64> {
         self.object_names.iter().map(|n| self.agenda.cost(n, time_of_day)).collect()

@@ -29,6 +29,14 @@ const SOCIAL_REFRESH: usize = 20;
 /// without it, two ways of nearly equal cost (around a gallery or along the corridor) took turns
 /// as people moved and the robot wandered between them.
 const SOCIAL_REPLAN_GAIN: f64 = 0.15;
+/// The `social` planner's Social Momentum keeps out of the active object spaces near it as it
+/// keeps out of personal zones: each active space enters its comfort term as a standing agent at
+/// the space's centroid whose comfort radius is this many times the centroid's farthest vertex
+/// distance (dimensionless; 1 covers the polygon). Chosen on the tuning split (scene seeds 0-99 of
+/// the claims' generated scenes, episode seeds 0-39 of the museum and care center; see
+/// `proxemic.splits`): without it, a robot side-stepping people went through active spaces the
+/// global path kept clear of.
+const SOCIAL_OBJECT_COMFORT: f64 = 1.0;
 /// The largest ratio of the shortest 8-connected grid path to the straight line between its
 /// ends, `cos 22.5° + (sqrt 2 - 1) sin 22.5°` (at 22.5°): a grid geodesic divided by it never
 /// exceeds the true one.
@@ -383,7 +391,7 @@ impl World {
         let st = &self.statics[i];
         let rb = &self.robots[i];
         let p = Vec2::new(rb.pose[0], rb.pose[1]);
-        let people: Vec<CtlPerson> = self
+        let mut people: Vec<CtlPerson> = self
             .controller_people(st.radius)
             .into_iter()
             .filter(|(_, r)| *r != Some(i))
@@ -401,6 +409,9 @@ impl World {
         if mode != Mode::SocialMomentum {
             return mode;
         }
+        if local == LocalPlanner::ModeSwitch {
+            self.active_object_agents(p, &mut people);
+        }
         let (v, m) = social_momentum_step(
             p,
             rb.exec_v,
@@ -415,6 +426,33 @@ impl World {
         );
         *desired = v;
         m
+    }
+
+    /// The active object spaces near `p` as Social Momentum agents of the `social` planner
+    /// ([`SOCIAL_OBJECT_COMFORT`]), appended to `people`: a standing agent at each active space's
+    /// centroid, no weight in the momentum term, a comfort zone covering the space, and no body
+    /// (its keep-out radius is 0, so only the robot's radius and the safety margin around the
+    /// centroid are kept clear). Spaces farther than the sensing range are left out.
+    fn active_object_agents(&self, p: Vec2, people: &mut Vec<CtlPerson>) {
+        let mut active = Vec::new();
+        self.social.object_activity(self.time_of_day(), &mut active);
+        for (poly, &on) in self.social.object_polygons().iter().zip(&active) {
+            if !on || poly.is_empty() {
+                continue;
+            }
+            let c = poly.iter().fold(Vec2::zeros(), |a, q| a + q) / poly.len() as f64;
+            let reach = poly.iter().map(|q| (q - c).norm()).fold(0.0, f64::max);
+            if (c - p).norm() - reach > self.control.sm.sensing_range {
+                continue;
+            }
+            people.push(CtlPerson {
+                pos: c,
+                vel: Vec2::zeros(),
+                keep_out: 0.0,
+                weight: 0.0,
+                comfort: SOCIAL_OBJECT_COMFORT * reach,
+            });
+        }
     }
 
     /// Limits robot `i`'s `desired` velocity (a stop once its episode has ended), turns it by
