@@ -165,8 +165,10 @@ impl World {
         rb.replans += 1;
     }
 
-    /// Re-planning triggers of the social planners (every few steps).
-    fn social_checks(&mut self) {
+    /// Re-planning triggers of the social planners (every few steps). Returns whether it
+    /// perceived the people this step (the perception [`World::plan_all`] needs then is the
+    /// same: re-planning moves neither the people nor the robots).
+    fn social_checks(&mut self) -> bool {
         let due: Vec<usize> = (0..self.robots.len())
             .filter(|&i| {
                 let rb = &self.robots[i];
@@ -180,11 +182,8 @@ impl World {
                     && self.steps >= rb.last_plan_step + SOCIAL_MIN_REPLAN
             })
             .collect();
-        if due.is_empty() {
-            return;
-        }
-        if self.perceive().is_err() {
-            return;
+        if due.is_empty() || self.perceive().is_err() {
+            return false;
         }
         let tod = self.time_of_day();
         for i in due {
@@ -199,6 +198,7 @@ impl World {
                 self.social_plan(i, p, tod);
             }
         }
+        true
     }
 
     /// The people (and robots that joined human interactions) as the local planners see them:
@@ -281,12 +281,15 @@ impl World {
     /// and the heading policy ([`heading_rate`]).
     pub(super) fn plan_all(&mut self, out: &mut [f64]) {
         let dt = self.scenario.control_dt();
-        self.social_checks();
+        let perceived = self.social_checks();
         let n = self.robots.len();
-        if (0..n).any(|i| {
-            let k = self.statics[i].planner;
-            self.planning[i] && (local_planner(k).is_some() || k == PlannerKind::Eband || k.daza2021_family())
-        }) {
+        if !perceived
+            && (0..n).any(|i| {
+                let k = self.statics[i].planner;
+                self.planning[i]
+                    && (local_planner(k).is_some() || k == PlannerKind::Eband || k.daza2021_family())
+            })
+        {
             // Groups and robots joining them, as perceived now (the social planners' perception).
             let _ = self.perceive();
         }
