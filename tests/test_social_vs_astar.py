@@ -269,7 +269,12 @@ KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {
     ): "personal-zone time: social 88.4 s vs astar_orca 143.2 s (38% less, claim 50%)",
 }
 #: The same for the full test split.
-KNOWN_FULL_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}
+KNOWN_FULL_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {
+    (
+        GENERATED,
+        "active_object_seconds",
+    ): "active object-space time: social 10.4 s vs astar_orca 10.4 s (claim 80% less)",
+}
 #: (scene set, claim) -> the measured figure, where plain A* never does what the claim cuts.
 NOT_EXERCISED: dict[tuple[str, str], str] = {
     ("care_center", "ospace_entries"): "plain A* enters no o-space in the care center (0 entries on 20 test seeds)",

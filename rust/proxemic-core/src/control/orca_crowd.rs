@@ -13,6 +13,14 @@ pub const ORCA_MARGIN: f64 = 0.08;
 /// Speed bound of a person as an ORCA agent (m/s).
 const PERSON_MAX_SPEED: f64 = 2.5;
 
+/// The radius (m) of a person's disc as ORCA sees it: the body `radius`, at least `intimate`
+/// minus a robot's typical radius (0.24 m) so that the robot stays out of the intimate zone (0 for
+/// the body alone), plus [`ORCA_MARGIN`]. A robot's centre is kept this far plus its own radius
+/// plus [`ORCA_MARGIN`] from the person's centre.
+pub fn person_disc(radius: f64, intimate: f64) -> f64 {
+    radius.max(intimate - 0.24) + ORCA_MARGIN
+}
+
 /// Agent ids of the people start here (robots are numbered by index below it).
 const PERSON_ID_BASE: u64 = 1_000_000;
 
@@ -87,7 +95,7 @@ pub fn orca_among_people(
             pos: people.pos[k],
             vel: people.vel[k],
             pref_vel: people.vel[k],
-            radius: people.radius[k].max(people.intimate - 0.24) + ORCA_MARGIN,
+            radius: person_disc(people.radius[k], people.intimate),
             max_speed: PERSON_MAX_SPEED,
             reciprocal: false,
             id: PERSON_ID_BASE + k as u64,

@@ -11,7 +11,9 @@
 //!    within that distance ([`clearest_point`]), if one has more than where it is;
 //! 3. then it follows a plain A* path re-planned from there with the blocking people (those within
 //!    [`BLOCKING_RADIUS`] of the robot or near its path ahead, [`blocking_people`]) as temporary
-//!    obstacles on a copy of the grid ([`mark_discs`]), so the new way goes round them;
+//!    obstacles on a copy of the grid ([`mark_discs`]), so the new way goes round them (for the
+//!    `astar_orca` baseline, the larger discs its ORCA keeps out of, and backing out keeps away
+//!    from the blocking people too: `World::recover`);
 //! 4. the recovery path is kept, without the planner's own re-planning, for [`RECOVERY_HOLD`]
 //!    seconds, followed with ORCA among everyone by the planners that have a local planner (the
 //!    social terms that held the robot back are off meanwhile), and for the first

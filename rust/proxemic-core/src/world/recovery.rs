@@ -7,8 +7,10 @@ use super::World;
 use super::planners::{plan_path, segment_clear};
 use crate::control::eband::ElasticBand;
 use crate::control::mode_switch::Mode;
+use crate::control::orca_crowd::{ORCA_MARGIN, person_disc};
 use crate::control::progress::{BACKOFF_DISTANCE, blocking_people, clearest_point, mark_discs};
 use crate::control::{FollowerParams, PathFollower};
+use crate::geom::distance_squared_point_segment;
 use crate::math::Vec2;
 use crate::scenario::PlannerKind;
 
@@ -47,7 +49,8 @@ impl World {
     /// Robot `i`'s recovery from `p`: a new path that backs out along the way it came when that
     /// leads to more clearance (else to the clearest point within reach), then goes on to its target by a plain A* path planned with
     /// the blocking people as temporary obstacles (discs of their radius plus the robot's
-    /// inflated radius; without a way round them, on the static grid). The local control state
+    /// inflated radius, for `astar_orca` the larger discs ORCA keeps its centre out of; without a
+    /// way round them, on the static grid). The local control state
     /// goes with the old path: the partial goal (on the new path), the mode, the social path
     /// and the elastic band (the `eband` planner gets a new one when the hold ends; the social
     /// planners plan a new social path then).
@@ -57,30 +60,61 @@ impl World {
         let grid = &self.grids[st.grid_index].grid;
         let rb = &self.robots[i];
         let field = &self.field;
-        let back = rb.progress.way_back(p);
-        let mut path = vec![p];
-        match back.last() {
-            // Back along the way it came when that leads to more room (out of a doorway or a
-            // dead end)...
-            Some(&end) if back.len() >= 2 && field.at(end) > field.at(p) + BACKOFF_GAIN => path = back,
-            // ...else to the clearest point within reach, if any has more room than here.
-            _ => {
-                let visible = |a: Vec2, b: Vec2| segment_clear(grid, a, b);
-                if let Some(q) = clearest_point(p, BACKOFF_DISTANCE, &|q| field.at(q), &visible) {
-                    path.push(q);
-                }
-            }
-        }
-        let from = *path.last().unwrap_or(&p);
         let steps = (crate::control::progress::BLOCKING_PATH_AHEAD / AHEAD_SAMPLE).ceil() as usize;
         let ahead: Vec<Vec2> =
             (0..=steps).map(|k| rb.follower.point_ahead(k as f64 * AHEAD_SAMPLE)).collect();
         let inflated = st.radius + self.scenario.robots[i].inflation_margin;
         let c = &self.crowd;
-        let discs: Vec<(Vec2, f64)> = blocking_people(p, &ahead, &c.pos)
-            .into_iter()
-            .map(|k| (c.pos[k], c.radius[k] + inflated))
-            .collect();
+        let blocking = blocking_people(p, &ahead, &c.pos);
+        // `astar_orca` follows every path with ORCA, which keeps its centre further from a
+        // person than the inflated disc does, and does not pass between people closer than that:
+        // its recovery keeps to ORCA's discs (the re-plan's obstacles, rasterised so that no cell
+        // within them stays free) and counts the blocking people's bodies as obstacles when it
+        // looks for room to back out to. With the plain rule, a robot ORCA held in the gap of a
+        // conversing pair 1.2 m apart backed out through the gap (more room from the walls
+        // there) and re-planned through the 0.2 m channel the inflated discs left.
+        let orca_follows = st.planner == PlannerKind::AstarOrca;
+        let keep_off = |k: usize| {
+            let inflated_disc = c.radius[k] + inflated;
+            if orca_follows {
+                let orca = person_disc(c.radius[k], 0.0) + st.radius + ORCA_MARGIN;
+                inflated_disc.max(orca + grid.spec.resolution * std::f64::consts::FRAC_1_SQRT_2)
+            } else {
+                inflated_disc
+            }
+        };
+        let discs: Vec<(Vec2, f64)> = blocking.iter().map(|&k| (c.pos[k], keep_off(k))).collect();
+        let bodies: Vec<(Vec2, f64)> = if orca_follows {
+            blocking.iter().map(|&k| (c.pos[k], c.radius[k])).collect()
+        } else {
+            Vec::new()
+        };
+        // Room at a point (m): its clearance from the walls, and for `astar_orca` from the
+        // blocking people's bodies.
+        let room = |q: Vec2| bodies.iter().fold(field.at(q), |m, &(o, r)| m.min((q - o).norm() - r));
+        let back = rb.progress.way_back(p);
+        let mut path = vec![p];
+        match back.last() {
+            // Back along the way it came when that leads to more room (out of a doorway or a
+            // dead end)...
+            Some(&end) if back.len() >= 2 && room(end) > room(p) + BACKOFF_GAIN => path = back,
+            // ...else to the clearest point within reach, if any has more room than here (for
+            // `astar_orca`, in a straight line that goes no deeper into ORCA's discs).
+            _ => {
+                let visible = |a: Vec2, b: Vec2| {
+                    segment_clear(grid, a, b)
+                        && (!orca_follows
+                            || discs.iter().all(|&(o, r)| {
+                                let limit = r.min((a - o).norm());
+                                distance_squared_point_segment(o, a, b) >= limit * limit - 1e-9
+                            }))
+                };
+                if let Some(q) = clearest_point(p, BACKOFF_DISTANCE, &room, &visible) {
+                    path.push(q);
+                }
+            }
+        }
+        let from = *path.last().unwrap_or(&p);
         let onward = if discs.is_empty() {
             None
         } else {
