@@ -53,8 +53,8 @@ test-rust: ## Rust unit and integration tests (property tests with a fixed seed:
 test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
 	$(PY) -m pytest -q
 
-test-full: setup ## the full social-vs-A* comparison suite on the whole test split (60 seeds per scene, 60 generated scenes; pytest -m full)
-	$(PY) -m pytest -q -m full tests/test_social_vs_astar.py
+test-full: setup ## the full claims suites on the whole test split (60 seeds per scene, 60 generated scenes; pytest -m full): social vs the baselines, and the timeout and collision rates
+	$(PY) -m pytest -q -m full tests/test_social_vs_astar.py tests/test_progress.py
 
 install-check: system-deps ## `pip install .` into a fresh venv, then gym.make from another directory
 	rm -rf /tmp/proxemic-install-check && python3 -m venv /tmp/proxemic-install-check
