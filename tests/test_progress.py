@@ -86,6 +86,7 @@ def _check(planner: str, claim: str, seeds: tuple[int, ...]) -> None:
         limit = MAX_COLLISIONS
     share = len(bad) / len(recs)
     recoveries = sum(int(r["recoveries"]) for r in recs)
+    print(f"{planner}: {claim} in {len(bad)}/{len(recs)} generated scenes ({share:.1%}); {recoveries} recoveries")
     assert share <= limit, (
         f"{planner}: {claim} in {len(bad)}/{len(recs)} generated scenes ({share:.1%}, claim <= {limit:.0%}), "
         f"seeds {bad}; {recoveries} recoveries in all"
