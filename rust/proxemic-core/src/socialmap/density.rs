@@ -55,10 +55,10 @@ fn zone_factor(zones: &DensityZones, costs: &SocialCosts, g: f64) -> f64 {
 /// centres) for `people` (module docs).
 ///
 /// Bit for bit the factor of [`density_factor`] at every cell centre, computed tile by tile
-/// ([`TILE`] cells square). Per tile, a person whose exponent is above 40 over the whole tile
+/// (8 cells square). Per tile, a person whose exponent is above 40 over the whole tile
 /// adds exactly 0 to every cell's sum (Kirby's Gaussian is cut there, see
 /// [`crate::groups::DensityParams::gaussian_local`]) and is left out; the people whose exponent
-/// can fall to [`NEAR_EXPONENT`] in the tile are summed per cell, and the others are bounded by
+/// can fall to 10 in the tile are summed per cell, and the others are bounded by
 /// their largest value in the tile. A cell whose sum lies, with that bound and a margin for
 /// rounding, between the same contour levels at both ends gets that zone's factor; any other cell
 /// is summed over every person not left out, in their order: the same sum as [`density_factor`].
