@@ -226,6 +226,16 @@ def test_sousa2022_reports_the_figures_claim_from_the_run(tmp_path):
             line = next(x for x in section.splitlines() if x.startswith(f"- `{planner}` crosses a group's space in"))
             assert line.endswith(f"**{verdict}**."), line
     assert "Groups the robot perceives (Delaunay, at the start)" in report
+    # Sect. 4.5's claim in personal-space terms, on each figure: plain A* enters a group's and a
+    # single person's personal space, Sousa's path enters neither.
+    for exp in experiments("sousa2022"):
+        lines = sections[exp.name].splitlines()
+        verdict = {
+            p: next(x for x in lines if x.startswith(f"- `{p}` enters the personal space"))
+            for p in ("astar", "sousa2022")
+        }
+        assert verdict["astar"].endswith("**crosses both kinds**."), verdict["astar"]
+        assert verdict["sousa2022"].endswith("**respects both kinds**."), verdict["sousa2022"]
 
 
 def test_published_data_cites_its_sources():

@@ -25,6 +25,7 @@ import numpy as np
 from proxemic import _core, scenarios
 from proxemic.errors import ScenarioError, input_error
 from proxemic.evaluation import EpisodeResult, mean_ci, run_task
+from proxemic.records import Individual
 
 #: The papers `reproduce` knows.
 PAPERS = ("daza2021", "sousa2022", "calderita")
@@ -338,6 +339,8 @@ def sousa_findings(scene: str | _core.Scenario, results: dict[str, list[EpisodeR
                 f"{'+'.join(names[i] for i in members)} {_closest(tracks, c):.2f} m" for members, c in centres
             )
             lines.append(f"- `{planner}`'s closest approach to each perceived group's centre: {closest}.")
+        if tracks:
+            lines.append(_personal_space_line(planner, tracks, perception["individuals"], names))
         lines.append(
             f"- `{planner}` crosses a group's space in {sum(crossing)} of {len(rs)} episodes "
             f"(o-space time {_mean(rs, 'ospace_pct'):.1f}%, person-person crossings "
@@ -345,6 +348,55 @@ def sousa_findings(scene: str | _core.Scenario, results: dict[str, list[EpisodeR
             f"**{'crosses' if any(crossing) else 'does not cross'}**."
         )
     return lines
+
+
+#: Daza 2021's personal radius (m), the outer edge of the personal zone (Sect. 2, Hall's 0.5-1 m):
+#: Sousa 2022 Sect. 4.5 runs Daza's method, so a zone distance below it is inside the personal space.
+SOUSA_PERSONAL_RADIUS = 1.0
+
+
+def sousa_zone_distance(individual: Individual, points: np.ndarray) -> np.ndarray:
+    """Zone distance (m) of ``points`` ((N, 2), metres) in an individual's asymmetric Gaussian.
+
+    Sousa et al. 2022 eq. 5: with the sagittal and frontal offsets ``s``, ``f`` of a point from the
+    individual's centre in its heading frame, and the Gaussian's sides (front or rear for ``s``,
+    right or left for ``f``, from the perception's ``sides``), the exponent is
+    ``q = s^2 / (2 sigma_s^2) + f^2 / (2 sigma_f^2)`` and the zone distance ``sqrt(2 q)`` times
+    the base sigma, 1 m for the ``sousa2022`` space.
+    """
+    d = np.asarray(points, dtype=float)[:, :2] - np.asarray(individual["centre"], dtype=float)
+    c, s = np.cos(individual["heading"]), np.sin(individual["heading"])
+    sag, fro = c * d[:, 0] + s * d[:, 1], s * d[:, 0] - c * d[:, 1]
+    front, rear, right, left = individual["sides"]
+    sa = np.where(sag >= 0.0, front, rear)
+    sf = np.where(fro >= 0.0, right, left)
+    return np.sqrt((sag / sa) ** 2 + (fro / sf) ** 2)
+
+
+def _personal_space_line(
+    planner: str, tracks: Sequence[np.ndarray], individuals: Sequence[Individual], names: Sequence[str]
+) -> str:
+    """Which perceived groups and people standing alone ``planner``'s tracks enter the personal space of.
+
+    Sect. 4.5's claim: plain A* crosses "the proxemics space for groups and for a single person";
+    Sousa's path respects both. Entering means a zone distance below [`SOUSA_PERSONAL_RADIUS`].
+    """
+    entered: dict[bool, list[str]] = {True: [], False: []}
+    for ind in individuals:
+        least = min(float(sousa_zone_distance(ind, t).min()) for t in tracks)
+        if least < SOUSA_PERSONAL_RADIUS:
+            label = "+".join(names[i] for i in ind["members"])
+            entered[len(ind["members"]) > 1].append(f"{label} ({least:.2f} m)")
+    verdict = (
+        "crosses both kinds"
+        if entered[True] and entered[False]
+        else ("crosses one kind" if entered[True] or entered[False] else "respects both kinds")
+    )
+    return (
+        f"- `{planner}` enters the personal space (zone distance, eq. 5, below {SOUSA_PERSONAL_RADIUS:.1f} m) of "
+        f"groups: {', '.join(entered[True]) or 'none'}; of people standing alone: "
+        f"{', '.join(entered[False]) or 'none'}: **{verdict}**."
+    )
 
 
 def _closest(tracks: Sequence[np.ndarray], point: np.ndarray) -> float:
