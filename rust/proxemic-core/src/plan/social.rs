@@ -340,13 +340,13 @@ impl SocialPlanning {
         visible: impl Fn(Vec2, Vec2) -> bool,
     ) -> f64 {
         let factors = self.object_factors(time_of_day);
-        let Some((first, q)) = path
-            .samples
-            .iter()
-            .enumerate()
-            .filter(|(_, s)| visible(from, s.0))
-            .min_by(|a, b| (a.1.0 - from).norm().total_cmp(&(b.1.0 - from).norm()))
-            .map(|(i, s)| (i, s.0))
+        // The nearest visible sample (the first in path order among equally near ones): samples
+        // are tried nearest first, so the line-of-sight test runs only until one passes.
+        let mut order: Vec<(f64, usize)> =
+            path.samples.iter().enumerate().map(|(i, s)| ((s.0 - from).norm(), i)).collect();
+        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let Some((first, q)) =
+            order.iter().map(|&(_, i)| (i, path.samples[i].0)).find(|&(_, q)| visible(from, q))
         else {
             return f64::INFINITY;
         };
