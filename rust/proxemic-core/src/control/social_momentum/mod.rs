@@ -394,11 +394,15 @@ impl Near {
     fn brought_inside(&self, d0: Vec2, dv: Vec2, horizon: f64) -> bool {
         let dd = dv.norm_squared();
         let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
-        (t > 0.0 && (d0 + dv * t).norm_squared() < self.bound2)
+        // The smallest squared centre distance over the horizon.
+        let closest2 = (d0 + dv * t).norm_squared();
+        (t > 0.0 && closest2 < self.bound2)
             || self.gaussian.is_some_and(|(g, level)| {
-                // Farther than the region's reach all along the horizon: the exact minimum
+                // Farther than the region's reach all along the horizon (the closest approach,
+                // less a slack far above its rounding, clears the reach): the exact minimum
                 // cannot fall below the level, no need to look for it.
-                if d0.norm() - dd.sqrt() * horizon > self.gaussian_reach {
+                let slack = 1e-9 * (d0.norm_squared() + dd * horizon * horizon);
+                if closest2 - slack > self.gaussian_reach * self.gaussian_reach {
                     return false;
                 }
                 let (q, t) = g.min_along(d0, dv, horizon);
@@ -720,6 +724,9 @@ fn collides(scene: &Scene, v: Vec2, horizon: f64) -> bool {
     if hits_person {
         return true;
     }
+    if scene.edges.is_empty() {
+        return false;
+    }
     let end = pos + v * horizon;
     // An edge farther than the swept length plus the bound cannot come within the bound.
     let sweep = v.norm() * horizon * (1.0 + 1e-9) + 1e-9;
@@ -753,6 +760,10 @@ fn feasible_samples(
                 sm += r.w * l.abs();
             } else {
                 all_kept = false;
+                if !params.per_agent_mask {
+                    // All or nothing: the term is 0 whatever the others give.
+                    break;
+                }
             }
         }
         if !params.per_agent_mask && !all_kept {
