@@ -166,7 +166,10 @@ impl GaussianSpace {
             }
         }
         cuts[n] = horizon;
-        cuts[..=n].sort_by(f64::total_cmp);
+        // Only the (at most two) crossings between 0 and the horizon can be out of order.
+        if n == 3 && cuts[2] < cuts[1] {
+            cuts.swap(1, 2);
+        }
         let mut best = (self.exponent(d0), 0.0);
         for w in cuts[..=n].windows(2) {
             let (t0, t1) = (w[0], w[1]);

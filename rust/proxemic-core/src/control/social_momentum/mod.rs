@@ -394,11 +394,15 @@ impl Near {
     fn brought_inside(&self, d0: Vec2, dv: Vec2, horizon: f64) -> bool {
         let dd = dv.norm_squared();
         let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
-        (t > 0.0 && (d0 + dv * t).norm_squared() < self.bound2)
+        // The smallest squared centre distance over the horizon.
+        let closest2 = (d0 + dv * t).norm_squared();
+        (t > 0.0 && closest2 < self.bound2)
             || self.gaussian.is_some_and(|(g, level)| {
-                // Farther than the region's reach all along the horizon: the exact minimum
+                // Farther than the region's reach all along the horizon (the closest approach,
+                // less a slack far above its rounding, clears the reach): the exact minimum
                 // cannot fall below the level, no need to look for it.
-                if d0.norm() - dd.sqrt() * horizon > self.gaussian_reach {
+                let slack = 1e-9 * (d0.norm_squared() + dd * horizon * horizon);
+                if closest2 - slack > self.gaussian_reach * self.gaussian_reach {
                     return false;
                 }
                 let (q, t) = g.min_along(d0, dv, horizon);
@@ -526,8 +530,9 @@ struct Comfort {
     /// position at `t_k` lies within `R_i + vmax t_k` of `pos` (the robot covers at most
     /// `vmax t_k`), with a margin far above rounding. The others' terms are exactly 0 there.
     candidates: [Vec<usize>; COMFORT_SAMPLES],
-    /// Whether any instant has a candidate (otherwise every intrusion is 0).
-    active: bool,
+    /// How many comfort instants to evaluate: one past the last instant with a candidate (0
+    /// when no instant has one: every intrusion is 0).
+    instants: usize,
     vel: Vec2,
     goal_dir: Vec2,
     accel: f64,
@@ -588,11 +593,11 @@ impl Comfort {
                 })
                 .collect()
         });
-        let active = candidates.iter().any(|c: &Vec<usize>| !c.is_empty());
+        let instants = candidates.iter().rposition(|c: &Vec<usize>| !c.is_empty()).map_or(0, |k| k + 1);
         Comfort {
             agents,
             candidates,
-            active,
+            instants,
             vel,
             goal_dir,
             accel: limits.max_accel.min(1e3),
@@ -603,35 +608,82 @@ impl Comfort {
     }
 
     /// Mean intrusion (m) of the sample `v` into the comfort zones over the comfort horizon.
+    #[cfg(test)]
     fn intrusion(&self, v: Vec2) -> f64 {
-        if !self.active {
-            return 0.0;
+        let mut one = [Scored { v, e: 0.0, sm: 0.0, c: 0.0 }];
+        self.intrusions(&mut one);
+        one[0].c
+    }
+
+    /// Sets `c` of every sample to its mean intrusion (m) into the comfort zones over the comfort
+    /// horizon.
+    ///
+    /// The samples are processed side by side (one array per coordinate, a loop over the samples
+    /// inside the loops over the instants and the candidates, without branches, which the compiler
+    /// turns into SIMD code), each sample's sum in the same order and with the same operations as
+    /// one sample at a time, so every result is the same bit for bit.
+    fn intrusions(&self, samples: &mut [Scored]) {
+        let n = samples.len();
+        if self.instants == 0 || n == 0 {
+            for s in samples.iter_mut() {
+                s.c = 0.0;
+            }
+            return;
         }
-        // The sample's way over the horizon: it keeps accelerating the way it turned (at the
-        // acceleration limit, up to the speed limit), so a step aside shows where it leads.
-        let dv0 = v - self.vel;
-        let turn = if dv0.norm() > 1e-9 { dv0 / dv0.norm() } else { Vec2::zeros() };
+        // Per sample: its velocity, the acceleration it keeps up (turn * accel), where it has got
+        // to (q) and the sum of its intrusions.
+        let mut buf = vec![0.0; 7 * n];
+        let (vx, rest) = buf.split_at_mut(n);
+        let (vy, rest) = rest.split_at_mut(n);
+        let (px, rest) = rest.split_at_mut(n);
+        let (py, rest) = rest.split_at_mut(n);
+        let (qx, rest) = rest.split_at_mut(n);
+        let (qy, sum) = rest.split_at_mut(n);
+        for (j, s) in samples.iter().enumerate() {
+            // The sample's way over the horizon: it keeps accelerating the way it turned (at the
+            // acceleration limit, up to the speed limit), so a step aside shows where it leads.
+            let dv0 = s.v - self.vel;
+            let turn = if dv0.norm() > 1e-9 { dv0 / dv0.norm() } else { Vec2::zeros() };
+            let push = turn * self.accel;
+            (vx[j], vy[j], px[j], py[j]) = (s.v.x, s.v.y, push.x, push.y);
+        }
+        let (gx, gy) = (self.goal_dir.x, self.goal_dir.y);
+        let vmax = self.vmax;
         let h = self.horizon / COMFORT_SAMPLES as f64;
-        let mut q = Vec2::zeros();
-        let mut c = 0.0;
-        for k in 0..COMFORT_SAMPLES {
+        // After the last instant with a candidate every term is 0: the sums are complete.
+        for (k, candidates) in self.candidates.iter().enumerate().take(self.instants) {
             let t = (k as f64 + 1.0) * h;
-            let mut w = clamp_norm(v + turn * self.accel * (t - self.dt).max(0.0), self.vmax);
-            // Backing away from the partial goal counts as standing still: the robot may slow
-            // down or sidestep for someone's comfort, but it does not retreat along its way.
-            w -= self.goal_dir * w.dot(&self.goal_dir).min(0.0);
-            q += w * h;
-            // Terms that are exactly 0 (no intrusion) are skipped: the sum is the same, bit for bit.
-            for &i in &self.candidates[k] {
-                let a = &self.agents[i];
-                let d2 = (a.d0 + q - a.vel * t).norm_squared();
-                if d2 > a.clear2 {
-                    continue;
+            let ramp = (t - self.dt).max(0.0);
+            for j in 0..n {
+                // w = clamp_norm(v + push * ramp, vmax), as in `clamp_norm`.
+                let (mut wx, mut wy) = (vx[j] + px[j] * ramp, vy[j] + py[j] * ramp);
+                let norm = (wx * wx + wy * wy).sqrt();
+                if norm > vmax && norm > 0.0 {
+                    let scale = vmax / norm;
+                    (wx, wy) = (wx * scale, wy * scale);
                 }
-                c += (a.r - d2.sqrt()).max(0.0);
+                // Backing away from the partial goal counts as standing still: the robot may slow
+                // down or sidestep for someone's comfort, but it does not retreat along its way.
+                let back = (wx * gx + wy * gy).min(0.0);
+                (wx, wy) = (wx - gx * back, wy - gy * back);
+                qx[j] += wx * h;
+                qy[j] += wy * h;
+            }
+            for &i in candidates {
+                let a = &self.agents[i];
+                let (shift_x, shift_y) = (a.vel.x * t, a.vel.y * t);
+                for j in 0..n {
+                    let (dx, dy) = ((a.d0.x + qx[j]) - shift_x, (a.d0.y + qy[j]) - shift_y);
+                    let d2 = dx * dx + dy * dy;
+                    // A term that is exactly 0 (no intrusion) adds +0: the sum is the same, bit
+                    // for bit, as without it.
+                    sum[j] += if d2 > a.clear2 { 0.0 } else { (a.r - d2.sqrt()).max(0.0) };
+                }
             }
         }
-        c / COMFORT_SAMPLES as f64
+        for (s, c) in samples.iter_mut().zip(sum.iter()) {
+            s.c = c / COMFORT_SAMPLES as f64;
+        }
     }
 }
 
@@ -672,6 +724,9 @@ fn collides(scene: &Scene, v: Vec2, horizon: f64) -> bool {
     if hits_person {
         return true;
     }
+    if scene.edges.is_empty() {
+        return false;
+    }
     let end = pos + v * horizon;
     // An edge farther than the swept length plus the bound cannot come within the bound.
     let sweep = v.norm() * horizon * (1.0 + 1e-9) + 1e-9;
@@ -705,13 +760,18 @@ fn feasible_samples(
                 sm += r.w * l.abs();
             } else {
                 all_kept = false;
+                if !params.per_agent_mask {
+                    // All or nothing: the term is 0 whatever the others give.
+                    break;
+                }
             }
         }
         if !params.per_agent_mask && !all_kept {
             sm = 0.0;
         }
-        feasible.push(Scored { v, e, sm, c: comfort.intrusion(v) });
+        feasible.push(Scored { v, e, sm, c: 0.0 });
     }
+    comfort.intrusions(&mut feasible);
     feasible
 }
 
