@@ -27,6 +27,10 @@ checked against ``astar_orca`` as well (test ids ``...-vs-astar_orca``): "social
 personal-zone time" means something only against a baseline that also arrives. The claims about
 social alone (intimate zone, timeouts, L_ratio) are checked once.
 
+Each paper's own planner (``daza2021``, ``sousa2022``, ``calderita``) is held to the claims its
+paper makes against the classical planner (``PAPER_CLAIMS``, test ids ``<planner>-<scene>-<claim>``),
+at the same strength and on the same episodes.
+
 Every claim about something plain A* does (intimate entries, zone time, entries, crossings, object
 time) must be exercised in every scene set: :func:`test_claims_are_exercised` fails if plain A*
 never does it there, so no claim passes vacuously.
@@ -346,7 +350,58 @@ def test_claim_full(scene: str, claim: str, baseline: str) -> None:
 
 #: (scene set, paper planner, claim) -> the measured figure, for paper claims that do not hold on the
 #: test split (CI sets, and the whole split).
-KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {}
+KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
+    (
+        "museum",
+        "daza2021",
+        "intimate",
+    ): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes (centre reading: 0/20)",
+    (
+        "care_center",
+        "daza2021",
+        "intimate",
+    ): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes (centre reading: 0/20)",
+    (
+        GENERATED,
+        "daza2021",
+        "intimate",
+    ): "daza2021 within 0.45 m body edge to body edge in 28/50 scenes (centre reading: 1/50)",
+    (
+        "museum",
+        "sousa2022",
+        "personal_seconds",
+    ): "personal-zone time: sousa2022 388.9 s vs plain A* 232.8 s (67% more, claim 50% less)",
+    (
+        "care_center",
+        "sousa2022",
+        "personal_seconds",
+    ): "personal-zone time: sousa2022 104.1 s vs plain A* 111.9 s (7% less, claim 50% less)",
+    (
+        GENERATED,
+        "sousa2022",
+        "personal_seconds",
+    ): "personal-zone time: sousa2022 87.6 s vs plain A* 62.8 s (39% more, claim 50% less)",
+    (
+        "museum",
+        "calderita",
+        "personal_seconds",
+    ): "personal-zone time: calderita 200.6 s vs plain A* 232.8 s (14% less, claim 50% less)",
+    (
+        "care_center",
+        "calderita",
+        "personal_seconds",
+    ): "personal-zone time: calderita 95.3 s vs plain A* 111.9 s (15% less, claim 50% less)",
+    (
+        GENERATED,
+        "calderita",
+        "personal_seconds",
+    ): "personal-zone time: calderita 65.1 s vs plain A* 62.8 s (4% more, claim 50% less)",
+    (
+        GENERATED,
+        "calderita",
+        "active_object_seconds",
+    ): "active object-space time: calderita 12.0 s vs plain A* 5.6 s (more, claim 80% less)",
+}
 KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {}
 
 
