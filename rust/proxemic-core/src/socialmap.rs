@@ -550,7 +550,7 @@ impl SocialMap {
 
     /// Replaces the whole people layer with `factors` (one per cell, row-major; infinity marks a
     /// forbidden cell), e.g. the density contours of [`density_layer`] (the `calderita` planner),
-    /// and recombines every cell. The incremental bookkeeping of [`SocialMap::update_people`] is
+    /// and recombines the cells whose factor changed. The incremental bookkeeping of [`SocialMap::update_people`] is
     /// dropped: a map is fed by one of the two, not both. A slice of the wrong length leaves the
     /// map unchanged.
     pub fn set_people_factors(&mut self, factors: &[f64]) {
@@ -560,11 +560,17 @@ impl SocialMap {
         self.counts.clear();
         self.counted.clear();
         self.prev.clear();
-        self.people.copy_from_slice(factors);
-        for c in 0..self.people.len() {
-            self.combine(c);
+        // The combined grid always holds the layers' combination, so only the cells whose
+        // people factor changes (bit for bit) need it again.
+        let mut touched = 0;
+        for (c, &f) in factors.iter().enumerate() {
+            if self.people[c].to_bits() != f.to_bits() {
+                self.people[c] = f;
+                self.combine(c);
+                touched += 1;
+            }
         }
-        self.touched = self.people.len();
+        self.touched = touched;
     }
 
     fn rect_of<S: SpaceFunction>(&self, s: &S) -> Option<Rect> {

@@ -57,11 +57,15 @@ fn zone_factor(zones: &DensityZones, costs: &SocialCosts, g: f64) -> f64 {
 /// Bit for bit the factor of [`density_factor`] at every cell centre, computed tile by tile
 /// (8 cells square). Per tile, a person whose exponent is above 40 over the whole tile
 /// adds exactly 0 to every cell's sum (Kirby's Gaussian is cut there, see
-/// [`crate::groups::DensityParams::gaussian_local`]) and is left out; the people whose exponent
-/// can fall to 10 in the tile are summed per cell, and the others are bounded by
-/// their largest value in the tile. A cell whose sum lies, with that bound and a margin for
-/// rounding, between the same contour levels at both ends gets that zone's factor; any other cell
-/// is summed over every person not left out, in their order: the same sum as [`density_factor`].
+/// [`crate::groups::DensityParams::gaussian_local`]) and is left out. When the sum of the others'
+/// smallest values over the tile and the sum of their largest values (with margins for rounding)
+/// lie between the same contour levels, every cell of the tile gets that zone's factor; else its
+/// quarters are tried the same way, down to blocks of 2 cells square. In a block left undecided,
+/// the people whose exponent can fall to 10 in the tile are summed per cell, and the others are
+/// bounded by their largest value in the tile. A cell whose sum lies, with that bound and a margin
+/// for rounding, between the same contour levels at both ends gets that zone's factor; any other
+/// cell is summed over every person not left out, in their order: the same sum as
+/// [`density_factor`].
 pub fn density_layer(
     spec: &GridSpec,
     zones: &DensityZones,
@@ -81,6 +85,7 @@ pub fn density_layer(
     // monotone in `g`, so equal classes at both ends of an interval give equal factors inside.
     let class = |g: f64| thresholds.iter().filter(|&&t| g >= t).count();
     let (mut some, mut near) = (Vec::with_capacity(people.len()), Vec::with_capacity(people.len()));
+    let mut blocks = Vec::new();
     for ty in (0..spec.height).step_by(TILE) {
         let y1 = (ty + TILE).min(spec.height) - 1;
         for tx in (0..spec.width).step_by(TILE) {
@@ -98,21 +103,53 @@ pub fn density_layer(
                 if q <= NEAR_EXPONENT {
                     near.push(i);
                 } else {
-                    far += (-q).exp();
+                    far += exp_table_above(q);
                 }
             }
             let far = far * (1.0 + 1e-9);
-            for iy in ty..=y1 {
-                for ix in tx..=x1 {
-                    let x = spec.center(ix, iy);
-                    let g_near: f64 = near.iter().map(|&i| zones.term(facing[i].0, facing[i].1, x)).sum();
-                    let (g_lo, g_hi) = (g_near * (1.0 - 1e-12), (g_near + far) * (1.0 + 1e-12));
-                    let g = if class(g_lo) == class(g_hi) {
-                        g_near
-                    } else {
-                        some.iter().map(|&i| zones.term(facing[i].0, facing[i].1, x)).sum()
-                    };
-                    out[spec.index(ix, iy)] = zone_factor(zones, costs, g);
+            // The tile, and then its quarters down to 2 cells square, at once when the bounds of
+            // `G_d` over them fall in one class: none of their cells needs its sum.
+            blocks.push((tx, ty, x1, y1));
+            while let Some((bx0, by0, bx1, by1)) = blocks.pop() {
+                let (lo, hi) = (spec.center(bx0, by0), spec.center(bx1, by1));
+                // The far people add between 0 and `far` (their bound over the whole tile).
+                let (mut t_lo, mut t_hi) = (0.0, far);
+                for &i in &near {
+                    let (pos, f) = facing[i];
+                    t_hi += exp_table_above(exponent_lower_bound(params, pos, f, lo, hi));
+                    t_lo += exp_table_below(exponent_upper_bound(params, pos, f, lo, hi));
+                }
+                let (t_lo, t_hi) = (t_lo * (1.0 - 1e-9), t_hi * (1.0 + 1e-9));
+                if class(t_lo) == class(t_hi) {
+                    let factor = zone_factor(zones, costs, t_lo);
+                    for iy in by0..=by1 {
+                        out[spec.index(bx0, iy)..=spec.index(bx1, iy)].fill(factor);
+                    }
+                    continue;
+                }
+                if bx1 - bx0 >= 2 || by1 - by0 >= 2 {
+                    let (mx, my) = ((bx0 + bx1) / 2, (by0 + by1) / 2);
+                    for (qx0, qx1) in [(bx0, mx), (mx + 1, bx1)] {
+                        for (qy0, qy1) in [(by0, my), (my + 1, by1)] {
+                            if qx0 <= qx1 && qy0 <= qy1 {
+                                blocks.push((qx0, qy0, qx1, qy1));
+                            }
+                        }
+                    }
+                    continue;
+                }
+                for iy in by0..=by1 {
+                    for ix in bx0..=bx1 {
+                        let x = spec.center(ix, iy);
+                        let g_near: f64 = near.iter().map(|&i| zones.term(facing[i].0, facing[i].1, x)).sum();
+                        let (g_lo, g_hi) = (g_near * (1.0 - 1e-12), (g_near + far) * (1.0 + 1e-12));
+                        let g = if class(g_lo) == class(g_hi) {
+                            g_near
+                        } else {
+                            some.iter().map(|&i| zones.term(facing[i].0, facing[i].1, x)).sum()
+                        };
+                        out[spec.index(ix, iy)] = zone_factor(zones, costs, g);
+                    }
                 }
             }
         }
@@ -152,6 +189,48 @@ fn exponent_lower_bound(p: &crate::groups::DensityParams, pos: Vec2, f: Vec2, lo
         0.0
     };
     (qu + qv) * (1.0 - 1e-9)
+}
+
+/// Steps per unit of exponent of [`exp_table`].
+const EXP_STEPS: f64 = 32.0;
+
+/// `exp(-i / EXP_STEPS)` for `i` in `0..=40 EXP_STEPS` (Kirby's Gaussian is cut at exponent 40).
+fn exp_table() -> &'static [f64] {
+    static TABLE: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    TABLE.get_or_init(|| (0..=(40.0 * EXP_STEPS) as usize).map(|i| (-(i as f64) / EXP_STEPS).exp()).collect())
+}
+
+/// An upper bound on `exp(-q)` for `0 <= q <= 40` (with a margin), from [`exp_table`].
+fn exp_table_above(q: f64) -> f64 {
+    // (The float-to-integer cast truncates: the floor of a non-negative value.)
+    let i = (q.max(0.0) * EXP_STEPS) as usize;
+    exp_table().get(i).map_or(1.0, |&e| e * (1.0 + 1e-12))
+}
+
+/// A lower bound on the term `exp(-q)` of a Gaussian cut at exponent 40 (0 beyond), from
+/// [`exp_table`] (with a margin).
+fn exp_table_below(q: f64) -> f64 {
+    if q > 40.0 {
+        return 0.0;
+    }
+    let t = q.max(0.0) * EXP_STEPS;
+    let i = t as usize + usize::from((t as usize as f64) < t); // the ceiling
+    exp_table().get(i).map_or(0.0, |&e| e * (1.0 - 1e-12))
+}
+
+/// An upper bound on Kirby's exponent (see [`exponent_lower_bound`]) over the box `lo`-`hi`
+/// (m): each axis term is convex with its minimum at 0, so its maximum over the box's range of
+/// that axis is at one end; plus a relative margin far above rounding.
+fn exponent_upper_bound(p: &crate::groups::DensityParams, pos: Vec2, f: Vec2, lo: Vec2, hi: Vec2) -> f64 {
+    let c = (lo + hi) * 0.5 - pos;
+    let (hx, hy) = (0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y));
+    let (u, du) = (f.x * c.x + f.y * c.y, f.x.abs() * hx + f.y.abs() * hy);
+    let (v, dv) = (-f.y * c.x + f.x * c.y, f.y.abs() * hx + f.x.abs() * hy);
+    let side = |m: f64, s: f64| m * m / (2.0 * s * s);
+    let along = |m: f64| if m >= 0.0 { side(m, p.sigma_h) } else { side(m, p.sigma_r) };
+    let qu = along(u - du).max(along(u + du));
+    let qv = side(v - dv, p.sigma_s).max(side(v + dv, p.sigma_s));
+    (qu + qv) * (1.0 + 1e-9)
 }
 
 #[cfg(test)]
