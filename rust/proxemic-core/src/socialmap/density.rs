@@ -164,15 +164,26 @@ const TILE: usize = 8;
 /// (`exp(-10) = 4.5e-5`: the others together stay far below the contour levels' gaps).
 const NEAR_EXPONENT: f64 = 10.0;
 
+/// The box `lo`-`hi` (m) in the frame of a person at `pos` facing the unit vector `f`: the
+/// centre's offsets along and across the facing, `u` and `v`, and the box's half-extents along
+/// those axes, `du` and `dv`, as `[u, du, v, dv]` (m).
+fn box_in_frame(pos: Vec2, f: Vec2, lo: Vec2, hi: Vec2) -> [f64; 4] {
+    let c = (lo + hi) * 0.5 - pos;
+    let (hx, hy) = (0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y));
+    [
+        f.x * c.x + f.y * c.y,
+        f.x.abs() * hx + f.y.abs() * hy,
+        -f.y * c.x + f.x * c.y,
+        f.y.abs() * hx + f.x.abs() * hy,
+    ]
+}
+
 /// A lower bound on Kirby's exponent `u²/(2σ_u²) + v²/(2σ_s²)` (see
 /// [`crate::groups::DensityParams::gaussian_local`]) of the person at `pos` facing the unit
 /// vector `f`, over the axis-aligned box `lo`-`hi` (m): each axis term's minimum over the box,
 /// less a relative margin far above rounding.
 fn exponent_lower_bound(p: &crate::groups::DensityParams, pos: Vec2, f: Vec2, lo: Vec2, hi: Vec2) -> f64 {
-    let c = (lo + hi) * 0.5 - pos;
-    let (hx, hy) = (0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y));
-    let (u, du) = (f.x * c.x + f.y * c.y, f.x.abs() * hx + f.y.abs() * hy);
-    let (v, dv) = (-f.y * c.x + f.x * c.y, f.y.abs() * hx + f.x.abs() * hy);
+    let [u, du, v, dv] = box_in_frame(pos, f, lo, hi);
     let side = |m: f64, s: f64| m * m / (2.0 * s * s);
     let qu = if u - du > 0.0 {
         side(u - du, p.sigma_h)
@@ -222,10 +233,7 @@ fn exp_table_below(q: f64) -> f64 {
 /// (m): each axis term is convex with its minimum at 0, so its maximum over the box's range of
 /// that axis is at one end; plus a relative margin far above rounding.
 fn exponent_upper_bound(p: &crate::groups::DensityParams, pos: Vec2, f: Vec2, lo: Vec2, hi: Vec2) -> f64 {
-    let c = (lo + hi) * 0.5 - pos;
-    let (hx, hy) = (0.5 * (hi.x - lo.x), 0.5 * (hi.y - lo.y));
-    let (u, du) = (f.x * c.x + f.y * c.y, f.x.abs() * hx + f.y.abs() * hy);
-    let (v, dv) = (-f.y * c.x + f.x * c.y, f.y.abs() * hx + f.x.abs() * hy);
+    let [u, du, v, dv] = box_in_frame(pos, f, lo, hi);
     let side = |m: f64, s: f64| m * m / (2.0 * s * s);
     let along = |m: f64| if m >= 0.0 { side(m, p.sigma_h) } else { side(m, p.sigma_r) };
     let qu = along(u - du).max(along(u + du));
