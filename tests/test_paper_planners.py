@@ -221,12 +221,10 @@ def _shifted_figure(figure: str, seed: int, out: Path) -> Path:
         group = re.search(r"^group = (\d+)", block, re.MULTILINE)
         key = f"group {group.group(1)}" if group else f"person {k}"
         dx, dy = shifts.setdefault(key, rng.uniform(-0.1, 0.1, 2))
-        blocks[k] = re.sub(
-            r"pose = \[([-\d.]+), ([-\d.]+), ",
-            lambda m, dx=dx, dy=dy: f"pose = [{float(m.group(1)) + dx:.4f}, {float(m.group(2)) + dy:.4f}, ",
-            block,
-            count=1,
-        )
+        pose = re.search(r"pose = \[([-\d.]+), ([-\d.]+), ", block)
+        assert pose is not None, block
+        moved = f"pose = [{float(pose.group(1)) + dx:.4f}, {float(pose.group(2)) + dy:.4f}, "
+        blocks[k] = block[: pose.start()] + moved + block[pose.end() :]
     path = out / f"sousa2022_{figure}_{seed}.toml"
     path.write_text("[[person]]".join(blocks))
     return path
@@ -243,6 +241,27 @@ def test_sousa_path_respects_every_personal_space_with_the_people_moved(figure, 
         groups, alone, per = _least_zones(scene, "sousa2022")
         assert per["accuracy"]["f1"] == 1.0, (seed, per["groups"])
         assert groups >= PERSONAL and alone >= PERSONAL, (seed, groups, alone)
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason=(
+        "measured: plain A* enters a group's and a single person's personal space in 14 of the 16 "
+        "variants; on Fig. 16 seeds 1005 and 1007 it passes group 1 at zone distance 1.03 m and "
+        "1.02 m. The figures' positions were moved (0.15 m) on the figures themselves, not on a "
+        "tuning split, and the A* statement does not hold on every held-out variant"
+    ),
+)
+def test_sousa_plain_astar_crosses_both_kinds_with_the_people_moved(tmp_path):
+    # Sect. 4.5's statement about the A* path, on the held-out variants of the figures (people
+    # moved by up to 0.1 m, SOUSA_VARIANT_SEEDS); on tuning seeds 0-9 it held in 18 of 20.
+    missed = []
+    for figure in ("fig16", "fig17"):
+        for seed in SOUSA_VARIANT_SEEDS:
+            groups, alone, _ = _least_zones(str(_shifted_figure(figure, seed, tmp_path)), "astar")
+            if not (groups < PERSONAL and alone < PERSONAL):
+                missed.append((figure, seed, round(groups, 2), round(alone, 2)))
+    assert not missed, missed
 
 
 @pytest.mark.parametrize(("scene", "planner"), [("daza2021_path5", "daza2021"), ("sousa2022_fig16", "sousa2022")])
