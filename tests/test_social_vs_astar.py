@@ -272,10 +272,9 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "intimate"): "social within 0.45 m body edge to body edge in 19/20 episodes (centre reading: 0/20)",
     ("museum", "personal_seconds"): "personal-zone time: social 188.2 s vs plain A* 232.8 s (19% less, claim 50%)",
     ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 12/20 episodes (centre reading: 0/20)",
-    ("care_center", "personal_seconds"): "personal-zone time: social 88.4 s vs plain A* 111.9 s (21% less, claim 50%)",
-    # Since a person walking into a stopped robot no longer ends its episode (issue 23), plain A*'s
-    # episode on seed 1019, a collision before, reaches the goal: one more pair.
-    ("care_center", "time"): "paired time to goal: social/astar 1.338 [95% CI 1.219, 1.475], 18 pairs (claim: <= 1.3)",
+    # Plain A* runs into a person in the corridor on seed 1015 (before the conversation on its way
+    # in the physical therapy room): 19 pairs.
+    ("care_center", "time"): "paired time to goal: social/astar 1.331 [95% CI 1.245, 1.434], 19 pairs (claim: <= 1.3)",
     (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 11/50 scenes (centre reading: 0/50)",
     (GENERATED, "personal_seconds"): "personal-zone time: social 47.8 s vs plain A* 62.8 s (24% less, claim 50%)",
 }
@@ -283,34 +282,21 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "intimate"): "social within 0.45 m body edge to body edge in 57/60 episodes (centre reading: 0/60)",
     ("museum", "personal_seconds"): "personal-zone time: social 570.1 s vs plain A* 668.6 s (15% less, claim 50%)",
-    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 34/60 episodes (centre reading: 0/60)",
-    ("care_center", "personal_seconds"): "personal-zone time: social 179.6 s vs plain A* 291.3 s (38% less, claim 50%)",
+    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 25/60 episodes (centre reading: 0/60)",
     (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 13/60 scenes (centre reading: 0/60)",
     (GENERATED, "personal_seconds"): "personal-zone time: social 59.0 s vs plain A* 82.8 s (29% less, claim 50%)",
 }
 #: (scene set, claim) -> the measured figure, for claims against ``astar_orca`` that do not hold on
 #: the test split (CI sets).
-KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {
-    (
-        "care_center",
-        "personal_seconds",
-    ): "personal-zone time: social 88.4 s vs astar_orca 143.2 s (38% less, claim 50%)",
-}
+KNOWN_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}
 #: The same for the full test split.
 KNOWN_FULL_FAILURES_VS_ORCA: dict[tuple[str, str], str] = {}
-#: (scene set, claim) -> the measured figure, where plain A* never does what the claim cuts.
-NOT_EXERCISED: dict[tuple[str, str], str] = {
-    ("care_center", "ospace_entries"): "plain A* enters no o-space in the care center (0 entries on 20 test seeds)",
-    ("care_center", "interaction_crossings"): "plain A* crosses no interaction in the care center (0 on 20 test seeds)",
-}
+#: (scene set, claim) -> the measured figure, where plain A* never does what the claim cuts (none:
+#: the care center's conversation on the robot's way in the physical therapy room, placed on tuning
+#: seeds, exercises its o-space and interaction claims).
+NOT_EXERCISED: dict[tuple[str, str], str] = {}
 #: The same for ``astar_orca``.
-NOT_EXERCISED_VS_ORCA: dict[tuple[str, str], str] = {
-    ("care_center", "ospace_entries"): "astar_orca enters no o-space in the care center (0 entries on 20 test seeds)",
-    (
-        "care_center",
-        "interaction_crossings",
-    ): "astar_orca crosses no interaction in the care center (0 on 20 test seeds)",
-}
+NOT_EXERCISED_VS_ORCA: dict[tuple[str, str], str] = {}
 
 
 def _seeds(scene: str, full: bool) -> tuple[int, ...]:
@@ -375,7 +361,7 @@ KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
         "care_center",
         "sousa2022",
         "personal_seconds",
-    ): "personal-zone time: sousa2022 104.1 s vs plain A* 111.9 s (7% less, claim 50% less)",
+    ): "personal-zone time: sousa2022 135.3 s vs plain A* 150.1 s (10% less, claim 50% less)",
     (
         GENERATED,
         "sousa2022",
@@ -386,11 +372,6 @@ KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
         "calderita",
         "personal_seconds",
     ): "personal-zone time: calderita 200.6 s vs plain A* 232.8 s (14% less, claim 50% less)",
-    (
-        "care_center",
-        "calderita",
-        "personal_seconds",
-    ): "personal-zone time: calderita 95.3 s vs plain A* 111.9 s (15% less, claim 50% less)",
     (
         GENERATED,
         "calderita",
@@ -427,7 +408,7 @@ KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
         "care_center",
         "sousa2022",
         "personal_seconds",
-    ): "personal-zone time: sousa2022 279.6 s vs plain A* 291.3 s (4% less, claim 50% less)",
+    ): "personal-zone time: sousa2022 370.0 s vs plain A* 445.5 s (17% less, claim 50% less)",
     (
         GENERATED,
         "sousa2022",
@@ -438,11 +419,6 @@ KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
         "calderita",
         "personal_seconds",
     ): "personal-zone time: calderita 661.6 s vs plain A* 668.6 s (1% less, claim 50% less)",
-    (
-        "care_center",
-        "calderita",
-        "personal_seconds",
-    ): "personal-zone time: calderita 208.9 s vs plain A* 291.3 s (28% less, claim 50% less)",
     (
         GENERATED,
         "calderita",
