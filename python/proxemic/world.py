@@ -389,6 +389,12 @@ class WorldSim:
         data = self.out[base + lo : base + hi].astype(np.float32)
         return {key: data[off : off + length].reshape(shape) for key, off, length, shape in parts}
 
+    def outcomes(self, rows: list[int]) -> tuple[list[float], list[bool], list[bool]]:
+        """The rewards, terminated and truncated flags of the robots `rows` after the last step."""
+        src = self.rows if rows == self._all_rows else self.rows[rows]
+        rewards, terms, truncs = src[:, self._outcome_cols].T.tolist()
+        return rewards, [t != 0.0 for t in terms], [u != 0.0 for u in truncs]
+
     def step_outcome(self) -> list[tuple[float, bool, bool]]:
         """Every robot's (reward, terminated, truncated) after the last step (one read)."""
         return [(r, t != 0.0, u != 0.0) for r, t, u in self.rows[:, self._outcome_cols].tolist()]
@@ -405,20 +411,29 @@ class WorldSim:
     def infos(self, robots: list[int]) -> list[dict[str, Any]]:
         """:meth:`info` of several robots (the buffer is read once)."""
         vals = self.rows[:, self._info_cols].tolist()
-        actions = list(self.sections["planner_action"].astype(np.float32))
-        return [self._info(r, vals[r], actions) for r in robots]
+        planning, nterms = self.planning, len(REWARD_KEYS)
+        actions = list(self.sections["planner_action"].astype(np.float32)) if any(planning) else []
+        out = []
+        for r in robots:  # _info() inlined: this runs for every agent at every step
+            v = vals[r]
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, v, strict=False))  # the first nterms values
+            info["is_success"] = v[nterms] != 0.0
+            info["collision"] = v[nterms + 1] != 0.0
+            if planning[r]:
+                info["planner_action"] = actions[r]
+                info["planner_mode"] = PLANNER_MODES[int(v[nterms + 2])]
+            info["time_of_day"] = v[nterms + 3]
+            out.append(info)
+        return out
 
-    def _info(self, r: int, v: list[float], actions: list[np.ndarray] | None = None) -> dict[str, Any]:
-        """Robot `r`'s info from its values `v` at ``_info_cols``.
-
-        `actions` are the robots' float32 planner actions (default: robot `r`'s is read here).
-        """
+    def _info(self, r: int, v: list[float]) -> dict[str, Any]:
+        """Robot `r`'s info from its values `v` at ``_info_cols`` (what :meth:`infos` builds)."""
         nterms = len(REWARD_KEYS)
         info: dict[str, Any] = dict(zip(REWARD_KEYS, v, strict=False))  # the first nterms values
         info["is_success"] = v[nterms] != 0.0
         info["collision"] = v[nterms + 1] != 0.0
         if self.planning[r]:
-            info["planner_action"] = self._planner_rows[r].astype(np.float32) if actions is None else actions[r]
+            info["planner_action"] = self._planner_rows[r].astype(np.float32)
             info["planner_mode"] = PLANNER_MODES[int(v[nterms + 2])]
         info["time_of_day"] = v[nterms + 3]
         return info
