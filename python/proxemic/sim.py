@@ -286,8 +286,10 @@ class Simulation:
         self._people_src: np.ndarray | None = None
         self._people_pairs: list[tuple[np.ndarray, np.ndarray]] = []
         self._mocap_xy = self._mocap_pos[:, :2]
-        # The robots' affinities while set_hints() computes them (one buffer, no temporaries).
+        # The robots' affinities while set_hints() computes them (one buffer, no temporaries),
+        # and the hints last set (none yet: reset() sets them all).
         self._aff = np.zeros(n)
+        self._hints: tuple[list[float] | None, list[float] | None] = (None, None)
         # A control period the hints rule every contact out for is stepped with contacts
         # disabled: the collision detection (half of an mj_step here) finds nothing anyway, and
         # with no contact the solver's input is the same, so the states are bit-identical.
@@ -349,13 +351,19 @@ class Simulation:
             near_static: Per robot: test it against the static geometry.
             near_people: Per person: test them against the robots.
         """
-        aff = self._aff
-        np.multiply(near_static, STATIC_BIT, out=aff)
-        aff += DYNAMIC_BIT
-        self._robot_geom_aff[...] = aff[:, None]
-        self._robot_body_aff[...] = aff
-        for arr in self._person_flags:
-            arr[...] = near_people
+        # The model keeps the bits: hints equal to the last ones set are not written again
+        # (as Python lists, compared in one go, cheaper than numpy's writes on arrays this small).
+        static, people = near_static.tolist(), near_people.tolist()
+        if static != self._hints[0]:
+            aff = self._aff
+            np.multiply(near_static, STATIC_BIT, out=aff)
+            aff += DYNAMIC_BIT
+            self._robot_geom_aff[...] = aff[:, None]
+            self._robot_body_aff[...] = aff
+        if people != self._hints[1]:
+            for arr in self._person_flags:
+                arr[...] = near_people
+        self._hints = (static, people)
 
     def step(self, command: np.ndarray, contacts_possible: bool = True) -> None:
         """Writes robot-frame commands (N, 3) to the servos and advances one control period.

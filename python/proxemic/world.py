@@ -387,7 +387,10 @@ class WorldSim:
         lo, hi, parts = self._obs_parts[robots]
         base = row * self.rows.shape[1]
         data = self.out[base + lo : base + hi].astype(np.float32)
-        return {key: data[off : off + length].reshape(shape) for key, off, length, shape in parts}
+        return {
+            key: data[off : off + length] if len(shape) == 1 else data[off : off + length].reshape(shape)
+            for key, off, length, shape in parts
+        }
 
     def outcomes(self, rows: list[int]) -> tuple[list[float], list[bool], list[bool]]:
         """The rewards, terminated and truncated flags of the robots `rows` after the last step."""
