@@ -345,8 +345,10 @@ class WorldSim:
         """
         if not robots:
             return
-        # Fast path: real-valued arrays only (a list would let numpy turn booleans into numbers).
-        real = all(isinstance(x, np.ndarray) and x.dtype.kind in "iuf" and x.shape == (3,) for x in actions)
+        # Fast path: real-valued ndarrays of shape (3,) only (a list would let numpy turn booleans
+        # into numbers; subclasses take the slow path, to the same result).
+        nd = np.ndarray
+        real = all([type(x) is nd and x.shape == (3,) and x.dtype.kind in "iuf" for x in actions])
         a = np.asarray(actions, dtype=np.float64) if real else np.empty(0)
         if a.shape != (len(robots), 3) or not np.isfinite(a).all():
             try:
@@ -379,7 +381,10 @@ class WorldSim:
             src = self.rows[rows, lo:hi]
         data = src.astype(np.float32)
         n = len(data)
-        arrays = [(key, data[:, off : off + length].reshape(n, *shape)) for key, off, length, shape in parts]
+        arrays = [
+            (key, data[:, off : off + length] if len(shape) == 1 else data[:, off : off + length].reshape(n, *shape))
+            for key, off, length, shape in parts
+        ]
         return [{key: arr[i] for key, arr in arrays} for i in range(n)]
 
     def observation(self, row: int, robots: bool) -> dict[str, np.ndarray]:
