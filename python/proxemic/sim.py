@@ -347,6 +347,9 @@ class Simulation:
     def set_hints(self, near_static: np.ndarray, near_people: np.ndarray) -> None:
         """Sets which contact pairs the physics tests (the core's hints, 1.0 or 0.0 each).
 
+        The model's contact bits are written only where the hints differ from the last ones set
+        (the bits are set here and nowhere else).
+
         Args:
             near_static: Per robot: test it against the static geometry.
             near_people: Per person: test them against the robots.

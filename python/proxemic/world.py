@@ -210,8 +210,6 @@ class WorldSim:
         self._near_robots = (
             [self.rows[:, ns[0] : nr[0] + 1]] if ns[0] + 1 == nr[0] else [self._near_static, self._near_robot]
         )
-        # True while the physics' contact hints are all off (set by _physics(), not by a reset).
-        self._hints_clear = False
         # Per robot, the flat indices in `out` of its reward, terminated and truncated flags
         # (the single-robot env reads them as Python floats with `out.item`).
         self._reward_index = [r * w.stride + self.layout["reward"][0] for r in range(w.num_robots)]
@@ -289,7 +287,6 @@ class WorldSim:
         """Starts an episode from the core seed `seed` and places the bodies."""
         self.world.reset(seed, self.out, self.people)
         self.sim.reset(self.sections["pose"], self._people2d)
-        self._hints_clear = False  # the reset turned every contact pair on
 
     def step(self, actions: np.ndarray | None = None) -> None:
         """One control step, one Rust call: the actions, the physics, then everything else.
@@ -313,11 +310,7 @@ class WorldSim:
         possible = any(np.count_nonzero(near) for near in self._near_robots) or bool(
             np.count_nonzero(self._near_people)
         )
-        # With every hint off the step runs with contacts disabled, where the contact bits do
-        # not matter: they are set (all off) once, not again while they stay off.
-        if possible or not self._hints_clear:
-            sim.set_hints(self._near_static, self._near_people)
-            self._hints_clear = not possible
+        sim.set_hints(self._near_static, self._near_people)
         sim.step(self._command, possible)
         sim.read()
 
