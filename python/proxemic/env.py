@@ -227,26 +227,20 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
                 if self._started
                 else "step() before reset(): call reset() first"
             )
+        ws = self.ws
         if self.autopilot:
-            self.ws.step()
+            ws.step()
         else:
-            self.ws.act(0, action, "action")
-            self.ws.step_actions()
-        flags = self.ws.sections["flags"][0]
-        terminated, truncated = bool(flags[0]), bool(flags[1])
+            ws.act(0, action, "action")
+            ws.step_actions()
+        reward, terminated, truncated = ws.outcome(0)
         self._done = terminated or truncated
         if self.render_mode == "human":
             self.render()
-        return (
-            self._observation(),
-            float(self.ws.sections["reward"][0, 0]),
-            terminated,
-            truncated,
-            self._info(final=self._done),
-        )
+        return self._observation(), reward, terminated, truncated, self._info(final=self._done)
 
     def _observation(self) -> dict[str, np.ndarray]:
-        return self.ws.observations(robots=False, rows=[0])[0]
+        return self.ws.observation(0, robots=False)
 
     def _info(self, *, final: bool) -> dict[str, Any]:
         info = self.ws.info(0)

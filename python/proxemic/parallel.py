@@ -153,6 +153,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
         self._np_random: np.random.Generator | None = None
         self._live: frozenset[str] = frozenset()
+        self._rows: list[int] = []  # the live agents' robot indices
         # Final metrics of the robots whose episode ended, by robot index.
         self._final: dict[int, EpisodeMetrics] = {}
 
@@ -185,11 +186,10 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         if seed is not None or self._np_random is None:
             self._np_random, _ = seeding.np_random(seed)
         self.ws.reset(int(self._np_random.integers(0, 2**63 - 1)))
-        self.agents = list(self.possible_agents)
-        self._live = frozenset(self.agents)
+        self._set_agents(list(self.possible_agents))
         self._final = {}
         obs = self.ws.observations(robots=True)
-        infos = dict(zip(self.agents, self.ws.infos(list(range(len(self.agents)))), strict=True))
+        infos = dict(zip(self.agents, self.ws.infos(self._rows), strict=True))
         if self.render_mode == "human":
             self.render()
         return {a: obs[i] for i, a in enumerate(self.agents)}, infos
@@ -217,34 +217,32 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                 if self._np_random is not None
                 else "step() before reset(): call reset() first"
             )
-        if len(actions) > len(live) or not all(a in self._live for a in actions):
+        if not self._live.issuperset(actions):
             extra = next(a for a in actions if a not in self._live)
             raise input_error("actions", f"actions for live agents {live}", f"one for {extra!r}")
-        missing = [a for a in live if a not in actions and a not in self.autopilot]
-        if missing:
-            wanted = [a for a in self.agents if a not in self.autopilot]
-            raise input_error(
-                "actions",
-                f"an action for every live agent not on autopilot {wanted}",
-                f"keys {list(actions)}, missing {missing}",
-            )
         autopilot = self.autopilot
+        # Every key is a live agent: as many actions as agents means one for each.
+        if len(actions) != len(live):
+            missing = [a for a in live if a not in actions and a not in autopilot]
+            if missing:
+                wanted = [a for a in self.agents if a not in autopilot]
+                raise input_error(
+                    "actions",
+                    f"an action for every live agent not on autopilot {wanted}",
+                    f"keys {list(actions)}, missing {missing}",
+                )
         acting = [a for a in actions if a not in autopilot] if autopilot else list(actions)
         ws.act_many([index[a] for a in acting], [actions[a] for a in acting], lambda k: f"actions[{acting[k]!r}]")
         ws.step_actions()
-        rows = [index[a] for a in live]
+        rows = self._rows
         obs = dict(zip(live, ws.observations(robots=True, rows=rows), strict=True))
-        outcome = ws.step_outcome()
-        rewards, terms, truncs = {}, {}, {}
-        finished = []
-        for a, i in zip(live, rows, strict=True):
-            rewards[a], terms[a], truncs[a] = outcome[i]
-            if terms[a] or truncs[a]:
-                finished.append(a)
+        reward, term, trunc = ws.outcomes(rows)
+        rewards = dict(zip(live, reward, strict=True))
+        terms, truncs = dict(zip(live, term, strict=True)), dict(zip(live, trunc, strict=True))
         infos = dict(zip(live, ws.infos(rows), strict=True))
-        if finished:
-            self.agents = [a for a in live if not (terms[a] or truncs[a])]
-            self._live = frozenset(self.agents)
+        if any(term) or any(trunc):
+            finished = [a for a, t, u in zip(live, term, trunc, strict=True) if t or u]
+            self._set_agents([a for a in live if not (terms[a] or truncs[a])])
             # A robot's metrics are final once its episode ended: evaluated once, kept.
             done = [index[a] for a in finished]
             for i, m in zip(done, self.world.episode_metrics(done), strict=True):
@@ -258,6 +256,12 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         if self.render_mode == "human":
             self.render()
         return obs, rewards, terms, truncs, infos
+
+    def _set_agents(self, agents: list[AgentID]) -> None:
+        """Sets the live agents, with their set and robot indices (kept until they change)."""
+        self.agents = agents
+        self._live = frozenset(agents)
+        self._rows = [self._index[a] for a in agents]
 
     def render(self) -> np.ndarray | None:
         """Renders according to ``render_mode`` (``None`` returns nothing)."""

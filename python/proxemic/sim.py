@@ -277,10 +277,23 @@ class Simulation:
         self._bit_list: list[int] = bit.tolist()
         self.state = np.zeros(6 * n)
         self._state2d = self.state.reshape(n, 6)
+        # `state`'s pose and velocity columns, sliced once (read() runs every control step).
+        self._state_pose = self._state2d[:, :3]
+        self._state_vel = self._state2d[:, 3:]
         self.contacts = np.zeros(n, dtype=np.uint8)
+        # The people's buffer write_people() last copied from and its column views with the
+        # matching mocap views, (destination, source) pairs (see `_people_copies`).
+        self._people_src: np.ndarray | None = None
+        self._people_pairs: list[tuple[np.ndarray, np.ndarray]] = []
+        self._mocap_xy = self._mocap_pos[:, :2]
+        # The robots' affinities while set_hints() computes them (one buffer, no temporaries),
+        # and the hints last set (none yet: reset() sets them all).
+        self._aff = np.zeros(n)
+        self._hints: tuple[list[float] | None, list[float] | None] = (None, None)
         # A control period the hints rule every contact out for is stepped with contacts
         # disabled: the collision detection (half of an mj_step here) finds nothing anyway, and
         # with no contact the solver's input is the same, so the states are bit-identical.
+        self._opt = m.opt  # the model's options (the wrapper looked up once)
         self._flags = int(m.opt.disableflags)
         self._flags_no_contact = self._flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
@@ -310,28 +323,50 @@ class Simulation:
         """
         if self.num_people == 0:
             return
-        self._mocap_pos[:, :2] = people[:, :2]
-        q = self._mocap_quat
         if people.shape[1] >= 6:
-            q[:, 0] = people[:, 4]
-            q[:, 3] = people[:, 5]
-        else:
-            half = people[:, 2] * 0.5
-            q[:, 0] = np.cos(half)
-            q[:, 3] = np.sin(half)
+            if people is not self._people_src:
+                self._people_pairs = self._people_copies(people)
+                self._people_src = people
+            for dst, src in self._people_pairs:
+                dst[...] = src
+            return
+        self._mocap_xy[...] = people[:, :2]
+        q = self._mocap_quat
+        half = people[:, 2] * 0.5
+        q[:, 0] = np.cos(half)
+        q[:, 3] = np.sin(half)
+
+    def _people_copies(self, people: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The (destination, source) views write_people() copies from the core's `people` buffer.
+
+        Sliced once per buffer: the core writes into the same buffer every control step.
+        """
+        q = self._mocap_quat
+        return [(self._mocap_xy, people[:, :2]), (q[:, 0], people[:, 4]), (q[:, 3], people[:, 5])]
 
     def set_hints(self, near_static: np.ndarray, near_people: np.ndarray) -> None:
         """Sets which contact pairs the physics tests (the core's hints, 1.0 or 0.0 each).
+
+        The model's contact bits are written only where the hints differ from the last ones set
+        (the bits are set here and nowhere else).
 
         Args:
             near_static: Per robot: test it against the static geometry.
             near_people: Per person: test them against the robots.
         """
-        aff = near_static * STATIC_BIT + DYNAMIC_BIT
-        self._robot_geom_aff[:] = aff[:, None]
-        self._robot_body_aff[:] = aff
-        for arr in self._person_flags:
-            arr[:] = near_people
+        # The model keeps the bits: hints equal to the last ones set are not written again
+        # (as Python lists, compared in one go, cheaper than numpy's writes on arrays this small).
+        static, people = near_static.tolist(), near_people.tolist()
+        if static != self._hints[0]:
+            aff = self._aff
+            np.multiply(near_static, STATIC_BIT, out=aff)
+            aff += DYNAMIC_BIT
+            self._robot_geom_aff[...] = aff[:, None]
+            self._robot_body_aff[...] = aff
+        if people != self._hints[1]:
+            for arr in self._person_flags:
+                arr[...] = near_people
+        self._hints = (static, people)
 
     def step(self, command: np.ndarray, contacts_possible: bool = True) -> None:
         """Writes robot-frame commands (N, 3) to the servos and advances one control period.
@@ -343,14 +378,15 @@ class Simulation:
         no contact is read.
         """
         m, d = self.model, self.data
-        self._ctrl[:] = command
+        self._ctrl[...] = command
         if not contacts_possible:
-            m.opt.disableflags = self._flags_no_contact
+            opt = self._opt
+            opt.disableflags = self._flags_no_contact
             try:
                 mujoco.mj_step(m, d, self.frame_skip)
             finally:
-                m.opt.disableflags = self._flags
-            self.contacts[:] = 0
+                opt.disableflags = self._flags
+            self.contacts.fill(0)
             return
         owner, bit = self._owner_list, self._bit_list
         acc = [0] * self.num_robots
@@ -369,9 +405,8 @@ class Simulation:
 
     def read(self) -> None:
         """Reads the robots' world-frame poses and velocities into `state`."""
-        st = self._state2d
-        st[:, :3] = self._qpos
-        st[:, 3:] = self._qvel
+        self._state_pose[...] = self._qpos
+        self._state_vel[...] = self._qvel
 
     @property
     def render_model(self) -> mujoco.MjModel:

@@ -16,6 +16,7 @@ import os
 import re
 import warnings
 from collections.abc import Callable, Iterable
+from math import isfinite
 from typing import Any
 
 import gymnasium as gym
@@ -113,13 +114,17 @@ def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> 
         raise input_error("options", "None or {} (this env takes no reset options)", options)
 
 
+#: What an action must be, as error messages say.
+ACTION_EXPECTED = "3 finite real numbers in [-1, 1], shape (3,)"
+
+
 def check_action(action: Any, field: str) -> np.ndarray:
     """`action` as 3 float64 values; raises :class:`InputError` naming `field` otherwise.
 
     Accepted: anything numpy reads as a real (integer or floating) array of shape (3,) with
     finite values (values outside [-1, 1] are clipped by the core, as documented).
     """
-    expected = "3 finite real numbers in [-1, 1], shape (3,)"
+    expected = ACTION_EXPECTED
     try:
         raw = np.asarray(action)
     except (ValueError, TypeError):
@@ -172,6 +177,7 @@ class WorldSim:
         self.layout: dict[str, tuple[int, int]] = dict(w.layout)
         self.sections = {name: self.rows[:, off : off + n] for name, (off, n) in self.layout.items()}
         self._actions = np.full(3 * w.num_robots, np.nan)
+        self._action_rows = list(self._actions.reshape(-1, 3))  # each robot's slot, a view
         self._all_rows = list(range(w.num_robots))
         # The columns step_outcome() reads: reward, terminated, truncated.
         self._outcome_cols = np.array([self.layout["reward"][0], self.layout["flags"][0], self.layout["flags"][0] + 1])
@@ -186,15 +192,32 @@ class WorldSim:
                 self.layout["time_of_day"][0],
             ]
         )
-        self._command = self.sections["command"]
-        self._near_static = self.sections["near_static"][:, 0]
-        self._near_robot = self.sections["near_robot"][:, 0]
-        self._near_people = self._people2d[:, 3]
-        self.planning = [True] * w.num_robots
         sensors = scenario["sensors"]
         self.k_nearest: int = sensors["k_nearest"]
         self.lidar_rays: int = sensors["lidar_rays"]
         self.lidar_range = float(sensors["lidar_range"])
+        # Per robot, the flat indices in `out` of its info values (``_info_cols`` of its row), and
+        # its planner_action row.
+        self._info_index = [r * w.stride + self._info_cols for r in range(w.num_robots)]
+        self._planner_rows = list(self.sections["planner_action"])
+        self._command = self.sections["command"]
+        self._near_static = self.sections["near_static"][:, 0]
+        self._near_robot = self.sections["near_robot"][:, 0]
+        self._near_people = self._people2d[:, 3]
+        # Every robot's near_static and near_robot hints in one view when the sections are
+        # neighbours (one count instead of two in _physics()).
+        ns, nr = self.layout["near_static"], self.layout["near_robot"]
+        self._near_robots = (
+            [self.rows[:, ns[0] : nr[0] + 1]] if ns[0] + 1 == nr[0] else [self._near_static, self._near_robot]
+        )
+        # Per robot, the flat indices in `out` of its reward, terminated and truncated flags
+        # (the single-robot env reads them as Python floats with `out.item`).
+        self._reward_index = [r * w.stride + self.layout["reward"][0] for r in range(w.num_robots)]
+        self._flag_index = [r * w.stride + self.layout["flags"][0] for r in range(w.num_robots)]
+        # The observation sections of a row, for robots=False and robots=True: the span of
+        # columns copied (lo, hi) and each key's (offset in the span, length, shape of one row).
+        self._obs_parts = {with_robots: self._obs_spec(with_robots) for with_robots in (False, True)}
+        self.planning = [True] * w.num_robots
         self.topdown: Any = None
         self._viewer: Any = None
 
@@ -231,6 +254,26 @@ class WorldSim:
             entries["robots_mask"] = spaces.Box(0.0, 1.0, (m,), dtype=f32)
         return spaces.Dict(entries)
 
+    def _obs_spec(self, robots: bool) -> tuple[int, int, list[tuple[str, int, int, tuple[int, ...]]]]:
+        """The observation keys' columns (see ``_obs_parts``); with `robots`, the peers' too."""
+        # Each key's section and the shape of its rows (None: flat).
+        keys: list[tuple[str, str, tuple[int, ...] | None]] = [
+            ("robot", "obs_robot", None),
+            ("people", "obs_people", (self.k_nearest, _core.PERSON_FEATURES)),
+            ("people_mask", "obs_people_mask", None),
+            ("lidar", "obs_lidar", None),
+        ]
+        if robots:
+            keys.append(("robots", "obs_robots", (self.num_robots - 1, _core.PEER_FEATURES)))
+            keys.append(("robots_mask", "obs_robots_mask", None))
+        lo = min(self.layout[section][0] for _, section, _ in keys)
+        hi = max(sum(self.layout[section]) for _, section, _ in keys)
+        parts = []
+        for key, section, shape in keys:
+            off, length = self.layout[section]
+            parts.append((key, off - lo, length, (length,) if shape is None else shape))
+        return lo, hi, parts
+
     def set_planning(self, planning: list[bool]) -> None:
         """Which robots' built-in planners run (see ``World.set_planning``).
 
@@ -262,9 +305,12 @@ class WorldSim:
         """
         sim = self.sim
         sim.write_people(self._people2d)
-        sim.set_hints(self._near_static, self._near_people)
         # Nothing near anything (no robot near a wall, a person or another robot): no contact.
-        possible = bool(self._near_static.any() or self._near_robot.any() or self._near_people.any())
+        # (count_nonzero: the cheapest reduction of numpy on these small strided views.)
+        possible = any(np.count_nonzero(near) for near in self._near_robots) or bool(
+            np.count_nonzero(self._near_people)
+        )
+        sim.set_hints(self._near_static, self._near_people)
         sim.step(self._command, possible)
         sim.read()
 
@@ -275,7 +321,15 @@ class WorldSim:
             InputError: not 3 finite real numbers of shape (3,) (`field` names the argument in
                 the message); booleans and complex numbers are refused, not converted.
         """
-        self._actions[3 * robot : 3 * robot + 3] = check_action(action, field)
+        # Fast path, a real ndarray of shape (3,) (what policies return): checked as Python
+        # numbers and cast into the slot; anything else goes through check_action's conversion.
+        if type(action) is np.ndarray and action.shape == (3,) and action.dtype.kind in "iuf":
+            a, b, c = action.tolist()
+            if not (isfinite(a) and isfinite(b) and isfinite(c)):
+                raise input_error(field, ACTION_EXPECTED, str([float(a), float(b), float(c)]))
+            self._action_rows[robot][...] = action
+            return
+        self._action_rows[robot][...] = check_action(action, field)
 
     def act_many(self, robots: list[int], actions: list[Any], fields: Callable[[int], str]) -> None:
         """:meth:`act` for several robots at once (one array conversion).
@@ -284,8 +338,10 @@ class WorldSim:
         """
         if not robots:
             return
-        # Fast path: real-valued arrays only (a list would let numpy turn booleans into numbers).
-        real = all(isinstance(x, np.ndarray) and x.dtype.kind in "iuf" and x.shape == (3,) for x in actions)
+        # Fast path: real-valued ndarrays of shape (3,) only (a list would let numpy turn booleans
+        # into numbers; subclasses take the slow path, to the same result).
+        nd = np.ndarray
+        real = all([type(x) is nd and x.shape == (3,) and x.dtype.kind in "iuf" for x in actions])
         a = np.asarray(actions, dtype=np.float64) if real else np.empty(0)
         if a.shape != (len(robots), 3) or not np.isfinite(a).all():
             try:
@@ -309,45 +365,57 @@ class WorldSim:
     # ------------------------------------------------------------------ outputs
     def observations(self, robots: bool, rows: list[int] | None = None) -> list[dict[str, np.ndarray]]:
         """The observations of the robots `rows` (default all), float32 views of one fresh copy."""
+        lo, hi, parts = self._obs_parts[robots]
         if rows is None or rows == self._all_rows:
-            src = self.rows
+            src = self.rows[:, lo:hi]
         elif len(rows) == 1:
-            src = self.rows[rows[0] : rows[0] + 1]  # a view: no gather for the single-robot env
+            return [self.observation(rows[0], robots)]
         else:
-            src = self.rows[rows]
+            src = self.rows[rows, lo:hi]
         data = src.astype(np.float32)
-        n, lay, total = len(data), self.layout, self.num_robots
-
-        def part(name: str, *shape: int) -> np.ndarray:
-            off, length = lay[name]
-            return data[:, off : off + length].reshape(n, *shape)
-
-        parts = [
-            ("robot", part("obs_robot", -1)),
-            ("people", part("obs_people", self.k_nearest, _core.PERSON_FEATURES)),
-            ("people_mask", part("obs_people_mask", -1)),
-            ("lidar", part("obs_lidar", -1)),
+        n = len(data)
+        arrays = [
+            (key, data[:, off : off + length] if len(shape) == 1 else data[:, off : off + length].reshape(n, *shape))
+            for key, off, length, shape in parts
         ]
-        if robots:
-            parts.append(("robots", part("obs_robots", total - 1, _core.PEER_FEATURES)))
-            parts.append(("robots_mask", part("obs_robots_mask", total - 1)))
-        return [{key: arr[i] for key, arr in parts} for i in range(n)]
+        return [{key: arr[i] for key, arr in arrays} for i in range(n)]
+
+    def observation(self, row: int, robots: bool) -> dict[str, np.ndarray]:
+        """Robot `row`'s observation (see :meth:`observations`), float32 views of one fresh copy."""
+        lo, hi, parts = self._obs_parts[robots]
+        base = row * self.rows.shape[1]
+        data = self.out[base + lo : base + hi].astype(np.float32)
+        return {
+            key: data[off : off + length] if len(shape) == 1 else data[off : off + length].reshape(shape)
+            for key, off, length, shape in parts
+        }
+
+    def outcomes(self, rows: list[int]) -> tuple[list[float], list[bool], list[bool]]:
+        """The rewards, terminated and truncated flags of the robots `rows` after the last step."""
+        src = self.rows if rows == self._all_rows else self.rows[rows]
+        rewards, terms, truncs = src[:, self._outcome_cols].T.tolist()
+        return rewards, [t != 0.0 for t in terms], [u != 0.0 for u in truncs]
 
     def step_outcome(self) -> list[tuple[float, bool, bool]]:
         """Every robot's (reward, terminated, truncated) after the last step (one read)."""
         return [(r, t != 0.0, u != 0.0) for r, t, u in self.rows[:, self._outcome_cols].tolist()]
 
+    def outcome(self, robot: int) -> tuple[float, bool, bool]:
+        """Robot `robot`'s (reward, terminated, truncated) after the last step (see :meth:`step_outcome`)."""
+        item, flags = self.out.item, self._flag_index[robot]
+        return item(self._reward_index[robot]), item(flags) != 0.0, item(flags + 1) != 0.0
+
     def info(self, robot: int) -> dict[str, Any]:
         """Robot `robot`'s step info: reward terms, success and collision flags, planner command and mode."""
-        return self.infos([robot])[0]
+        return self._info(robot, self.out[self._info_index[robot]].tolist())
 
     def infos(self, robots: list[int]) -> list[dict[str, Any]]:
         """:meth:`info` of several robots (the buffer is read once)."""
         vals = self.rows[:, self._info_cols].tolist()
-        actions = list(self.sections["planner_action"].astype(np.float32))
         planning, nterms = self.planning, len(REWARD_KEYS)
+        actions = list(self.sections["planner_action"].astype(np.float32)) if any(planning) else []
         out = []
-        for r in robots:
+        for r in robots:  # _info() inlined: this runs for every agent at every step
             v = vals[r]
             info: dict[str, Any] = dict(zip(REWARD_KEYS, v, strict=False))  # the first nterms values
             info["is_success"] = v[nterms] != 0.0
@@ -358,6 +426,18 @@ class WorldSim:
             info["time_of_day"] = v[nterms + 3]
             out.append(info)
         return out
+
+    def _info(self, r: int, v: list[float]) -> dict[str, Any]:
+        """Robot `r`'s info from its values `v` at ``_info_cols`` (what :meth:`infos` builds)."""
+        nterms = len(REWARD_KEYS)
+        info: dict[str, Any] = dict(zip(REWARD_KEYS, v, strict=False))  # the first nterms values
+        info["is_success"] = v[nterms] != 0.0
+        info["collision"] = v[nterms + 1] != 0.0
+        if self.planning[r]:
+            info["planner_action"] = self._planner_rows[r].astype(np.float32)
+            info["planner_mode"] = PLANNER_MODES[int(v[nterms + 2])]
+        info["time_of_day"] = v[nterms + 3]
+        return info
 
     def poses(self) -> np.ndarray:
         """The robots' (x, y, theta) after the last step, (N, 3) (a copy)."""
