@@ -925,6 +925,111 @@ mod tests {
         assert!(open_entry(0.9, 0.0, 9) < open_entry(1.0, 0.9, 0));
     }
 
+    /// The search of [`PathPlanner::plan`] written the plain way (a `BinaryHeap` of the same keys,
+    /// `Vec<Option<f64>>` for `g`, a `Vec<bool>` closed set, the same neighbour order and
+    /// per-move cost): the reference the tuned planner must match bit for bit. The keys are
+    /// totally ordered and two equal keys are the same bits (the cell index is part of the key),
+    /// so any exact min-queue pops the same sequence; this checks the tuned buffers, tables and
+    /// the bucketed open list against that.
+    fn reference_plan(
+        grid: &CostGrid,
+        start: (usize, usize),
+        goal: (usize, usize),
+        mode: SearchMode,
+    ) -> Option<GridPath> {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        let spec = grid.spec;
+        let (w, h, res) = (spec.width, spec.height, spec.resolution);
+        if !spec.contains_cell(start.0, start.1) || !grid.passable(goal.0, goal.1) {
+            return None;
+        }
+        let n = w * h;
+        let mut g: Vec<Option<f64>> = vec![None; n];
+        let mut parent = vec![0usize; n];
+        let mut closed = vec![false; n];
+        let heur = |x: usize, y: usize| if mode.heuristic { octile(x, y, goal.0, goal.1) * res } else { 0.0 };
+        let s = spec.index(start.0, start.1);
+        g[s] = Some(0.0);
+        parent[s] = s;
+        let mut open = BinaryHeap::new();
+        open.push(Reverse(open_entry(heur(start.0, start.1), 0.0, s as u32)));
+        let mut expansions = 0;
+        while let Some(Reverse(e)) = open.pop() {
+            let cur = open_index(e);
+            if closed[cur] {
+                continue;
+            }
+            closed[cur] = true;
+            expansions += 1;
+            let gc = g[cur].expect("reached");
+            if cur == spec.index(goal.0, goal.1) {
+                let mut cells = vec![spec.cell(cur)];
+                let mut c = cur;
+                while c != s {
+                    c = parent[c];
+                    cells.push(spec.cell(c));
+                }
+                cells.reverse();
+                return Some(GridPath { cells, cost: gc, expansions });
+            }
+            let (cx, cy) = (cur % w, cur / w);
+            let ok = |x: isize, y: isize| x >= 0 && y >= 0 && grid.passable(x as usize, y as usize);
+            let (x, y) = (cx as isize, cy as isize);
+            let moves = [(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, 1), (1, -1), (-1, -1)];
+            for (dx, dy) in moves {
+                let (nx, ny) = (x + dx, y + dy);
+                if !ok(nx, ny) || (dx != 0 && dy != 0 && !(ok(nx, y) && ok(x, ny))) {
+                    continue;
+                }
+                let ni = spec.index(nx as usize, ny as usize);
+                if closed[ni] {
+                    continue;
+                }
+                let len = if dx != 0 && dy != 0 { S2 } else { 1.0 };
+                let ng = gc + len * (res * (1.0 + mode.weight * f64::from(grid.cost[ni]) / MAX_PASSABLE));
+                if g[ni].is_none_or(|old| ng < old) {
+                    g[ni] = Some(ng);
+                    parent[ni] = cur;
+                    open.push(Reverse(open_entry(ng + heur(nx as usize, ny as usize), ng, ni as u32)));
+                }
+            }
+        }
+        None
+    }
+
+    #[test]
+    fn plan_matches_the_reference_search_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(19);
+        let mut pl = PathPlanner::new();
+        let mut found = 0;
+        for case in 0..300 {
+            let (w, h) = (rng.random_range(2..70), rng.random_range(2..70));
+            let mut g = random_grid(case, w, h, rng.random_range(0.0..0.35));
+            g.spec.resolution = [0.05, 0.1, 1.0][case as usize % 3];
+            if case % 4 == 0 {
+                // Few distinct costs: many ties in f.
+                for c in g.cost.iter_mut().filter(|c| **c < INSCRIBED) {
+                    *c = if *c < 126 { 0 } else { 100 };
+                }
+            }
+            let start = (rng.random_range(0..w), rng.random_range(0..h));
+            let goal = (rng.random_range(0..w), rng.random_range(0..h));
+            let weight = [0.0, 2.0, rng.random_range(0.0..5.0)][case as usize % 3];
+            for mode in [SearchMode::weighted(weight), SearchMode::dijkstra(weight)] {
+                let got = pl.plan(&g, start, goal, mode);
+                let want = reference_plan(&g, start, goal, mode);
+                found += usize::from(want.is_some());
+                let bits = |p: &Option<GridPath>| {
+                    p.as_ref().map(|p| (p.cells.clone(), p.cost.to_bits(), p.expansions))
+                };
+                assert_eq!(bits(&got), bits(&want), "case {case} {mode:?}");
+            }
+        }
+        assert!(found > 300, "{found} of 600 searches found a path");
+    }
+
     proptest! {
         #[test]
         fn astar_matches_dijkstra(seed in any::<u64>(), w in 2usize..30, h in 2usize..30, density in 0.0f64..0.4, weight in 0.0f64..5.0) {
