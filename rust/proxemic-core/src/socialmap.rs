@@ -336,6 +336,48 @@ impl Sight {
     }
 }
 
+/// The non-obstacle cells of a cost grid as bit rows (bit `x % 64` of word
+/// `y * words + x / 64` is cell (x, y)), built once per static map for [`in_sight`].
+#[derive(Clone, Debug)]
+struct FreeBits {
+    words: usize,
+    bits: Vec<u64>,
+}
+
+impl FreeBits {
+    fn of(grid: &CostGrid) -> Self {
+        let spec = &grid.spec;
+        let words = spec.width.div_ceil(64);
+        let mut bits = vec![0u64; words * spec.height];
+        for iy in 0..spec.height {
+            let row = &grid.cost[spec.index(0, iy)..spec.index(0, iy) + spec.width];
+            for (j, chunk) in row.chunks(64).enumerate() {
+                bits[iy * words + j] =
+                    chunk.iter().enumerate().fold(0u64, |m, (x, &c)| m | (u64::from(c < LETHAL) << x));
+            }
+        }
+        FreeBits { words, bits }
+    }
+
+    /// Writes the bits of the cells `a0 .. a0 + w` of row `iy` to `out` (`w.div_ceil(64)` words,
+    /// the bits past `w` cleared); whether all `w` cells are free.
+    fn row_into(&self, iy: usize, a0: usize, w: usize, out: &mut [u64]) -> bool {
+        let src = &self.bits[iy * self.words..(iy + 1) * self.words];
+        let r = a0 % 64;
+        let mut all = true;
+        for (j, o) in out.iter_mut().enumerate() {
+            let q = a0 / 64 + j;
+            let lo = src.get(q).copied().unwrap_or(0) >> r;
+            let hi = if r > 0 { src.get(q + 1).copied().unwrap_or(0) << (64 - r) } else { 0 };
+            let n = (w - 64 * j).min(64);
+            let valid = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+            *o = (lo | hi) & valid;
+            all &= *o == valid;
+        }
+        all
+    }
+}
+
 /// The bit rows [`in_sight`] walks on, kept by the map between individuals (no allocation per
 /// individual).
 #[derive(Clone, Debug, Default)]
@@ -374,7 +416,7 @@ fn too_long(k: u64, dx: u64, dy: u64) -> bool {
 fn long_way_half_width(k: u64, dy: u64) -> Option<u64> {
     let m = k.checked_sub(2)?;
     if m <= 1 << 20 {
-        return Some((m * m).checked_sub(dy * dy + 1)?.isqrt());
+        return Some(isqrt((m * m).checked_sub(dy * dy + 1)?));
     }
     if !too_long(k, 0, dy) {
         return None;
@@ -387,6 +429,18 @@ fn long_way_half_width(k: u64, dy: u64) -> Option<u64> {
         a -= 1;
     }
     Some(a)
+}
+
+/// The integer square root of `t <= 2^40` (the rounded square root, then made exact).
+fn isqrt(t: u64) -> u64 {
+    let mut a = (t as f64).sqrt() as u64;
+    while a * a > t {
+        a -= 1;
+    }
+    while (a + 1) * (a + 1) <= t {
+        a += 1;
+    }
+    a
 }
 
 /// The bits of word `j` (cells `64 j ..= 64 j + 63`) of the cells `x0 ..= x1`.
@@ -405,7 +459,13 @@ fn span_bits(j: usize, x0: usize, x1: usize) -> u64 {
 /// spreading into the next room or corridor (where they would push the robot's path away from
 /// people it cannot even see). Every cell is open when the centre lies outside the rect or on an
 /// obstacle. `scratch` holds the walk's bit rows.
-fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect, scratch: &mut SightScratch) -> Sight {
+fn in_sight(
+    grid: &CostGrid,
+    free_bits: &FreeBits,
+    centre: Vec2,
+    rect: Rect,
+    scratch: &mut SightScratch,
+) -> Sight {
     let spec = &grid.spec;
     let (a0, b0, a1, b1) = rect;
     let (w, h) = (a1 + 1 - a0, b1 + 1 - b0);
@@ -424,20 +484,16 @@ fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect, scratch: &mut SightScratc
     // 8-neighbours of them).
     let SightScratch { free, visited, layer, spread } = scratch;
     let n = words * h;
-    for v in [&mut *free, &mut *visited, &mut *layer, &mut *spread] {
+    for v in [&mut *free, &mut *visited, &mut *layer] {
         v.clear();
         v.resize(n, 0);
     }
+    // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
+    spread.clear();
+    spread.resize(n + 4 * words, 0);
     let mut blocked = false;
     for y in 0..h {
-        let row = &grid.cost[spec.index(a0, b0 + y)..=spec.index(a1, b0 + y)];
-        for (x, &c) in row.iter().enumerate() {
-            if c < LETHAL {
-                free[y * words + x / 64] |= 1 << (x % 64);
-            } else {
-                blocked = true;
-            }
-        }
+        blocked |= !free_bits.row_into(b0 + y, a0, w, &mut free[y * words..(y + 1) * words]);
     }
     // Without an obstacle in the rect the walk to every cell is its Chebyshev distance, never
     // longer than the straight line: every cell is open, no walk needed.
@@ -453,10 +509,10 @@ fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect, scratch: &mut SightScratc
         // The layer's cells in sight (all but those within the long-way half-width of the
         // centre's column), spread to their row neighbours in place.
         for y in lo..=hi {
-            let r = y * words;
+            let (r, p) = (y * words, (y + 2) * words);
             let cells = &mut layer[r..r + words];
             if cells.iter().all(|&b| b == 0) {
-                spread[r..r + words].fill(0);
+                spread[p..p + words].fill(0);
                 continue;
             }
             if let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64) {
@@ -473,22 +529,21 @@ fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect, scratch: &mut SightScratc
             for j in 0..words {
                 let e = layer[r + j];
                 let east = if j + 1 < words { layer[r + j + 1] } else { 0 };
-                spread[r + j] = e | (e << 1) | (west >> 63) | (e >> 1) | (east << 63);
+                spread[p + j] = e | (e << 1) | (west >> 63) | (e >> 1) | (east << 63);
                 west = e;
             }
         }
         // The next layer, written over this one (read no more): the free, unvisited cells of
         // the spread rows and the rows above and below them.
+        spread[lo * words..(lo + 2) * words].fill(0);
+        spread[(hi + 3) * words..(hi + 5) * words].fill(0);
         let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
         let (mut first, mut last) = (usize::MAX, 0);
         for y in nlo..=nhi {
-            let (ya, yb) = (y.saturating_sub(1).max(lo), (y + 1).min(hi));
             let mut row_any = 0u64;
             for j in 0..words {
-                let mut acc = 0u64;
-                for yy in ya..=yb {
-                    acc |= spread[yy * words + j];
-                }
+                let p = (y + 2) * words + j;
+                let acc = spread[p - words] | spread[p] | spread[p + words];
                 let i = y * words + j;
                 let fresh = acc & free[i] & !visited[i];
                 visited[i] |= fresh;
@@ -534,8 +589,11 @@ pub struct SocialMap {
     /// intimate, personal and social zone; and each individual's last contribution.
     counts: Vec<[u16; 3]>,
     counted: Vec<Option<Contribution>>,
-    /// Scratch of [`in_sight`].
+    /// The static layer's free cells and the scratch of [`in_sight`].
+    free_bits: FreeBits,
     sight: SightScratch,
+    /// The last factor [`SocialMap::combine`] encoded (its bits) and its code.
+    last_code: (u64, u8),
 }
 
 /// What one individual added to the zone counts: its quadratic form, zone scale and box, and
@@ -565,6 +623,7 @@ impl SocialMap {
             .map(|poly| polygon_cells(&static_grid.spec, poly, costs.object_margin))
             .collect();
         let m = object_cells.len();
+        let free_bits = FreeBits::of(&static_grid);
         SocialMap {
             costs,
             combined: static_grid.clone(),
@@ -578,7 +637,9 @@ impl SocialMap {
             mark: Vec::new(),
             counts: Vec::new(),
             counted: Vec::new(),
+            free_bits,
             sight: SightScratch::default(),
+            last_code: (1f64.to_bits(), costs.encode(1.0)),
         }
     }
 
@@ -776,8 +837,9 @@ impl SocialMap {
                     }
                     _ => {
                         let full = (a0, b0, a1, b1);
-                        let open =
-                            ind.centre().map(|c| in_sight(&self.static_grid, c, full, &mut self.sight));
+                        let open = ind
+                            .centre()
+                            .map(|c| in_sight(&self.static_grid, &self.free_bits, c, full, &mut self.sight));
                         for iy in lo_y..=hi_y {
                             let row = spec.index(0, iy);
                             let sight = open.as_ref().and_then(|o| o.row(iy - b0));
@@ -848,7 +910,13 @@ impl SocialMap {
         }
         for (k, n) in new.iter().enumerate() {
             if let (None, Some((quad, zone_scale, rect))) = (&next[k], *n) {
-                let open = in_sight(&self.static_grid, Vec2::new(quad[0], quad[1]), rect, &mut self.sight);
+                let open = in_sight(
+                    &self.static_grid,
+                    &self.free_bits,
+                    Vec2::new(quad[0], quad[1]),
+                    rect,
+                    &mut self.sight,
+                );
                 let c = Contribution { quad, zone_scale, rect, open };
                 self.count_zones(&c, 1, &mut touched);
                 next[k] = Some(c);
@@ -902,7 +970,7 @@ impl SocialMap {
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
-        let open = in_sight(&self.static_grid, Vec2::new(q[0], q[1]), full, &mut self.sight);
+        let open = in_sight(&self.static_grid, &self.free_bits, Vec2::new(q[0], q[1]), full, &mut self.sight);
         let people = &mut self.people;
         for_each_zone_cell(&self.static_grid.spec, &c, q, zone_scale, full, &open, rect, |idx, zone| {
             if factors[zone] > people[idx] {
@@ -917,7 +985,11 @@ impl SocialMap {
             s
         } else {
             let f = self.people[idx].max(self.objects[idx]);
-            self.costs.encode(f).max(s)
+            // Neighbouring cells mostly share a factor: encode each run of one factor once.
+            if f.to_bits() != self.last_code.0 {
+                self.last_code = (f.to_bits(), self.costs.encode(f));
+            }
+            self.last_code.1.max(s)
         };
     }
 
@@ -1222,7 +1294,7 @@ mod tests {
                 let cell = (rng.random_range(rect.0..=rect.2), rng.random_range(rect.1..=rect.3));
                 g.spec.center(cell.0, cell.1)
             };
-            let sight = in_sight(&g, c, rect, &mut scratch);
+            let sight = in_sight(&g, &FreeBits::of(&g), c, rect, &mut scratch);
             let (w, h) = (rect.2 + 1 - rect.0, rect.3 + 1 - rect.1);
             let bits: Vec<bool> = (0..w * h).map(|i| sight.is_open(i % w, i / w)).collect();
             assert_eq!(bits, in_sight_reference(&g, c, rect), "case {case}");
