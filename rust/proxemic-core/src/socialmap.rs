@@ -386,6 +386,8 @@ struct SightScratch {
     visited: Vec<u64>,
     layer: Vec<u64>,
     spread: Vec<u64>,
+    /// The same rows as single `u128`s, for rects at most 128 cells wide (see [`walk_narrow`]).
+    narrow: [Vec<u128>; 4],
 }
 
 /// Whether a walk of `k` steps to a cell `dx`, `dy` cells from the centre is longer than its
@@ -482,7 +484,7 @@ fn in_sight(
     // Breadth-first, one layer (walk length) at a time, on bit rows (as in [`Sight`]). Only the
     // cells of a layer that are in sight expand to the next layer (the free, unvisited
     // 8-neighbours of them).
-    let SightScratch { free, visited, layer, spread } = scratch;
+    let SightScratch { free, visited, layer, spread, narrow } = scratch;
     let n = words * h;
     for v in [&mut *free, &mut *visited, &mut *layer] {
         v.clear();
@@ -501,6 +503,10 @@ fn in_sight(
         return all;
     }
     let mut open = vec![0u64; n];
+    if words <= 2 {
+        walk_narrow(free, narrow, words, (sx, sy), &mut open);
+        return Sight { words, bits: Some(open) };
+    }
     layer[sy * words + sx / 64] = 1 << (sx % 64);
     visited[sy * words + sx / 64] = 1 << (sx % 64);
     let (mut lo, mut hi) = (sy, sy); // the rows the current layer occupies
@@ -515,7 +521,14 @@ fn in_sight(
                 spread[p..p + words].fill(0);
                 continue;
             }
-            if let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64) {
+            let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
+            // The half-width is below `m`: a row without cells nearer the centre's column skips it.
+            let near = m > 0
+                && cells
+                    .iter()
+                    .enumerate()
+                    .any(|(j, &b)| b & span_bits(j, sx.saturating_sub(m - 1), sx + (m - 1)) != 0);
+            if let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64).filter(|_| near) {
                 let a = usize::try_from(a).unwrap_or(usize::MAX);
                 let (x0, x1) = (sx.saturating_sub(a), sx.saturating_add(a));
                 for (j, b) in cells.iter_mut().enumerate() {
@@ -562,6 +575,81 @@ fn in_sight(
         k += 1;
     }
     Sight { words, bits: Some(open) }
+}
+
+/// The walk of [`in_sight`] for a rect at most 128 cells wide (`words` 1 or 2), one `u128` per
+/// row: `free` the rect's free cells (bit rows of `words` words), `start` the centre's cell; adds
+/// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk.
+fn walk_narrow(
+    free: &[u64],
+    rows: &mut [Vec<u128>; 4],
+    words: usize,
+    start: (usize, usize),
+    open: &mut [u64],
+) {
+    let h = free.len() / words;
+    let (sx, sy) = start;
+    let [nfree, visited, layer, spread] = rows;
+    let row = |r: &[u64]| u128::from(r[0]) | r.get(1).map_or(0, |&hi| u128::from(hi) << 64);
+    nfree.clear();
+    nfree.extend(free.chunks_exact(words).map(row));
+    for v in [&mut *visited, &mut *layer] {
+        v.clear();
+        v.resize(h, 0);
+    }
+    // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
+    spread.clear();
+    spread.resize(h + 4, 0);
+    // The cells `x - a ..= x + a` (within the row).
+    let span = |x: usize, a: usize| {
+        let (lo, hi) = (x.saturating_sub(a), x.saturating_add(a).min(127));
+        (u128::MAX >> (127 - hi)) & (u128::MAX << lo)
+    };
+    layer[sy] = 1 << sx;
+    visited[sy] = 1 << sx;
+    let (mut lo, mut hi) = (sy, sy);
+    let mut k = 0u64;
+    loop {
+        for y in lo..=hi {
+            let mut e = layer[y];
+            if e != 0 {
+                let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
+                // The half-width is below `m`: a row without cells nearer the centre's column
+                // skips it.
+                if m > 0 && e & span(sx, m - 1) != 0 {
+                    if let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64) {
+                        e &= !span(sx, usize::try_from(a).unwrap_or(usize::MAX));
+                    }
+                }
+                open[y * words] |= e as u64;
+                if words == 2 {
+                    open[y * words + 1] |= (e >> 64) as u64;
+                }
+            }
+            spread[y + 2] = e | (e << 1) | (e >> 1);
+        }
+        spread[lo] = 0;
+        spread[lo + 1] = 0;
+        spread[hi + 3] = 0;
+        spread[hi + 4] = 0;
+        let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
+        let (mut first, mut last) = (usize::MAX, 0);
+        for y in nlo..=nhi {
+            let acc = spread[y + 1] | spread[y + 2] | spread[y + 3];
+            let fresh = acc & nfree[y] & !visited[y];
+            visited[y] |= fresh;
+            layer[y] = fresh;
+            if fresh != 0 {
+                first = first.min(y);
+                last = y;
+            }
+        }
+        if first > last {
+            break;
+        }
+        (lo, hi) = (first, last);
+        k += 1;
+    }
 }
 
 /// Steps (cells) a walk to a cell may take beyond its straight-line distance and still count
