@@ -616,10 +616,11 @@ fn walk_narrow(
                 let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
                 // The half-width is below `m`: a row without cells nearer the centre's column
                 // skips it.
-                if m > 0 && e & span(sx, m - 1) != 0 {
-                    if let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64) {
-                        e &= !span(sx, usize::try_from(a).unwrap_or(usize::MAX));
-                    }
+                if m > 0
+                    && e & span(sx, m - 1) != 0
+                    && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
+                {
+                    e &= !span(sx, usize::try_from(a).unwrap_or(usize::MAX));
                 }
                 open[y * words] |= e as u64;
                 if words == 2 {
