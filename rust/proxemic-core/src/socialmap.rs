@@ -263,8 +263,8 @@ type Rect = (usize, usize, usize, usize);
 /// the exponent with the zone radii's thresholds, without exp or sqrt.
 ///
 /// `full` is the individual's whole box, `open` which of its cells are in sight of the
-/// individual (row-major over `full`, from [`in_sight`]: zones do not pass through walls) and
-/// `rect` the part of the box to visit.
+/// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
+/// to visit.
 #[allow(clippy::too_many_arguments)]
 fn for_each_zone_cell(
     spec: &GridSpec,
@@ -272,13 +272,13 @@ fn for_each_zone_cell(
     quad: &[f64; 8],
     zone_scale: f64,
     full: Rect,
-    open: &[bool],
+    open: &Sight,
     rect: Rect,
     mut f: impl FnMut(usize, usize),
 ) {
     let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
     let (a0, b0, a1, b1) = rect;
-    let (f0x, f0y, width) = (full.0, full.1, full.2 + 1 - full.0);
+    let (f0x, f0y) = (full.0, full.1);
     let two_z2 = 2.0 * zone_scale * zone_scale;
     let (qi, qp, qs) = (
         costs.intimate * costs.intimate / two_z2,
@@ -293,11 +293,13 @@ fn for_each_zone_cell(
         let mut sag = cos * dx + sin * dy;
         let mut fro = sin * dx - cos * dy;
         let (dsag, dfro) = (cos * res, sin * res);
+        let sight = open.row(iy - f0y);
         for ix in a0..=a1 {
             let ks = if sag >= 0.0 { kf } else { kr };
             let kq = if fro >= 0.0 { kri } else { kl };
             let e = ks * sag * sag + kq * fro * fro;
-            if e < qs && open[(iy - f0y) * width + (ix - f0x)] {
+            let x = ix - f0x;
+            if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
                 let zone = if e < qi {
                     0
                 } else if e < qp {
@@ -313,99 +315,342 @@ fn for_each_zone_cell(
     }
 }
 
-/// Which cells of `rect` (row-major over the rect) lie open to `centre`: reached from the
-/// centre's cell by a breadth-first walk over non-obstacle cells (8-connected) in at most the
-/// straight-line distance in cells plus [`SIGHT_SLACK`] steps. A cell behind a wall is reached
-/// only around it, in more steps, so a person's zones stop at the walls of the room they are in
-/// instead of spreading into the next room or corridor (where they would push the robot's path
-/// away from people it cannot even see). Every cell is open when the centre lies outside the
-/// rect or on an obstacle.
-fn in_sight(grid: &CostGrid, centre: Vec2, rect: Rect) -> Vec<bool> {
+/// Which cells of a rect lie open to an individual (see [`in_sight`]): bit `x % 64` of word
+/// `y * words + x / 64` is the rect-local cell (x, y); `None` when every cell is open.
+#[derive(Clone, Debug)]
+struct Sight {
+    words: usize,
+    bits: Option<Vec<u64>>,
+}
+
+impl Sight {
+    /// The bit row of rect-local row `y`, `None` when every cell is open.
+    fn row(&self, y: usize) -> Option<&[u64]> {
+        self.bits.as_ref().map(|b| &b[y * self.words..(y + 1) * self.words])
+    }
+
+    /// Whether the rect-local cell (x, y) is open.
+    #[cfg(test)]
+    fn is_open(&self, x: usize, y: usize) -> bool {
+        self.row(y).is_none_or(|r| r[x / 64] >> (x % 64) & 1 == 1)
+    }
+}
+
+/// The non-obstacle cells of a cost grid as bit rows (bit `x % 64` of word
+/// `y * words + x / 64` is cell (x, y)), built once per static map for [`in_sight`].
+#[derive(Clone, Debug)]
+struct FreeBits {
+    words: usize,
+    bits: Vec<u64>,
+}
+
+impl FreeBits {
+    fn of(grid: &CostGrid) -> Self {
+        let spec = &grid.spec;
+        let words = spec.width.div_ceil(64);
+        let mut bits = vec![0u64; words * spec.height];
+        for iy in 0..spec.height {
+            let row = &grid.cost[spec.index(0, iy)..spec.index(0, iy) + spec.width];
+            for (j, chunk) in row.chunks(64).enumerate() {
+                bits[iy * words + j] =
+                    chunk.iter().enumerate().fold(0u64, |m, (x, &c)| m | (u64::from(c < LETHAL) << x));
+            }
+        }
+        FreeBits { words, bits }
+    }
+
+    /// Writes the bits of the cells `a0 .. a0 + w` of row `iy` to `out` (`w.div_ceil(64)` words,
+    /// the bits past `w` cleared); whether all `w` cells are free.
+    fn row_into(&self, iy: usize, a0: usize, w: usize, out: &mut [u64]) -> bool {
+        let src = &self.bits[iy * self.words..(iy + 1) * self.words];
+        let r = a0 % 64;
+        let mut all = true;
+        for (j, o) in out.iter_mut().enumerate() {
+            let q = a0 / 64 + j;
+            let lo = src.get(q).copied().unwrap_or(0) >> r;
+            let hi = if r > 0 { src.get(q + 1).copied().unwrap_or(0) << (64 - r) } else { 0 };
+            let n = (w - 64 * j).min(64);
+            let valid = if n == 64 { u64::MAX } else { (1u64 << n) - 1 };
+            *o = (lo | hi) & valid;
+            all &= *o == valid;
+        }
+        all
+    }
+}
+
+/// The bit rows [`in_sight`] walks on, kept by the map between individuals (no allocation per
+/// individual).
+#[derive(Clone, Debug, Default)]
+struct SightScratch {
+    free: Vec<u64>,
+    visited: Vec<u64>,
+    layer: Vec<u64>,
+    spread: Vec<u64>,
+    /// The same rows as single `u128`s, for rects at most 128 cells wide (see [`walk_narrow`]).
+    narrow: [Vec<u128>; 4],
+}
+
+/// Whether a walk of `k` steps to a cell `dx`, `dy` cells from the centre is longer than its
+/// straight-line distance plus [`SIGHT_SLACK`]: the cell is reached only the long way round. The
+/// test in floating point, as the reference walk makes it.
+fn too_long(k: u64, dx: u64, dy: u64) -> bool {
+    let (dx, dy) = (dx as f64, dy as f64);
+    k as f64 > (dx * dx + dy * dy).sqrt() + SIGHT_SLACK
+}
+
+/// The largest `dx` with [`too_long`]`(k, dx, dy)`, `None` when there is none: the cells of a
+/// row reached the long way round by a `k`-step walk are the ones within this half-width of the
+/// centre's column.
+///
+/// With `m = k - 2`, [`too_long`] holds exactly when `dx^2 + dy^2 < m^2`, as long as
+/// `m <= 2^20`; so the half-width is `isqrt(m^2 - dy^2 - 1)`. Proof, with `d2 = dx^2 + dy^2` and
+/// `fl` the rounding to nearest double:
+/// - `d2 >= m^2`: `fl(d2) >= m^2` (rounding is monotone and `m^2` a double), so the rounded
+///   square root is `>= m` and the rounded sum `>= m + 2 = k`: not too long.
+/// - `d2 <= m^2 - 1 < 2^40`: `d2` is exact and `sqrt(d2) <= sqrt(m^2 - 1) < m - 1/(2m)`; the
+///   square root and the sum round by at most half an ulp each, both below `2^-32` for values
+///   below `2^21`, far less than the gap `1/(2m) >= 2^-21`: the rounded sum stays below `m + 2 = k`,
+///   too long.
+///
+/// For `k <= 2` nothing is too long (`k > sqrt(d2) + 2` needs `k > 2`). Beyond `m = 2^20` (a walk
+/// of a million steps) the half-width is found with the test itself, which is monotone in `dx`
+/// (each rounded step of it is a non-decreasing function of `dx`).
+fn long_way_half_width(k: u64, dy: u64) -> Option<u64> {
+    let m = k.checked_sub(2)?;
+    if m <= 1 << 20 {
+        return Some(isqrt((m * m).checked_sub(dy * dy + 1)?));
+    }
+    if !too_long(k, 0, dy) {
+        return None;
+    }
+    let mut a = (m * m).saturating_sub(dy.saturating_mul(dy).saturating_add(1)).isqrt();
+    while too_long(k, a + 1, dy) {
+        a += 1;
+    }
+    while a > 0 && !too_long(k, a, dy) {
+        a -= 1;
+    }
+    Some(a)
+}
+
+/// The integer square root of `t <= 2^40` (the rounded square root, then made exact).
+fn isqrt(t: u64) -> u64 {
+    let mut a = (t as f64).sqrt() as u64;
+    while a * a > t {
+        a -= 1;
+    }
+    while (a + 1) * (a + 1) <= t {
+        a += 1;
+    }
+    a
+}
+
+/// The bits of word `j` (cells `64 j ..= 64 j + 63`) of the cells `x0 ..= x1`.
+fn span_bits(j: usize, x0: usize, x1: usize) -> u64 {
+    let (lo, hi) = (x0.max(64 * j), x1.min(64 * j + 63));
+    if lo > hi {
+        return 0;
+    }
+    (u64::MAX >> (63 - (hi - 64 * j))) & (u64::MAX << (lo - 64 * j))
+}
+
+/// Which cells of `rect` lie open to `centre`: reached from the centre's cell by a
+/// breadth-first walk over non-obstacle cells (8-connected) in at most the straight-line
+/// distance in cells plus [`SIGHT_SLACK`] steps. A cell behind a wall is reached only around it,
+/// in more steps, so a person's zones stop at the walls of the room they are in instead of
+/// spreading into the next room or corridor (where they would push the robot's path away from
+/// people it cannot even see). Every cell is open when the centre lies outside the rect or on an
+/// obstacle. `scratch` holds the walk's bit rows.
+fn in_sight(
+    grid: &CostGrid,
+    free_bits: &FreeBits,
+    centre: Vec2,
+    rect: Rect,
+    scratch: &mut SightScratch,
+) -> Sight {
     let spec = &grid.spec;
     let (a0, b0, a1, b1) = rect;
     let (w, h) = (a1 + 1 - a0, b1 + 1 - b0);
+    let words = w.div_ceil(64);
+    let all = Sight { words, bits: None };
     let res = spec.resolution;
     let cx = ((centre.x - spec.origin.x) / res).floor();
     let cy = ((centre.y - spec.origin.y) / res).floor();
     let inside = cx >= a0 as f64 && cx <= a1 as f64 && cy >= b0 as f64 && cy <= b1 as f64;
     if !inside || grid.cost[spec.index(cx as usize, cy as usize)] >= LETHAL {
-        return vec![true; w * h];
+        return all;
+    }
+    let (sx, sy) = (cx as usize - a0, cy as usize - b0);
+    // Breadth-first, one layer (walk length) at a time, on bit rows (as in [`Sight`]). Only the
+    // cells of a layer that are in sight expand to the next layer (the free, unvisited
+    // 8-neighbours of them).
+    let SightScratch { free, visited, layer, spread, narrow } = scratch;
+    let n = words * h;
+    for v in [&mut *free, &mut *visited, &mut *layer] {
+        v.clear();
+        v.resize(n, 0);
+    }
+    // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
+    spread.clear();
+    spread.resize(n + 4 * words, 0);
+    let mut blocked = false;
+    for y in 0..h {
+        blocked |= !free_bits.row_into(b0 + y, a0, w, &mut free[y * words..(y + 1) * words]);
     }
     // Without an obstacle in the rect the walk to every cell is its Chebyshev distance, never
     // longer than the straight line: every cell is open, no walk needed.
-    let row = |iy: usize| &grid.cost[spec.index(a0, iy)..=spec.index(a1, iy)];
-    if (b0..=b1).all(|iy| row(iy).iter().all(|&c| c < LETHAL)) {
-        return vec![true; w * h];
+    if !blocked {
+        return all;
     }
-    let (sx, sy) = (cx as usize - a0, cy as usize - b0);
-    // Breadth-first, one layer (walk length) at a time, on bit rows: bit `x % 64` of word
-    // `y * words + x / 64` is the rect-local cell (x, y). Only the cells of a layer that are in
-    // sight expand to the next layer (the free, unvisited 8-neighbours of them).
-    let words = w.div_ceil(64);
-    let mut free = vec![0u64; words * h];
-    for y in 0..h {
-        for (x, &c) in row(b0 + y).iter().enumerate() {
-            if c < LETHAL {
-                free[y * words + x / 64] |= 1 << (x % 64);
-            }
-        }
+    let mut open = vec![0u64; n];
+    if words <= 2 {
+        walk_narrow(free, narrow, words, (sx, sy), &mut open);
+        return Sight { words, bits: Some(open) };
     }
-    let mut visited = vec![0u64; words * h];
-    let mut layer = vec![0u64; words * h];
-    let mut next = vec![0u64; words * h];
-    let mut expand = vec![0u64; words * h];
-    let mut open = vec![false; w * h];
-    let bit = |x: usize| 1u64 << (x % 64);
-    layer[sy * words + sx / 64] = bit(sx);
-    visited[sy * words + sx / 64] = bit(sx);
-    let (mut lo, mut hi) = (sy, sy); // the rows the current layer may occupy
-    let mut k = 0u32;
+    layer[sy * words + sx / 64] = 1 << (sx % 64);
+    visited[sy * words + sx / 64] = 1 << (sx % 64);
+    let (mut lo, mut hi) = (sy, sy); // the rows the current layer occupies
+    let mut k = 0u64;
     loop {
-        let mut any = false;
+        // The layer's cells in sight (all but those within the long-way half-width of the
+        // centre's column), spread to their row neighbours in place.
         for y in lo..=hi {
-            for j in 0..words {
-                let mut bits = layer[y * words + j];
-                let mut keep = 0u64;
-                while bits != 0 {
-                    let b = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    let x = j * 64 + b;
-                    let (dx, dy) = (x as f64 - sx as f64, y as f64 - sy as f64);
-                    if f64::from(k) > (dx * dx + dy * dy).sqrt() + SIGHT_SLACK {
-                        continue; // reached only the long way round: out of sight, and so is what lies beyond
-                    }
-                    open[y * w + x] = true;
-                    keep |= 1 << b;
+            let (r, p) = (y * words, (y + 2) * words);
+            let cells = &mut layer[r..r + words];
+            if cells.iter().all(|&b| b == 0) {
+                spread[p..p + words].fill(0);
+                continue;
+            }
+            let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
+            // The half-width is below `m`: a row without cells nearer the centre's column skips it.
+            let near = m > 0
+                && cells
+                    .iter()
+                    .enumerate()
+                    .any(|(j, &b)| b & span_bits(j, sx.saturating_sub(m - 1), sx + (m - 1)) != 0);
+            if let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64).filter(|_| near) {
+                let a = usize::try_from(a).unwrap_or(usize::MAX);
+                let (x0, x1) = (sx.saturating_sub(a), sx.saturating_add(a));
+                for (j, b) in cells.iter_mut().enumerate() {
+                    *b &= !span_bits(j, x0, x1);
                 }
-                expand[y * words + j] = keep;
-                any |= keep != 0;
+            }
+            for j in 0..words {
+                open[r + j] |= layer[r + j];
+            }
+            let mut west = 0u64;
+            for j in 0..words {
+                let e = layer[r + j];
+                let east = if j + 1 < words { layer[r + j + 1] } else { 0 };
+                spread[p + j] = e | (e << 1) | (west >> 63) | (e >> 1) | (east << 63);
+                west = e;
             }
         }
-        if !any {
-            break;
-        }
+        // The next layer, written over this one (read no more): the free, unvisited cells of
+        // the spread rows and the rows above and below them.
+        spread[lo * words..(lo + 2) * words].fill(0);
+        spread[(hi + 3) * words..(hi + 5) * words].fill(0);
         let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
+        let (mut first, mut last) = (usize::MAX, 0);
         for y in nlo..=nhi {
+            let mut row_any = 0u64;
             for j in 0..words {
-                let mut acc = 0u64;
-                for yy in y.saturating_sub(1).max(lo)..=(y + 1).min(hi) {
-                    let e = &expand[yy * words..(yy + 1) * words];
-                    let cur = e[j];
-                    let from_west = if j > 0 { e[j - 1] >> 63 } else { 0 };
-                    let from_east = if j + 1 < words { e[j + 1] << 63 } else { 0 };
-                    acc |= cur | (cur << 1) | from_west | (cur >> 1) | from_east;
-                }
+                let p = (y + 2) * words + j;
+                let acc = spread[p - words] | spread[p] | spread[p + words];
                 let i = y * words + j;
                 let fresh = acc & free[i] & !visited[i];
                 visited[i] |= fresh;
-                next[i] = fresh;
+                layer[i] = fresh;
+                row_any |= fresh;
+            }
+            if row_any != 0 {
+                first = first.min(y);
+                last = y;
             }
         }
-        std::mem::swap(&mut layer, &mut next);
-        (lo, hi) = (nlo, nhi);
+        if first > last {
+            break;
+        }
+        (lo, hi) = (first, last);
         k += 1;
     }
-    open
+    Sight { words, bits: Some(open) }
+}
+
+/// The walk of [`in_sight`] for a rect at most 128 cells wide (`words` 1 or 2), one `u128` per
+/// row: `free` the rect's free cells (bit rows of `words` words), `start` the centre's cell; adds
+/// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk.
+fn walk_narrow(
+    free: &[u64],
+    rows: &mut [Vec<u128>; 4],
+    words: usize,
+    start: (usize, usize),
+    open: &mut [u64],
+) {
+    let h = free.len() / words;
+    let (sx, sy) = start;
+    let [nfree, visited, layer, spread] = rows;
+    let row = |r: &[u64]| u128::from(r[0]) | r.get(1).map_or(0, |&hi| u128::from(hi) << 64);
+    nfree.clear();
+    nfree.extend(free.chunks_exact(words).map(row));
+    for v in [&mut *visited, &mut *layer] {
+        v.clear();
+        v.resize(h, 0);
+    }
+    // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
+    spread.clear();
+    spread.resize(h + 4, 0);
+    // The cells `x - a ..= x + a` (within the row).
+    let span = |x: usize, a: usize| {
+        let (lo, hi) = (x.saturating_sub(a), x.saturating_add(a).min(127));
+        (u128::MAX >> (127 - hi)) & (u128::MAX << lo)
+    };
+    layer[sy] = 1 << sx;
+    visited[sy] = 1 << sx;
+    let (mut lo, mut hi) = (sy, sy);
+    let mut k = 0u64;
+    loop {
+        for y in lo..=hi {
+            let mut e = layer[y];
+            if e != 0 {
+                let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
+                // The half-width is below `m`: a row without cells nearer the centre's column
+                // skips it.
+                if m > 0
+                    && e & span(sx, m - 1) != 0
+                    && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
+                {
+                    e &= !span(sx, usize::try_from(a).unwrap_or(usize::MAX));
+                }
+                open[y * words] |= e as u64;
+                if words == 2 {
+                    open[y * words + 1] |= (e >> 64) as u64;
+                }
+            }
+            spread[y + 2] = e | (e << 1) | (e >> 1);
+        }
+        spread[lo] = 0;
+        spread[lo + 1] = 0;
+        spread[hi + 3] = 0;
+        spread[hi + 4] = 0;
+        let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
+        let (mut first, mut last) = (usize::MAX, 0);
+        for y in nlo..=nhi {
+            let acc = spread[y + 1] | spread[y + 2] | spread[y + 3];
+            let fresh = acc & nfree[y] & !visited[y];
+            visited[y] |= fresh;
+            layer[y] = fresh;
+            if fresh != 0 {
+                first = first.min(y);
+                last = y;
+            }
+        }
+        if first > last {
+            break;
+        }
+        (lo, hi) = (first, last);
+        k += 1;
+    }
 }
 
 /// Steps (cells) a walk to a cell may take beyond its straight-line distance and still count
@@ -433,6 +678,11 @@ pub struct SocialMap {
     /// intimate, personal and social zone; and each individual's last contribution.
     counts: Vec<[u16; 3]>,
     counted: Vec<Option<Contribution>>,
+    /// The static layer's free cells and the scratch of [`in_sight`].
+    free_bits: FreeBits,
+    sight: SightScratch,
+    /// The last factor [`SocialMap::combine`] encoded (its bits) and its code.
+    last_code: (u64, u8),
 }
 
 /// What one individual added to the zone counts: its quadratic form, zone scale and box, and
@@ -442,7 +692,7 @@ struct Contribution {
     quad: [f64; 8],
     zone_scale: f64,
     rect: Rect,
-    open: Vec<bool>,
+    open: Sight,
 }
 
 impl Contribution {
@@ -462,6 +712,7 @@ impl SocialMap {
             .map(|poly| polygon_cells(&static_grid.spec, poly, costs.object_margin))
             .collect();
         let m = object_cells.len();
+        let free_bits = FreeBits::of(&static_grid);
         SocialMap {
             costs,
             combined: static_grid.clone(),
@@ -475,6 +726,9 @@ impl SocialMap {
             mark: Vec::new(),
             counts: Vec::new(),
             counted: Vec::new(),
+            free_bits,
+            sight: SightScratch::default(),
+            last_code: (1f64.to_bits(), costs.encode(1.0)),
         }
     }
 
@@ -671,12 +925,16 @@ impl SocialMap {
                         self.splat_zones(&qf, ind.zone_scale(), (a0, b0, a1, b1), part)
                     }
                     _ => {
-                        let open = ind.centre().map(|c| in_sight(&self.static_grid, c, (a0, b0, a1, b1)));
-                        let w = a1 + 1 - a0;
+                        let full = (a0, b0, a1, b1);
+                        let open = ind
+                            .centre()
+                            .map(|c| in_sight(&self.static_grid, &self.free_bits, c, full, &mut self.sight));
                         for iy in lo_y..=hi_y {
                             let row = spec.index(0, iy);
+                            let sight = open.as_ref().and_then(|o| o.row(iy - b0));
                             for ix in lo_x..=hi_x {
-                                if open.as_ref().is_some_and(|o| !o[(iy - b0) * w + (ix - a0)]) {
+                                let x = ix - a0;
+                                if sight.is_some_and(|b| b[x / 64] >> (x % 64) & 1 == 0) {
                                     continue;
                                 }
                                 let f = self.costs.factor(ind, spec.center(ix, iy));
@@ -741,7 +999,13 @@ impl SocialMap {
         }
         for (k, n) in new.iter().enumerate() {
             if let (None, Some((quad, zone_scale, rect))) = (&next[k], *n) {
-                let open = in_sight(&self.static_grid, Vec2::new(quad[0], quad[1]), rect);
+                let open = in_sight(
+                    &self.static_grid,
+                    &self.free_bits,
+                    Vec2::new(quad[0], quad[1]),
+                    rect,
+                    &mut self.sight,
+                );
                 let c = Contribution { quad, zone_scale, rect, open };
                 self.count_zones(&c, 1, &mut touched);
                 next[k] = Some(c);
@@ -795,7 +1059,7 @@ impl SocialMap {
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
-        let open = in_sight(&self.static_grid, Vec2::new(q[0], q[1]), full);
+        let open = in_sight(&self.static_grid, &self.free_bits, Vec2::new(q[0], q[1]), full, &mut self.sight);
         let people = &mut self.people;
         for_each_zone_cell(&self.static_grid.spec, &c, q, zone_scale, full, &open, rect, |idx, zone| {
             if factors[zone] > people[idx] {
@@ -810,7 +1074,11 @@ impl SocialMap {
             s
         } else {
             let f = self.people[idx].max(self.objects[idx]);
-            self.costs.encode(f).max(s)
+            // Neighbouring cells mostly share a factor: encode each run of one factor once.
+            if f.to_bits() != self.last_code.0 {
+                self.last_code = (f.to_bits(), self.costs.encode(f));
+            }
+            self.last_code.1.max(s)
         };
     }
 
@@ -1085,8 +1353,9 @@ mod tests {
     fn in_sight_matches_the_reference_walk() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(19);
+        let mut scratch = SightScratch::default();
         for case in 0..200 {
-            let mut g = grid(12.0, 9.0);
+            let mut g = grid(16.0, 9.0);
             // Random wall segments and blocks, some cases with none (the open fast path).
             let walls = if case % 5 == 0 { 0 } else { rng.random_range(1..8) };
             for _ in 0..walls {
@@ -1104,17 +1373,42 @@ mod tests {
             let rect = (
                 x0,
                 y0,
-                (x0 + rng.random_range(0..80)).min(g.spec.width - 1),
+                (x0 + rng.random_range(0..150)).min(g.spec.width - 1),
                 (y0 + rng.random_range(0..80)).min(g.spec.height - 1),
             );
             // Mostly a centre inside the rect (the walk), sometimes anywhere.
             let c = if case % 7 == 0 {
-                Vec2::new(rng.random_range(-0.5..12.5), rng.random_range(-0.5..9.5))
+                Vec2::new(rng.random_range(-0.5..16.5), rng.random_range(-0.5..9.5))
             } else {
                 let cell = (rng.random_range(rect.0..=rect.2), rng.random_range(rect.1..=rect.3));
                 g.spec.center(cell.0, cell.1)
             };
-            assert_eq!(in_sight(&g, c, rect), in_sight_reference(&g, c, rect), "case {case}");
+            let sight = in_sight(&g, &FreeBits::of(&g), c, rect, &mut scratch);
+            let (w, h) = (rect.2 + 1 - rect.0, rect.3 + 1 - rect.1);
+            let bits: Vec<bool> = (0..w * h).map(|i| sight.is_open(i % w, i / w)).collect();
+            assert_eq!(bits, in_sight_reference(&g, c, rect), "case {case}");
+        }
+    }
+
+    #[test]
+    fn long_way_half_width_is_the_float_test() {
+        // Every small walk length and row against the floating-point test of the reference
+        // walk, and walks around the 2^20 steps where the integer formula hands over.
+        for k in 0..160u64 {
+            for dy in 0..160u64 {
+                let a = long_way_half_width(k, dy);
+                for dx in 0..170u64 {
+                    assert_eq!(too_long(k, dx, dy), a.is_some_and(|a| dx <= a), "k {k} dy {dy} dx {dx}");
+                }
+            }
+        }
+        for k in [(1u64 << 20) - 3, (1 << 20) + 2, (1 << 20) + 3, (1 << 20) + 7, 3 << 20] {
+            for dy in [0u64, 1, 17, 1000, 654_321, (1 << 20) - 1, 1 << 20, 2 << 20] {
+                match long_way_half_width(k, dy) {
+                    Some(a) => assert!(too_long(k, a, dy) && !too_long(k, a + 1, dy), "k {k} dy {dy}"),
+                    None => assert!(!too_long(k, 0, dy), "k {k} dy {dy}"),
+                }
+            }
         }
     }
 
