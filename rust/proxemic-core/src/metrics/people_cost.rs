@@ -150,9 +150,15 @@ fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
     let margin = |d: f64, near: f64| 1e-9 * (1.0 + total + d + near);
     let distance = |p: Vec2, j: usize| distance_point_segment(p, path[j], path[j + 1]);
     let mut worst = 0.0f64;
-    for (t, &p) in track.iter().enumerate() {
+    // The points farthest from their own instant's segment first, so `worst` rises early and
+    // the others stop sooner (the maximum of exact minima does not depend on the order).
+    let mut order: Vec<(f64, usize)> =
+        track.iter().enumerate().map(|(t, &p)| (distance(p, t.min(segments - 1)), t)).collect();
+    order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for (first, t) in order {
+        let p = track[t];
         let start = t.min(segments - 1);
-        let mut near = distance(p, start);
+        let mut near = first;
         // Forwards: segments `fwd..segments` are left, measured from the vertex at arc `fwd_arc`
         // of a segment at distance `fwd_d`; backwards: segments `0..bwd` are left.
         let (mut fwd, mut fwd_arc, mut fwd_d) = (start + 1, arc[start + 1], near);
@@ -161,7 +167,12 @@ fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
             if fwd < segments {
                 // Skip the segments whose far end is within arc `fwd_d - near` of the vertex.
                 let reach = fwd_arc + (fwd_d - near - margin(fwd_d, near));
-                let m = fwd + arc[fwd + 1..].partition_point(|&a| a < reach);
+                // (The next segment is usually not skipped: test it before searching.)
+                let m = if arc[fwd + 1] < reach {
+                    fwd + 1 + arc[fwd + 2..].partition_point(|&a| a < reach)
+                } else {
+                    fwd
+                };
                 if m < segments {
                     fwd_d = distance(p, m);
                     near = near.min(fwd_d);
@@ -172,7 +183,11 @@ fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
             if bwd > 0 && near > worst {
                 let floor = bwd_arc - (bwd_d - near - margin(bwd_d, near));
                 // (`!(a > floor)`: no skip if `floor` is NaN.)
-                let left = arc[..bwd].partition_point(|&a| !(a > floor));
+                let left = if arc[bwd - 1] > floor {
+                    arc[..bwd - 1].partition_point(|&a| !(a > floor))
+                } else {
+                    bwd
+                };
                 if left > 0 {
                     let m = left - 1;
                     bwd_d = distance(p, m);
