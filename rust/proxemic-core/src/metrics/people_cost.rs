@@ -182,12 +182,9 @@ fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
             }
             if bwd > 0 && near > worst {
                 let floor = bwd_arc - (bwd_d - near - margin(bwd_d, near));
-                // (`!(a > floor)`: no skip if `floor` is NaN.)
-                let left = if arc[bwd - 1] > floor {
-                    arc[..bwd - 1].partition_point(|&a| !(a > floor))
-                } else {
-                    bwd
-                };
+                // (No skip if `floor` is NaN: the comparison below is false.)
+                let left =
+                    if arc[bwd - 1] > floor { arc[..bwd - 1].partition_point(|&a| a <= floor) } else { bwd };
                 if left > 0 {
                     let m = left - 1;
                     bwd_d = distance(p, m);
