@@ -6,6 +6,8 @@
 //! robot planning with plain A* (`astar`) and with the full social planner (`social`). Episodes
 //! are reset (untimed) when every robot has finished.
 //!
+//! Also `World::episode_metrics` at the end of a museum episode.
+//!
 //! Run with `cargo bench --bench world` (add `-- --quick` for a short run; `--profile-time 10`
 //! runs one setting for a profiler).
 
@@ -139,5 +141,19 @@ fn museum_scans(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, world_steps, museum_scans);
+/// `World::episode_metrics` (the post-hoc evaluator, once per episode end) of one robot of
+/// `museum_multi` planning with A*, after its episode ran to the end (capped at 3000 steps).
+fn episode_metrics(c: &mut Criterion) {
+    let mut sim = Sim::new(1, Some("astar"));
+    for _ in 0..3000 {
+        if sim.step() {
+            break;
+        }
+    }
+    c.bench_function("episode_metrics/museum_multi_1_robot_astar", |b| {
+        b.iter(|| sim.world.episode_metrics().expect("metrics"));
+    });
+}
+
+criterion_group!(benches, world_steps, museum_scans, episode_metrics);
 criterion_main!(benches);

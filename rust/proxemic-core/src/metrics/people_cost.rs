@@ -116,30 +116,83 @@ pub(crate) fn evaluate(
 
 /// Largest distance from a point of `track` to the polyline `path` (m).
 ///
-/// Each point tries the segments in order of their distance in time from its own instant (the
-/// two tracks run in step, so the nearest segment comes early) and stops as soon as one is
-/// within the largest distance found so far: such a point cannot raise it, so the result is
-/// the same maximum as trying every segment, without the quadratic cost.
+/// Each point tries the segments outwards from its own instant's (the two tracks run in step,
+/// so the nearest segment comes early), one forwards and one backwards in turn, and stops as
+/// soon as one is within the largest distance found so far: such a point cannot raise it.
+///
+/// Segments that cannot be nearer than the nearest one found so far are skipped by arc length:
+/// if segment `j` is at distance `d` from the point `p`, any point `q` of the path reachable
+/// from a vertex `v` of segment `j` along the path within arc length `a` is at distance
+/// `|p - q| >= |p - v| - |v - q| >= d - a` (triangle inequality, `|p - v| >= d` because `v` is on
+/// segment `j`, `|v - q| <= a` because the straight line is no longer than the path). So going
+/// forwards from `v = path[j + 1]`, segment `m > j` (whose far end `path[m + 1]` is at arc
+/// `arc[m + 1] - arc[j + 1]`) is farther than `near` when `arc[m + 1] - arc[j + 1] < d - near`,
+/// and backwards from `v = path[j]`, segment `m < j` when `arc[j] - arc[m] < d - near`; a margin
+/// of `1e-9 (1 + total length + d + near)` m, far above the rounding of the sums and distances,
+/// keeps the test conservative. Only segments whose computed distance exceeds the minimum are
+/// skipped, so each point's minimum, and the maximum over points, is the same computed value as
+/// trying every segment, bit for bit, at a cost that grows with the path's length over the
+/// point's distance instead of with its number of segments.
 fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
     if path.len() < 2 {
         let to_path = |p: Vec2| path.first().map_or(f64::INFINITY, |&q| (p - q).norm());
         return track.iter().map(|&p| to_path(p)).fold(0.0, f64::max);
     }
     let segments = path.len() - 1;
+    // arc[k]: the path's length from path[0] to path[k] (m), non-decreasing.
+    let mut arc = Vec::with_capacity(path.len());
+    let mut total = 0.0f64;
+    arc.push(total);
+    for w in path.windows(2) {
+        total += (w[1] - w[0]).norm();
+        arc.push(total);
+    }
+    let margin = |d: f64, near: f64| 1e-9 * (1.0 + total + d + near);
     let distance = |p: Vec2, j: usize| distance_point_segment(p, path[j], path[j + 1]);
     let mut worst = 0.0f64;
-    for (t, &p) in track.iter().enumerate() {
+    // The points farthest from their own instant's segment first, so `worst` rises early and
+    // the others stop sooner (the maximum of exact minima does not depend on the order).
+    let mut order: Vec<(f64, usize)> =
+        track.iter().enumerate().map(|(t, &p)| (distance(p, t.min(segments - 1)), t)).collect();
+    order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    for (first, t) in order {
+        let p = track[t];
         let start = t.min(segments - 1);
-        let mut near = distance(p, start);
-        let mut step = 1;
-        while near > worst && (step <= start || start + step < segments) {
-            if start + step < segments {
-                near = near.min(distance(p, start + step));
+        let mut near = first;
+        // Forwards: segments `fwd..segments` are left, measured from the vertex at arc `fwd_arc`
+        // of a segment at distance `fwd_d`; backwards: segments `0..bwd` are left.
+        let (mut fwd, mut fwd_arc, mut fwd_d) = (start + 1, arc[start + 1], near);
+        let (mut bwd, mut bwd_arc, mut bwd_d) = (start, arc[start], near);
+        while near > worst && (fwd < segments || bwd > 0) {
+            if fwd < segments {
+                // Skip the segments whose far end is within arc `fwd_d - near` of the vertex.
+                let reach = fwd_arc + (fwd_d - near - margin(fwd_d, near));
+                // (The next segment is usually not skipped: test it before searching.)
+                let m = if arc[fwd + 1] < reach {
+                    fwd + 1 + arc[fwd + 2..].partition_point(|&a| a < reach)
+                } else {
+                    fwd
+                };
+                if m < segments {
+                    fwd_d = distance(p, m);
+                    near = near.min(fwd_d);
+                    fwd_arc = arc[m + 1];
+                }
+                fwd = m + 1;
             }
-            if step <= start {
-                near = near.min(distance(p, start - step));
+            if bwd > 0 && near > worst {
+                let floor = bwd_arc - (bwd_d - near - margin(bwd_d, near));
+                // (No skip if `floor` is NaN: the comparison below is false.)
+                let left =
+                    if arc[bwd - 1] > floor { arc[..bwd - 1].partition_point(|&a| a <= floor) } else { bwd };
+                if left > 0 {
+                    let m = left - 1;
+                    bwd_d = distance(p, m);
+                    near = near.min(bwd_d);
+                    bwd_arc = arc[m];
+                }
+                bwd = left.saturating_sub(1);
             }
-            step += 1;
         }
         worst = worst.max(near);
     }
@@ -181,6 +234,45 @@ mod tests {
                         (deviation(&track, &path[..path_len]), deviation_brute(&track, &path[..path_len]));
                     assert_eq!(a.to_bits(), b.to_bits(), "len {len}, path {path_len}: {a} vs {b}");
                 }
+            }
+        }
+        // Long tracks against paths that leave far and come back, loop round the same circle
+        // (segments far along the path but near in space), stand still (zero-length segments)
+        // or run backwards in time.
+        for len in [2000usize, 2001] {
+            for shape in 0..5 {
+                let track: Vec<Vec2> = (0..len)
+                    .map(|t| {
+                        let a = t as f64 * 0.031;
+                        Vec2::new(5.0 * a.cos() + 0.3 * next(), 5.0 * a.sin() + 0.3 * next())
+                    })
+                    .collect();
+                let path: Vec<Vec2> = match shape {
+                    0 => track
+                        .iter()
+                        .enumerate()
+                        .map(|(t, &p)| p + Vec2::new(8.0 * (t as f64 * 0.004).sin().powi(3), next()))
+                        .collect(),
+                    1 => (0..len)
+                        .map(|t| {
+                            let a = t as f64 * 0.047;
+                            Vec2::new(4.0 * a.cos(), 6.0 * a.sin()) + Vec2::new(0.2 * next(), 0.2 * next())
+                        })
+                        .collect(),
+                    2 => track
+                        .iter()
+                        .map(|&p| if next() > 0.3 { p } else { p + Vec2::new(20.0, 0.0) })
+                        .collect(),
+                    3 => track
+                        .iter()
+                        .map(|&p| Vec2::new((p.x * 2.0).round() / 2.0, (p.y * 2.0).round() / 2.0))
+                        .collect(),
+                    _ => track.iter().rev().map(|&p| p + Vec2::new(next(), next())).collect(),
+                };
+                let (a, b) = (deviation(&track, &path), deviation_brute(&track, &path));
+                assert_eq!(a.to_bits(), b.to_bits(), "len {len}, shape {shape}: {a} vs {b}");
+                let (a, b) = (deviation(&path, &track), deviation_brute(&path, &track));
+                assert_eq!(a.to_bits(), b.to_bits(), "len {len}, shape {shape} swapped: {a} vs {b}");
             }
         }
     }
