@@ -6,7 +6,16 @@ over trials:
 
 - build: the wall time of ``ProxemicEnv(...)`` (scenario validation, the Rust world with every
   person's paths planned, the MuJoCo physics model compiled) and of the first ``reset``;
-- step: thread CPU time of an env step with the robot's ``social`` planner driving.
+- step: thread CPU time of an env step with the robot's ``social`` planner driving, split into
+  the physics (the ``frame_skip`` ``mj_step`` calls of the step, with the people's poses and the
+  contact hints written), the core (the rest of the one Rust call ``World.step``) and Python (the
+  env's observation, outcome and info), all timed in the same steps;
+- bare MuJoCo: ``mj_step`` alone, ``frame_skip`` calls per control step of the same model and
+  state after the trial (contacts as the last step's hints left them), for the physics floor of
+  a step;
+- re-plans: the steps whose core call took over 5 times its median (the social planner's A*
+  searches of the whole hall: its triggers and its periodic re-plan), and their share of the
+  mean core time.
 
 The growth from 50 to 1000 people is printed as a ratio per person. Target (reliability issue):
 1000 people build in at most 2 s; the bench exits non-zero when it is missed.
@@ -22,9 +31,13 @@ import statistics
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 os.environ.setdefault("MUJOCO_GL", "egl")
+
+import mujoco
+import numpy as np
 
 from proxemic.env import ProxemicEnv
 
@@ -75,20 +88,69 @@ def crowd_scenario(people: int, seed: int = 1) -> str:
     return "\n".join(lines) + "\n"
 
 
-def measure(path: Path) -> tuple[float, float]:
-    """(build seconds, step microseconds) of one trial."""
+@dataclass
+class Trial:
+    """One trial's figures (seconds for the build, microseconds per control step otherwise)."""
+
+    build: float
+    step: float
+    physics: float
+    core: float
+    python: float
+    bare: float
+    replan_steps: int
+    replan: float
+
+
+def measure(path: Path) -> Trial:
+    """One trial: build, then STEPS env steps timed and split, then bare MuJoCo stepping."""
     t0 = time.perf_counter()
     env = ProxemicEnv(path, autopilot=True)
     env.reset(seed=0)
     build = time.perf_counter() - t0
-    c0 = time.thread_time_ns()
+    # The env's World.step call and the physics it calls back between its two halves, timed by
+    # wrappers set on this env's WorldSim (instance attributes, removed after the steps).
+    ws = env.ws
+    world_step, physics = ws.step, ws._physics
+    last = [0, 0]  # World.step, physics (ns) of the last env step
+
+    def timed_physics() -> None:
+        t = time.thread_time_ns()
+        physics()
+        last[1] = time.thread_time_ns() - t
+
+    def timed_world_step(actions: np.ndarray | None = None) -> None:
+        t = time.thread_time_ns()
+        world_step(actions)
+        last[0] = time.thread_time_ns() - t
+
+    ws._physics, ws.step = timed_physics, timed_world_step  # type: ignore[method-assign]
+    calls: list[tuple[int, int, int]] = []  # per env step: env.step, World.step, physics (ns)
     for _ in range(STEPS):
+        c0 = time.thread_time_ns()
         _, _, terminated, truncated, _ = env.step(env.action_space.sample() * 0)
+        calls.append((time.thread_time_ns() - c0, last[0], last[1]))
         if terminated or truncated:
             env.reset()
-    step = (time.thread_time_ns() - c0) / STEPS / 1e3
+    del ws._physics, ws.step
+    sim = env.sim
+    c0 = time.thread_time_ns()
+    for _ in range(STEPS):
+        mujoco.mj_step(sim.model, sim.data, sim.frame_skip)
+    bare = (time.thread_time_ns() - c0) / STEPS / 1e3
     env.close()
-    return build, step
+    core = [(rust - phys) / 1e3 for _, rust, phys in calls]
+    spikes = [c for c in core if c > 5 * statistics.median(core)]
+    return Trial(
+        build=build,
+        step=sum(c[0] for c in calls) / STEPS / 1e3,
+        physics=sum(c[2] for c in calls) / STEPS / 1e3,
+        core=sum(core) / STEPS,
+        python=sum(c[0] - c[1] for c in calls) / STEPS / 1e3,
+        bare=bare,
+        replan_steps=len(spikes),
+        replan=sum(spikes) / STEPS,
+    )
 
 
 def main() -> int:
@@ -99,13 +161,20 @@ def main() -> int:
             path = Path(tmp) / f"crowd_{n}.toml"
             path.write_text(crowd_scenario(n))
             trials = [measure(path) for _ in range(TRIALS)]
-            build = statistics.median(t[0] for t in trials)
-            step = statistics.median(t[1] for t in trials)
-            rows.append((n, build, step))
-    print(f"{'people':>7} {'build [s]':>10} {'env step, social [us]':>22} {'step per person [us]':>21}")
-    for n, build, step in rows:
-        print(f"{n:>7} {build:>10.3f} {step:>22.1f} {step / n:>21.2f}")
-    (n0, _, s0), (n1, b1, s1) = rows[0], rows[-1]
+            med = {f: statistics.median(getattr(t, f) for t in trials) for f in Trial.__dataclass_fields__}
+            rows.append((n, med))
+    print(
+        f"{'people':>7} {'build [s]':>10} {'env step, social [us]':>22} {'step per person [us]':>21}"
+        f" {'physics':>8} {'core':>8} {'python':>7} {'bare mj_step':>13} {'re-plans (core us)':>19}"
+    )
+    for n, m in rows:
+        print(
+            f"{n:>7} {m['build']:>10.3f} {m['step']:>22.1f} {m['step'] / n:>21.2f} {m['physics']:>8.0f}"
+            f" {m['core']:>8.0f} {m['python']:>7.0f} {m['bare']:>13.0f}"
+            f" {m['replan_steps']:>8.0f} ({m['replan']:>6.0f})"
+        )
+    (n0, m0), (n1, m1) = rows[0], rows[-1]
+    s0, s1, b1 = m0["step"], m1["step"], m1["build"]
     print(f"growth {n0} -> {n1} people: step x{s1 / s0:.1f} for x{n1 / n0:.0f} people")
     ok_build = b1 <= BUILD_TARGET_S
     ok_step = s1 <= STEP_TARGET_US
