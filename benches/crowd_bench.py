@@ -1,8 +1,9 @@
 """Crowd bench: building and stepping a 100 x 60 m hall with 50, 200 and 1000 people.
 
-A third of the people stand, the rest walk between two random points of the hall (seeded), and
-one robot crosses the hall on the ``social`` planner. For each size the bench reports, as medians
-over trials:
+Three tenths of the people stand alone, three tenths talk in groups of three (conversations for
+the whole episode), the rest walk between two random points of the hall (seeded), and one robot
+crosses the hall on the ``social`` planner. For each size the bench reports, as medians over
+trials:
 
 - build: the wall time of ``ProxemicEnv(...)`` (scenario validation, the Rust world with every
   person's paths planned, the MuJoCo physics model compiled) and of the first ``reset``;
@@ -25,6 +26,7 @@ Run: ``python benches/crowd_bench.py`` (``make bench`` does).
 
 from __future__ import annotations
 
+import math
 import os
 import random
 import statistics
@@ -53,7 +55,12 @@ CLEARANCE = 0.8
 
 
 def crowd_scenario(people: int, seed: int = 1) -> str:
-    """The TOML text of the hall with `people` people (seeded)."""
+    """The TOML text of the hall with `people` people (seeded).
+
+    Three tenths of them stand alone, three tenths talk in groups of three (a conversation around
+    an o-space centre for the whole episode; a group of two or one more standing person takes the
+    remainder) and the rest walk between two random points of the hall.
+    """
     rng = random.Random(seed)
     corners = [(0, 0), (WIDTH, 0), (WIDTH, HEIGHT), (0, HEIGHT)]
     lines = [
@@ -65,26 +72,65 @@ def crowd_scenario(people: int, seed: int = 1) -> str:
         lines += ["[[wall]]", f"from = [{x0}, {y0}]", f"to = [{x1}, {y1}]"]
     lines += ["[[robot]]", "start = [2, 30, 0]", "goal = [98, 30]", 'planner = "social"']
     lines += ["[episode]", "max_time = 300"]
-    # Every placed point (standing poses, route ends) at least CLEARANCE from the others: the
-    # scenario check rejects people placed overlapping. A coarse grid of cells finds neighbours.
+    # Every placed point (standing poses, route ends, conversation places) at least CLEARANCE
+    # from the others: the scenario check rejects people placed overlapping. A coarse grid of
+    # cells finds neighbours.
     cells: dict[tuple[int, int], list[tuple[float, float]]] = {}
 
-    def free_point() -> tuple[float, float]:
+    def is_free(x: float, y: float, clear: float) -> bool:
+        cx, cy, k = int(x // CLEARANCE), int(y // CLEARANCE), int(clear // CLEARANCE) + 1
+        near = (q for i in range(-k, k + 1) for j in range(-k, k + 1) for q in cells.get((cx + i, cy + j), ()))
+        return all((x - qx) ** 2 + (y - qy) ** 2 >= clear**2 for qx, qy in near)
+
+    def place(x: float, y: float) -> None:
+        cells.setdefault((int(x // CLEARANCE), int(y // CLEARANCE)), []).append((x, y))
+
+    def free_point(clear: float = CLEARANCE) -> tuple[float, float]:
         while True:
             x, y = round(rng.uniform(5, 95), 2), round(rng.uniform(3, 57), 2)
-            cx, cy = int(x // CLEARANCE), int(y // CLEARANCE)
-            near = (q for i in (-1, 0, 1) for j in (-1, 0, 1) for q in cells.get((cx + i, cy + j), ()))
-            if all((x - qx) ** 2 + (y - qy) ** 2 >= CLEARANCE**2 for qx, qy in near):
-                cells.setdefault((cx, cy), []).append((x, y))
+            if is_free(x, y, clear):
                 return x, y
 
-    for i in range(people):
+    standing = round(0.3 * people)
+    talking = round(0.3 * people)
+    sizes = [3] * (talking // 3) + ([talking % 3] if talking % 3 == 2 else [])
+    standing += talking - sum(sizes)  # a remainder of one talker stands alone
+    walking = people - standing - sum(sizes)
+    for _ in range(standing):
         x, y = free_point()
-        if i % 3 == 0:
-            lines += ["[[person]]", 'behaviour = "standing"', f"pose = [{x:.2f}, {y:.2f}, {rng.uniform(-3, 3):.2f}]"]
-        else:
-            x2, y2 = free_point()
-            lines += ["[[person]]", f"route = [[{x:.2f}, {y:.2f}], [{x2:.2f}, {y2:.2f}]]"]
+        place(x, y)
+        lines += ["[[person]]", 'behaviour = "standing"', f"pose = [{x:.2f}, {y:.2f}, {rng.uniform(-3, 3):.2f}]"]
+    for group, n in enumerate(sizes, start=1):
+        # The members stand on a circle of radius 0.4 + 0.1 n around the spot (the core's
+        # conversation layout), the first member's home setting the circle's first angle; the
+        # homes are the places themselves, pushed out by CLEARANCE.
+        r = 0.4 + 0.1 * n
+        while True:
+            sx, sy = free_point(r + CLEARANCE)
+            a0 = rng.uniform(-math.pi, math.pi)
+            angles = [a0 + math.tau * k / n for k in range(n)]
+            homes = [(sx + (r + CLEARANCE) * math.cos(a), sy + (r + CLEARANCE) * math.sin(a)) for a in angles]
+            if all(is_free(hx, hy, CLEARANCE) for hx, hy in homes):
+                break
+        for a in angles:
+            place(sx + r * math.cos(a), sy + r * math.sin(a))
+        for hx, hy in homes:
+            place(hx, hy)
+            lines += [
+                "[[person]]",
+                'behaviour = "conversation"',
+                f"group = {group}",
+                f"home = [{hx:.3f}, {hy:.3f}]",
+                f"spot = [{sx:.2f}, {sy:.2f}]",
+                "start = -10.0",
+                "end = 100000.0",
+            ]
+    for _ in range(walking):
+        x, y = free_point()
+        place(x, y)
+        x2, y2 = free_point()
+        place(x2, y2)
+        lines += ["[[person]]", f"route = [[{x:.2f}, {y:.2f}], [{x2:.2f}, {y2:.2f}]]"]
     return "\n".join(lines) + "\n"
 
 
