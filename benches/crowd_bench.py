@@ -1,12 +1,22 @@
 """Crowd bench: building and stepping a 100 x 60 m hall with 50, 200 and 1000 people.
 
-A third of the people stand, the rest walk between two random points of the hall (seeded), and
-one robot crosses the hall on the ``social`` planner. For each size the bench reports, as medians
-over trials:
+Three tenths of the people stand alone, three tenths talk in groups of three (conversations for
+the whole episode), the rest walk between two random points of the hall (seeded), and one robot
+crosses the hall on the ``social`` planner. For each size the bench reports, as medians over
+trials:
 
 - build: the wall time of ``ProxemicEnv(...)`` (scenario validation, the Rust world with every
   person's paths planned, the MuJoCo physics model compiled) and of the first ``reset``;
-- step: thread CPU time of an env step with the robot's ``social`` planner driving.
+- step: thread CPU time of an env step with the robot's ``social`` planner driving, split into
+  the physics (the ``frame_skip`` ``mj_step`` calls of the step, with the people's poses and the
+  contact hints written), the core (the rest of the one Rust call ``World.step``) and Python (the
+  env's observation, outcome and info), all timed in the same steps;
+- bare MuJoCo: ``mj_step`` alone, ``frame_skip`` calls per control step of the same model and
+  state after the trial (contacts as the last step's hints left them), for the physics floor of
+  a step;
+- re-plans: the steps whose core call took over 5 times its median (the social planner's A*
+  searches of the whole hall: its triggers and its periodic re-plan), and their share of the
+  mean core time.
 
 The growth from 50 to 1000 people is printed as a ratio per person. Target (reliability issue):
 1000 people build in at most 2 s; the bench exits non-zero when it is missed.
@@ -16,15 +26,20 @@ Run: ``python benches/crowd_bench.py`` (``make bench`` does).
 
 from __future__ import annotations
 
+import math
 import os
 import random
 import statistics
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 os.environ.setdefault("MUJOCO_GL", "egl")
+
+import mujoco
+import numpy as np
 
 from proxemic.env import ProxemicEnv
 
@@ -40,7 +55,12 @@ CLEARANCE = 0.8
 
 
 def crowd_scenario(people: int, seed: int = 1) -> str:
-    """The TOML text of the hall with `people` people (seeded)."""
+    """The TOML text of the hall with `people` people (seeded).
+
+    Three tenths of them stand alone, three tenths talk in groups of three (a conversation around
+    an o-space centre for the whole episode; a group of two or one more standing person takes the
+    remainder) and the rest walk between two random points of the hall.
+    """
     rng = random.Random(seed)
     corners = [(0, 0), (WIDTH, 0), (WIDTH, HEIGHT), (0, HEIGHT)]
     lines = [
@@ -52,43 +72,131 @@ def crowd_scenario(people: int, seed: int = 1) -> str:
         lines += ["[[wall]]", f"from = [{x0}, {y0}]", f"to = [{x1}, {y1}]"]
     lines += ["[[robot]]", "start = [2, 30, 0]", "goal = [98, 30]", 'planner = "social"']
     lines += ["[episode]", "max_time = 300"]
-    # Every placed point (standing poses, route ends) at least CLEARANCE from the others: the
-    # scenario check rejects people placed overlapping. A coarse grid of cells finds neighbours.
+    # Every placed point (standing poses, route ends, conversation places) at least CLEARANCE
+    # from the others: the scenario check rejects people placed overlapping. A coarse grid of
+    # cells finds neighbours.
     cells: dict[tuple[int, int], list[tuple[float, float]]] = {}
 
-    def free_point() -> tuple[float, float]:
+    def is_free(x: float, y: float, clear: float) -> bool:
+        cx, cy, k = int(x // CLEARANCE), int(y // CLEARANCE), int(clear // CLEARANCE) + 1
+        near = (q for i in range(-k, k + 1) for j in range(-k, k + 1) for q in cells.get((cx + i, cy + j), ()))
+        return all((x - qx) ** 2 + (y - qy) ** 2 >= clear**2 for qx, qy in near)
+
+    def place(x: float, y: float) -> None:
+        cells.setdefault((int(x // CLEARANCE), int(y // CLEARANCE)), []).append((x, y))
+
+    def free_point(clear: float = CLEARANCE) -> tuple[float, float]:
         while True:
             x, y = round(rng.uniform(5, 95), 2), round(rng.uniform(3, 57), 2)
-            cx, cy = int(x // CLEARANCE), int(y // CLEARANCE)
-            near = (q for i in (-1, 0, 1) for j in (-1, 0, 1) for q in cells.get((cx + i, cy + j), ()))
-            if all((x - qx) ** 2 + (y - qy) ** 2 >= CLEARANCE**2 for qx, qy in near):
-                cells.setdefault((cx, cy), []).append((x, y))
+            if is_free(x, y, clear):
                 return x, y
 
-    for i in range(people):
+    standing = round(0.3 * people)
+    talking = round(0.3 * people)
+    sizes = [3] * (talking // 3) + ([talking % 3] if talking % 3 == 2 else [])
+    standing += talking - sum(sizes)  # a remainder of one talker stands alone
+    walking = people - standing - sum(sizes)
+    for _ in range(standing):
         x, y = free_point()
-        if i % 3 == 0:
-            lines += ["[[person]]", 'behaviour = "standing"', f"pose = [{x:.2f}, {y:.2f}, {rng.uniform(-3, 3):.2f}]"]
-        else:
-            x2, y2 = free_point()
-            lines += ["[[person]]", f"route = [[{x:.2f}, {y:.2f}], [{x2:.2f}, {y2:.2f}]]"]
+        place(x, y)
+        lines += ["[[person]]", 'behaviour = "standing"', f"pose = [{x:.2f}, {y:.2f}, {rng.uniform(-3, 3):.2f}]"]
+    for group, n in enumerate(sizes, start=1):
+        # The members stand on a circle of radius 0.4 + 0.1 n around the spot (the core's
+        # conversation layout), the first member's home setting the circle's first angle; the
+        # homes are the places themselves, pushed out by CLEARANCE.
+        r = 0.4 + 0.1 * n
+        while True:
+            sx, sy = free_point(r + CLEARANCE)
+            a0 = rng.uniform(-math.pi, math.pi)
+            angles = [a0 + math.tau * k / n for k in range(n)]
+            homes = [(sx + (r + CLEARANCE) * math.cos(a), sy + (r + CLEARANCE) * math.sin(a)) for a in angles]
+            if all(is_free(hx, hy, CLEARANCE) for hx, hy in homes):
+                break
+        for a in angles:
+            place(sx + r * math.cos(a), sy + r * math.sin(a))
+        for hx, hy in homes:
+            place(hx, hy)
+            lines += [
+                "[[person]]",
+                'behaviour = "conversation"',
+                f"group = {group}",
+                f"home = [{hx:.3f}, {hy:.3f}]",
+                f"spot = [{sx:.2f}, {sy:.2f}]",
+                "start = -10.0",
+                "end = 100000.0",
+            ]
+    for _ in range(walking):
+        x, y = free_point()
+        place(x, y)
+        x2, y2 = free_point()
+        place(x2, y2)
+        lines += ["[[person]]", f"route = [[{x:.2f}, {y:.2f}], [{x2:.2f}, {y2:.2f}]]"]
     return "\n".join(lines) + "\n"
 
 
-def measure(path: Path) -> tuple[float, float]:
-    """(build seconds, step microseconds) of one trial."""
+@dataclass
+class Trial:
+    """One trial's figures (seconds for the build, microseconds per control step otherwise)."""
+
+    build: float
+    step: float
+    physics: float
+    core: float
+    python: float
+    bare: float
+    replan_steps: int
+    replan: float
+
+
+def measure(path: Path) -> Trial:
+    """One trial: build, then STEPS env steps timed and split, then bare MuJoCo stepping."""
     t0 = time.perf_counter()
     env = ProxemicEnv(path, autopilot=True)
     env.reset(seed=0)
     build = time.perf_counter() - t0
-    c0 = time.thread_time_ns()
+    # The env's World.step call and the physics it calls back between its two halves, timed by
+    # wrappers set on this env's WorldSim (instance attributes, removed after the steps).
+    ws = env.ws
+    world_step, physics = ws.step, ws._physics
+    last = [0, 0]  # World.step, physics (ns) of the last env step
+
+    def timed_physics() -> None:
+        t = time.thread_time_ns()
+        physics()
+        last[1] = time.thread_time_ns() - t
+
+    def timed_world_step(actions: np.ndarray | None = None) -> None:
+        t = time.thread_time_ns()
+        world_step(actions)
+        last[0] = time.thread_time_ns() - t
+
+    ws._physics, ws.step = timed_physics, timed_world_step  # type: ignore[method-assign]
+    calls: list[tuple[int, int, int]] = []  # per env step: env.step, World.step, physics (ns)
     for _ in range(STEPS):
+        c0 = time.thread_time_ns()
         _, _, terminated, truncated, _ = env.step(env.action_space.sample() * 0)
+        calls.append((time.thread_time_ns() - c0, last[0], last[1]))
         if terminated or truncated:
             env.reset()
-    step = (time.thread_time_ns() - c0) / STEPS / 1e3
+    del ws._physics, ws.step
+    sim = env.sim
+    c0 = time.thread_time_ns()
+    for _ in range(STEPS):
+        mujoco.mj_step(sim.model, sim.data, sim.frame_skip)
+    bare = (time.thread_time_ns() - c0) / STEPS / 1e3
     env.close()
-    return build, step
+    core = [(rust - phys) / 1e3 for _, rust, phys in calls]
+    spikes = [c for c in core if c > 5 * statistics.median(core)]
+    return Trial(
+        build=build,
+        step=sum(c[0] for c in calls) / STEPS / 1e3,
+        physics=sum(c[2] for c in calls) / STEPS / 1e3,
+        core=sum(core) / STEPS,
+        python=sum(c[0] - c[1] for c in calls) / STEPS / 1e3,
+        bare=bare,
+        replan_steps=len(spikes),
+        replan=sum(spikes) / STEPS,
+    )
 
 
 def main() -> int:
@@ -99,13 +207,20 @@ def main() -> int:
             path = Path(tmp) / f"crowd_{n}.toml"
             path.write_text(crowd_scenario(n))
             trials = [measure(path) for _ in range(TRIALS)]
-            build = statistics.median(t[0] for t in trials)
-            step = statistics.median(t[1] for t in trials)
-            rows.append((n, build, step))
-    print(f"{'people':>7} {'build [s]':>10} {'env step, social [us]':>22} {'step per person [us]':>21}")
-    for n, build, step in rows:
-        print(f"{n:>7} {build:>10.3f} {step:>22.1f} {step / n:>21.2f}")
-    (n0, _, s0), (n1, b1, s1) = rows[0], rows[-1]
+            med = {f: statistics.median(getattr(t, f) for t in trials) for f in Trial.__dataclass_fields__}
+            rows.append((n, med))
+    print(
+        f"{'people':>7} {'build [s]':>10} {'env step, social [us]':>22} {'step per person [us]':>21}"
+        f" {'physics':>8} {'core':>8} {'python':>7} {'bare mj_step':>13} {'re-plans (core us)':>19}"
+    )
+    for n, m in rows:
+        print(
+            f"{n:>7} {m['build']:>10.3f} {m['step']:>22.1f} {m['step'] / n:>21.2f} {m['physics']:>8.0f}"
+            f" {m['core']:>8.0f} {m['python']:>7.0f} {m['bare']:>13.0f}"
+            f" {m['replan_steps']:>8.0f} ({m['replan']:>6.0f})"
+        )
+    (n0, m0), (n1, m1) = rows[0], rows[-1]
+    s0, s1, b1 = m0["step"], m1["step"], m1["build"]
     print(f"growth {n0} -> {n1} people: step x{s1 / s0:.1f} for x{n1 / n0:.0f} people")
     ok_build = b1 <= BUILD_TARGET_S
     ok_step = s1 <= STEP_TARGET_US
