@@ -257,8 +257,8 @@ impl Scanner {
                     continue;
                 }
                 let t = cross(pa, seg) / denom;
-                let s = cross(pa, dir) / denom;
-                if t >= 0.0 && t < out[k] && (-1e-12..=1.0 + 1e-12).contains(&s) {
+                // Where along the edge, only for a nearer hit (one division less for most rays).
+                if t >= 0.0 && t < out[k] && (-1e-12..=1.0 + 1e-12).contains(&(cross(pa, dir) / denom)) {
                     out[k] = t;
                 }
             }
