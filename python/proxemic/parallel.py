@@ -232,14 +232,18 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                     f"keys {list(actions)}, missing {missing}",
                 )
         acting = [a for a in actions if a not in autopilot] if autopilot else list(actions)
-        ws.act_many([index[a] for a in acting], [actions[a] for a in acting], lambda k: f"actions[{acting[k]!r}]")
+        ws.act_many(
+            list(map(index.__getitem__, acting)),
+            list(map(actions.__getitem__, acting)),
+            lambda k: f"actions[{acting[k]!r}]",
+        )
         ws.step_actions()
         rows = self._rows
         obs = dict(zip(live, ws.observations(robots=True, rows=rows), strict=True))
-        reward, term, trunc = ws.outcomes(rows)
+        reward, term, trunc, info = ws.results(rows)
         rewards = dict(zip(live, reward, strict=True))
         terms, truncs = dict(zip(live, term, strict=True)), dict(zip(live, trunc, strict=True))
-        infos = dict(zip(live, ws.infos(rows), strict=True))
+        infos = dict(zip(live, info, strict=True))
         if any(term) or any(trunc):
             finished = [a for a, t, u in zip(live, term, trunc, strict=True) if t or u]
             self._set_agents([a for a in live if not (terms[a] or truncs[a])])

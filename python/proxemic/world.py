@@ -192,6 +192,11 @@ class WorldSim:
                 self.layout["time_of_day"][0],
             ]
         )
+        # results() reads one span of every row holding these columns: the outcome's (reward,
+        # terminated, truncated), then the info's; and their places in the span.
+        cols = [*self._outcome_cols.tolist(), *self._info_cols.tolist()]
+        self._result_span = (min(cols), max(cols) + 1)
+        self._result_at = [c - min(cols) for c in cols]
         sensors = scenario["sensors"]
         self.k_nearest: int = sensors["k_nearest"]
         self.lidar_rays: int = sensors["lidar_rays"]
@@ -342,6 +347,13 @@ class WorldSim:
         # into numbers; subclasses take the slow path, to the same result).
         nd = np.ndarray
         real = all([type(x) is nd and x.shape == (3,) and x.dtype.kind in "iuf" for x in actions])
+        if real and len(robots) == self.num_robots and robots == self._all_rows:
+            # Every robot, in order: cast straight into the buffer. A finite sum means every value
+            # is finite (an infinity or a NaN makes it infinite or NaN); else the checks below.
+            np.concatenate(actions, out=self._actions, casting="unsafe")
+            if isfinite(self._actions.sum()):
+                return
+            self._actions.fill(np.nan)
         a = np.asarray(actions, dtype=np.float64) if real else np.empty(0)
         if a.shape != (len(robots), 3) or not np.isfinite(a).all():
             try:
@@ -390,11 +402,34 @@ class WorldSim:
             for key, off, length, shape in parts
         }
 
-    def outcomes(self, rows: list[int]) -> tuple[list[float], list[bool], list[bool]]:
-        """The rewards, terminated and truncated flags of the robots `rows` after the last step."""
-        src = self.rows if rows == self._all_rows else self.rows[rows]
-        rewards, terms, truncs = src[:, self._outcome_cols].T.tolist()
-        return rewards, [t != 0.0 for t in terms], [u != 0.0 for u in truncs]
+    def results(self, rows: list[int]) -> tuple[list[float], list[bool], list[bool], list[dict[str, Any]]]:
+        """The rewards, terminated and truncated flags and :meth:`info` of the robots `rows`.
+
+        After the last step; the buffer is read once (one span of every row).
+        """
+        lo, hi = self._result_span
+        vals = self.rows[:, lo:hi].tolist()
+        at = self._result_at
+        rew, term, trunc, nterms = at[0], at[1], at[2], len(REWARD_KEYS)
+        first = at[3]  # the reward terms are neighbours: first to first + nterms
+        success, collision, mode, tod = at[3 + nterms : 7 + nterms]
+        planning = self.planning
+        actions = list(self.sections["planner_action"].astype(np.float32)) if any(planning) else []
+        rewards, terms, truncs, infos = [], [], [], []
+        for r in rows:  # info() inlined: this runs for every agent at every step
+            v = vals[r]
+            rewards.append(v[rew])
+            terms.append(v[term] != 0.0)
+            truncs.append(v[trunc] != 0.0)
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, v[first : first + nterms], strict=True))
+            info["is_success"] = v[success] != 0.0
+            info["collision"] = v[collision] != 0.0
+            if planning[r]:
+                info["planner_action"] = actions[r]
+                info["planner_mode"] = PLANNER_MODES[int(v[mode])]
+            info["time_of_day"] = v[tod]
+            infos.append(info)
+        return rewards, terms, truncs, infos
 
     def step_outcome(self) -> list[tuple[float, bool, bool]]:
         """Every robot's (reward, terminated, truncated) after the last step (one read)."""
@@ -410,22 +445,8 @@ class WorldSim:
         return self._info(robot, self.out[self._info_index[robot]].tolist())
 
     def infos(self, robots: list[int]) -> list[dict[str, Any]]:
-        """:meth:`info` of several robots (the buffer is read once)."""
-        vals = self.rows[:, self._info_cols].tolist()
-        planning, nterms = self.planning, len(REWARD_KEYS)
-        actions = list(self.sections["planner_action"].astype(np.float32)) if any(planning) else []
-        out = []
-        for r in robots:  # _info() inlined: this runs for every agent at every step
-            v = vals[r]
-            info: dict[str, Any] = dict(zip(REWARD_KEYS, v, strict=False))  # the first nterms values
-            info["is_success"] = v[nterms] != 0.0
-            info["collision"] = v[nterms + 1] != 0.0
-            if planning[r]:
-                info["planner_action"] = actions[r]
-                info["planner_mode"] = PLANNER_MODES[int(v[nterms + 2])]
-            info["time_of_day"] = v[nterms + 3]
-            out.append(info)
-        return out
+        """:meth:`info` of several robots (the buffer is read once; see :meth:`results`)."""
+        return self.results(robots)[3]
 
     def _info(self, r: int, v: list[float]) -> dict[str, Any]:
         """Robot `r`'s info from its values `v` at ``_info_cols`` (what :meth:`infos` builds)."""

@@ -179,10 +179,15 @@ impl Scanner {
             let first = floor_i64((bearing - half) / step) - 1;
             let last = ceil_i64((bearing + half) / step) + 1;
             let span = (last - first + 1).min(n as i64);
-            for j in 0..span {
-                let k = (first + j).rem_euclid(n as i64) as usize;
+            // Ray indices wrap around: one division for the first, then counted on.
+            let mut k = first.rem_euclid(n as i64) as usize;
+            for _ in 0..span {
                 if let Some(t) = ray_disc(origin, self.dirs[k], c, r, out[k]) {
                     out[k] = t;
+                }
+                k += 1;
+                if k == n {
+                    k = 0;
                 }
             }
         }
@@ -241,16 +246,19 @@ impl Scanner {
             let first = floor_i64((start - tol) / step);
             let last = ceil_i64((start + span + tol) / step).min(first + n - 1);
             let seg = b - a;
-            for j in first..=last {
-                let k = j.rem_euclid(n) as usize;
+            // Ray indices wrap around: one division for the first, then counted on.
+            let mut next = first.rem_euclid(n) as usize;
+            for _ in first..=last {
+                let k = next;
+                next = if k + 1 == dirs.len() { 0 } else { k + 1 };
                 let dir = dirs[k];
                 let denom = cross(dir, seg);
                 if denom.abs() < 1e-15 {
                     continue;
                 }
                 let t = cross(pa, seg) / denom;
-                let s = cross(pa, dir) / denom;
-                if t >= 0.0 && t < out[k] && (-1e-12..=1.0 + 1e-12).contains(&s) {
+                // Where along the edge, only for a nearer hit (one division less for most rays).
+                if t >= 0.0 && t < out[k] && (-1e-12..=1.0 + 1e-12).contains(&(cross(pa, dir) / denom)) {
                     out[k] = t;
                 }
             }

@@ -80,11 +80,24 @@ pub fn interactions(
             }
         }
     }
+    // Each space's vertical extent: the horizontal line of a point below the lowest vertex, or at
+    // or above the highest, crosses no edge, so pnpoly would find it outside edge by edge.
+    let extents: Vec<(f64, f64)> = objects
+        .iter()
+        .map(|o| {
+            o.polygon
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| (lo.min(p.y), hi.max(p.y)))
+        })
+        .collect();
     for (&q, v) in positions.iter().zip(velocities) {
         if v.norm() >= STILL_SPEED {
             continue;
         }
-        for o in objects {
+        for (o, &(lo, hi)) in objects.iter().zip(&extents) {
+            if q.y < lo || q.y >= hi {
+                continue;
+            }
             if contains_point_polygon_pnpoly(q, &o.polygon) {
                 links.push(InteractionLink { a: q, b: o.centre, kind: LinkKind::PersonObject });
             }
@@ -117,6 +130,47 @@ mod tests {
         let vel2 = [Vec2::zeros(), Vec2::zeros(), Vec2::zeros(), Vec2::new(0.5, 0.0)];
         interactions(&pos, &vel2, &groups, &objects, &mut os, &mut ls);
         assert_eq!(ls.len(), 1);
+    }
+
+    #[test]
+    fn person_object_links_are_those_of_pnpoly_on_every_space() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(19);
+        // A 24-gon and a triangle: still people scattered over and around them, some exactly at
+        // a vertex's height (the extent test's edge cases).
+        let ring: Vec<Vec2> = (0..24)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / 24.0;
+                Vec2::new(2.0 + 1.5 * a.cos(), 1.0 + 1.5 * a.sin())
+            })
+            .collect();
+        let tri = vec![Vec2::new(-3.0, -1.0), Vec2::new(-1.0, -1.0), Vec2::new(-2.0, 2.0)];
+        let ys: Vec<f64> = ring.iter().chain(&tri).map(|p| p.y).collect();
+        let objects = [
+            InteractionObject { polygon: ring, centre: Vec2::new(2.0, 1.0) },
+            InteractionObject { polygon: tri, centre: Vec2::new(-2.0, 0.0) },
+        ];
+        let pos: Vec<Vec2> = (0..2000)
+            .map(|i| {
+                let x = rng.random_range(-4.0..4.0);
+                let y = if i % 4 == 0 { ys[i % ys.len()] } else { rng.random_range(-3.0..3.0) };
+                Vec2::new(x, y)
+            })
+            .collect();
+        let vel = vec![Vec2::zeros(); pos.len()];
+        let (mut os, mut ls) = (Vec::new(), Vec::new());
+        interactions(&pos, &vel, &vec![None; pos.len()], &objects, &mut os, &mut ls);
+        let want: Vec<(Vec2, Vec2)> = pos
+            .iter()
+            .flat_map(|&q| {
+                objects
+                    .iter()
+                    .filter(move |o| contains_point_polygon_pnpoly(q, &o.polygon))
+                    .map(move |o| (q, o.centre))
+            })
+            .collect();
+        assert!(want.len() > 100, "people inside the spaces: {}", want.len());
+        assert_eq!(ls.iter().map(|l| (l.a, l.b)).collect::<Vec<_>>(), want);
     }
 
     #[test]
