@@ -205,12 +205,12 @@ impl World {
     /// each person keeps the robot's centre out of their intimate zone; each group adds one
     /// heavier individual covering its o-space. Entries carry the robot index they stand for,
     /// if any, so a robot does not avoid itself.
-    fn controller_people(&self, robot_radius: f64) -> Vec<(CtlPerson, Option<usize>)> {
+    fn controller_people(&self, robot_radius: f64) -> Vec<ControllerPerson> {
         let intimate = self.social.config().zones.intimate;
         let personal = self.social.config().zones.personal;
         let keep = |r: f64| r.max(intimate - robot_radius);
         let c = &self.crowd;
-        let mut out: Vec<(CtlPerson, Option<usize>)> = Vec::with_capacity(c.len() + 4);
+        let mut out: Vec<ControllerPerson> = Vec::with_capacity(c.len() + 4);
         let per = self.social.perception();
         let group_of =
             |k: usize| per.map(|p| p.groups.members[p.groups.labels[k]].len() > 1).unwrap_or(false);
@@ -300,6 +300,9 @@ impl World {
         // Robots of the non-social `astar_orca` baseline: people at their body radius.
         let mut orca_bodies: Vec<usize> = Vec::new();
         let mut partial_goals: Vec<Vec2> = vec![Vec2::zeros(); n];
+        // The people as the local planners see them, built once per robot radius this step: the
+        // loop below changes neither the people, the perception nor any robot's pose or velocity.
+        let mut people_of_radius: Vec<(u64, Vec<ControllerPerson>)> = Vec::new();
         for i in 0..n {
             if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
                 self.robots[i].mode = Mode::FollowPath;
@@ -319,7 +322,17 @@ impl World {
                 && (local_planner(kind).is_some() || kind.daza2021_family());
             let mode = match local_planner(kind) {
                 _ if recovering => Mode::Orca,
-                Some(local) => self.local_step(i, local, partial_goals[i], &mut desired[i], dt),
+                Some(local) => {
+                    let radius = self.statics[i].radius.to_bits();
+                    let k = match people_of_radius.iter().position(|(r, _)| *r == radius) {
+                        Some(k) => k,
+                        None => {
+                            people_of_radius.push((radius, self.controller_people(self.statics[i].radius)));
+                            people_of_radius.len() - 1
+                        }
+                    };
+                    self.local_step(i, local, &people_of_radius[k].1, partial_goals[i], &mut desired[i], dt)
+                }
                 None if kind.daza2021_family() => {
                     self.daza_step(i, &mut partial_goals[i], &mut desired[i], dt)
                 }
@@ -382,11 +395,13 @@ impl World {
 
     /// Robot `i`'s local planner `local` this step: its mode among the people and the other
     /// robots, and with Social Momentum the new `desired` velocity. ORCA's velocity comes later,
-    /// in one batch for all robots in ORCA mode ([`World::orca_step`]).
+    /// in one batch for all robots in ORCA mode ([`World::orca_step`]). `all_people` is
+    /// [`World::controller_people`] for robot `i`'s radius.
     fn local_step(
         &self,
         i: usize,
         local: LocalPlanner,
+        all_people: &[ControllerPerson],
         partial_goal: Vec2,
         desired: &mut Vec2,
         dt: f64,
@@ -394,12 +409,8 @@ impl World {
         let st = &self.statics[i];
         let rb = &self.robots[i];
         let p = Vec2::new(rb.pose[0], rb.pose[1]);
-        let mut people: Vec<CtlPerson> = self
-            .controller_people(st.radius)
-            .into_iter()
-            .filter(|(_, r)| *r != Some(i))
-            .map(|(q, _)| q)
-            .collect();
+        let mut people: Vec<CtlPerson> =
+            all_people.iter().filter(|(_, r)| *r != Some(i)).map(|&(q, _)| q).collect();
         let others: Vec<OtherRobot> = (0..self.robots.len())
             .filter(|&j| j != i)
             .map(|j| OtherRobot {
@@ -586,6 +597,10 @@ fn calderita_band(path: &[Vec2], params: crate::control::eband::EbandParams) -> 
     let max_bubbles = params.max_bubbles.min(cap as usize).max(2);
     ElasticBand::new(path, crate::control::eband::EbandParams { max_bubbles, ..params }).ok()
 }
+
+/// A person as the local planners see them, with the robot it stands for, if any (see
+/// [`World::controller_people`]).
+type ControllerPerson = (CtlPerson, Option<usize>);
 
 /// How a batch of robots running ORCA sees the people.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
