@@ -1390,6 +1390,158 @@ mod tests {
         }
     }
 
+    /// A test individual with a turned, asymmetric quadratic form (see
+    /// [`SpaceFunction::quadratic`]), so the map takes the counting path.
+    #[derive(Clone, Copy)]
+    struct Oval {
+        quad: [f64; 8],
+        zone_scale: f64,
+    }
+
+    impl SpaceFunction for Oval {
+        fn exponent(&self, p: Vec2) -> f64 {
+            let [cx, cy, cos, sin, kf, kr, kri, kl] = self.quad;
+            let (dx, dy) = (p.x - cx, p.y - cy);
+            let (sag, fro) = (cos * dx + sin * dy, sin * dx - cos * dy);
+            (if sag >= 0.0 { kf } else { kr }) * sag * sag + (if fro >= 0.0 { kri } else { kl }) * fro * fro
+        }
+        fn zone_scale(&self) -> f64 {
+            self.zone_scale
+        }
+        fn bounds(&self) -> [f64; 4] {
+            [self.quad[0] - 4.0, self.quad[1] - 3.0, self.quad[0] + 3.5, self.quad[1] + 4.5]
+        }
+        fn fingerprint(&self) -> [f64; 8] {
+            self.quad
+        }
+        fn centre(&self) -> Option<Vec2> {
+            Some(Vec2::new(self.quad[0], self.quad[1]))
+        }
+        fn quadratic(&self) -> Option<[f64; 8]> {
+            Some(self.quad)
+        }
+    }
+
+    /// The people layer of the counting path computed the plain way: for every individual, the
+    /// cells of its box in sight of it (the reference walk) get the maximum with its zone's
+    /// factor, the zone decided cell by cell by the row sweep as first written.
+    fn counted_layer_reference(m: &SocialMap, people: &[Oval]) -> Vec<f64> {
+        let spec = m.grid().spec;
+        let c = m.costs();
+        let mut layer = vec![1.0f64; spec.len()];
+        for ind in people {
+            let Some(full) = m.rect_of(ind) else { continue };
+            let open = in_sight_reference(m.static_layer(), Vec2::new(ind.quad[0], ind.quad[1]), full);
+            let [cx, cy, cos, sin, kf, kr, kri, kl] = ind.quad;
+            let (a0, b0, a1, b1) = full;
+            let two_z2 = 2.0 * ind.zone_scale * ind.zone_scale;
+            let (qi, qp, qs) = (
+                c.intimate * c.intimate / two_z2,
+                c.personal * c.personal / two_z2,
+                c.social * c.social / two_z2,
+            );
+            let res = spec.resolution;
+            for iy in b0..=b1 {
+                let p0 = spec.center(a0, iy);
+                let (dx, dy) = (p0.x - cx, p0.y - cy);
+                let mut sag = cos * dx + sin * dy;
+                let mut fro = sin * dx - cos * dy;
+                for ix in a0..=a1 {
+                    let ks = if sag >= 0.0 { kf } else { kr };
+                    let kq = if fro >= 0.0 { kri } else { kl };
+                    let e = ks * sag * sag + kq * fro * fro;
+                    if e < qs && open[(iy - b0) * (a1 + 1 - a0) + ix - a0] {
+                        let f = if e < qi {
+                            f64::INFINITY
+                        } else if e < qp {
+                            c.personal_cost
+                        } else {
+                            c.social_cost
+                        };
+                        let i = spec.index(ix, iy);
+                        layer[i] = layer[i].max(f);
+                    }
+                    sag += cos * res;
+                    fro += sin * res;
+                }
+            }
+        }
+        layer
+    }
+
+    #[test]
+    fn counted_updates_on_random_walled_scenes_are_the_plain_layer_bit_for_bit() {
+        // Random walls, turned asymmetric individuals moving a few at a time (and joining and
+        // leaving): after the rebuild and after every incremental update, the people layer is
+        // the plain per-individual maximum bit for bit, and the grid its combination.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(23);
+        let oval = |rng: &mut rand_chacha::ChaCha8Rng| {
+            let th: f64 = rng.random_range(-3.2..3.2);
+            let mut k = || rng.random_range(0.2..1.5);
+            let quad = [0.0, 0.0, th.cos(), th.sin(), k(), k(), k(), k()];
+            Oval { quad, zone_scale: rng.random_range(0.8..1.3) }
+        };
+        for case in 0..10 {
+            let mut g = grid(16.0, 9.0);
+            for _ in 0..rng.random_range(0..10) {
+                let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
+                let (len, vertical) = (rng.random_range(1..80), rng.random_bool(0.5));
+                for t in 0..len {
+                    let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
+                    if ix < g.spec.width && iy < g.spec.height {
+                        let i = g.spec.index(ix, iy);
+                        g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
+                    }
+                }
+            }
+            let place = |o: &mut Oval, rng: &mut rand_chacha::ChaCha8Rng| {
+                o.quad[0] = rng.random_range(-1.0..17.0);
+                o.quad[1] = rng.random_range(-1.0..10.0);
+            };
+            let mut people: Vec<Oval> = (0..rng.random_range(1..9))
+                .map(|_| {
+                    let mut o = oval(&mut rng);
+                    place(&mut o, &mut rng);
+                    o
+                })
+                .collect();
+            let mut m = SocialMap::new(g.clone(), &[], SocialCosts::default());
+            m.rebuild(&people, &[]);
+            for round in 0..8 {
+                if round > 0 {
+                    for o in people.iter_mut() {
+                        if rng.random_bool(0.3) {
+                            o.quad[0] += rng.random_range(-0.3..0.3);
+                            o.quad[1] += rng.random_range(-0.3..0.3);
+                        }
+                    }
+                    if rng.random_bool(0.3) && people.len() > 1 {
+                        people.remove(rng.random_range(0..people.len()));
+                    }
+                    if rng.random_bool(0.3) {
+                        let mut o = oval(&mut rng);
+                        place(&mut o, &mut rng);
+                        people.insert(rng.random_range(0..=people.len()), o);
+                    }
+                    m.update_people(&people);
+                }
+                let want = counted_layer_reference(&m, &people);
+                let got: Vec<u64> = m.people_layer().iter().map(|f| f.to_bits()).collect();
+                assert_eq!(
+                    got,
+                    want.iter().map(|f| f.to_bits()).collect::<Vec<_>>(),
+                    "case {case} round {round}"
+                );
+                for (c, &f) in want.iter().enumerate() {
+                    let expected = m.costs().encode(f.max(m.object_layer()[c])).max(g.cost[c]);
+                    let expected = if g.cost[c] >= INSCRIBED { g.cost[c] } else { expected };
+                    assert_eq!(m.grid().cost[c], expected, "case {case} round {round} cell {c}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn long_way_half_width_is_the_float_test() {
         // Every small walk length and row against the floating-point test of the reference
