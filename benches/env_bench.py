@@ -4,7 +4,9 @@ Steps: env steps per second, the Rust call's share, bare MuJoCo stepping of the 
 the full visual model, which the physics stepped before it lost its visual parts), reset.
 Everything is measured in this run, on the same model, interleaved over several trials (the
 machine is shared and noisy), as thread CPU time; medians are reported with ratios against the
-bare ``mj_step`` cost of the same control steps.
+bare ``mj_step`` cost of the same control steps. The env steps MuJoCo without the timer callback
+MuJoCo's Python bindings install (``proxemic.sim.timer_off``: a clock read per timed stage), and
+the bare denominators are stepped the same way, like with like.
 
 The env steps a control period with contacts disabled when the core's hints rule every contact
 out (``Sim.step(contacts_possible=False)``). The bare denominators are therefore measured both
@@ -52,6 +54,7 @@ import numpy as np
 
 from proxemic import scenarios
 from proxemic.env import ProxemicEnv
+from proxemic.sim import timer_off
 from proxemic.viz.topdown import OVERLAYS
 
 TRIALS = 7
@@ -68,6 +71,12 @@ def cpu_us(fn: Callable[[], object], n: int) -> float:
     for _ in range(n):
         fn()
     return (time.thread_time_ns() - t0) / n / 1e3
+
+
+def bare_us(fn: Callable[[], object], n: int) -> float:
+    """:func:`cpu_us` of bare MuJoCo stepping, stepped as the env steps (without the bindings' timer)."""
+    with timer_off():
+        return cpu_us(fn, n)
 
 
 def wall_cpu_ms(fn: Callable[[], Any], n: int) -> tuple[float, float]:
@@ -154,10 +163,10 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         for key in models:
             bare = bare_from_env(key)
             bare.sync()  # type: ignore[attr-defined]
-            res[key].append(cpu_us(bare, STEPS))
+            res[key].append(bare_us(bare, STEPS))
         bare = bare_from_env("bare mj_step x frame_skip", contacts=False)
         bare.sync()  # type: ignore[attr-defined]
-        res["bare contacts off"].append(cpu_us(bare, STEPS))
+        res["bare contacts off"].append(bare_us(bare, STEPS))
         # the Rust call alone, on the state the env is in (advances the people; harmless here)
         res["Rust World.step"].append(cpu_us(rust_step, STEPS))
         t0 = time.thread_time_ns()
@@ -255,8 +264,8 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
         res["contact share"].append(counter.share())
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
             getattr(d, name)[:] = getattr(sim.data, name)
-        res["bare mj_step x frame_skip"].append(cpu_us(on, STEPS))
-        res["bare contacts off"].append(cpu_us(no_contact, STEPS))
+        res["bare mj_step x frame_skip"].append(bare_us(on, STEPS))
+        res["bare contacts off"].append(bare_us(no_contact, STEPS))
     med = {k: statistics.median(v) for k, v in res.items()}
     med["matched"] = matched(med)
     return med
@@ -300,8 +309,8 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
             mujoco.mj_step(sim.model, d, skip)
             sim.model.opt.disableflags = flags
 
-        bare_on.append(cpu_us(on, STEPS))
-        bare_off.append(cpu_us(no_contact, STEPS))
+        bare_on.append(bare_us(on, STEPS))
+        bare_off.append(bare_us(no_contact, STEPS))
     med = {
         "mean": statistics.median(means),
         "median block": statistics.median(blocks),

@@ -196,3 +196,35 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
     assert len(on) < 400  # every robot collided before the step limit
     if robots == 2:
         assert quiet[0] > 0
+
+
+def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small_room):
+    from proxemic import sim as sim_module
+
+    if sim_module._TIMER is None or sim_module._DEFAULT_TIMER is None:
+        pytest.skip("this MuJoCo's bindings install no default timer")
+    sim = _sim(small_room)
+    sim.reset(np.array([[3.0, 4.0, 0.0]]), np.array([[2.0, 2.0, 0.0]]))
+    # the default timer: off while stepping (MjData.timer gets no time), back on afterwards
+    for possible in (True, False):
+        sim.step(np.array([0.4, 0.0, 0.2]), possible)
+    assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].number == 2 * sim.frame_skip
+    assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].duration == 0.0
+    assert sim_module._TIMER.value == sim_module._DEFAULT_TIMER
+    d = mujoco.MjData(sim.model)
+    mujoco.mj_step(sim.model, d)
+    assert d.timer[mujoco.mjtTimer.mjTIMER_STEP].duration > 0.0
+    # a timer the user set keeps running
+    ticks: list[int] = []
+
+    def clock() -> float:
+        ticks.append(0)
+        return float(len(ticks))
+
+    mujoco.set_mjcb_time(clock)
+    try:
+        sim.step(np.array([0.4, 0.0, 0.2]))
+        assert ticks
+    finally:
+        mujoco.set_mjcb_time(None)
+        sim_module._TIMER.value = sim_module._DEFAULT_TIMER

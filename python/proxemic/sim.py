@@ -26,7 +26,10 @@ drop pairs that cannot touch during the control step: the contacts are the same.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import os
+from collections.abc import Iterator
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -53,6 +56,49 @@ ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(
 #: people's contype (see the module docstring).
 STATIC_BIT = 2
 DYNAMIC_BIT = 1
+
+
+def _timer_slot() -> ctypes.c_void_p | None:
+    """MuJoCo's global timer callback ``mjcb_time`` (the C pointer), or None if not found."""
+    folder = Path(mujoco.__file__).parent
+    for lib in sorted(folder.glob("libmujoco.so*")) + sorted(folder.glob("libmujoco*.dylib")) + [folder / "mujoco.dll"]:
+        try:
+            return ctypes.c_void_p.in_dll(ctypes.CDLL(str(lib)), "mjcb_time")
+        except (OSError, ValueError):
+            continue
+    return None
+
+
+# MuJoCo's Python bindings (4.x) install a timer callback at import: every step then reads the
+# clock some 30 times to fill ``MjData.timer`` (a tenth of a control step's physics here). The
+# simulation steps with it switched off (``data.timer`` stays empty; nothing else uses the
+# callback, so the physics is the same bit for bit) and puts it back after each step. Only that
+# default is switched off: a timer a user set (``mujoco.set_mjcb_time``) is left running.
+_TIMER = _timer_slot()
+_DEFAULT_TIMER: int | None = _TIMER.value if _TIMER is not None else None
+
+
+def _timer_off() -> int | None:
+    """Switches the bindings' default timer off; returns it (to restore) or None if it was not on."""
+    if _TIMER is None or _DEFAULT_TIMER is None or _TIMER.value != _DEFAULT_TIMER:
+        return None
+    _TIMER.value = None
+    return _DEFAULT_TIMER
+
+
+@contextlib.contextmanager
+def timer_off() -> Iterator[None]:
+    """MuJoCo stepped as :meth:`Simulation.step` steps it: without the bindings' default timer.
+
+    For benches timing bare ``mj_step`` calls against the env's own (like with like).
+    """
+    saved = _timer_off()
+    try:
+        yield
+    finally:
+        if saved is not None:
+            assert _TIMER is not None
+            _TIMER.value = saved
 
 
 def models_dir() -> Path:
@@ -379,29 +425,34 @@ class Simulation:
         """
         m, d = self.model, self.data
         self._ctrl[...] = command
-        if not contacts_possible:
-            opt = self._opt
-            opt.disableflags = self._flags_no_contact
-            try:
-                mujoco.mj_step(m, d, self.frame_skip)
-            finally:
-                opt.disableflags = self._flags
-            self.contacts.fill(0)
-            return
-        owner, bit = self._owner_list, self._bit_list
-        acc = [0] * self.num_robots
-        step = mujoco.mj_step
-        for _ in range(self.frame_skip):
-            step(m, d)
-            if d.ncon:
-                # A handful of pairs at most: plain Python beats numpy on arrays this small.
-                for g1, g2 in d.contact.geom[: d.ncon].tolist():
-                    o1, o2 = owner[g1], owner[g2]
-                    if o1 >= 0:
-                        acc[o1] |= bit[g2]
-                    if o2 >= 0:
-                        acc[o2] |= bit[g1]
-        self.contacts[:] = acc
+        timer = _timer_off()  # see _TIMER
+        try:
+            if not contacts_possible:
+                opt = self._opt
+                opt.disableflags = self._flags_no_contact
+                try:
+                    mujoco.mj_step(m, d, self.frame_skip)
+                finally:
+                    opt.disableflags = self._flags
+                self.contacts.fill(0)
+                return
+            owner, bit = self._owner_list, self._bit_list
+            acc = [0] * self.num_robots
+            step = mujoco.mj_step
+            for _ in range(self.frame_skip):
+                step(m, d)
+                if d.ncon:
+                    # A handful of pairs at most: plain Python beats numpy on arrays this small.
+                    for g1, g2 in d.contact.geom[: d.ncon].tolist():
+                        o1, o2 = owner[g1], owner[g2]
+                        if o1 >= 0:
+                            acc[o1] |= bit[g2]
+                        if o2 >= 0:
+                            acc[o2] |= bit[g1]
+            self.contacts[:] = acc
+        finally:
+            if timer is not None:
+                _TIMER.value = timer  # type: ignore[union-attr]
 
     def read(self) -> None:
         """Reads the robots' world-frame poses and velocities into `state`."""
