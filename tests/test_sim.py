@@ -170,9 +170,16 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
             sim.set_hints = lambda s, p: real(np.ones_like(s), np.ones_like(p))  # type: ignore[method-assign]
             sim.step = lambda command, possible=True: real_step(command, True)  # type: ignore[method-assign]
         else:
+            ws = env.ws
 
             def counted(command: np.ndarray, possible: bool = True) -> None:
                 quiet[0] += int(not possible)
+                # the core's contacts_possible flag: any hint set, in every row
+                hinted = (
+                    any(ws.sections[k].any() for k in ("near_static", "near_robot"))
+                    or ws.people[3 :: _core.PERSON_OUT].any()
+                )
+                assert (ws.sections["contacts_possible"] == float(possible)).all() and possible == hinted
                 real_step(command, possible)
 
             sim.step = counted  # type: ignore[method-assign]
