@@ -6,7 +6,9 @@ Everything is measured in this run, on the same model, interleaved over several 
 machine is shared and noisy), as thread CPU time; medians are reported with ratios against the
 bare ``mj_step`` cost of the same control steps. The env steps MuJoCo without the timer callback
 MuJoCo's Python bindings install (``proxemic.sim.timer_off``: a clock read per timed stage), and
-the bare denominators are stepped the same way, like with like.
+the bare denominators are stepped the same way, like with like. Control periods with contacts
+off are stepped on the physics model without the people (``Simulation.robots_model``, the same
+robot states bit for bit), so the contacts-off denominator steps that model.
 
 The env steps a control period with contacts disabled when the core's hints rule every contact
 out (``Sim.step(contacts_possible=False)``). The bare denominators are therefore measured both
@@ -79,6 +81,27 @@ def bare_us(fn: Callable[[], object], n: int) -> float:
         return cpu_us(fn, n)
 
 
+def contact_free(sim: Any) -> Callable[[], None]:
+    """Bare stepping of what the env steps while no contact is possible, from the env's state.
+
+    ``sim.robots_model``: the physics model without the people, collision detection off (see
+    ``proxemic.sim``), on its own data.
+    """
+    model, skip = sim.robots_model, sim.frame_skip
+    d = mujoco.MjData(model)
+    for name in ("qpos", "qvel", "ctrl", "qacc_warmstart"):
+        getattr(d, name)[:] = getattr(sim.data, name)
+    flags = int(model.opt.disableflags)
+    off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+
+    def step() -> None:
+        model.opt.disableflags = off
+        mujoco.mj_step(model, d, skip)
+        model.opt.disableflags = flags
+
+    return step
+
+
 def wall_cpu_ms(fn: Callable[[], Any], n: int) -> tuple[float, float]:
     c0, t0 = time.thread_time_ns(), time.perf_counter_ns()
     for _ in range(n):
@@ -123,22 +146,15 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         # The core's share of the one call: World.step with a physics that does nothing.
         world.step(autopilot, lambda: None, sim.state, sim.contacts, env._out, env._people)
 
-    def bare_from_env(key: str, contacts: bool = True) -> Callable[[], None]:
+    def bare_from_env(key: str) -> Callable[[], None]:
         model, d = models[key], scratch[key]
-        flags = int(model.opt.disableflags)
-        off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
         def sync() -> None:  # the env's current state, on a scratch copy
             for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
                 getattr(d, name)[:] = getattr(sim.data, name)
 
         def step() -> None:
-            if contacts:
-                mujoco.mj_step(model, d, skip)
-            else:
-                model.opt.disableflags = off
-                mujoco.mj_step(model, d, skip)
-                model.opt.disableflags = flags
+            mujoco.mj_step(model, d, skip)
 
         step.sync = sync  # type: ignore[attr-defined]
         return step
@@ -164,9 +180,7 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
             bare = bare_from_env(key)
             bare.sync()  # type: ignore[attr-defined]
             res[key].append(bare_us(bare, STEPS))
-        bare = bare_from_env("bare mj_step x frame_skip", contacts=False)
-        bare.sync()  # type: ignore[attr-defined]
-        res["bare contacts off"].append(bare_us(bare, STEPS))
+        res["bare contacts off"].append(bare_us(contact_free(sim), STEPS))
         # the Rust call alone, on the state the env is in (advances the people; harmless here)
         res["Rust World.step"].append(cpu_us(rust_step, STEPS))
         t0 = time.thread_time_ns()
@@ -234,8 +248,6 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
     sim = env.sim
     turn = np.array([0.0, 0.0, 0.5], np.float32)
     d = mujoco.MjData(sim.model)
-    flags = int(sim.model.opt.disableflags)
-    off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     counter = ContactCounter(sim)
 
     def env_step() -> None:
@@ -245,11 +257,6 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
 
     def on() -> None:
         mujoco.mj_step(sim.model, d, sim.frame_skip)
-
-    def no_contact() -> None:
-        sim.model.opt.disableflags = off
-        mujoco.mj_step(sim.model, d, sim.frame_skip)
-        sim.model.opt.disableflags = flags
 
     res: dict[str, list[float]] = {
         "env.step": [],
@@ -265,7 +272,7 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
             getattr(d, name)[:] = getattr(sim.data, name)
         res["bare mj_step x frame_skip"].append(bare_us(on, STEPS))
-        res["bare contacts off"].append(bare_us(no_contact, STEPS))
+        res["bare contacts off"].append(bare_us(contact_free(sim), STEPS))
     med = {k: statistics.median(v) for k, v in res.items()}
     med["matched"] = matched(med)
     return med
@@ -277,8 +284,6 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
     zero = np.zeros(3, np.float32)
     skip = sim.frame_skip
     d = mujoco.MjData(sim.model)
-    flags = int(sim.model.opt.disableflags)
-    off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     counter = ContactCounter(sim)
     means: list[float] = []
     blocks: list[float] = []
@@ -304,13 +309,8 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
         def on() -> None:
             mujoco.mj_step(sim.model, d, skip)
 
-        def no_contact() -> None:
-            sim.model.opt.disableflags = off
-            mujoco.mj_step(sim.model, d, skip)
-            sim.model.opt.disableflags = flags
-
         bare_on.append(bare_us(on, STEPS))
-        bare_off.append(bare_us(no_contact, STEPS))
+        bare_off.append(bare_us(contact_free(sim), STEPS))
     med = {
         "mean": statistics.median(means),
         "median block": statistics.median(blocks),
@@ -375,7 +375,8 @@ def main() -> int:
     )
     print(
         f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (physics model; contacts on in "
-        f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, off {med['bare contacts off']:.1f} us)"
+        f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, "
+        f"off (robots only) {med['bare contacts off']:.1f} us)"
     )
     full = med["bare mj_step x frame_skip (full model)"]
     ratio_full = med["env.step"] / full

@@ -215,9 +215,9 @@ def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small
     # the default timer: off while stepping (MjData.timer gets no time), back on afterwards
     for possible in (True, False):
         sim.step(np.array([0.4, 0.0, 0.2]), possible)
-    assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].number == 2 * sim.frame_skip
+        assert sim_module._TIMER.value == sim_module._DEFAULT_TIMER
+    assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].number == sim.frame_skip  # the contact step
     assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].duration == 0.0
-    assert sim_module._TIMER.value == sim_module._DEFAULT_TIMER
     d = mujoco.MjData(sim.model)
     mujoco.mj_step(sim.model, d)
     assert d.timer[mujoco.mjtTimer.mjTIMER_STEP].duration > 0.0
@@ -235,3 +235,39 @@ def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small
     finally:
         mujoco.set_mjcb_time(None)
         sim_module._TIMER.value = sim_module._DEFAULT_TIMER
+
+
+def test_contact_free_periods_on_the_robots_only_model_end_in_the_same_states():
+    """A policy driving at random in the museum: the env stepping its contact-free periods on the
+    physics model without the people equals the one stepping them on the physics model (contacts
+    off), bit for bit, and both kinds of period occur."""
+    from proxemic.env import ProxemicEnv
+
+    def run(robots_only: bool) -> tuple[list[np.ndarray], list[bool]]:
+        env = ProxemicEnv("museum", planner_actions=False)
+        sim = env.sim
+        assert sim.robots_model.nbody < sim.model.nbody
+        if not robots_only:
+            sim._robots_only = None
+        kinds: list[bool] = []
+        real = sim.step
+
+        def step(command: np.ndarray, possible: bool = True) -> None:
+            kinds.append(possible)
+            real(command, possible)
+
+        sim.step = step  # type: ignore[method-assign]
+        rng = np.random.default_rng(8)
+        env.reset(seed=3)
+        states = []
+        for _ in range(300):
+            obs, _, terminated, truncated, _ = env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
+            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, obs["lidar"]]))
+            if terminated or truncated:
+                env.reset()
+        return states, kinds
+
+    fast, kinds = run(True)
+    plain, plain_kinds = run(False)
+    assert kinds == plain_kinds and 30 < sum(kinds) < len(kinds) - 30
+    assert all(np.array_equal(a, b) for a, b in zip(fast, plain, strict=True))
