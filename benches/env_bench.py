@@ -81,15 +81,17 @@ def bare_us(fn: Callable[[], object], n: int) -> float:
         return cpu_us(fn, n)
 
 
-def contact_free(sim: Any) -> Callable[[], None]:
+def contact_free(sim: Any, people: bool = False) -> Callable[[], None]:
     """Bare stepping of what the env steps while no contact is possible, from the env's state.
 
     ``sim.robots_model``: the physics model without the people, collision detection off (see
-    ``proxemic.sim``), on its own data.
+    ``proxemic.sim``), on its own data; with `people`, the physics model with collision
+    detection off (what the env stepped before it had the robots-only model).
     """
-    model, skip = sim.robots_model, sim.frame_skip
+    model, skip = (sim.model if people else sim.robots_model), sim.frame_skip
     d = mujoco.MjData(model)
-    for name in ("qpos", "qvel", "ctrl", "qacc_warmstart"):
+    names = ("qpos", "qvel", "ctrl", "qacc_warmstart") + (("mocap_pos", "mocap_quat") if people else ())
+    for name in names:
         getattr(d, name)[:] = getattr(sim.data, name)
     flags = int(model.opt.disableflags)
     off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
@@ -168,6 +170,7 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         "Rust World.step": [],
         "contact share": [],
         "bare contacts off": [],
+        "bare contacts off, with the people": [],
         **{k: [] for k in models},
     }
     counter = ContactCounter(sim)
@@ -181,6 +184,7 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
             bare.sync()  # type: ignore[attr-defined]
             res[key].append(bare_us(bare, STEPS))
         res["bare contacts off"].append(bare_us(contact_free(sim), STEPS))
+        res["bare contacts off, with the people"].append(bare_us(contact_free(sim, people=True), STEPS))
         # the Rust call alone, on the state the env is in (advances the people; harmless here)
         res["Rust World.step"].append(cpu_us(rust_step, STEPS))
         t0 = time.thread_time_ns()
@@ -377,6 +381,13 @@ def main() -> int:
         f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (physics model; contacts on in "
         f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, "
         f"off (robots only) {med['bare contacts off']:.1f} us)"
+    )
+    share = med["contact share"]
+    with_people = share * on + (1.0 - share) * med["bare contacts off, with the people"]
+    print(
+        f"  {'bare, contacts off with the people':40s} {with_people:8.1f} us  matched (off "
+        f"{med['bare contacts off, with the people']:.1f} us: the physics model, as stepped before the "
+        f"robots-only model; {med['env.step'] / with_people:4.2f}x)"
     )
     full = med["bare mj_step x frame_skip (full model)"]
     ratio_full = med["env.step"] / full
