@@ -6,9 +6,10 @@ Everything is measured in this run, on the same model, interleaved over several 
 machine is shared and noisy), as thread CPU time; medians are reported with ratios against the
 bare ``mj_step`` cost of the same control steps. The env steps MuJoCo without the timer callback
 MuJoCo's Python bindings install (``proxemic.sim.timer_off``: a clock read per timed stage), and
-the bare denominators are stepped the same way, like with like. Control periods with contacts
-off are stepped on the physics model without the people (``Simulation.robots_model``, the same
-robot states bit for bit), so the contacts-off denominator steps that model.
+the bare denominators are stepped the same way, like with like. Control periods without a person
+in reach (contacts off, or on for walls, objects and robots only) are stepped on the physics model
+without the people (``Simulation.robots_model``, the same robot states and contacts bit for bit),
+so their denominators step that model, and the matched one weights the three kinds of period.
 
 The env steps a control period with contacts disabled when the core's hints rule every contact
 out (``Sim.step(contacts_possible=False)``). The bare denominators are therefore measured both
@@ -81,12 +82,12 @@ def bare_us(fn: Callable[[], object], n: int) -> float:
         return cpu_us(fn, n)
 
 
-def contact_free(sim: Any, people: bool = False) -> Callable[[], None]:
-    """Bare stepping of what the env steps while no contact is possible, from the env's state.
+def contact_free(sim: Any, people: bool = False, contacts: bool = False) -> Callable[[], None]:
+    """Bare stepping of what the env steps while no person is in reach, from the env's state.
 
-    ``sim.robots_model``: the physics model without the people, collision detection off (see
-    ``proxemic.sim``), on its own data; with `people`, the physics model with collision
-    detection off (what the env stepped before it had the robots-only model).
+    ``sim.robots_model``: the physics model without the people (see ``proxemic.sim``), on its
+    own data, collision detection off unless `contacts`; with `people`, the physics model with
+    collision detection off (what the env stepped before it had the robots-only model).
     """
     model, skip = (sim.model if people else sim.robots_model), sim.frame_skip
     d = mujoco.MjData(model)
@@ -94,7 +95,7 @@ def contact_free(sim: Any, people: bool = False) -> Callable[[], None]:
     for name in names:
         getattr(d, name)[:] = getattr(sim.data, name)
     flags = int(model.opt.disableflags)
-    off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    off = flags if contacts else flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
     def step() -> None:
         model.opt.disableflags = off
@@ -169,6 +170,8 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         "env.step": [],
         "Rust World.step": [],
         "contact share": [],
+        "robots-only share": [],
+        "bare robots only, contacts on": [],
         "bare contacts off": [],
         "bare contacts off, with the people": [],
         **{k: [] for k in models},
@@ -179,6 +182,8 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         with counter:
             res["env.step"].append(cpu_us(env_step, STEPS))
         res["contact share"].append(counter.share())
+        res["robots-only share"].append(counter.robots_only_share())
+        res["bare robots only, contacts on"].append(bare_us(contact_free(sim, contacts=True), STEPS))
         for key in models:
             bare = bare_from_env(key)
             bare.sync()  # type: ignore[attr-defined]
@@ -213,14 +218,18 @@ class ContactCounter:
     def __init__(self, sim: Any) -> None:
         self.sim = sim
         self.on = 0
+        self.robots_only_on = 0
         self.total = 0
 
     def __enter__(self) -> ContactCounter:
-        self.on = self.total = 0
-        step = self.sim.step
+        self.on = self.robots_only_on = self.total = 0
+        sim = self.sim
+        step = sim.step
 
         def counted(command: np.ndarray, contacts_possible: bool = True) -> None:
             self.on += bool(contacts_possible)
+            # contacts on without a person in reach: stepped on the robots-only model
+            self.robots_only_on += bool(contacts_possible) and not any(sim._hints[1] or [])
             self.total += 1
             step(command, contacts_possible)
 
@@ -234,11 +243,23 @@ class ContactCounter:
         """The share of the counted physics steps that had contacts on (1.0 when none ran)."""
         return self.on / self.total if self.total else 1.0
 
+    def robots_only_share(self) -> float:
+        """The share of the counted physics steps with contacts on but no person in reach."""
+        return self.robots_only_on / self.total if self.total else 0.0
+
 
 def matched(med: dict[str, float]) -> float:
-    """The bare denominator with the env's own share of contacts-on steps."""
-    share = med["contact share"]
-    return share * med["bare mj_step x frame_skip"] + (1.0 - share) * med["bare contacts off"]
+    """The bare denominator with the env's own shares of the three kinds of control period.
+
+    Contacts on with a person in reach (the physics model), contacts on without (the robots-only
+    model), contacts off (the robots-only model).
+    """
+    share, alone = med["contact share"], med["robots-only share"]
+    return (
+        (share - alone) * med["bare mj_step x frame_skip"]
+        + alone * med["bare robots only, contacts on"]
+        + (1.0 - share) * med["bare contacts off"]
+    )
 
 
 def bench_policy(env: ProxemicEnv) -> dict[str, float]:
@@ -265,7 +286,9 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
     res: dict[str, list[float]] = {
         "env.step": [],
         "contact share": [],
+        "robots-only share": [],
         "bare mj_step x frame_skip": [],
+        "bare robots only, contacts on": [],
         "bare contacts off": [],
     }
     env.reset(seed=0)
@@ -273,6 +296,8 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
         with counter:
             res["env.step"].append(cpu_us(env_step, STEPS))
         res["contact share"].append(counter.share())
+        res["robots-only share"].append(counter.robots_only_share())
+        res["bare robots only, contacts on"].append(bare_us(contact_free(sim, contacts=True), STEPS))
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
             getattr(d, name)[:] = getattr(sim.data, name)
         res["bare mj_step x frame_skip"].append(bare_us(on, STEPS))
@@ -292,6 +317,8 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
     means: list[float] = []
     blocks: list[float] = []
     shares: list[float] = []
+    alone: list[float] = []
+    bare_alone: list[float] = []
     bare_on: list[float] = []
     bare_off: list[float] = []
     for trial in range(TRIALS):
@@ -305,6 +332,8 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
                 if te or tr:
                     env.reset()
         shares.append(counter.share())
+        alone.append(counter.robots_only_share())
+        bare_alone.append(bare_us(contact_free(sim, contacts=True), STEPS))
         means.append(statistics.fmean(times))
         blocks.append(statistics.median(statistics.fmean(times[k : k + 50]) for k in range(0, len(times), 50)))
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
@@ -319,6 +348,8 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
         "mean": statistics.median(means),
         "median block": statistics.median(blocks),
         "contact share": statistics.median(shares),
+        "robots-only share": statistics.median(alone),
+        "bare robots only, contacts on": statistics.median(bare_alone),
         "bare mj_step x frame_skip": statistics.median(bare_on),
         "bare contacts off": statistics.median(bare_off),
     }
@@ -380,6 +411,8 @@ def main() -> int:
     print(
         f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (physics model; contacts on in "
         f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, "
+        f"{100 * med['robots-only share']:.0f}% without a person in reach; "
+        f"on {med['bare robots only, contacts on']:.1f} us robots only; "
         f"off (robots only) {med['bare contacts off']:.1f} us)"
     )
     share = med["contact share"]

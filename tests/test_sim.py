@@ -237,37 +237,47 @@ def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small
         sim_module._TIMER.value = sim_module._DEFAULT_TIMER
 
 
-def test_contact_free_periods_on_the_robots_only_model_end_in_the_same_states():
-    """A policy driving at random in the museum: the env stepping its contact-free periods on the
-    physics model without the people equals the one stepping them on the physics model (contacts
-    off), bit for bit, and both kinds of period occur."""
+@pytest.mark.parametrize("driver", ["random", "astar"])
+def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_same_states(driver: str):
+    """A policy driving at random, and the plain A* autopilot, in the museum: the env stepping its
+    control periods without a person in reach (contacts off, or only walls, objects and robots in
+    reach) on the physics model without the people equals the one stepping every period on the
+    physics model, bit for bit; every kind of period occurs."""
     from proxemic.env import ProxemicEnv
 
-    def run(robots_only: bool) -> tuple[list[np.ndarray], list[bool]]:
-        env = ProxemicEnv("museum", planner_actions=False)
+    def run(robots_only: bool) -> tuple[list[np.ndarray], list[tuple[bool, bool]], int]:
+        env = ProxemicEnv("museum", planner_actions=False, autopilot=driver == "astar")
         sim = env.sim
         assert sim.robots_model.nbody < sim.model.nbody
         if not robots_only:
             sim._robots_only = None
-        kinds: list[bool] = []
+        kinds: list[tuple[bool, bool]] = []
+        touched = [0]
         real = sim.step
 
         def step(command: np.ndarray, possible: bool = True) -> None:
-            kinds.append(possible)
+            # contacts on; a person in reach (the hints are set only for periods with contacts on)
+            kinds.append((possible, possible and any(sim._hints[1] or [])))
             real(command, possible)
+            touched[0] += int(sim.contacts.any())
 
         sim.step = step  # type: ignore[method-assign]
         rng = np.random.default_rng(8)
         env.reset(seed=3)
         states = []
-        for _ in range(300):
+        for _ in range(400):
             obs, _, terminated, truncated, _ = env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
-            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, obs["lidar"]]))
+            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, obs["lidar"], sim.contacts]))
             if terminated or truncated:
                 env.reset()
-        return states, kinds
+        return states, kinds, touched[0]
 
-    fast, kinds = run(True)
-    plain, plain_kinds = run(False)
-    assert kinds == plain_kinds and 30 < sum(kinds) < len(kinds) - 30
+    fast, kinds, touched = run(True)
+    plain, plain_kinds, plain_touched = run(False)
+    assert kinds == plain_kinds and touched == plain_touched
     assert all(np.array_equal(a, b) for a, b in zip(fast, plain, strict=True))
+    assert kinds.count((False, False)) > 30 and kinds.count((True, False)) > 30
+    if driver == "random":
+        assert touched > 0  # into walls and objects
+    else:
+        assert kinds.count((True, True)) > 30

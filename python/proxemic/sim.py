@@ -15,9 +15,9 @@ the people's heads and the robots' heads, tablets and coloured shells, and is po
 physics model's state before each frame. The visual parts are massless and never collide, so both
 models step bit for bit alike; the physics model is just cheaper to step. A third model, the
 physics model without the people (``Simulation.robots_model``), steps the control periods in which
-the core's hints rule every contact out: without contacts the people's mocap bodies act on
-nothing, so the robots end each such period in the same state bit for bit, at a third of the cost
-with 50 people (their bodies' kinematics are most of a contact-free step).
+the core's hints put no person in reach of a robot: the people's mocap bodies then act on nothing,
+so the robots end each such period in the same state with the same contacts bit for bit, at a
+third of the cost with 50 people (their bodies' kinematics are most of a contact-free step).
 
 Contact filtering: the static geometry has contype 2 and conaffinity 0, robots contype 1 and
 conaffinity 1 (other robots, people) plus 2 while the core's ``near_static`` hint says they are
@@ -306,8 +306,10 @@ class Simulation:
         per_robot = {len(g) for g in robot_geoms}
         if len(per_robot) > 1:  # SHOULD NOT OCCUR: every robot is the same model
             raise ValueError("robots with different numbers of collision geoms")
-        self._robot_geom_aff = _view(m.geom_conaffinity, np.array(robot_geoms, dtype=np.intp).reshape(n, -1))
-        self._robot_body_aff = _view(m.body_conaffinity, np.array(robot_bodies, dtype=np.intp))
+        self._robot_geom_ids = np.array(robot_geoms, dtype=np.intp).reshape(n, -1)
+        self._robot_body_ids = np.array(robot_bodies, dtype=np.intp)
+        self._robot_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
+        self._robot_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
         # A person's body flags decide whether the broadphase sees them at all (MuJoCo checks a
         # body's contype/conaffinity before pairing it), so they are the ones switched.
         pb = np.array(person_bodies, dtype=np.intp)
@@ -352,35 +354,42 @@ class Simulation:
 
     @property
     def robots_model(self) -> mujoco.MjModel:
-        """The model stepped while no contact is possible: the physics model without the people.
+        """The model stepped while no person is in reach: the physics model without the people.
 
-        Collision detection off; in a scene without people, the physics model itself (its
-        collision detection switched off while it steps such a period).
+        In a scene without people, the physics model itself.
         """
         return self.model if self._robots_only is None else self._robots_only[0]
 
     def _robots_only_pair(
         self, scenario: dict[str, Any]
     ) -> tuple[mujoco.MjModel, mujoco.MjData, np.ndarray, int] | None:
-        """The model :meth:`step` steps while no contact is possible, its data, a state buffer, its signature.
+        """The model :meth:`step` steps while no person can be touched, its data, a state buffer, its signature.
 
-        The physics model without the people, collision detection off. Without contacts the
-        people's mocap bodies act on nothing: the robots' bodies, joints and actuators come first
-        in both models, in the same order, and a control period stepped from the same
+        The physics model without the people. While no person's body is in the broadphase (no
+        contact possible at all, or only the robots' with the static geometry and each other)
+        the people's mocap bodies act on nothing: the robots' and the static geometry's bodies,
+        geoms, joints and actuators come first in both models, in the same order, with the same
+        contact bits (:meth:`set_hints` writes both), and a control period stepped from the same
         integration state (time, joints, velocities, actuator states, warm start, controls) ends
-        in the same state bit for bit, for a third of the cost with 50 people. None when the
-        scene has no people (the physics model is that model already).
+        in the same state with the same contacts, bit for bit, for a third of the cost with 50
+        people. None when the scene has no people (the physics model is that model already).
         """
         if not scenario["persons"]:
             return None
         m = build_spec({**scenario, "persons": []}, visual=False).compile()
-        m.opt.disableflags = self._flags_no_contact
         full = self.model
-        names = [(mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt), (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu)]
+        names = [
+            (mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt),
+            (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu),
+            (mujoco.mjtObj.mjOBJ_BODY, m.nbody, m.nbody),
+            (mujoco.mjtObj.mjOBJ_GEOM, m.ngeom, m.ngeom),
+        ]
         same = (full.nq, full.nv, full.na, full.nu) == (m.nq, m.nv, m.na, m.nu) and all(
             n1 == n2 and all(mujoco.mj_id2name(full, t, i) == mujoco.mj_id2name(m, t, i) for i in range(n1))
             for t, n1, n2 in names
         )
+        self._solo_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
+        self._solo_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
         # The integration state without the people's poses and the forces applied to bodies
         # (mocap and body arrays differ in size; nothing applies forces here).
         sig = int(mujoco.mjtState.mjSTATE_INTEGRATION) & ~int(
@@ -457,6 +466,9 @@ class Simulation:
             aff += DYNAMIC_BIT
             self._robot_geom_aff[...] = aff[:, None]
             self._robot_body_aff[...] = aff
+            if self._robots_only is not None:
+                self._solo_geom_aff[...] = aff[:, None]
+                self._solo_body_aff[...] = aff
         if people != self._hints[1]:
             for arr in self._person_flags:
                 arr[...] = near_people
@@ -468,46 +480,54 @@ class Simulation:
         Contacts are checked after every physics step (a person's push can separate the bodies
         again within one control period), and accumulated into `contacts` as CONTACT_* bits.
         With `contacts_possible` False (the core's hints rule every contact out for this
-        period), the physics steps are made in one call of :attr:`robots_model` (the state
-        copied in and back; the data's other quantities, e.g. body poses, keep their last
-        contact-step values) with the collision detection off, and no contact is read.
+        period), the physics steps are made in one call with the collision detection off and no
+        contact is read. Periods with no person in the broadphase (contacts off, or the hints
+        set for no person) are stepped on :attr:`robots_model`, the state copied in and back (the
+        data's other quantities, e.g. body poses, keep their values of the last period stepped
+        on the physics model).
         """
         m, d = self.model, self.data
         self._ctrl[...] = command
         timer = _timer_off()  # see _TIMER
         try:
+            solo = self._robots_only
+            if solo is not None and not (contacts_possible and (self._hints[1] is None or any(self._hints[1]))):
+                # No person in the broadphase: the robots-only model from the same state (and
+                # its state back below).
+                rm, rd, state, sig = solo
+                mujoco.mj_getState(m, d, state, sig)
+                mujoco.mj_setState(rm, rd, state, sig)
+                rm.opt.disableflags = self._flags if contacts_possible else self._flags_no_contact
+                m, d = rm, rd
             if not contacts_possible:
-                if self._robots_only is not None:
-                    # The robots-only model from the same state, and its state back.
-                    rm, rd, state, sig = self._robots_only
-                    mujoco.mj_getState(m, d, state, sig)
-                    mujoco.mj_setState(rm, rd, state, sig)
-                    mujoco.mj_step(rm, rd, self.frame_skip)
-                    mujoco.mj_getState(rm, rd, state, sig)
-                    mujoco.mj_setState(m, d, state, sig)
-                else:
+                if solo is None:
                     opt = self._opt
                     opt.disableflags = self._flags_no_contact
                     try:
                         mujoco.mj_step(m, d, self.frame_skip)
                     finally:
                         opt.disableflags = self._flags
+                else:
+                    mujoco.mj_step(m, d, self.frame_skip)
                 self.contacts.fill(0)
-                return
-            owner, bit = self._owner_list, self._bit_list
-            acc = [0] * self.num_robots
-            step = mujoco.mj_step
-            for _ in range(self.frame_skip):
-                step(m, d)
-                if d.ncon:
-                    # A handful of pairs at most: plain Python beats numpy on arrays this small.
-                    for g1, g2 in d.contact.geom[: d.ncon].tolist():
-                        o1, o2 = owner[g1], owner[g2]
-                        if o1 >= 0:
-                            acc[o1] |= bit[g2]
-                        if o2 >= 0:
-                            acc[o2] |= bit[g1]
-            self.contacts[:] = acc
+            else:
+                owner, bit = self._owner_list, self._bit_list
+                acc = [0] * self.num_robots
+                step = mujoco.mj_step
+                for _ in range(self.frame_skip):
+                    step(m, d)
+                    if d.ncon:
+                        # A handful of pairs at most: plain Python beats numpy on arrays this small.
+                        for g1, g2 in d.contact.geom[: d.ncon].tolist():
+                            o1, o2 = owner[g1], owner[g2]
+                            if o1 >= 0:
+                                acc[o1] |= bit[g2]
+                            if o2 >= 0:
+                                acc[o2] |= bit[g1]
+                self.contacts[:] = acc
+            if d is not self.data:
+                mujoco.mj_getState(m, d, state, sig)
+                mujoco.mj_setState(self.model, self.data, state, sig)
         finally:
             if timer is not None:
                 _TIMER.value = timer  # type: ignore[union-attr]
