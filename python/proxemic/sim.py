@@ -388,6 +388,9 @@ class Simulation:
             n1 == n2 and all(mujoco.mj_id2name(full, t, i) == mujoco.mj_id2name(m, t, i) for i in range(n1))
             for t, n1, n2 in names
         )
+        m.opt.disableflags = self._flags_no_contact  # switched on for periods with contacts on
+        self._solo_opt = m.opt
+        self._solo_contacts = False
         self._solo_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
         self._solo_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
         # The integration state without the people's poses and the forces applied to bodies
@@ -497,7 +500,9 @@ class Simulation:
                 rm, rd, state, sig = solo
                 mujoco.mj_getState(m, d, state, sig)
                 mujoco.mj_setState(rm, rd, state, sig)
-                rm.opt.disableflags = self._flags if contacts_possible else self._flags_no_contact
+                if contacts_possible != self._solo_contacts:  # its options' wrapper, looked up once
+                    self._solo_opt.disableflags = self._flags if contacts_possible else self._flags_no_contact
+                    self._solo_contacts = contacts_possible
                 m, d = rm, rd
             if not contacts_possible:
                 if solo is None:
