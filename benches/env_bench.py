@@ -7,9 +7,10 @@ machine is shared and noisy), as thread CPU time; medians are reported with rati
 bare ``mj_step`` cost of the same control steps. The env steps MuJoCo without the timer callback
 MuJoCo's Python bindings install (``proxemic.sim.timer_off``: a clock read per timed stage), and
 the bare denominators are stepped the same way, like with like. Control periods without a person
-in reach (contacts off, or on for walls, objects and robots only) are stepped on the physics model
-without the people (``Simulation.robots_model``, the same robot states and contacts bit for bit),
-so their denominators step that model, and the matched one weights the three kinds of period.
+in reach are stepped on reduced models (the same robot states and contacts bit for bit): contacts
+off on the robots alone (``Simulation.contact_free_model``), contacts on for walls, objects and
+robots only on the physics model without the people (``Simulation.robots_model``); their
+denominators step those models, and the matched one weights the three kinds of period.
 
 The env steps a control period with contacts disabled when the core's hints rule every contact
 out (``Sim.step(contacts_possible=False)``). The bare denominators are therefore measured both
@@ -85,11 +86,13 @@ def bare_us(fn: Callable[[], object], n: int) -> float:
 def contact_free(sim: Any, people: bool = False, contacts: bool = False) -> Callable[[], None]:
     """Bare stepping of what the env steps while no person is in reach, from the env's state.
 
-    ``sim.robots_model``: the physics model without the people (see ``proxemic.sim``), on its
-    own data, collision detection off unless `contacts`; with `people`, the physics model with
-    collision detection off (what the env stepped before it had the robots-only model).
+    On its own data: ``sim.contact_free_model`` (the robots alone, see ``proxemic.sim``) with
+    collision detection off, or with `contacts` ``sim.robots_model`` (the physics model without
+    the people); with `people`, the physics model with collision detection off (what the env
+    stepped before it had the reduced models).
     """
-    model, skip = (sim.model if people else sim.robots_model), sim.frame_skip
+    model = sim.model if people else (sim.robots_model if contacts else sim.contact_free_model)
+    skip = sim.frame_skip
     d = mujoco.MjData(model)
     names = ("qpos", "qvel", "ctrl", "qacc_warmstart") + (("mocap_pos", "mocap_quat") if people else ())
     for name in names:
@@ -228,7 +231,7 @@ class ContactCounter:
 
         def counted(command: np.ndarray, contacts_possible: bool = True) -> None:
             self.on += bool(contacts_possible)
-            # contacts on without a person in reach: stepped on the robots-only model
+            # contacts on without a person in reach: stepped on the physics model without the people
             self.robots_only_on += bool(contacts_possible) and not any(sim._hints[1] or [])
             self.total += 1
             step(command, contacts_possible)
@@ -251,8 +254,8 @@ class ContactCounter:
 def matched(med: dict[str, float]) -> float:
     """The bare denominator with the env's own shares of the three kinds of control period.
 
-    Contacts on with a person in reach (the physics model), contacts on without (the robots-only
-    model), contacts off (the robots-only model).
+    Contacts on with a person in reach (the physics model), contacts on without (the physics
+    model without the people), contacts off (the robots alone).
     """
     share, alone = med["contact share"], med["robots-only share"]
     return (
@@ -412,15 +415,15 @@ def main() -> int:
         f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (physics model; contacts on in "
         f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, "
         f"{100 * med['robots-only share']:.0f}% without a person in reach; "
-        f"on {med['bare robots only, contacts on']:.1f} us robots only; "
-        f"off (robots only) {med['bare contacts off']:.1f} us)"
+        f"on {med['bare robots only, contacts on']:.1f} us without the people; "
+        f"off {med['bare contacts off']:.1f} us the robots alone)"
     )
     share = med["contact share"]
     with_people = share * on + (1.0 - share) * med["bare contacts off, with the people"]
     print(
         f"  {'bare, contacts off with the people':40s} {with_people:8.1f} us  matched (off "
         f"{med['bare contacts off, with the people']:.1f} us: the physics model, as stepped before the "
-        f"robots-only model; {med['env.step'] / with_people:4.2f}x)"
+        f"reduced models; {med['env.step'] / with_people:4.2f}x)"
     )
     full = med["bare mj_step x frame_skip (full model)"]
     ratio_full = med["env.step"] / full

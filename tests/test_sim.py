@@ -248,9 +248,9 @@ def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_sam
     def run(robots_only: bool) -> tuple[list[np.ndarray], list[tuple[bool, bool]], int]:
         env = ProxemicEnv("museum", planner_actions=False, autopilot=driver == "astar")
         sim = env.sim
-        assert sim.robots_model.nbody < sim.model.nbody
+        assert sim.contact_free_model.ngeom < sim.robots_model.ngeom < sim.model.ngeom
         if not robots_only:
-            sim._robots_only = None
+            sim._robots_only = sim._free = None
         kinds: list[tuple[bool, bool]] = []
         touched = [0]
         real = sim.step

@@ -13,11 +13,14 @@ each person's body capsule, with the same masses; no cameras, lights, floor or v
 render model (:attr:`Simulation.render_model`, compiled on first use) adds the furniture models,
 the people's heads and the robots' heads, tablets and coloured shells, and is posed from the
 physics model's state before each frame. The visual parts are massless and never collide, so both
-models step bit for bit alike; the physics model is just cheaper to step. A third model, the
-physics model without the people (``Simulation.robots_model``), steps the control periods in which
-the core's hints put no person in reach of a robot: the people's mocap bodies then act on nothing,
-so the robots end each such period in the same state with the same contacts bit for bit, at a
-third of the cost with 50 people (their bodies' kinematics are most of a contact-free step).
+models step bit for bit alike; the physics model is just cheaper to step. Two reduced models step
+the control periods in which the core's hints put no person in reach of a robot: the physics
+model without the people (``Simulation.robots_model``) while contacts with walls, objects or
+robots are possible, the robots alone (``Simulation.contact_free_model``) while no contact is.
+The people's mocap bodies then act on nothing (nor the static geometry without contacts), so the
+robots end each such period in the same state with the same contacts bit for bit, at a third of
+the cost with 50 people (their bodies' kinematics are most of a contact-free step), a fifth
+without the static geometry.
 
 Contact filtering: the static geometry has contype 2 and conaffinity 0, robots contype 1 and
 conaffinity 1 (other robots, people) plus 2 while the core's ``near_static`` hint says they are
@@ -348,62 +351,72 @@ class Simulation:
         self._opt = m.opt  # the model's options (the wrapper looked up once)
         self._flags = int(m.opt.disableflags)
         self._flags_no_contact = self._flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
-        self._robots_only = self._robots_only_pair(scenario)
+        # The integration state without the people's poses and the forces applied to bodies
+        # (mocap and body arrays differ in size between the models; nothing applies forces here),
+        # what step() copies between the physics model and the reduced ones.
+        self._sig = int(mujoco.mjtState.mjSTATE_INTEGRATION) & ~int(
+            mujoco.mjtState.mjSTATE_MOCAP_POS
+            | mujoco.mjtState.mjSTATE_MOCAP_QUAT
+            | mujoco.mjtState.mjSTATE_XFRC_APPLIED
+        )
+        self._state = np.zeros(mujoco.mj_stateSize(m, self._sig))
+        has_static = bool(scenario["walls"] or scenario["objects"])
+        self._robots_only = self._reduced(scenario, static=True) if scenario["persons"] else None
+        self._free = self._reduced(scenario, static=False) if scenario["persons"] or has_static else None
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
 
     @property
     def robots_model(self) -> mujoco.MjModel:
-        """The model stepped while no person is in reach: the physics model without the people.
+        """The model stepped while contacts are on but no person is in reach.
 
-        In a scene without people, the physics model itself.
+        The physics model without the people (the physics model itself in a scene without people).
         """
         return self.model if self._robots_only is None else self._robots_only[0]
 
-    def _robots_only_pair(
-        self, scenario: dict[str, Any]
-    ) -> tuple[mujoco.MjModel, mujoco.MjData, np.ndarray, int] | None:
-        """The model :meth:`step` steps while no person can be touched, its data, a state buffer, its signature.
+    @property
+    def contact_free_model(self) -> mujoco.MjModel:
+        """The model stepped while no contact is possible.
 
-        The physics model without the people. While no person's body is in the broadphase (no
-        contact possible at all, or only the robots' with the static geometry and each other)
-        the people's mocap bodies act on nothing: the robots' and the static geometry's bodies,
-        geoms, joints and actuators come first in both models, in the same order, with the same
-        contact bits (:meth:`set_hints` writes both), and a control period stepped from the same
-        integration state (time, joints, velocities, actuator states, warm start, controls) ends
-        in the same state with the same contacts, bit for bit, for a third of the cost with 50
-        people. None when the scene has no people (the physics model is that model already).
+        The robots alone (no people, walls or objects), collision detection off (the physics model
+        itself in an empty scene).
         """
-        if not scenario["persons"]:
-            return None
-        m = build_spec({**scenario, "persons": []}, visual=False).compile()
+        return self.model if self._free is None else self._free[0]
+
+    def _reduced(self, scenario: dict[str, Any], static: bool) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        """A reduced physics model for :meth:`step`, and its data.
+
+        The physics model of `scenario` without the people (and with `static` False, without
+        the walls and objects).
+
+        While no person's body is in the broadphase (no contact possible at all, or only the
+        robots' with the static geometry and each other) the people's mocap bodies act on
+        nothing, and without contacts the static geometry neither: the robots' joints and
+        actuators are the same in every model, in the same order (and with `static` the static
+        geometry's and robots' bodies and geoms too, with the same contact bits: :meth:`set_hints`
+        writes both), so a control period stepped from the same integration state (time, joints,
+        velocities, actuator states, warm start, controls) ends in the same state with the same
+        contacts, bit for bit, for a third of the cost with 50 people (a fifth without the
+        static geometry).
+        """
+        reduced = {**scenario, "persons": []} if static else {**scenario, "persons": [], "walls": [], "objects": []}
+        m = build_spec(reduced, visual=False).compile()
         full = self.model
-        names = [
-            (mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt),
-            (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu),
-            (mujoco.mjtObj.mjOBJ_BODY, m.nbody, m.nbody),
-            (mujoco.mjtObj.mjOBJ_GEOM, m.ngeom, m.ngeom),
-        ]
+        names = [(mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt), (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu)]
+        if static:
+            names += [(mujoco.mjtObj.mjOBJ_BODY, m.nbody, m.nbody), (mujoco.mjtObj.mjOBJ_GEOM, m.ngeom, m.ngeom)]
         same = (full.nq, full.nv, full.na, full.nu) == (m.nq, m.nv, m.na, m.nu) and all(
             n1 == n2 and all(mujoco.mj_id2name(full, t, i) == mujoco.mj_id2name(m, t, i) for i in range(n1))
             for t, n1, n2 in names
         )
-        m.opt.disableflags = self._flags_no_contact  # switched on for periods with contacts on
-        self._solo_opt = m.opt
-        self._solo_contacts = False
-        self._solo_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
-        self._solo_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
-        # The integration state without the people's poses and the forces applied to bodies
-        # (mocap and body arrays differ in size; nothing applies forces here).
-        sig = int(mujoco.mjtState.mjSTATE_INTEGRATION) & ~int(
-            mujoco.mjtState.mjSTATE_MOCAP_POS
-            | mujoco.mjtState.mjSTATE_MOCAP_QUAT
-            | mujoco.mjtState.mjSTATE_XFRC_APPLIED
-        )
-        size = mujoco.mj_stateSize(full, sig)
-        if not same or size != mujoco.mj_stateSize(m, sig):  # SHOULD NOT OCCUR: the models are built alike
-            raise ValueError("the robots-only model differs from the physics model in joints or actuators")
-        return m, mujoco.MjData(m), np.zeros(size), sig
+        if not same or mujoco.mj_stateSize(m, self._sig) != len(self._state):  # SHOULD NOT OCCUR: built alike
+            raise ValueError("a reduced physics model differs from the physics model in joints, bodies or geoms")
+        if static:
+            self._solo_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
+            self._solo_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
+        else:
+            m.opt.disableflags = self._flags_no_contact
+        return m, mujoco.MjData(m)
 
     def reset(self, robot_poses: np.ndarray, people: np.ndarray) -> None:
         """Resets the physics: robots at `robot_poses` (N, 3), people at `people`.
@@ -484,28 +497,27 @@ class Simulation:
         again within one control period), and accumulated into `contacts` as CONTACT_* bits.
         With `contacts_possible` False (the core's hints rule every contact out for this
         period), the physics steps are made in one call with the collision detection off and no
-        contact is read. Periods with no person in the broadphase (contacts off, or the hints
-        set for no person) are stepped on :attr:`robots_model`, the state copied in and back (the
-        data's other quantities, e.g. body poses, keep their values of the last period stepped
-        on the physics model).
+        contact is read. Periods with no person in the broadphase are stepped on a reduced model
+        (contacts off: :attr:`contact_free_model`; the hints set for no person:
+        :attr:`robots_model`), the state copied in and back (the data's other quantities, e.g.
+        body poses, keep their values of the last period stepped on the physics model).
         """
         m, d = self.model, self.data
         self._ctrl[...] = command
         timer = _timer_off()  # see _TIMER
         try:
-            solo = self._robots_only
-            if solo is not None and not (contacts_possible and (self._hints[1] is None or any(self._hints[1]))):
-                # No person in the broadphase: the robots-only model from the same state (and
-                # its state back below).
-                rm, rd, state, sig = solo
+            # A reduced model when no person is in reach (and the state back below).
+            target = self._free
+            if contacts_possible:
+                hints = self._hints[1]
+                target = self._robots_only if hints is not None and not any(hints) else None
+            if target is not None:
+                state, sig = self._state, self._sig
                 mujoco.mj_getState(m, d, state, sig)
-                mujoco.mj_setState(rm, rd, state, sig)
-                if contacts_possible != self._solo_contacts:  # its options' wrapper, looked up once
-                    self._solo_opt.disableflags = self._flags if contacts_possible else self._flags_no_contact
-                    self._solo_contacts = contacts_possible
-                m, d = rm, rd
+                m, d = target
+                mujoco.mj_setState(m, d, state, sig)
             if not contacts_possible:
-                if solo is None:
+                if target is None:
                     opt = self._opt
                     opt.disableflags = self._flags_no_contact
                     try:
@@ -530,7 +542,7 @@ class Simulation:
                             if o2 >= 0:
                                 acc[o2] |= bit[g1]
                 self.contacts[:] = acc
-            if d is not self.data:
+            if target is not None:
                 mujoco.mj_getState(m, d, state, sig)
                 mujoco.mj_setState(self.model, self.data, state, sig)
         finally:
