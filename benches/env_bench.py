@@ -4,7 +4,13 @@ Steps: env steps per second, the Rust call's share, bare MuJoCo stepping of the 
 the full visual model, which the physics stepped before it lost its visual parts), reset.
 Everything is measured in this run, on the same model, interleaved over several trials (the
 machine is shared and noisy), as thread CPU time; medians are reported with ratios against the
-bare ``mj_step`` cost of the same control steps.
+bare ``mj_step`` cost of the same control steps. The env steps MuJoCo without the timer callback
+MuJoCo's Python bindings install (``proxemic.sim.timer_off``: a clock read per timed stage), and
+the bare denominators are stepped the same way, like with like. Control periods without a person
+in reach are stepped on reduced models (the same robot states and contacts bit for bit): contacts
+off on the robots alone (``Simulation.contact_free_model``), contacts on for walls, objects and
+robots only on the physics model without the people (``Simulation.robots_model``); their
+denominators step those models, and the matched one weights the three kinds of period.
 
 The env steps a control period with contacts disabled when the core's hints rule every contact
 out (``Sim.step(contacts_possible=False)``). The bare denominators are therefore measured both
@@ -52,6 +58,7 @@ import numpy as np
 
 from proxemic import scenarios
 from proxemic.env import ProxemicEnv
+from proxemic.sim import timer_off
 from proxemic.viz.topdown import OVERLAYS
 
 TRIALS = 7
@@ -68,6 +75,37 @@ def cpu_us(fn: Callable[[], object], n: int) -> float:
     for _ in range(n):
         fn()
     return (time.thread_time_ns() - t0) / n / 1e3
+
+
+def bare_us(fn: Callable[[], object], n: int) -> float:
+    """:func:`cpu_us` of bare MuJoCo stepping, stepped as the env steps (without the bindings' timer)."""
+    with timer_off():
+        return cpu_us(fn, n)
+
+
+def contact_free(sim: Any, people: bool = False, contacts: bool = False) -> Callable[[], None]:
+    """Bare stepping of what the env steps while no person is in reach, from the env's state.
+
+    On its own data: ``sim.contact_free_model`` (the robots alone, see ``proxemic.sim``) with
+    collision detection off, or with `contacts` ``sim.robots_model`` (the physics model without
+    the people); with `people`, the physics model with collision detection off (what the env
+    stepped before it had the reduced models).
+    """
+    model = sim.model if people else (sim.robots_model if contacts else sim.contact_free_model)
+    skip = sim.frame_skip
+    d = mujoco.MjData(model)
+    names = ("qpos", "qvel", "ctrl", "qacc_warmstart") + (("mocap_pos", "mocap_quat") if people else ())
+    for name in names:
+        getattr(d, name)[:] = getattr(sim.data, name)
+    flags = int(model.opt.disableflags)
+    off = flags if contacts else flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+
+    def step() -> None:
+        model.opt.disableflags = off
+        mujoco.mj_step(model, d, skip)
+        model.opt.disableflags = flags
+
+    return step
 
 
 def wall_cpu_ms(fn: Callable[[], Any], n: int) -> tuple[float, float]:
@@ -114,22 +152,15 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         # The core's share of the one call: World.step with a physics that does nothing.
         world.step(autopilot, lambda: None, sim.state, sim.contacts, env._out, env._people)
 
-    def bare_from_env(key: str, contacts: bool = True) -> Callable[[], None]:
+    def bare_from_env(key: str) -> Callable[[], None]:
         model, d = models[key], scratch[key]
-        flags = int(model.opt.disableflags)
-        off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
         def sync() -> None:  # the env's current state, on a scratch copy
             for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
                 getattr(d, name)[:] = getattr(sim.data, name)
 
         def step() -> None:
-            if contacts:
-                mujoco.mj_step(model, d, skip)
-            else:
-                model.opt.disableflags = off
-                mujoco.mj_step(model, d, skip)
-                model.opt.disableflags = flags
+            mujoco.mj_step(model, d, skip)
 
         step.sync = sync  # type: ignore[attr-defined]
         return step
@@ -142,7 +173,10 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         "env.step": [],
         "Rust World.step": [],
         "contact share": [],
+        "robots-only share": [],
+        "bare robots only, contacts on": [],
         "bare contacts off": [],
+        "bare contacts off, with the people": [],
         **{k: [] for k in models},
     }
     counter = ContactCounter(sim)
@@ -151,13 +185,14 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         with counter:
             res["env.step"].append(cpu_us(env_step, STEPS))
         res["contact share"].append(counter.share())
+        res["robots-only share"].append(counter.robots_only_share())
+        res["bare robots only, contacts on"].append(bare_us(contact_free(sim, contacts=True), STEPS))
         for key in models:
             bare = bare_from_env(key)
             bare.sync()  # type: ignore[attr-defined]
-            res[key].append(cpu_us(bare, STEPS))
-        bare = bare_from_env("bare mj_step x frame_skip", contacts=False)
-        bare.sync()  # type: ignore[attr-defined]
-        res["bare contacts off"].append(cpu_us(bare, STEPS))
+            res[key].append(bare_us(bare, STEPS))
+        res["bare contacts off"].append(bare_us(contact_free(sim), STEPS))
+        res["bare contacts off, with the people"].append(bare_us(contact_free(sim, people=True), STEPS))
         # the Rust call alone, on the state the env is in (advances the people; harmless here)
         res["Rust World.step"].append(cpu_us(rust_step, STEPS))
         t0 = time.thread_time_ns()
@@ -186,14 +221,18 @@ class ContactCounter:
     def __init__(self, sim: Any) -> None:
         self.sim = sim
         self.on = 0
+        self.robots_only_on = 0
         self.total = 0
 
     def __enter__(self) -> ContactCounter:
-        self.on = self.total = 0
-        step = self.sim.step
+        self.on = self.robots_only_on = self.total = 0
+        sim = self.sim
+        step = sim.step
 
         def counted(command: np.ndarray, contacts_possible: bool = True) -> None:
             self.on += bool(contacts_possible)
+            # contacts on without a person in reach: stepped on the physics model without the people
+            self.robots_only_on += bool(contacts_possible) and not any(sim._hints[1] or [])
             self.total += 1
             step(command, contacts_possible)
 
@@ -207,11 +246,23 @@ class ContactCounter:
         """The share of the counted physics steps that had contacts on (1.0 when none ran)."""
         return self.on / self.total if self.total else 1.0
 
+    def robots_only_share(self) -> float:
+        """The share of the counted physics steps with contacts on but no person in reach."""
+        return self.robots_only_on / self.total if self.total else 0.0
+
 
 def matched(med: dict[str, float]) -> float:
-    """The bare denominator with the env's own share of contacts-on steps."""
-    share = med["contact share"]
-    return share * med["bare mj_step x frame_skip"] + (1.0 - share) * med["bare contacts off"]
+    """The bare denominator with the env's own shares of the three kinds of control period.
+
+    Contacts on with a person in reach (the physics model), contacts on without (the physics
+    model without the people), contacts off (the robots alone).
+    """
+    share, alone = med["contact share"], med["robots-only share"]
+    return (
+        (share - alone) * med["bare mj_step x frame_skip"]
+        + alone * med["bare robots only, contacts on"]
+        + (1.0 - share) * med["bare contacts off"]
+    )
 
 
 def bench_policy(env: ProxemicEnv) -> dict[str, float]:
@@ -225,8 +276,6 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
     sim = env.sim
     turn = np.array([0.0, 0.0, 0.5], np.float32)
     d = mujoco.MjData(sim.model)
-    flags = int(sim.model.opt.disableflags)
-    off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     counter = ContactCounter(sim)
 
     def env_step() -> None:
@@ -237,15 +286,12 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
     def on() -> None:
         mujoco.mj_step(sim.model, d, sim.frame_skip)
 
-    def no_contact() -> None:
-        sim.model.opt.disableflags = off
-        mujoco.mj_step(sim.model, d, sim.frame_skip)
-        sim.model.opt.disableflags = flags
-
     res: dict[str, list[float]] = {
         "env.step": [],
         "contact share": [],
+        "robots-only share": [],
         "bare mj_step x frame_skip": [],
+        "bare robots only, contacts on": [],
         "bare contacts off": [],
     }
     env.reset(seed=0)
@@ -253,10 +299,12 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
         with counter:
             res["env.step"].append(cpu_us(env_step, STEPS))
         res["contact share"].append(counter.share())
+        res["robots-only share"].append(counter.robots_only_share())
+        res["bare robots only, contacts on"].append(bare_us(contact_free(sim, contacts=True), STEPS))
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
             getattr(d, name)[:] = getattr(sim.data, name)
-        res["bare mj_step x frame_skip"].append(cpu_us(on, STEPS))
-        res["bare contacts off"].append(cpu_us(no_contact, STEPS))
+        res["bare mj_step x frame_skip"].append(bare_us(on, STEPS))
+        res["bare contacts off"].append(bare_us(contact_free(sim), STEPS))
     med = {k: statistics.median(v) for k, v in res.items()}
     med["matched"] = matched(med)
     return med
@@ -268,12 +316,12 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
     zero = np.zeros(3, np.float32)
     skip = sim.frame_skip
     d = mujoco.MjData(sim.model)
-    flags = int(sim.model.opt.disableflags)
-    off = flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     counter = ContactCounter(sim)
     means: list[float] = []
     blocks: list[float] = []
     shares: list[float] = []
+    alone: list[float] = []
+    bare_alone: list[float] = []
     bare_on: list[float] = []
     bare_off: list[float] = []
     for trial in range(TRIALS):
@@ -287,6 +335,8 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
                 if te or tr:
                     env.reset()
         shares.append(counter.share())
+        alone.append(counter.robots_only_share())
+        bare_alone.append(bare_us(contact_free(sim, contacts=True), STEPS))
         means.append(statistics.fmean(times))
         blocks.append(statistics.median(statistics.fmean(times[k : k + 50]) for k in range(0, len(times), 50)))
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
@@ -295,17 +345,14 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
         def on() -> None:
             mujoco.mj_step(sim.model, d, skip)
 
-        def no_contact() -> None:
-            sim.model.opt.disableflags = off
-            mujoco.mj_step(sim.model, d, skip)
-            sim.model.opt.disableflags = flags
-
-        bare_on.append(cpu_us(on, STEPS))
-        bare_off.append(cpu_us(no_contact, STEPS))
+        bare_on.append(bare_us(on, STEPS))
+        bare_off.append(bare_us(contact_free(sim), STEPS))
     med = {
         "mean": statistics.median(means),
         "median block": statistics.median(blocks),
         "contact share": statistics.median(shares),
+        "robots-only share": statistics.median(alone),
+        "bare robots only, contacts on": statistics.median(bare_alone),
         "bare mj_step x frame_skip": statistics.median(bare_on),
         "bare contacts off": statistics.median(bare_off),
     }
@@ -366,7 +413,17 @@ def main() -> int:
     )
     print(
         f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (physics model; contacts on in "
-        f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, off {med['bare contacts off']:.1f} us)"
+        f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, "
+        f"{100 * med['robots-only share']:.0f}% without a person in reach; "
+        f"on {med['bare robots only, contacts on']:.1f} us without the people; "
+        f"off {med['bare contacts off']:.1f} us the robots alone)"
+    )
+    share = med["contact share"]
+    with_people = share * on + (1.0 - share) * med["bare contacts off, with the people"]
+    print(
+        f"  {'bare, contacts off with the people':40s} {with_people:8.1f} us  matched (off "
+        f"{med['bare contacts off, with the people']:.1f} us: the physics model, as stepped before the "
+        f"reduced models; {med['env.step'] / with_people:4.2f}x)"
     )
     full = med["bare mj_step x frame_skip (full model)"]
     ratio_full = med["env.step"] / full

@@ -170,9 +170,16 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
             sim.set_hints = lambda s, p: real(np.ones_like(s), np.ones_like(p))  # type: ignore[method-assign]
             sim.step = lambda command, possible=True: real_step(command, True)  # type: ignore[method-assign]
         else:
+            ws = env.ws
 
             def counted(command: np.ndarray, possible: bool = True) -> None:
                 quiet[0] += int(not possible)
+                # the core's contacts_possible flag: any hint set, in every row
+                hinted = (
+                    any(ws.sections[k].any() for k in ("near_static", "near_robot"))
+                    or ws.people[3 :: _core.PERSON_OUT].any()
+                )
+                assert (ws.sections["contacts_possible"] == float(possible)).all() and possible == hinted
                 real_step(command, possible)
 
             sim.step = counted  # type: ignore[method-assign]
@@ -196,3 +203,81 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
     assert len(on) < 400  # every robot collided before the step limit
     if robots == 2:
         assert quiet[0] > 0
+
+
+def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small_room):
+    from proxemic import sim as sim_module
+
+    if sim_module._TIMER is None or sim_module._DEFAULT_TIMER is None:
+        pytest.skip("this MuJoCo's bindings install no default timer")
+    sim = _sim(small_room)
+    sim.reset(np.array([[3.0, 4.0, 0.0]]), np.array([[2.0, 2.0, 0.0]]))
+    # the default timer: off while stepping (MjData.timer gets no time), back on afterwards
+    for possible in (True, False):
+        sim.step(np.array([0.4, 0.0, 0.2]), possible)
+        assert sim_module._TIMER.value == sim_module._DEFAULT_TIMER
+    assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].number == sim.frame_skip  # the contact step
+    assert sim.data.timer[mujoco.mjtTimer.mjTIMER_STEP].duration == 0.0
+    d = mujoco.MjData(sim.model)
+    mujoco.mj_step(sim.model, d)
+    assert d.timer[mujoco.mjtTimer.mjTIMER_STEP].duration > 0.0
+    # a timer the user set keeps running
+    ticks: list[int] = []
+
+    def clock() -> float:
+        ticks.append(0)
+        return float(len(ticks))
+
+    mujoco.set_mjcb_time(clock)
+    try:
+        sim.step(np.array([0.4, 0.0, 0.2]))
+        assert ticks
+    finally:
+        mujoco.set_mjcb_time(None)
+        sim_module._TIMER.value = sim_module._DEFAULT_TIMER
+
+
+@pytest.mark.parametrize("driver", ["random", "astar"])
+def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_same_states(driver: str):
+    """A policy driving at random, and the plain A* autopilot, in the museum: the env stepping its
+    control periods without a person in reach (contacts off, or only walls, objects and robots in
+    reach) on the physics model without the people equals the one stepping every period on the
+    physics model, bit for bit; every kind of period occurs."""
+    from proxemic.env import ProxemicEnv
+
+    def run(robots_only: bool) -> tuple[list[np.ndarray], list[tuple[bool, bool]], int]:
+        env = ProxemicEnv("museum", planner_actions=False, autopilot=driver == "astar")
+        sim = env.sim
+        assert sim.contact_free_model.ngeom < sim.robots_model.ngeom < sim.model.ngeom
+        if not robots_only:
+            sim._robots_only = sim._free = None
+        kinds: list[tuple[bool, bool]] = []
+        touched = [0]
+        real = sim.step
+
+        def step(command: np.ndarray, possible: bool = True) -> None:
+            # contacts on; a person in reach (the hints are set only for periods with contacts on)
+            kinds.append((possible, possible and any(sim._hints[1] or [])))
+            real(command, possible)
+            touched[0] += int(sim.contacts.any())
+
+        sim.step = step  # type: ignore[method-assign]
+        rng = np.random.default_rng(8)
+        env.reset(seed=3)
+        states = []
+        for _ in range(400):
+            obs, _, terminated, truncated, _ = env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
+            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, obs["lidar"], sim.contacts]))
+            if terminated or truncated:
+                env.reset()
+        return states, kinds, touched[0]
+
+    fast, kinds, touched = run(True)
+    plain, plain_kinds, plain_touched = run(False)
+    assert kinds == plain_kinds and touched == plain_touched
+    assert all(np.array_equal(a, b) for a, b in zip(fast, plain, strict=True))
+    assert kinds.count((False, False)) > 30 and kinds.count((True, False)) > 30
+    if driver == "random":
+        assert touched > 0  # into walls and objects
+    else:
+        assert kinds.count((True, True)) > 30

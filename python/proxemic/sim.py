@@ -13,7 +13,14 @@ each person's body capsule, with the same masses; no cameras, lights, floor or v
 render model (:attr:`Simulation.render_model`, compiled on first use) adds the furniture models,
 the people's heads and the robots' heads, tablets and coloured shells, and is posed from the
 physics model's state before each frame. The visual parts are massless and never collide, so both
-models step bit for bit alike; the physics model is just cheaper to step.
+models step bit for bit alike; the physics model is just cheaper to step. Two reduced models step
+the control periods in which the core's hints put no person in reach of a robot: the physics
+model without the people (``Simulation.robots_model``) while contacts with walls, objects or
+robots are possible, the robots alone (``Simulation.contact_free_model``) while no contact is.
+The people's mocap bodies then act on nothing (nor the static geometry without contacts), so the
+robots end each such period in the same state with the same contacts bit for bit, at a third of
+the cost with 50 people (their bodies' kinematics are most of a contact-free step), a fifth
+without the static geometry.
 
 Contact filtering: the static geometry has contype 2 and conaffinity 0, robots contype 1 and
 conaffinity 1 (other robots, people) plus 2 while the core's ``near_static`` hint says they are
@@ -26,7 +33,10 @@ drop pairs that cannot touch during the control step: the contacts are the same.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
 import os
+from collections.abc import Iterator
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -53,6 +63,49 @@ ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(
 #: people's contype (see the module docstring).
 STATIC_BIT = 2
 DYNAMIC_BIT = 1
+
+
+def _timer_slot() -> ctypes.c_void_p | None:
+    """MuJoCo's global timer callback ``mjcb_time`` (the C pointer), or None if not found."""
+    folder = Path(mujoco.__file__).parent
+    for lib in sorted(folder.glob("libmujoco.so*")) + sorted(folder.glob("libmujoco*.dylib")) + [folder / "mujoco.dll"]:
+        try:
+            return ctypes.c_void_p.in_dll(ctypes.CDLL(str(lib)), "mjcb_time")
+        except (OSError, ValueError):
+            continue
+    return None
+
+
+# MuJoCo's Python bindings (4.x) install a timer callback at import: every step then reads the
+# clock some 30 times to fill ``MjData.timer`` (a tenth of a control step's physics here). The
+# simulation steps with it switched off (``data.timer`` stays empty; nothing else uses the
+# callback, so the physics is the same bit for bit) and puts it back after each step. Only that
+# default is switched off: a timer a user set (``mujoco.set_mjcb_time``) is left running.
+_TIMER = _timer_slot()
+_DEFAULT_TIMER: int | None = _TIMER.value if _TIMER is not None else None
+
+
+def _timer_off() -> int | None:
+    """Switches the bindings' default timer off; returns it (to restore) or None if it was not on."""
+    if _TIMER is None or _DEFAULT_TIMER is None or _TIMER.value != _DEFAULT_TIMER:
+        return None
+    _TIMER.value = None
+    return _DEFAULT_TIMER
+
+
+@contextlib.contextmanager
+def timer_off() -> Iterator[None]:
+    """MuJoCo stepped as :meth:`Simulation.step` steps it: without the bindings' default timer.
+
+    For benches timing bare ``mj_step`` calls against the env's own (like with like).
+    """
+    saved = _timer_off()
+    try:
+        yield
+    finally:
+        if saved is not None:
+            assert _TIMER is not None
+            _TIMER.value = saved
 
 
 def models_dir() -> Path:
@@ -256,8 +309,10 @@ class Simulation:
         per_robot = {len(g) for g in robot_geoms}
         if len(per_robot) > 1:  # SHOULD NOT OCCUR: every robot is the same model
             raise ValueError("robots with different numbers of collision geoms")
-        self._robot_geom_aff = _view(m.geom_conaffinity, np.array(robot_geoms, dtype=np.intp).reshape(n, -1))
-        self._robot_body_aff = _view(m.body_conaffinity, np.array(robot_bodies, dtype=np.intp))
+        self._robot_geom_ids = np.array(robot_geoms, dtype=np.intp).reshape(n, -1)
+        self._robot_body_ids = np.array(robot_bodies, dtype=np.intp)
+        self._robot_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
+        self._robot_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
         # A person's body flags decide whether the broadphase sees them at all (MuJoCo checks a
         # body's contype/conaffinity before pairing it), so they are the ones switched.
         pb = np.array(person_bodies, dtype=np.intp)
@@ -296,8 +351,72 @@ class Simulation:
         self._opt = m.opt  # the model's options (the wrapper looked up once)
         self._flags = int(m.opt.disableflags)
         self._flags_no_contact = self._flags | int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+        # The integration state without the people's poses and the forces applied to bodies
+        # (mocap and body arrays differ in size between the models; nothing applies forces here),
+        # what step() copies between the physics model and the reduced ones.
+        self._sig = int(mujoco.mjtState.mjSTATE_INTEGRATION) & ~int(
+            mujoco.mjtState.mjSTATE_MOCAP_POS
+            | mujoco.mjtState.mjSTATE_MOCAP_QUAT
+            | mujoco.mjtState.mjSTATE_XFRC_APPLIED
+        )
+        self._state = np.zeros(mujoco.mj_stateSize(m, self._sig))
+        has_static = bool(scenario["walls"] or scenario["objects"])
+        self._robots_only = self._reduced(scenario, static=True) if scenario["persons"] else None
+        self._free = self._reduced(scenario, static=False) if scenario["persons"] or has_static else None
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
+
+    @property
+    def robots_model(self) -> mujoco.MjModel:
+        """The model stepped while contacts are on but no person is in reach.
+
+        The physics model without the people (the physics model itself in a scene without people).
+        """
+        return self.model if self._robots_only is None else self._robots_only[0]
+
+    @property
+    def contact_free_model(self) -> mujoco.MjModel:
+        """The model stepped while no contact is possible.
+
+        The robots alone (no people, walls or objects), collision detection off (the physics model
+        itself in an empty scene).
+        """
+        return self.model if self._free is None else self._free[0]
+
+    def _reduced(self, scenario: dict[str, Any], static: bool) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        """A reduced physics model for :meth:`step`, and its data.
+
+        The physics model of `scenario` without the people (and with `static` False, without
+        the walls and objects).
+
+        While no person's body is in the broadphase (no contact possible at all, or only the
+        robots' with the static geometry and each other) the people's mocap bodies act on
+        nothing, and without contacts the static geometry neither: the robots' joints and
+        actuators are the same in every model, in the same order (and with `static` the static
+        geometry's and robots' bodies and geoms too, with the same contact bits: :meth:`set_hints`
+        writes both), so a control period stepped from the same integration state (time, joints,
+        velocities, actuator states, warm start, controls) ends in the same state with the same
+        contacts, bit for bit, for a third of the cost with 50 people (a fifth without the
+        static geometry).
+        """
+        reduced = {**scenario, "persons": []} if static else {**scenario, "persons": [], "walls": [], "objects": []}
+        m = build_spec(reduced, visual=False).compile()
+        full = self.model
+        names = [(mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt), (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu)]
+        if static:
+            names += [(mujoco.mjtObj.mjOBJ_BODY, m.nbody, m.nbody), (mujoco.mjtObj.mjOBJ_GEOM, m.ngeom, m.ngeom)]
+        same = (full.nq, full.nv, full.na, full.nu) == (m.nq, m.nv, m.na, m.nu) and all(
+            n1 == n2 and all(mujoco.mj_id2name(full, t, i) == mujoco.mj_id2name(m, t, i) for i in range(n1))
+            for t, n1, n2 in names
+        )
+        if not same or mujoco.mj_stateSize(m, self._sig) != len(self._state):  # SHOULD NOT OCCUR: built alike
+            raise ValueError("a reduced physics model differs from the physics model in joints, bodies or geoms")
+        if static:
+            self._solo_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
+            self._solo_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
+        else:
+            m.opt.disableflags = self._flags_no_contact
+        return m, mujoco.MjData(m)
 
     def reset(self, robot_poses: np.ndarray, people: np.ndarray) -> None:
         """Resets the physics: robots at `robot_poses` (N, 3), people at `people`.
@@ -363,6 +482,9 @@ class Simulation:
             aff += DYNAMIC_BIT
             self._robot_geom_aff[...] = aff[:, None]
             self._robot_body_aff[...] = aff
+            if self._robots_only is not None:
+                self._solo_geom_aff[...] = aff[:, None]
+                self._solo_body_aff[...] = aff
         if people != self._hints[1]:
             for arr in self._person_flags:
                 arr[...] = near_people
@@ -374,34 +496,58 @@ class Simulation:
         Contacts are checked after every physics step (a person's push can separate the bodies
         again within one control period), and accumulated into `contacts` as CONTACT_* bits.
         With `contacts_possible` False (the core's hints rule every contact out for this
-        period), the physics steps are made in one call with the collision detection off and
-        no contact is read.
+        period), the physics steps are made in one call with the collision detection off and no
+        contact is read. Periods with no person in the broadphase are stepped on a reduced model
+        (contacts off: :attr:`contact_free_model`; the hints set for no person:
+        :attr:`robots_model`), the state copied in and back (the data's other quantities, e.g.
+        body poses, keep their values of the last period stepped on the physics model).
         """
         m, d = self.model, self.data
         self._ctrl[...] = command
-        if not contacts_possible:
-            opt = self._opt
-            opt.disableflags = self._flags_no_contact
-            try:
-                mujoco.mj_step(m, d, self.frame_skip)
-            finally:
-                opt.disableflags = self._flags
-            self.contacts.fill(0)
-            return
-        owner, bit = self._owner_list, self._bit_list
-        acc = [0] * self.num_robots
-        step = mujoco.mj_step
-        for _ in range(self.frame_skip):
-            step(m, d)
-            if d.ncon:
-                # A handful of pairs at most: plain Python beats numpy on arrays this small.
-                for g1, g2 in d.contact.geom[: d.ncon].tolist():
-                    o1, o2 = owner[g1], owner[g2]
-                    if o1 >= 0:
-                        acc[o1] |= bit[g2]
-                    if o2 >= 0:
-                        acc[o2] |= bit[g1]
-        self.contacts[:] = acc
+        timer = _timer_off()  # see _TIMER
+        try:
+            # A reduced model when no person is in reach (and the state back below).
+            target = self._free
+            if contacts_possible:
+                hints = self._hints[1]
+                target = self._robots_only if hints is not None and not any(hints) else None
+            if target is not None:
+                state, sig = self._state, self._sig
+                mujoco.mj_getState(m, d, state, sig)
+                m, d = target
+                mujoco.mj_setState(m, d, state, sig)
+            if not contacts_possible:
+                if target is None:
+                    opt = self._opt
+                    opt.disableflags = self._flags_no_contact
+                    try:
+                        mujoco.mj_step(m, d, self.frame_skip)
+                    finally:
+                        opt.disableflags = self._flags
+                else:
+                    mujoco.mj_step(m, d, self.frame_skip)
+                self.contacts.fill(0)
+            else:
+                owner, bit = self._owner_list, self._bit_list
+                acc = [0] * self.num_robots
+                step = mujoco.mj_step
+                for _ in range(self.frame_skip):
+                    step(m, d)
+                    if d.ncon:
+                        # A handful of pairs at most: plain Python beats numpy on arrays this small.
+                        for g1, g2 in d.contact.geom[: d.ncon].tolist():
+                            o1, o2 = owner[g1], owner[g2]
+                            if o1 >= 0:
+                                acc[o1] |= bit[g2]
+                            if o2 >= 0:
+                                acc[o2] |= bit[g1]
+                self.contacts[:] = acc
+            if target is not None:
+                mujoco.mj_getState(m, d, state, sig)
+                mujoco.mj_setState(self.model, self.data, state, sig)
+        finally:
+            if timer is not None:
+                _TIMER.value = timer  # type: ignore[union-attr]
 
     def read(self) -> None:
         """Reads the robots' world-frame poses and velocities into `state`."""

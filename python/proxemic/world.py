@@ -207,14 +207,9 @@ class WorldSim:
         self._planner_rows = list(self.sections["planner_action"])
         self._command = self.sections["command"]
         self._near_static = self.sections["near_static"][:, 0]
-        self._near_robot = self.sections["near_robot"][:, 0]
         self._near_people = self._people2d[:, 3]
-        # Every robot's near_static and near_robot hints in one view when the sections are
-        # neighbours (one count instead of two in _physics()).
-        ns, nr = self.layout["near_static"], self.layout["near_robot"]
-        self._near_robots = (
-            [self.rows[:, ns[0] : nr[0] + 1]] if ns[0] + 1 == nr[0] else [self._near_static, self._near_robot]
-        )
+        # Where in `out` the core says whether any contact is possible (the first row's copy).
+        self._possible_index = self.layout["contacts_possible"][0]
         # Per robot, the flat indices in `out` of its reward, terminated and truncated flags
         # (the single-robot env reads them as Python floats with `out.item`).
         self._reward_index = [r * w.stride + self.layout["reward"][0] for r in range(w.num_robots)]
@@ -310,13 +305,14 @@ class WorldSim:
         """
         sim = self.sim
         sim.write_people(self._people2d)
-        # Nothing near anything (no robot near a wall, a person or another robot): no contact.
-        # (count_nonzero: the cheapest reduction of numpy on these small strided views.)
-        possible = any(np.count_nonzero(near) for near in self._near_robots) or bool(
-            np.count_nonzero(self._near_people)
-        )
-        sim.set_hints(self._near_static, self._near_people)
-        sim.step(self._command, possible)
+        # Nothing near anything (no robot near a wall, a person or another robot; the core's
+        # flag): no contact, and the contact bits need not be set (the physics steps with the
+        # collision detection off; set_hints() writes them when contacts are possible again).
+        if self.out.item(self._possible_index):
+            sim.set_hints(self._near_static, self._near_people)
+            sim.step(self._command, True)
+        else:
+            sim.step(self._command, False)
         sim.read()
 
     def act(self, robot: int, action: Any, field: str) -> None:

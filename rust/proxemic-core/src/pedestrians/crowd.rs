@@ -2,6 +2,7 @@
 //! each person's motion from its script, sums the forces from a snapshot (Jacobi), and integrates
 //! them under the hard constraints.
 
+use super::force::interaction_term;
 use super::scripts::Script;
 use super::{SocialForceParams, TRAIL_SPACING, TURN_RATE, YIELD_GAP, interaction_force};
 use crate::map::geometry::StaticGeometry;
@@ -234,19 +235,32 @@ impl Crowd {
             let (pi, vi) = (self.pos[i], self.vel[i]);
             let desired = self.desired[i];
             let mut f = (desired - vi) / p.tau;
+            // The zero terms (people beyond the cutoff, most of them) are skipped. Adding +0.0
+            // changes nothing but a -0.0 into +0.0: `acc` starts at +0.0 and so never holds a
+            // -0.0, and for `f` one addition of zero after its loop (if a term was skipped) does
+            // what they did. The sums are the same bit for bit.
             if binned {
                 let mut acc = Vec2::zeros();
                 self.bins.for_near(pi, |j| {
-                    if j != i {
-                        acc += interaction_force(pi, vi, self.pos[j], self.vel[j], &p);
+                    if j != i
+                        && let Some(t) = interaction_term(pi, vi, self.pos[j], self.vel[j], &p)
+                    {
+                        acc += t;
                     }
                 });
                 f += acc;
             } else {
+                let mut skipped = false;
                 for j in 0..n {
                     if j != i {
-                        f += interaction_force(pi, vi, self.pos[j], self.vel[j], &p);
+                        match interaction_term(pi, vi, self.pos[j], self.vel[j], &p) {
+                            Some(t) => f += t,
+                            None => skipped = true,
+                        }
                     }
+                }
+                if skipped {
+                    f += Vec2::zeros();
                 }
             }
             if self.aware[i] {

@@ -74,22 +74,40 @@ impl Default for SocialForceParams {
 /// velocity `vj` (Moussaid, Helbing, Garnier, Johansson, Combe & Theraulaz 2009, Proc. R. Soc. B
 /// 276). Centre-to-centre distances; m/s^2.
 pub fn interaction_force(pi: Vec2, vi: Vec2, pj: Vec2, vj: Vec2, p: &SocialForceParams) -> Vec2 {
+    interaction_term(pi, vi, pj, vj, p).unwrap_or_else(Vec2::zeros)
+}
+
+/// [`interaction_force`], or None where it is zero without being computed: the agents farther
+/// apart than the cutoff or at the same point, no interaction direction, or a magnitude below
+/// 1e-6 m/s^2 (the crowd's sums skip those terms).
+pub(super) fn interaction_term(
+    pi: Vec2,
+    vi: Vec2,
+    pj: Vec2,
+    vj: Vec2,
+    p: &SocialForceParams,
+) -> Option<Vec2> {
     let diff = pj - pi;
     let d2 = diff.norm_squared();
     if d2 < 1e-18 || d2 > p.cutoff * p.cutoff {
-        return Vec2::zeros();
+        return None;
     }
     let d = d2.sqrt();
     let e = diff / d;
     let big_d = (vi - vj) * p.lambda + e;
     let dn = big_d.norm();
     if dn < 1e-12 {
-        return Vec2::zeros();
+        return None;
+    }
+    let b = p.gamma * dn;
+    // Checked before the angle, which a negligible force does not need.
+    let magnitude = p.strength * (-d / b).exp();
+    if magnitude < 1e-6 {
+        return None;
     }
     let t = big_d / dn;
     let n = Vec2::new(-t.y, t.x);
     let theta = (t.x * e.y - t.y * e.x).atan2(t.dot(&e));
-    let b = p.gamma * dn;
     // sign(theta), with exact symmetry resolved by the passing convention: K = +1 pushes i to
     // its right (-n), so both agents of a head-on encounter pass on the right.
     let k = if theta > 0.0 {
@@ -101,13 +119,9 @@ pub fn interaction_force(pi: Vec2, vi: Vec2, pj: Vec2, vj: Vec2, p: &SocialForce
     } else {
         -1.0
     };
-    let magnitude = p.strength * (-d / b).exp();
-    if magnitude < 1e-6 {
-        return Vec2::zeros();
-    }
     let decel = (-(p.n_prime * b * theta).powi(2)).exp();
     let lateral = (-(p.n * b * theta).powi(2)).exp();
-    -(t * decel + n * (k * lateral)) * magnitude
+    Some(-(t * decel + n * (k * lateral)) * magnitude)
 }
 
 impl Crowd {

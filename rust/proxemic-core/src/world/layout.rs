@@ -60,6 +60,10 @@ pub struct Layout {
     pub near_static: Section,
     /// 1: 1.0 while another robot is within [`super::CONTACT_RANGE`] of it, else 0.0.
     pub near_robot: Section,
+    /// 1: 1.0 while any contact can happen in the next control step (some robot's
+    /// `near_static` or `near_robot` hint or some person's contact hint is set), else 0.0 (the
+    /// physics may step with contacts off); the same in every row.
+    pub contacts_possible: Section,
     /// 1: seconds after midnight, the same in every row.
     pub time_of_day: Section,
 }
@@ -97,6 +101,7 @@ impl Layout {
             mode: c.take(1),
             near_static: c.take(1),
             near_robot: c.take(1),
+            contacts_possible: c.take(1),
             time_of_day: c.take(1),
         };
         layout.stride = c.0;
@@ -104,7 +109,7 @@ impl Layout {
     }
 
     /// The sections by name, in row order (what the Python binding exposes as `World.layout`).
-    pub fn sections(&self) -> [(&'static str, Section); 16] {
+    pub fn sections(&self) -> [(&'static str, Section); 17] {
         [
             ("command", self.command),
             ("planner_action", self.planner_action),
@@ -121,6 +126,7 @@ impl Layout {
             ("mode", self.mode),
             ("near_static", self.near_static),
             ("near_robot", self.near_robot),
+            ("contacts_possible", self.contacts_possible),
             ("time_of_day", self.time_of_day),
         ]
     }

@@ -55,11 +55,13 @@ impl World {
     }
 
     /// Writes the people's poses and contact hints into `people_out`, and each robot's
-    /// `near_static` hint and the time of day into its row of `out`.
+    /// `near_static` and `near_robot` hints, whether any contact is possible and the time of day
+    /// into its row of `out`.
     pub(super) fn write_people(&self, out: &mut [f64], people_out: &mut [f64]) {
         let stride = self.layout.stride;
         let (near_off, robot_off, tod_off) =
             (self.layout.near_static.offset, self.layout.near_robot.offset, self.layout.time_of_day.offset);
+        let mut possible = false;
         let dt = self.scenario.control_dt();
         let tod = self.time_of_day();
         // Robot discs grown by the contact range and what the robot can travel in one period.
@@ -84,6 +86,7 @@ impl World {
             row[near_off] = f64::from(u8::from(near));
             row[robot_off] = f64::from(u8::from(near_robot));
             row[tod_off] = tod;
+            possible |= near || near_robot;
         }
         for (k, chunk) in people_out.chunks_exact_mut(PERSON_OUT).enumerate() {
             let q = self.crowd.pos[k];
@@ -97,6 +100,11 @@ impl World {
             let (sin, cos) = (0.5 * h).sin_cos();
             chunk[4] = cos;
             chunk[5] = sin;
+            possible |= near;
+        }
+        let possible_off = self.layout.contacts_possible.offset;
+        for row in out.chunks_exact_mut(stride) {
+            row[possible_off] = f64::from(u8::from(possible));
         }
     }
 
