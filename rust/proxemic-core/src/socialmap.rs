@@ -704,7 +704,11 @@ fn in_sight(
 
 /// The walk of [`in_sight`] for a rect at most 128 cells wide (`words` 1 or 2), one `u128` per
 /// row: `free` the rect's free cells (bit rows of `words` words), `start` the centre's cell; adds
-/// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk.
+/// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk,
+/// each layer in one pass over its rows: a row's cells are cut to those in sight and spread to
+/// their row neighbours as the pass reaches the row below them. A cell is in sight when the
+/// layer that reached it did not cut it, so the open cells are the visited ones less the cut
+/// ones, gathered once at the end.
 fn walk_narrow(
     free: &[u64],
     rows: &mut [Vec<u128>; 4],
@@ -714,17 +718,14 @@ fn walk_narrow(
 ) {
     let h = free.len() / words;
     let (sx, sy) = start;
-    let [nfree, visited, layer, spread] = rows;
+    let [nfree, visited, layer, cut] = rows;
     let row = |r: &[u64]| u128::from(r[0]) | r.get(1).map_or(0, |&hi| u128::from(hi) << 64);
     nfree.clear();
     nfree.extend(free.chunks_exact(words).map(row));
-    for v in [&mut *visited, &mut *layer] {
+    for v in [&mut *visited, &mut *layer, &mut *cut] {
         v.clear();
         v.resize(h, 0);
     }
-    // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
-    spread.clear();
-    spread.resize(h + 4, 0);
     // The cells `x - a ..= x + a` (within the row).
     let span = |x: usize, a: usize| {
         let (lo, hi) = (x.saturating_sub(a), x.saturating_add(a).min(127));
@@ -732,49 +733,52 @@ fn walk_narrow(
     };
     layer[sy] = 1 << sx;
     visited[sy] = 1 << sx;
+    // Rows outside `lo ..= hi` (the rows of the current layer) hold no cell of the layer.
     let (mut lo, mut hi) = (sy, sy);
     let mut k = 0u64;
     loop {
-        for y in lo..=hi {
+        let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
+        // The half-width is below `m`: a row without cells nearer the centre's column keeps all.
+        let near = if m > 0 { span(sx, m - 1) } else { 0 };
+        // Layer row `y` cut to its cells in sight, spread to their row neighbours.
+        let mut spread = |layer: &mut [u128], y: usize| {
             let mut e = layer[y];
-            if e != 0 {
-                let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
-                // The half-width is below `m`: a row without cells nearer the centre's column
-                // skips it.
-                if m > 0
-                    && e & span(sx, m - 1) != 0
-                    && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
-                {
-                    e &= !span(sx, usize::try_from(a).unwrap_or(usize::MAX));
-                }
-                open[y * words] |= e as u64;
-                if words == 2 {
-                    open[y * words + 1] |= (e >> 64) as u64;
-                }
+            if e & near != 0
+                && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
+            {
+                let c = e & span(sx, usize::try_from(a).unwrap_or(usize::MAX));
+                cut[y] |= c;
+                e &= !c;
             }
-            spread[y + 2] = e | (e << 1) | (e >> 1);
-        }
-        spread[lo] = 0;
-        spread[lo + 1] = 0;
-        spread[hi + 3] = 0;
-        spread[hi + 4] = 0;
+            e | (e << 1) | (e >> 1)
+        };
         let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
         let (mut first, mut last) = (usize::MAX, 0);
+        // The spread rows above, at and below `y` (row `nlo - 1` is outside the layer).
+        let (mut above, mut at) = (0u128, spread(layer, nlo));
         for y in nlo..=nhi {
-            let acc = spread[y + 1] | spread[y + 2] | spread[y + 3];
-            let fresh = acc & nfree[y] & !visited[y];
+            let below = if y < hi { spread(layer, y + 1) } else { 0 };
+            let fresh = (above | at | below) & nfree[y] & !visited[y];
             visited[y] |= fresh;
             layer[y] = fresh;
             if fresh != 0 {
                 first = first.min(y);
                 last = y;
             }
+            (above, at) = (at, below);
         }
         if first > last {
             break;
         }
         (lo, hi) = (first, last);
         k += 1;
+    }
+    for (y, (&v, &c)) in visited.iter().zip(cut.iter()).enumerate() {
+        let o = v & !c;
+        open[y * words] |= o as u64;
+        if words == 2 {
+            open[y * words + 1] |= (o >> 64) as u64;
+        }
     }
 }
 
