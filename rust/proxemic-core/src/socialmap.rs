@@ -286,15 +286,29 @@ fn for_each_zone_cell(
         costs.social * costs.social / two_z2,
     );
     let res = spec.resolution;
+    let rows = ZoneRows::new(quad, qs);
     for iy in b0..=b1 {
         let row = spec.index(0, iy);
         let p0 = spec.center(a0, iy);
         let (dx, dy) = (p0.x - cx, p0.y - cy);
+        let sight = open.row(iy - f0y);
+        // Only the cells of the row that can be in the social zone and in sight are tested.
+        let Some((lo, hi)) = rows
+            .cells(spec, cx, dy, (a0, a1))
+            .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
+        else {
+            continue;
+        };
+        let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
         let mut sag = cos * dx + sin * dy;
         let mut fro = sin * dx - cos * dy;
         let (dsag, dfro) = (cos * res, sin * res);
-        let sight = open.row(iy - f0y);
-        for ix in a0..=a1 {
+        // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
+        for _ in a0..lo {
+            sag += dsag;
+            fro += dfro;
+        }
+        for ix in lo..=hi {
             let ks = if sag >= 0.0 { kf } else { kr };
             let kq = if fro >= 0.0 { kri } else { kl };
             let e = ks * sag * sag + kq * fro * fro;
@@ -313,6 +327,117 @@ fn for_each_zone_cell(
             fro += dfro;
         }
     }
+}
+
+/// The rows of the social zone of a quadrant-wise quadratic form (see
+/// [`SpaceFunction::quadratic`]): per quadrant, the constants that give the zone's part of a
+/// row in a few operations (see [`ZoneRows::cells`]).
+#[derive(Clone, Copy, Debug)]
+struct ZoneRows {
+    /// Per quadrant: `1 / 2a`, `b / dy`, the discriminant's `dy^2` coefficient and constant, and
+    /// per half-plane `1 / k` and `o / dy` (see [`ZoneRows::cells`]).
+    quarters: [[f64; 8]; 4],
+    /// Whether every quadrant could be bounded (positive, finite coefficients).
+    bounded: bool,
+}
+
+impl ZoneRows {
+    /// The constants of `quad` for the social zone's threshold `qs`.
+    ///
+    /// Along a row `dy` metres above the centre, `sag = cos dx + sin dy` and
+    /// `fro = sin dx - cos dy`, so the exponent of a quadrant is `a dx^2 + b dx + c` with
+    /// `a = k_s cos^2 + k_f sin^2`, `b = 2 cos sin (k_s - k_f) dy`,
+    /// `c = (k_s sin^2 + k_f cos^2) dy^2 - q`: its roots at `q = qs (1 + 1e-3)` bound the quadrant's
+    /// ellipse on the row.
+    fn new(quad: &[f64; 8], qs: f64) -> Self {
+        let [_, _, cos, sin, kf, kr, kri, kl] = *quad;
+        let q = qs * (1.0 + 1e-3);
+        let mut quarters = [[0.0; 8]; 4];
+        let mut bounded = q.is_finite();
+        for (i, (ks, s_sag, kq, s_fro)) in
+            [(kf, 1.0, kri, 1.0), (kf, 1.0, kl, -1.0), (kr, -1.0, kri, 1.0), (kr, -1.0, kl, -1.0)]
+                .into_iter()
+                .enumerate()
+        {
+            let a = ks * cos * cos + kq * sin * sin;
+            let b = 2.0 * cos * sin * (ks - kq);
+            let c = ks * sin * sin + kq * cos * cos;
+            let (d1, d0) = (b * b - 4.0 * a * c, 4.0 * a * q);
+            let (k_sag, k_fro) = (s_sag * cos, s_fro * sin);
+            quarters[i] = [0.5 / a, b, d1, d0, 1.0 / k_sag, s_sag * sin, 1.0 / k_fro, -s_fro * cos];
+            let [_, _, _, _, inv_ks, _, inv_kf, _] = quarters[i];
+            bounded &= a > 0.0
+                && ks > 0.0
+                && kq > 0.0
+                && [0, 1, 2, 3, 5, 7].iter().all(|&j| quarters[i][j].is_finite())
+                && !inv_ks.is_nan()
+                && !inv_kf.is_nan();
+        }
+        ZoneRows { quarters, bounded }
+    }
+
+    /// The cells `lo ..= hi` (within `cols`) of a row `dy` metres above the centre `cx` outside
+    /// which the exponent is at least `qs`; `None` when the row has no such cell. A superset: the
+    /// row sweep still tests every cell of it. Each quadrant's part is its ellipse's chord cut to
+    /// its two half-planes (`k dx + o >= 0`, widened by a cell); the parts are joined, and the
+    /// cells get one more on each side: the margins are far beyond the rounding of the sweep's
+    /// sums. When something cannot be bounded the whole row is kept.
+    fn cells(&self, spec: &GridSpec, cx: f64, dy: f64, cols: (usize, usize)) -> Option<(usize, usize)> {
+        let res = spec.resolution;
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        let dy2 = dy * dy;
+        for &[inv2a, b, d1, d0, inv_ks, os, inv_kf, of] in &self.quarters {
+            let disc = d1 * dy2 + d0;
+            if disc.is_nan() || disc < 0.0 {
+                continue;
+            }
+            let r = disc.sqrt();
+            let (mut l, mut h) = ((-b * dy - r) * inv2a, (-b * dy + r) * inv2a);
+            for (inv_k, o) in [(inv_ks, os * dy), (inv_kf, of * dy)] {
+                let edge = (-res - o) * inv_k;
+                if inv_k > 0.0 {
+                    l = l.max(edge);
+                } else if inv_k < 0.0 {
+                    h = h.min(edge);
+                }
+                // A row parallel to the edge (`k = 0`) has an infinite `1 / k`: the edge is then
+                // at infinity (all or nothing), or NaN, which `max` and `min` ignore.
+            }
+            if l <= h {
+                lo = lo.min(l);
+                hi = hi.max(h);
+            }
+        }
+        let (c0, c1) = (cols.0 as f64, cols.1 as f64);
+        let (lo, hi) = if self.bounded && dy.is_finite() && !lo.is_nan() && !hi.is_nan() {
+            if lo > hi {
+                return None;
+            }
+            // Cell `ix` has its centre at `dx = origin + (ix + 0.5) res - cx`.
+            let cell = |dx: f64| (cx + dx - spec.origin.x) / res - 0.5;
+            ((cell(lo).floor() - 1.0).max(c0), (cell(hi).ceil() + 1.0).min(c1))
+        } else {
+            (c0, c1)
+        };
+        if lo.is_nan() || hi.is_nan() {
+            return Some(cols);
+        }
+        (lo <= hi).then_some((lo as usize, hi as usize))
+    }
+}
+
+/// The first and last open cell of `x0 ..= x1` in a bit row of a [`Sight`], `None` when none is.
+fn open_span(bits: &[u64], x0: usize, x1: usize) -> Option<(usize, usize)> {
+    let (j0, j1) = (x0 / 64, x1 / 64);
+    let first = (j0..=j1).find_map(|j| {
+        let w = bits[j] & span_bits(j, x0, x1);
+        (w != 0).then(|| 64 * j + w.trailing_zeros() as usize)
+    })?;
+    let last = (j0..=j1).rev().find_map(|j| {
+        let w = bits[j] & span_bits(j, x0, x1);
+        (w != 0).then(|| 64 * j + 63 - w.leading_zeros() as usize)
+    })?;
+    Some((first, last))
 }
 
 /// Which cells of a rect lie open to an individual (see [`in_sight`]): bit `x % 64` of word
@@ -579,7 +704,11 @@ fn in_sight(
 
 /// The walk of [`in_sight`] for a rect at most 128 cells wide (`words` 1 or 2), one `u128` per
 /// row: `free` the rect's free cells (bit rows of `words` words), `start` the centre's cell; adds
-/// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk.
+/// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk,
+/// each layer in one pass over its rows: a row's cells are cut to those in sight and spread to
+/// their row neighbours as the pass reaches the row below them. A cell is in sight when the
+/// layer that reached it did not cut it, so the open cells are the visited ones less the cut
+/// ones, gathered once at the end.
 fn walk_narrow(
     free: &[u64],
     rows: &mut [Vec<u128>; 4],
@@ -589,17 +718,14 @@ fn walk_narrow(
 ) {
     let h = free.len() / words;
     let (sx, sy) = start;
-    let [nfree, visited, layer, spread] = rows;
+    let [nfree, visited, layer, cut] = rows;
     let row = |r: &[u64]| u128::from(r[0]) | r.get(1).map_or(0, |&hi| u128::from(hi) << 64);
     nfree.clear();
     nfree.extend(free.chunks_exact(words).map(row));
-    for v in [&mut *visited, &mut *layer] {
+    for v in [&mut *visited, &mut *layer, &mut *cut] {
         v.clear();
         v.resize(h, 0);
     }
-    // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
-    spread.clear();
-    spread.resize(h + 4, 0);
     // The cells `x - a ..= x + a` (within the row).
     let span = |x: usize, a: usize| {
         let (lo, hi) = (x.saturating_sub(a), x.saturating_add(a).min(127));
@@ -607,49 +733,52 @@ fn walk_narrow(
     };
     layer[sy] = 1 << sx;
     visited[sy] = 1 << sx;
+    // Rows outside `lo ..= hi` (the rows of the current layer) hold no cell of the layer.
     let (mut lo, mut hi) = (sy, sy);
     let mut k = 0u64;
     loop {
-        for y in lo..=hi {
+        let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
+        // The half-width is below `m`: a row without cells nearer the centre's column keeps all.
+        let near = if m > 0 { span(sx, m - 1) } else { 0 };
+        // Layer row `y` cut to its cells in sight, spread to their row neighbours.
+        let mut spread = |layer: &mut [u128], y: usize| {
             let mut e = layer[y];
-            if e != 0 {
-                let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
-                // The half-width is below `m`: a row without cells nearer the centre's column
-                // skips it.
-                if m > 0
-                    && e & span(sx, m - 1) != 0
-                    && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
-                {
-                    e &= !span(sx, usize::try_from(a).unwrap_or(usize::MAX));
-                }
-                open[y * words] |= e as u64;
-                if words == 2 {
-                    open[y * words + 1] |= (e >> 64) as u64;
-                }
+            if e & near != 0
+                && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
+            {
+                let c = e & span(sx, usize::try_from(a).unwrap_or(usize::MAX));
+                cut[y] |= c;
+                e &= !c;
             }
-            spread[y + 2] = e | (e << 1) | (e >> 1);
-        }
-        spread[lo] = 0;
-        spread[lo + 1] = 0;
-        spread[hi + 3] = 0;
-        spread[hi + 4] = 0;
+            e | (e << 1) | (e >> 1)
+        };
         let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
         let (mut first, mut last) = (usize::MAX, 0);
+        // The spread rows above, at and below `y` (row `nlo - 1` is outside the layer).
+        let (mut above, mut at) = (0u128, spread(layer, nlo));
         for y in nlo..=nhi {
-            let acc = spread[y + 1] | spread[y + 2] | spread[y + 3];
-            let fresh = acc & nfree[y] & !visited[y];
+            let below = if y < hi { spread(layer, y + 1) } else { 0 };
+            let fresh = (above | at | below) & nfree[y] & !visited[y];
             visited[y] |= fresh;
             layer[y] = fresh;
             if fresh != 0 {
                 first = first.min(y);
                 last = y;
             }
+            (above, at) = (at, below);
         }
         if first > last {
             break;
         }
         (lo, hi) = (first, last);
         k += 1;
+    }
+    for (y, (&v, &c)) in visited.iter().zip(cut.iter()).enumerate() {
+        let o = v & !c;
+        open[y * words] |= o as u64;
+        if words == 2 {
+            open[y * words + 1] |= (o >> 64) as u64;
+        }
     }
 }
 
@@ -1422,51 +1551,133 @@ mod tests {
         }
     }
 
+    /// The zone (0 intimate, 1 personal, 2 social) of every cell of `rect` (row-major), decided
+    /// cell by cell over the whole rect by the row sweep as first written.
+    fn plain_zones(
+        spec: &GridSpec,
+        c: &SocialCosts,
+        quad: &[f64; 8],
+        zone_scale: f64,
+        rect: Rect,
+    ) -> Vec<Option<usize>> {
+        let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
+        let (a0, b0, a1, b1) = rect;
+        let two_z2 = 2.0 * zone_scale * zone_scale;
+        let (qi, qp, qs) = (
+            c.intimate * c.intimate / two_z2,
+            c.personal * c.personal / two_z2,
+            c.social * c.social / two_z2,
+        );
+        let res = spec.resolution;
+        let mut zones = Vec::with_capacity((a1 + 1 - a0) * (b1 + 1 - b0));
+        for iy in b0..=b1 {
+            let p0 = spec.center(a0, iy);
+            let (dx, dy) = (p0.x - cx, p0.y - cy);
+            let mut sag = cos * dx + sin * dy;
+            let mut fro = sin * dx - cos * dy;
+            for _ in a0..=a1 {
+                let ks = if sag >= 0.0 { kf } else { kr };
+                let kq = if fro >= 0.0 { kri } else { kl };
+                let e = ks * sag * sag + kq * fro * fro;
+                zones.push(if e < qi {
+                    Some(0)
+                } else if e < qp {
+                    Some(1)
+                } else if e < qs {
+                    Some(2)
+                } else {
+                    None
+                });
+                sag += cos * res;
+                fro += sin * res;
+            }
+        }
+        zones
+    }
+
     /// The people layer of the counting path computed the plain way: for every individual, the
     /// cells of its box in sight of it (the reference walk) get the maximum with its zone's
-    /// factor, the zone decided cell by cell by the row sweep as first written.
+    /// factor, the zone decided cell by cell by [`plain_zones`].
     fn counted_layer_reference(m: &SocialMap, people: &[Oval]) -> Vec<f64> {
         let spec = m.grid().spec;
         let c = m.costs();
+        let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
         let mut layer = vec![1.0f64; spec.len()];
         for ind in people {
             let Some(full) = m.rect_of(ind) else { continue };
             let open = in_sight_reference(m.static_layer(), Vec2::new(ind.quad[0], ind.quad[1]), full);
-            let [cx, cy, cos, sin, kf, kr, kri, kl] = ind.quad;
-            let (a0, b0, a1, b1) = full;
-            let two_z2 = 2.0 * ind.zone_scale * ind.zone_scale;
-            let (qi, qp, qs) = (
-                c.intimate * c.intimate / two_z2,
-                c.personal * c.personal / two_z2,
-                c.social * c.social / two_z2,
-            );
-            let res = spec.resolution;
-            for iy in b0..=b1 {
-                let p0 = spec.center(a0, iy);
-                let (dx, dy) = (p0.x - cx, p0.y - cy);
-                let mut sag = cos * dx + sin * dy;
-                let mut fro = sin * dx - cos * dy;
-                for ix in a0..=a1 {
-                    let ks = if sag >= 0.0 { kf } else { kr };
-                    let kq = if fro >= 0.0 { kri } else { kl };
-                    let e = ks * sag * sag + kq * fro * fro;
-                    if e < qs && open[(iy - b0) * (a1 + 1 - a0) + ix - a0] {
-                        let f = if e < qi {
-                            f64::INFINITY
-                        } else if e < qp {
-                            c.personal_cost
-                        } else {
-                            c.social_cost
-                        };
-                        let i = spec.index(ix, iy);
-                        layer[i] = layer[i].max(f);
-                    }
-                    sag += cos * res;
-                    fro += sin * res;
+            let zones = plain_zones(&spec, c, &ind.quad, ind.zone_scale, full);
+            let (a0, b0, a1, _) = full;
+            for (k, zone) in zones.iter().enumerate() {
+                if let Some(z) = zone.filter(|_| open[k]) {
+                    let i = spec.index(a0 + k % (a1 + 1 - a0), b0 + k / (a1 + 1 - a0));
+                    layer[i] = layer[i].max(factors[z]);
                 }
             }
         }
         layer
+    }
+
+    #[test]
+    fn zone_sweeps_limited_to_the_zones_rows_are_the_plain_sweep_bit_for_bit() {
+        // Turned (and axis-aligned), very uneven individuals anywhere on and off a grid with an
+        // odd origin, over rects smaller and larger than their zones, with and without a sight
+        // mask: the sweep that tests only the cells of [`ZoneRows::cells`] and of the mask's open
+        // span visits exactly the cells, with the zones, of the plain sweep of the whole rect.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(29);
+        let spec = GridSpec { origin: Vec2::new(-3.37, 1.21), ..grid(16.0, 9.0).spec };
+        let costs = SocialCosts::default();
+        for case in 0..3000 {
+            let (cos, sin) = match case % 5 {
+                0 => [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][rng.random_range(0..4)],
+                _ => {
+                    let th: f64 = rng.random_range(-3.2..3.2);
+                    (th.cos(), th.sin())
+                }
+            };
+            let mut k = || 10f64.powf(rng.random_range(-1.5..1.5));
+            let (kf, kr, kri, kl) = (k(), k(), k(), k());
+            let centre = Vec2::new(rng.random_range(-6.0..15.0), rng.random_range(-1.0..12.0));
+            let quad = [centre.x, centre.y, cos, sin, kf, kr, kri, kl];
+            let zone_scale = rng.random_range(0.5..1.5);
+            let (x0, y0) = (rng.random_range(0..spec.width), rng.random_range(0..spec.height));
+            let rect = (
+                x0,
+                y0,
+                (x0 + rng.random_range(0..200)).min(spec.width - 1),
+                (y0 + rng.random_range(0..120)).min(spec.height - 1),
+            );
+            let (w, h) = (rect.2 + 1 - rect.0, rect.3 + 1 - rect.1);
+            let words = w.div_ceil(64);
+            let open = if case % 2 == 0 {
+                Sight { words, bits: None }
+            } else {
+                // Random runs of open and closed cells.
+                let mut bits = vec![0u64; words * h];
+                for y in 0..h {
+                    let mut on = rng.random_bool(0.5);
+                    for x in 0..w {
+                        if rng.random_bool(0.05) {
+                            on = !on;
+                        }
+                        bits[y * words + x / 64] |= u64::from(on) << (x % 64);
+                    }
+                }
+                Sight { words, bits: Some(bits) }
+            };
+            let mut got = Vec::new();
+            for_each_zone_cell(&spec, &costs, &quad, zone_scale, rect, &open, rect, |i, z| got.push((i, z)));
+            let want: Vec<(usize, usize)> = plain_zones(&spec, &costs, &quad, zone_scale, rect)
+                .into_iter()
+                .enumerate()
+                .filter_map(|(k, z)| {
+                    let (x, y) = (k % w, k / w);
+                    Some((spec.index(rect.0 + x, rect.1 + y), z.filter(|_| open.is_open(x, y))?))
+                })
+                .collect();
+            assert_eq!(got, want, "case {case}");
+        }
     }
 
     #[test]
