@@ -1091,6 +1091,7 @@ impl SocialMap {
         });
     }
 
+    #[inline(always)]
     fn combine(&mut self, idx: usize) {
         let s = self.static_grid.cost[idx];
         self.combined.cost[idx] = if s >= INSCRIBED {

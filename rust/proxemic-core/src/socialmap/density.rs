@@ -226,14 +226,47 @@ impl DensityLayer {
             people: &self.base,
         };
         let bw = tw.div_ceil(BLOCK);
-        self.block_slack.fill(f64::INFINITY);
-        for ty in 0..th {
-            for tx in 0..tw {
-                let s =
-                    raster.tile(tx, ty, &mut self.scratch, &mut self.factors, (&mut self.lo, &mut self.hi));
-                self.tile_slack[ty * tw + tx] = s;
-                let b = &mut self.block_slack[(ty / BLOCK) * bw + tx / BLOCK];
-                *b = b.min(s);
+        for by in 0..th.div_ceil(BLOCK) {
+            for bx in 0..bw {
+                // The people who may matter in the block's tiles; the ones whose exponent stays
+                // above `BLOCK_FAR` over the whole block are only bounded.
+                let (tx0, ty0) = (bx * BLOCK, by * BLOCK);
+                let (tx1, ty1) = ((tx0 + BLOCK).min(tw), (ty0 + BLOCK).min(th));
+                let lo = self.spec.center(tx0 * TILE, ty0 * TILE);
+                let hi = self
+                    .spec
+                    .center((tx1 * TILE).min(self.spec.width) - 1, (ty1 * TILE).min(self.spec.height) - 1);
+                let mut far = 0.0;
+                self.scratch.block.clear();
+                for (i, p) in self.base.iter().enumerate() {
+                    if p.out_of_reach(lo, hi) {
+                        continue;
+                    }
+                    let q = p.bounds(lo, hi).0;
+                    if q > BLOCK_FAR {
+                        if q <= CUT * (1.0 + 1e-9) {
+                            far += exp_table_above(q);
+                        }
+                    } else {
+                        self.scratch.block.push(i);
+                    }
+                }
+                let mut least = f64::INFINITY;
+                for ty in ty0..ty1 {
+                    for tx in tx0..tx1 {
+                        let s = raster.tile(
+                            tx,
+                            ty,
+                            far,
+                            &mut self.scratch,
+                            &mut self.factors,
+                            (&mut self.lo, &mut self.hi),
+                        );
+                        self.tile_slack[ty * tw + tx] = s;
+                        least = least.min(s);
+                    }
+                }
+                self.block_slack[by * bw + bx] = least;
             }
         }
     }
@@ -336,11 +369,7 @@ impl DensityLayer {
                                     class
                                 } else {
                                     if !some_ready {
-                                        // The people who reach the tile (the others add exactly 0).
-                                        self.scratch.some.clear();
-                                        self.scratch.some.extend((0..self.people.len()).filter(|&i| {
-                                            self.people[i].bounds(lo, hi).0 <= CUT * (1.0 + 1e-9)
-                                        }));
+                                        raster.reaching(lo, hi, &mut self.scratch.some);
                                         some_ready = true;
                                     }
                                     // The same sum as `density_factor`'s.
@@ -383,6 +412,10 @@ const BLOCK: usize = 4;
 /// People whose exponent can fall to this in a tile are summed per cell by [`DensityLayer`]
 /// (`exp(-10) = 4.5e-5`: the others together stay far below the contour levels' gaps).
 const NEAR_EXPONENT: f64 = 10.0;
+
+/// People whose exponent stays above this over a block of [`DensityLayer`]'s rebuild
+/// (`exp(-16) = 1.1e-7`) are only bounded there, not looked at per tile.
+const BLOCK_FAR: f64 = 16.0;
 
 /// Kirby's Gaussian is cut where its exponent exceeds this (0 beyond).
 const CUT: f64 = 40.0;
@@ -455,45 +488,48 @@ impl Person {
         }
     }
 
-    /// A lower and an upper bound on the exponent over the box `lo`-`hi` (m) (relative margins
-    /// 1e-9): each axis term's minimum over the box, and its maximum (the term is convex with
-    /// its minimum at 0, so the maximum is at one end); both `f64::INFINITY` when the box is out
-    /// of the Gaussian's reach (exponent above 40 by distance alone).
+    /// Whether the box `lo`-`hi` (m) is out of the Gaussian's reach: the exponent is above 40
+    /// there by distance alone (with the widest σ).
     #[inline]
-    fn bounds(&self, lo: Vec2, hi: Vec2) -> (f64, f64) {
-        // Beyond the distance where even the widest σ gives exponent 40: out of reach.
+    fn out_of_reach(&self, lo: Vec2, hi: Vec2) -> bool {
         let dx = (lo.x - self.pos.x).max(self.pos.x - hi.x).max(0.0);
         let dy = (lo.y - self.pos.y).max(self.pos.y - hi.y).max(0.0);
         let r = self.sigma_max * (2.0 * CUT).sqrt() * (1.0 + 1e-9);
-        if dx * dx + dy * dy > r * r {
-            return (f64::INFINITY, f64::INFINITY);
-        }
+        dx * dx + dy * dy > r * r
+    }
+
+    /// A lower and an upper bound on the exponent over the box `lo`-`hi` (m) (relative margins
+    /// 1e-9): each axis term's minimum over the box, and its maximum (the term is convex with
+    /// its minimum at 0, so the maximum is at one end). Without branches: of `max(m, 0)` and
+    /// `min(m, 0)` one is 0.
+    #[inline]
+    fn bounds(&self, lo: Vec2, hi: Vec2) -> (f64, f64) {
         let [u, du, v, dv] = box_in_frame(self.pos, self.f, lo, hi);
         let (u0, u1, v0, v1) = (u - du, u + du, v - dv, v + dv);
-        let along = |m: f64| m * m * if m >= 0.0 { self.ahead } else { self.behind };
-        let qu_lo = if u0 > 0.0 {
-            along(u0)
-        } else if u1 < 0.0 {
-            along(u1)
-        } else {
-            0.0
-        };
-        let qv_lo = if v0 > 0.0 {
-            v0 * v0
-        } else if v1 < 0.0 {
-            v1 * v1
-        } else {
-            0.0
-        } * self.across;
+        let sq = |m: f64| m * m;
+        let along = |m: f64| self.ahead * sq(m.max(0.0)) + self.behind * sq(m.min(0.0));
+        let qu_lo = self.ahead * sq(u0.max(0.0)) + self.behind * sq(u1.min(0.0));
+        let qv_lo = sq(v0.max(0.0)) + sq(v1.min(0.0));
         let qu_hi = along(u0).max(along(u1));
-        let qv_hi = (v0 * v0).max(v1 * v1) * self.across;
-        ((qu_lo + qv_lo) * (1.0 - 1e-9), (qu_hi + qv_hi) * (1.0 + 1e-9))
+        let qv_hi = sq(v0).max(sq(v1));
+        ((qu_lo + self.across * qv_lo) * (1.0 - 1e-9), (qu_hi + self.across * qv_hi) * (1.0 + 1e-9))
+    }
+
+    /// An upper bound on either side's exponent (the larger of the two `1/(2σ_u²)` for `u` of
+    /// either sign) over the box `lo`-`hi` (m): bounds both quadratics of [`Side`] at once.
+    #[inline]
+    fn upper_either(&self, lo: Vec2, hi: Vec2) -> f64 {
+        let [u, du, v, dv] = box_in_frame(self.pos, self.f, lo, hi);
+        let qu = ((u - du).abs().max((u + du).abs())).powi(2) * self.ahead.max(self.behind);
+        let qv = ((v - dv).abs().max((v + dv).abs())).powi(2) * self.across;
+        (qu + qv) * (1.0 + 1e-9)
     }
 }
 
 /// Scratch lists of [`Raster::tile`].
 #[derive(Clone, Debug, Default)]
 struct Scratch {
+    block: Vec<usize>,
     some: Vec<usize>,
     near: Vec<usize>,
 }
@@ -513,12 +549,20 @@ impl Raster<'_> {
         self.thresholds.iter().filter(|&&t| g >= t).count()
     }
 
-    /// How far a density known to lie in `lo..=hi`, of class `c`, may move either way and stay
-    /// in its class, less a margin for rounding (negative: not at all).
-    fn slack(&self, lo: f64, hi: f64, c: usize) -> f64 {
-        let below = if c > 0 { lo - self.thresholds[c - 1] } else { f64::INFINITY };
-        let above = self.thresholds.get(c).map_or(f64::INFINITY, |&t| t - hi);
-        below.min(above) - REL * (1.0 + hi.abs())
+    /// How far a density known to lie in `lo..=hi` (no threshold inside) may move either way
+    /// and stay in its class, less a margin for rounding (negative: not at all): the distance to
+    /// the nearest threshold, `max(lo - t, t - hi)` for each threshold `t` outside.
+    #[inline]
+    fn slack(&self, lo: f64, hi: f64) -> f64 {
+        let d = self.thresholds.iter().fold(f64::INFINITY, |d, &t| d.min((lo - t).max(t - hi)));
+        d - REL * (1.0 + hi.abs())
+    }
+
+    /// The people (indices, in order) whose exponent may be 40 or below somewhere in the box
+    /// `lo`-`hi` (m), into `out`: the others add exactly 0 to every sum there.
+    fn reaching(&self, lo: Vec2, hi: Vec2, out: &mut Vec<usize>) {
+        out.clear();
+        out.extend((0..self.people.len()).filter(|&i| self.people[i].bounds(lo, hi).0 <= CUT * (1.0 + 1e-9)));
     }
 
     /// Computes the factors of tile (`tx`, `ty`) into `out` and each cell's slack into `slack`
@@ -528,6 +572,7 @@ impl Raster<'_> {
         &self,
         tx: usize,
         ty: usize,
+        block_far: f64,
         s: &mut Scratch,
         out: &mut [f64],
         (lo_out, hi_out): (&mut [f64], &mut [f64]),
@@ -536,15 +581,13 @@ impl Raster<'_> {
         let (x0, y0) = (tx * TILE, ty * TILE);
         let (x1, y1) = ((x0 + TILE).min(spec.width) - 1, (y0 + TILE).min(spec.height) - 1);
         let (lo, hi) = (spec.center(x0, y0), spec.center(x1, y1));
-        s.some.clear();
         s.near.clear();
-        let (mut far, mut t_lo, mut t_hi) = (0.0, 0.0, 0.0);
-        for (i, p) in self.people.iter().enumerate() {
-            let (q_lo, q_hi) = p.bounds(lo, hi);
+        let (mut far, mut t_lo, mut t_hi) = (block_far, 0.0, 0.0);
+        for &i in &s.block {
+            let (q_lo, q_hi) = self.people[i].bounds(lo, hi);
             if q_lo > CUT * (1.0 + 1e-9) {
                 continue;
             }
-            s.some.push(i);
             if q_lo <= NEAR_EXPONENT {
                 s.near.push(i);
                 t_hi += exp_table_above(q_lo);
@@ -558,7 +601,7 @@ impl Raster<'_> {
         let (t_lo, t_hi) = (t_lo * (1.0 - 1e-9), (t_hi + far) * (1.0 + 1e-9));
         let c = self.class(t_lo);
         if c == self.class(t_hi) {
-            let sl = self.slack(t_lo, t_hi, c);
+            let sl = self.slack(t_lo, t_hi);
             for iy in y0..=y1 {
                 let row = spec.index(x0, iy)..=spec.index(x1, iy);
                 out[row.clone()].fill(self.class_factor[c]);
@@ -575,28 +618,40 @@ impl Raster<'_> {
         // The products may count a near person's value where their exponent passes the cut.
         let pad = s.near.len() as f64 * CUT_TERM;
         let mut tile_slack = f64::INFINITY;
+        let mut undecided = false;
+        for iy in y0..=y1 {
+            let row = spec.index(x0, iy);
+            for i in 0..=x1 - x0 {
+                let g = acc[(iy - y0) * TILE + i];
+                let (g_lo, g_hi) = ((g - pad) * (1.0 - REL), (g + far) * (1.0 + REL));
+                let (c_lo, c_hi) = (self.class(g_lo), self.class(g_hi));
+                out[row + i] = self.class_factor[c_lo];
+                lo_out[row + i] = g_lo;
+                hi_out[row + i] = g_hi;
+                let sl = if c_lo == c_hi { self.slack(g_lo, g_hi) } else { f64::INFINITY };
+                tile_slack = tile_slack.min(sl);
+                undecided |= c_lo != c_hi;
+            }
+        }
+        if !undecided {
+            return tile_slack;
+        }
+        // The cells left undecided: the same sum as `density_factor`'s, every person not left
+        // out, in order.
+        self.reaching(lo, hi, &mut s.some);
         for iy in y0..=y1 {
             for ix in x0..=x1 {
-                let g = acc[(iy - y0) * TILE + ix - x0];
-                let (g_lo, g_hi) = ((g - pad) * (1.0 - REL), (g + far) * (1.0 + REL));
-                let c = self.class(g_lo);
-                let (c, g_lo, g_hi) = if c == self.class(g_hi) {
-                    (c, g_lo, g_hi)
-                } else {
-                    // The same sum as `density_factor`'s: every person not left out, in order.
-                    let x = spec.center(ix, iy);
-                    let g: f64 = s
-                        .some
-                        .iter()
-                        .map(|&i| self.zones.term(self.people[i].pos, self.people[i].f, x))
-                        .sum();
-                    (self.class(g), g, g)
-                };
                 let k = spec.index(ix, iy);
-                out[k] = self.class_factor[c];
-                lo_out[k] = g_lo;
-                hi_out[k] = g_hi;
-                tile_slack = tile_slack.min(self.slack(g_lo, g_hi, c));
+                if self.class(lo_out[k]) == self.class(hi_out[k]) {
+                    continue;
+                }
+                let x = spec.center(ix, iy);
+                let g: f64 =
+                    s.some.iter().map(|&i| self.zones.term(self.people[i].pos, self.people[i].f, x)).sum();
+                out[k] = self.class_factor[self.class(g)];
+                lo_out[k] = g;
+                hi_out[k] = g;
+                tile_slack = tile_slack.min(self.slack(g, g));
             }
         }
         tile_slack
@@ -607,12 +662,11 @@ impl Raster<'_> {
     /// stays below [`RECURRENCE_MAX`] (relative error below 1e-12), else by `exp` per cell.
     fn add_person(&self, p: &Person, x0: usize, y0: usize, acc: &mut [f64; TILE * TILE]) {
         let spec = self.spec;
-        let params = self.zones.params();
         let res = spec.resolution;
         let c0 = spec.center(x0, y0);
         // The products reach one cell beyond the tile on each axis.
         let ext = Vec2::new(c0.x + (TILE + 1) as f64 * res, c0.y + (TILE + 1) as f64 * res);
-        if exponent_upper_bound_either(params, p.pos, p.f, c0, ext) > RECURRENCE_MAX {
+        if p.upper_either(c0, ext) > RECURRENCE_MAX {
             for j in 0..TILE.min(spec.height - y0) {
                 for i in 0..TILE.min(spec.width - x0) {
                     acc[j * TILE + i] += self.zones.term(p.pos, p.f, spec.center(x0 + i, y0 + j));
@@ -622,7 +676,7 @@ impl Raster<'_> {
         }
         let d = c0 - p.pos;
         let (u0, v0) = (p.f.x * d.x + p.f.y * d.y, -p.f.y * d.x + p.f.x * d.y);
-        let beta = 1.0 / (2.0 * params.sigma_s * params.sigma_s);
+        let beta = p.across;
         let [u, du, _, _] = box_in_frame(p.pos, p.f, c0, spec.center(x0 + TILE - 1, y0 + TILE - 1));
         if u - du > 0.0 || u + du < 0.0 {
             let side = &p.sides[usize::from(u + du < 0.0)];
@@ -817,22 +871,6 @@ fn exp_table_below(q: f64) -> f64 {
     let t = q.max(0.0) * EXP_STEPS;
     let i = t as usize + usize::from((t as usize as f64) < t); // the ceiling
     exp_table().get(i).map_or(0.0, |&e| e * (1.0 - 1e-12))
-}
-
-/// An upper bound on either side's exponent (the smaller of `σ_h` and `σ_r` for `u` of either
-/// sign) over the box `lo`-`hi` (m): bounds both sides' quadratics of [`Side`] at once.
-fn exponent_upper_bound_either(
-    p: &crate::groups::DensityParams,
-    pos: Vec2,
-    f: Vec2,
-    lo: Vec2,
-    hi: Vec2,
-) -> f64 {
-    let [u, du, v, dv] = box_in_frame(pos, f, lo, hi);
-    let su = p.sigma_h.min(p.sigma_r);
-    let qu = (u - du).abs().max((u + du).abs()).powi(2) / (2.0 * su * su);
-    let qv = (v - dv).abs().max((v + dv).abs()).powi(2) / (2.0 * p.sigma_s * p.sigma_s);
-    (qu + qv) * (1.0 + 1e-9)
 }
 
 #[cfg(test)]
