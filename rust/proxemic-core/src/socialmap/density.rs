@@ -619,18 +619,34 @@ impl Raster<'_> {
         let pad = s.near.len() as f64 * CUT_TERM;
         let mut tile_slack = f64::INFINITY;
         let mut undecided = false;
+        let n = x1 - x0 + 1;
+        let [t0, t1, t2, t3] = *self.thresholds;
         for iy in y0..=y1 {
             let row = spec.index(x0, iy);
-            for i in 0..=x1 - x0 {
-                let g = acc[(iy - y0) * TILE + i];
-                let (g_lo, g_hi) = ((g - pad) * (1.0 - REL), (g + far) * (1.0 + REL));
-                let (c_lo, c_hi) = (self.class(g_lo), self.class(g_hi));
-                out[row + i] = self.class_factor[c_lo];
-                lo_out[row + i] = g_lo;
-                hi_out[row + i] = g_hi;
-                let sl = if c_lo == c_hi { self.slack(g_lo, g_hi) } else { f64::INFINITY };
-                tile_slack = tile_slack.min(sl);
-                undecided |= c_lo != c_hi;
+            let a = &acc[(iy - y0) * TILE..(iy - y0) * TILE + n];
+            let (o, l, h) = (&mut out[row..row + n], &mut lo_out[row..row + n], &mut hi_out[row..row + n]);
+            for i in 0..n {
+                let (g_lo, g_hi) = ((a[i] - pad) * (1.0 - REL), (a[i] + far) * (1.0 + REL));
+                let class = |g: f64| {
+                    usize::from(g >= t0) + usize::from(g >= t1) + usize::from(g >= t2) + usize::from(g >= t3)
+                };
+                let (c_lo, c_hi) = (class(g_lo), class(g_hi));
+                o[i] = self.class_factor[c_lo];
+                l[i] = g_lo;
+                h[i] = g_hi;
+                // The distance to the nearest threshold (`slack`, without its margin).
+                let gap = |t: f64| {
+                    let (x, y) = (g_lo - t, t - g_hi);
+                    if x > y { x } else { y }
+                };
+                let d =
+                    [gap(t1), gap(t2), gap(t3)].into_iter().fold(gap(t0), |d, e| if e < d { e } else { d });
+                let sl = d - REL * (1.0 + g_hi.abs());
+                if c_lo != c_hi {
+                    undecided = true;
+                } else if sl < tile_slack {
+                    tile_slack = sl;
+                }
             }
         }
         if !undecided {
