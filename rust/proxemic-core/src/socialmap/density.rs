@@ -1174,6 +1174,59 @@ mod tests {
     }
 
     #[test]
+    fn cells_exactly_on_a_contour_get_the_factor_of_density_factor_rebuilt_and_updated() {
+        // On a grid of 1/8 m cells from the origin (exact centres), people facing +x at cell
+        // centres, out of each other's reach (narrow Gaussians, at least 9.4 m apart), with
+        // Hall radii 0.5/1/4 m: the cells 4, 8 and 32 rows beside each person have `G_d`
+        // exactly at a contour level. Any margin too small for the products' rounding puts some
+        // of them in the wrong zone. Then people move between such places, leave and come back.
+        let dp = DensityParams { sigma_h: 1.0, sigma_r: 0.5, sigma_s: 1.0, ..DensityParams::default() };
+        let z = DensityZones::new(dp, HallZones::DAZA2021).expect("valid");
+        let c = SocialCosts::default();
+        let spec = GridSpec { origin: Vec2::zeros(), resolution: 0.125, width: 290, height: 177 };
+        let at = |ix: usize, iy: usize| PersonState::standing(spec.center(ix, iy), 0.0);
+        let mut people: Vec<PersonState> = [30, 113, 195, 270]
+            .into_iter()
+            .flat_map(|ix| [35, 138].map(|iy| (ix, iy)))
+            .enumerate()
+            .map(|(k, (ix, iy))| at(ix + k % 3, iy + k % 5))
+            .collect();
+        let on_contour = |people: &[PersonState]| {
+            let mut n = 0;
+            for p in people {
+                for (r, level) in [0.5, 1.0, 4.0].into_iter().zip(z.levels()) {
+                    for side in [-r, r] {
+                        if z.density(people, p.pos + Vec2::new(0.0, side)) == level {
+                            n += 1;
+                        }
+                    }
+                }
+            }
+            n
+        };
+        assert!(on_contour(&people) >= 40, "cells exactly on a contour: {}", on_contour(&people));
+        let mut layer = DensityLayer::new(spec, z, &c);
+        layer.rebuild(&people);
+        assert_layer(&layer, &z, &c, &people, "rebuilt");
+        let moves: [(usize, isize, isize); 6] =
+            [(0, 1, 0), (3, 0, 2), (5, -3, 1), (0, -1, 0), (7, 2, -2), (3, 0, -2)];
+        for (step, (k, dx, dy)) in moves.into_iter().enumerate() {
+            let (ix, iy) = spec.cell_of(people[k].pos).expect("inside");
+            people[k] = at(ix.wrapping_add_signed(dx), iy.wrapping_add_signed(dy));
+            layer.update(&people);
+            assert!(!layer.rebuilt());
+            assert_layer(&layer, &z, &c, &people, &format!("move {step}"));
+        }
+        let gone = people.remove(2);
+        layer.update(&people);
+        assert_layer(&layer, &z, &c, &people, "one left");
+        people.insert(2, gone);
+        layer.update(&people);
+        assert_layer(&layer, &z, &c, &people, "back");
+        assert!(on_contour(&people) >= 40);
+    }
+
+    #[test]
     fn the_layer_is_the_factor_at_each_cell_centre() {
         let z = zones();
         let c = SocialCosts::default();
