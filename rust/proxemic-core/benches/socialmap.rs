@@ -15,7 +15,7 @@ use proxemic_core::perception::{SocialConfig, perceive};
 use proxemic_core::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable};
 use proxemic_core::proxemics::DensityZones;
 use proxemic_core::scenario::Scenario;
-use proxemic_core::socialmap::{SocialMap, density_layer};
+use proxemic_core::socialmap::{DensityLayer, SocialMap};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -82,15 +82,17 @@ fn bench(c: &mut Criterion) {
             map.update_people(if flip { &after.individuals } else { &perception.individuals });
         })
     });
-    // Calderita's map: the people layer from the density contours of the 50 people, recomputed
-    // whole on every update (what `SocialPlanning` does before each calderita plan).
+    // Calderita's map: the people layer from the density contours of the 50 people, rebuilt
+    // whole, then updated when 5 of them move by 10 cm (to and fro) as `SocialPlanning` does
+    // before each calderita plan (the layer keeps its reference people between updates).
     let zones = DensityZones::new(DensityParams::default(), cfg.zones).expect("density zones");
     let mut density_map = SocialMap::new(grid.clone(), &objects, cfg.costs);
+    let mut layer = DensityLayer::new(spec, zones, density_map.costs());
     g.bench_function("calderita_full_rebuild_50_people_10_objects", |bch| {
         bch.iter(|| {
             density_map.rebuild::<proxemic_core::perception::Individual>(&[], &factors);
-            let layer = density_layer(&spec, &zones, density_map.costs(), &crowd);
-            density_map.set_people_factors(&layer);
+            layer.rebuild(&crowd);
+            layer.write_to(&mut density_map);
         })
     });
     let mut flip = false;
@@ -98,8 +100,8 @@ fn bench(c: &mut Criterion) {
         bch.iter(|| {
             flip = !flip;
             density_map.set_object_factors(&factors);
-            let layer = density_layer(&spec, &zones, density_map.costs(), if flip { &moved } else { &crowd });
-            density_map.set_people_factors(&layer);
+            layer.update(if flip { &moved } else { &crowd });
+            layer.write_to(&mut density_map);
         })
     });
     g.bench_function("perceive_50_people", |bch| {

@@ -31,7 +31,7 @@ use crate::math::Vec2;
 use crate::plan::{CostGrid, INSCRIBED, LETHAL};
 
 mod density;
-pub use density::{density_factor, density_layer};
+pub use density::{DensityLayer, density_factor, density_layer};
 
 /// What the social map needs from an individual's personal-space model.
 ///
@@ -956,6 +956,29 @@ impl SocialMap {
         self.touched = touched;
     }
 
+    /// As [`SocialMap::set_people_factors`], for the listed `cells` only (row-major indices into
+    /// `factors`, one factor per cell; repeats allowed): what [`DensityLayer`]
+    /// changed in an update. Cells out of range, or a slice of the wrong length, are ignored.
+    pub fn set_people_factors_at(&mut self, factors: &[f64], cells: &[usize]) {
+        if factors.len() != self.people.len() {
+            return;
+        }
+        self.counts.clear();
+        self.counted.clear();
+        self.prev.clear();
+        let mut touched = 0;
+        for &c in cells {
+            if let Some(&f) = factors.get(c)
+                && self.people[c].to_bits() != f.to_bits()
+            {
+                self.people[c] = f;
+                self.combine(c);
+                touched += 1;
+            }
+        }
+        self.touched = touched;
+    }
+
     fn rect_of<S: SpaceFunction>(&self, s: &S) -> Option<Rect> {
         let spec = &self.static_grid.spec;
         let [x0, y0, x1, y1] = s.bounds();
@@ -1197,6 +1220,7 @@ impl SocialMap {
         });
     }
 
+    #[inline(always)]
     fn combine(&mut self, idx: usize) {
         let s = self.static_grid.cost[idx];
         self.combined.cost[idx] = if s >= INSCRIBED {

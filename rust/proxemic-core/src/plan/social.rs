@@ -17,7 +17,7 @@
 //!
 //! Two people models ([`PeopleModel`]): proxemic's own (each perceived individual's Hall zones on
 //! its space function, searched by A*: the `social_astar` and `social` planners) and Calderita's
-//! (the zones as contours of the summed density `G_d`, [`crate::socialmap::density_layer`],
+//! (the zones as contours of the summed density `G_d`, [`crate::socialmap::DensityLayer`],
 //! searched by Dijkstra: the `calderita` planner). Each model has its own maps; a path remembers
 //! its model, so its checks see the map it was planned on.
 
@@ -31,7 +31,7 @@ use crate::perception::{Individual, Perception, SocialConfig, perceive};
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path};
 use crate::proxemics::DensityZones;
 use crate::scenario::Scenario;
-use crate::socialmap::{SocialMap, density_factor, density_layer};
+use crate::socialmap::{DensityLayer, SocialMap, density_factor};
 
 /// Spacing of the points sampled along a path for the re-planning checks (metres).
 pub const SAMPLE_SPACING: f64 = 0.25;
@@ -87,8 +87,9 @@ pub struct SocialPlanning {
     object_names: Vec<String>,
     object_polygons: Vec<Vec<Vec2>>,
     maps: Vec<SocialMap>,
-    /// The maps of [`PeopleModel::Density`], one per inflated grid.
+    /// The maps of [`PeopleModel::Density`], one per inflated grid, and their people layers.
     density_maps: Vec<SocialMap>,
+    density_layers: Vec<DensityLayer>,
     /// Calderita's density zones (the scenario's density parameters if it groups by density,
     /// else the paper's defaults) on the scenario's Hall radii.
     density: DensityZones,
@@ -130,6 +131,8 @@ impl SocialPlanning {
             _ => DensityParams::default(),
         };
         let density = DensityZones::new(params, cfg.zones)?;
+        let density_layers =
+            density_maps.iter().map(|m| DensityLayer::new(m.grid().spec, density, m.costs())).collect();
         let features = scenario.persons.iter().map(|p| p.features.clone()).collect();
         Ok(SocialPlanning {
             cfg,
@@ -138,6 +141,7 @@ impl SocialPlanning {
             object_polygons,
             maps,
             density_maps,
+            density_layers,
             density,
             still: Vec::new(),
             features,
@@ -229,13 +233,15 @@ impl SocialPlanning {
     }
 
     /// Brings density map `k` up to date with the people standing still and the agenda at
-    /// `time_of_day` (the whole people layer is recomputed).
+    /// `time_of_day` (the people layer incrementally, [`DensityLayer::update`]).
     fn update_density_map(&mut self, k: usize, time_of_day: f64) {
         let factors = self.object_factors(time_of_day);
-        let Some(map) = self.density_maps.get_mut(k) else { return };
+        let (Some(map), Some(layer)) = (self.density_maps.get_mut(k), self.density_layers.get_mut(k)) else {
+            return;
+        };
         map.set_object_factors(&factors);
-        let layer = density_layer(&map.grid().spec, &self.density, map.costs(), &self.still);
-        map.set_people_factors(&layer);
+        layer.update(&self.still);
+        layer.write_to(map);
     }
 
     /// Traversal factor at `p` from the people (under `model`) and the objects at
