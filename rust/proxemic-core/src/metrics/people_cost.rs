@@ -133,12 +133,33 @@ pub(crate) fn evaluate(
 /// skipped, so each point's minimum, and the maximum over points, is the same computed value as
 /// trying every segment, bit for bit, at a cost that grows with the path's length over the
 /// point's distance instead of with its number of segments.
+///
+/// A person standing still repeats one vertex over many instants: the same zero-length segment
+/// over and over, all at one distance from a point, so the arc length bound (no arc between
+/// them) skips none of them and a point near that spot would try them all. Such a run is kept
+/// as one zero-length segment (the third and later copies of a vertex, equal bit for bit, are
+/// dropped), which leaves the set of segments, so each point's minimum, unchanged.
 fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
     if path.len() < 2 {
         let to_path = |p: Vec2| path.first().map_or(f64::INFINITY, |&q| (p - q).norm());
         return track.iter().map(|&p| to_path(p)).fold(0.0, f64::max);
     }
+    let same = |a: Vec2, b: Vec2| a.x.to_bits() == b.x.to_bits() && a.y.to_bits() == b.y.to_bits();
+    // kept[j]: how many of path[..=j] are kept, so path[j] is (or repeats) the kept vertex
+    // kept[j] - 1.
+    let mut vertices: Vec<Vec2> = Vec::with_capacity(path.len());
+    let mut kept = Vec::with_capacity(path.len());
+    for (k, &v) in path.iter().enumerate() {
+        if k < 2 || !(same(v, path[k - 1]) && same(v, path[k - 2])) {
+            vertices.push(v);
+        }
+        kept.push(vertices.len());
+    }
+    let path = &vertices[..];
     let segments = path.len() - 1;
+    // The segment of the collapsed path that instant t's segment is, or repeats (where the search
+    // starts: any start gives the same minimum).
+    let own = |t: usize| (kept[t.min(kept.len() - 2)] - 1).min(segments - 1);
     // arc[k]: the path's length from path[0] to path[k] (m), non-decreasing.
     let mut arc = Vec::with_capacity(path.len());
     let mut total = 0.0f64;
@@ -153,11 +174,11 @@ fn deviation(track: &[Vec2], path: &[Vec2]) -> f64 {
     // The points farthest from their own instant's segment first, so `worst` rises early and
     // the others stop sooner (the maximum of exact minima does not depend on the order).
     let mut order: Vec<(f64, usize)> =
-        track.iter().enumerate().map(|(t, &p)| (distance(p, t.min(segments - 1)), t)).collect();
+        track.iter().enumerate().map(|(t, &p)| (distance(p, own(t)), t)).collect();
     order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     for (first, t) in order {
         let p = track[t];
-        let start = t.min(segments - 1);
+        let start = own(t);
         let mut near = first;
         // Forwards: segments `fwd..segments` are left, measured from the vertex at arc `fwd_arc`
         // of a segment at distance `fwd_d`; backwards: segments `0..bwd` are left.
@@ -237,10 +258,12 @@ mod tests {
             }
         }
         // Long tracks against paths that leave far and come back, loop round the same circle
-        // (segments far along the path but near in space), stand still (zero-length segments)
-        // or run backwards in time.
+        // (segments far along the path but near in space), stand still (zero-length segments),
+        // run backwards in time, or stand for long runs of instants at a few spots (one vertex
+        // repeated bit for bit) with the track a hair away from them (a seated person the
+        // robot barely moved: the runs collapse to one segment).
         for len in [2000usize, 2001] {
-            for shape in 0..5 {
+            for shape in 0..6 {
                 let track: Vec<Vec2> = (0..len)
                     .map(|t| {
                         let a = t as f64 * 0.031;
@@ -267,7 +290,18 @@ mod tests {
                         .iter()
                         .map(|&p| Vec2::new((p.x * 2.0).round() / 2.0, (p.y * 2.0).round() / 2.0))
                         .collect(),
-                    _ => track.iter().rev().map(|&p| p + Vec2::new(next(), next())).collect(),
+                    4 => track.iter().rev().map(|&p| p + Vec2::new(next(), next())).collect(),
+                    _ => (0..len)
+                        .map(|t| {
+                            let spot = (t / 400) as f64;
+                            if t % 400 < 370 { Vec2::new(spot, 0.5 * spot) } else { track[t] }
+                        })
+                        .collect(),
+                };
+                let track: Vec<Vec2> = if shape == 5 {
+                    path.iter().map(|&p| p + Vec2::new(1e-4 * next(), 1e-4 * next())).collect()
+                } else {
+                    track
                 };
                 let (a, b) = (deviation(&track, &path), deviation_brute(&track, &path));
                 assert_eq!(a.to_bits(), b.to_bits(), "len {len}, shape {shape}: {a} vs {b}");
