@@ -30,8 +30,11 @@ their own cost (in ``core``) comes on top. Only ``env.step`` is timed (the
 policies and ``env.reset`` are not), as thread CPU time over several interleaved trials (the
 machine is shared and noisy); medians. Agent-steps count the
 agents live in each step. Beside each: the bare MuJoCo stepping a control step contains
-(``mj_step`` x frame_skip from the same states, on a copy of the data) for the physics model the
-env steps, and for the full visual model (the render model, which is what the physics stepped
+(``mj_step`` x frame_skip from the same states, on a copy of the data) for the physics model with
+the people, contacts on in every period (not matched: the env steps its quiet periods with contacts
+off, and those without a person in reach on reduced models, see ``proxemic.sim``; ``env_bench.py``
+prints matched denominators, and no target here uses this one), and for the full visual model
+(the render model, which is what the physics stepped
 before the physics model lost its visual parts); and the step split into the physics (the
 callback of ``World.step``: MuJoCo and its Python wrapper), the core (the rest of the
 ``World.step`` call) and Python (the rest of ``env.step``).
@@ -229,7 +232,8 @@ def main() -> int:
     checks: dict[str, bool] = {}
     print(
         f"parallel env, museum_multi, {TRIALS} trials x {STEPS} steps, env.step thread CPU time, medians "
-        "(bare: mj_step x frame_skip from the env's states; full: the visual model)"
+        "(bare: mj_step x frame_skip from the env's states, the physics model with the people and contacts on, "
+        "not matched to the env's quiet periods; full: the visual model)"
     )
     tmp = tempfile.TemporaryDirectory()
     driving = driving_scenario(Path(tmp.name))
