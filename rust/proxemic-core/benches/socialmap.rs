@@ -92,7 +92,7 @@ fn bench(c: &mut Criterion) {
         bch.iter(|| {
             density_map.rebuild::<proxemic_core::perception::Individual>(&[], &factors);
             layer.rebuild(&crowd);
-            layer.write_to(&mut density_map);
+            layer.write_to(&mut density_map).expect("the layer is made for this map");
         })
     });
     // Every iteration is a real update: the layer's reference stays the 50 people as rebuilt,
@@ -103,7 +103,7 @@ fn bench(c: &mut Criterion) {
         bch.iter(|| {
             density_map.set_object_factors(&factors);
             layer.update(&moved);
-            layer.write_to(&mut density_map);
+            layer.write_to(&mut density_map).expect("the layer is made for this map");
         })
     });
     g.bench_function("perceive_50_people", |bch| {

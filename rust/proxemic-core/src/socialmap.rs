@@ -25,6 +25,7 @@
 //! Updates are incremental: moving individuals re-evaluate only the cells of their old and new
 //! bounding boxes, and a change of the clock re-evaluates only the objects whose cost changed.
 
+use crate::error::CoreError;
 use crate::geom::distance_point_segment;
 use crate::map::grid::GridSpec;
 use crate::math::Vec2;
@@ -933,20 +934,55 @@ impl SocialMap {
 
     /// Replaces the whole people layer with `factors` (one per cell, row-major; infinity marks a
     /// forbidden cell), e.g. the density contours of [`density_layer`] (the `calderita` planner),
-    /// and recombines the cells whose factor changed. The incremental bookkeeping of [`SocialMap::update_people`] is
-    /// dropped: a map is fed by one of the two, not both. A slice of the wrong length leaves the
-    /// map unchanged.
-    pub fn set_people_factors(&mut self, factors: &[f64]) {
+    /// and recombines the cells whose factor changed. The incremental bookkeeping of
+    /// [`SocialMap::update_people`] is dropped: a map is fed by one of the two, not both.
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] when `factors` does not hold one factor per cell; the map is then
+    /// unchanged.
+    pub fn set_people_factors(&mut self, factors: &[f64]) -> Result<(), CoreError> {
+        self.set_people_factors_over(factors, 0..factors.len())
+    }
+
+    /// As [`SocialMap::set_people_factors`], for the listed `cells` only (row-major indices into
+    /// `factors`, one factor per cell; repeats allowed): what [`DensityLayer`] changed in an
+    /// update.
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] when `factors` does not hold one factor per cell or a cell is out of
+    /// the grid; the map is then unchanged.
+    pub fn set_people_factors_at(&mut self, factors: &[f64], cells: &[usize]) -> Result<(), CoreError> {
+        if let Some(&c) = cells.iter().find(|&&c| c >= self.people.len()) {
+            return Err(CoreError::input(
+                "cells",
+                format!("row-major cell indices below {}", self.people.len()),
+                c.to_string(),
+            ));
+        }
+        self.set_people_factors_over(factors, cells.iter().copied())
+    }
+
+    /// Sets the people factor of each of `cells` (all in range) from `factors` and recombines
+    /// the cells whose factor changed (bit for bit): the combined grid always holds the layers'
+    /// combination, so only those need it again.
+    fn set_people_factors_over(
+        &mut self,
+        factors: &[f64],
+        cells: impl Iterator<Item = usize>,
+    ) -> Result<(), CoreError> {
         if factors.len() != self.people.len() {
-            return;
+            return Err(CoreError::input(
+                "factors",
+                format!("one people factor per cell of the map ({} cells)", self.people.len()),
+                format!("{} factors", factors.len()),
+            ));
         }
         self.counts.clear();
         self.counted.clear();
         self.prev.clear();
-        // The combined grid always holds the layers' combination, so only the cells whose
-        // people factor changes (bit for bit) need it again.
         let mut touched = 0;
-        for (c, &f) in factors.iter().enumerate() {
+        for c in cells {
+            let f = factors[c];
             if self.people[c].to_bits() != f.to_bits() {
                 self.people[c] = f;
                 self.combine(c);
@@ -954,29 +990,7 @@ impl SocialMap {
             }
         }
         self.touched = touched;
-    }
-
-    /// As [`SocialMap::set_people_factors`], for the listed `cells` only (row-major indices into
-    /// `factors`, one factor per cell; repeats allowed): what [`DensityLayer`]
-    /// changed in an update. Cells out of range, or a slice of the wrong length, are ignored.
-    pub fn set_people_factors_at(&mut self, factors: &[f64], cells: &[usize]) {
-        if factors.len() != self.people.len() {
-            return;
-        }
-        self.counts.clear();
-        self.counted.clear();
-        self.prev.clear();
-        let mut touched = 0;
-        for &c in cells {
-            if let Some(&f) = factors.get(c)
-                && self.people[c].to_bits() != f.to_bits()
-            {
-                self.people[c] = f;
-                self.combine(c);
-                touched += 1;
-            }
-        }
-        self.touched = touched;
+        Ok(())
     }
 
     fn rect_of<S: SpaceFunction>(&self, s: &S) -> Option<Rect> {
@@ -1349,6 +1363,31 @@ mod tests {
         // encoded factors decode back within the quantisation
         let w = c.weight();
         assert!(((1.0 + w * f64::from(c.encode(4.0)) / 252.0) - 4.0).abs() < w / 252.0);
+    }
+
+    #[test]
+    fn people_factors_of_the_wrong_length_or_out_of_range_cells_are_errors_leaving_the_map() {
+        let mut m = SocialMap::new(grid(10.0, 10.0), &[], SocialCosts::default());
+        let n = m.grid().spec.len();
+        let mut factors = vec![1.0; n];
+        factors[n / 2] = 4.0;
+        m.set_people_factors(&factors).expect("one factor per cell");
+        let before = m.grid().cost.clone();
+        assert_ne!(before[n / 2], 0, "the 4.0 factor is drawn");
+        let short = vec![1.0; n - 1];
+        let err = m.set_people_factors(&short).expect_err("one short");
+        let text = err.to_string();
+        assert!(text.contains("factors") && text.contains(&n.to_string()), "{text}");
+        assert!(text.contains(&format!("{} factors", n - 1)), "{text}");
+        factors[0] = 4.0;
+        let err = m.set_people_factors_at(&factors, &[0, n]).expect_err("cell n is outside");
+        assert!(err.to_string().contains("cells"), "{err}");
+        let err = m.set_people_factors_at(&short, &[0]).expect_err("one short");
+        assert!(err.to_string().contains("factors"), "{err}");
+        assert_eq!(m.grid().cost, before, "a refused write leaves the map as it was");
+        m.set_people_factors_at(&factors, &[0, 0]).expect("in range");
+        assert_ne!(m.grid().cost[0], 0);
+        assert_eq!(m.cells_touched(), 1, "a repeated cell changes once");
     }
 
     #[test]

@@ -241,7 +241,9 @@ impl SocialPlanning {
         };
         map.set_object_factors(&factors);
         layer.update(&self.still);
-        layer.write_to(map);
+        // The layer was made for this map's grid (`SocialPlanning::new`), so they always agree.
+        let written = layer.write_to(map);
+        debug_assert!(written.is_ok(), "{written:?}");
     }
 
     /// Traversal factor at `p` from the people (under `model`) and the objects at

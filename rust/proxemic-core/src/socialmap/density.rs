@@ -24,6 +24,7 @@
 //! - which people: the caller passes the people who stand still (see [`crate::plan::social`]);
 //!   the paper's scenes have no walkers.
 
+use crate::error::CoreError;
 use crate::groups::PersonState;
 use crate::map::grid::GridSpec;
 use crate::math::Vec2;
@@ -194,11 +195,15 @@ impl DensityLayer {
     /// Writes the layer into `map`'s people layer: all of it after a rebuild, else the cells the
     /// last update changed. Call it after every update of a layer that feeds `map` (and only
     /// that layer).
-    pub fn write_to(&self, map: &mut super::SocialMap) {
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] when `map`'s grid is not the layer's (a different number of cells);
+    /// `map` is then unchanged.
+    pub fn write_to(&self, map: &mut super::SocialMap) -> Result<(), CoreError> {
         if self.rebuilt {
-            map.set_people_factors(&self.factors);
+            map.set_people_factors(&self.factors)
         } else {
-            map.set_people_factors_at(&self.factors, &self.changed);
+            map.set_people_factors_at(&self.factors, &self.changed)
         }
     }
 
@@ -1108,7 +1113,7 @@ mod tests {
             let open = crate::plan::CostGrid { spec, cost: vec![0; spec.len()] };
             let mut map = super::super::SocialMap::new(open, &[], c);
             layer.update(&people);
-            layer.write_to(&mut map);
+            layer.write_to(&mut map).expect("same grid");
             assert_layer(&layer, &z, &c, &people, "first");
             let mut history = vec![people.clone()];
             for step in 0..40 {
@@ -1156,7 +1161,7 @@ mod tests {
                 }
                 history.push(people.clone());
                 layer.update(&people);
-                layer.write_to(&mut map);
+                layer.write_to(&mut map).expect("same grid");
                 if !layer.rebuilt() {
                     incremental += 1;
                     assert!(layer.cells_summed() < spec.len() / 16);
