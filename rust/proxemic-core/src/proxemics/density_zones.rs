@@ -70,6 +70,22 @@ impl DensityZones {
         people.iter().map(|&(pos, f)| self.term(pos, f, x)).sum()
     }
 
+    /// `G_d(x)` as [`DensityZones::density_facing`], capped at `cap`: the sum stops once it
+    /// reaches `cap`. Every term is `>= 0` and rounding is monotone, so a partial sum that
+    /// reached `cap` stays at or above it, and the result equals
+    /// `density_facing(people, x).min(cap)` bit for bit (the elastic band's clamped social cost).
+    pub fn density_facing_capped(&self, people: &[(Vec2, Vec2)], x: Vec2, cap: f64) -> f64 {
+        // The same neutral element and order as `Iterator::sum` in `density_facing`.
+        let mut g: f64 = std::iter::empty::<f64>().sum();
+        for &(pos, f) in people {
+            g += self.term(pos, f, x);
+            if g >= cap {
+                return cap;
+            }
+        }
+        g.min(cap)
+    }
+
     /// The Gaussian's parameters (σ per side and the group threshold's).
     pub(crate) fn params(&self) -> &DensityParams {
         &self.params
@@ -213,6 +229,46 @@ mod tests {
         assert!(!z.in_group_space(&pair, Vec2::zeros()));
         let groups = detect(&pair, &params.method()).expect("valid");
         assert_ne!(groups.labels[0], groups.labels[1]);
+    }
+
+    #[test]
+    fn the_capped_density_is_the_full_sum_capped_bit_for_bit() {
+        let z = zones();
+        // A crowd with people packed close (sums above the caps), spread out (sums below) and
+        // far away (terms of exactly 0), in a fixed pseudo-random layout.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let mut next = || rng.random_range(0.0..1.0);
+        let mut people = Vec::new();
+        for k in 0..40 {
+            let spread = if k < 10 {
+                1.0
+            } else if k < 30 {
+                8.0
+            } else {
+                60.0
+            };
+            let pos = Vec2::new(spread * (next() - 0.5), spread * (next() - 0.5));
+            let th = 6.3 * next() - 3.15;
+            people.push((pos, Vec2::new(th.cos(), th.sin())));
+        }
+        let mut reached = [0usize; 2];
+        for i in 0..400 {
+            let x = Vec2::new(12.0 * (next() - 0.5), 12.0 * (next() - 0.5));
+            let few = &people[..(i % 41)];
+            for cap in [0.25, 1.0, 3.0, f64::INFINITY] {
+                let full = z.density_facing(few, x);
+                let capped = z.density_facing_capped(few, x, cap);
+                assert_eq!(
+                    capped.to_bits(),
+                    full.min(cap).to_bits(),
+                    "x {x:?}, {} people, cap {cap}",
+                    few.len()
+                );
+                reached[usize::from(full >= cap)] += 1;
+            }
+        }
+        assert!(reached[0] > 100 && reached[1] > 100, "both sides of the caps are tested: {reached:?}");
     }
 
     #[test]

@@ -556,10 +556,16 @@ impl World {
             // (their Kirby spaces, as on the map), clamped to [0, 1], wherever they are now.
             let zones = self.social.density_zones();
             let c = &self.crowd;
-            let people: Vec<crate::groups::PersonState> = (0..c.len())
-                .map(|k| crate::groups::PersonState { pos: c.pos[k], heading: c.heading[k], vel: c.vel[k] })
+            // Each person's facing once per update, not once per person and point: the same
+            // unit vectors, so the same sums (`DensityZones::density_facing`).
+            let people: Vec<(Vec2, Vec2)> = (0..c.len())
+                .map(|k| {
+                    let p =
+                        crate::groups::PersonState { pos: c.pos[k], heading: c.heading[k], vel: c.vel[k] };
+                    (p.pos, p.facing())
+                })
                 .collect();
-            let social = |q: Vec2| zones.density(&people, q).min(1.0);
+            let social = |q: Vec2| zones.density_facing_capped(&people, q, 1.0);
             band.update(&clearance, Some(&social));
             let full = band.points().len() >= band.params().max_bubbles;
             if band.is_connected() || !full {
