@@ -21,7 +21,9 @@ trials:
 The growth from 50 to 1000 people is printed as a ratio per person. Target (reliability issue):
 1000 people build in at most 2 s; the bench exits non-zero when it is missed.
 
-Run: ``python benches/crowd_bench.py`` (``make bench`` does).
+Run: ``python benches/crowd_bench.py`` (``make bench`` does). ``--write DIR`` writes the scenario
+files (``crowd_<people>.toml``) into ``DIR`` and exits, e.g. for the Rust example
+``crowd_world_timing``, which times the core alone on them and prints a digest of its outputs.
 """
 
 from __future__ import annotations
@@ -203,6 +205,13 @@ def measure(path: Path) -> Trial:
 
 def main() -> int:
     """Runs the bench; returns the exit code (1 when a target is missed)."""
+    if len(sys.argv) == 3 and sys.argv[1] == "--write":
+        out = Path(sys.argv[2])
+        out.mkdir(parents=True, exist_ok=True)
+        for n in SIZES:
+            (out / f"crowd_{n}.toml").write_text(crowd_scenario(n))
+        print(f"wrote {', '.join(f'crowd_{n}.toml' for n in SIZES)} to {out}")
+        return 0
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in SIZES:
