@@ -17,7 +17,6 @@ import re
 import warnings
 from collections.abc import Callable, Iterable
 from math import isfinite
-from operator import itemgetter
 from typing import Any
 
 import gymnasium as gym
@@ -33,9 +32,6 @@ PLANNER_MODES = ("follow_path", "orca", "social_momentum", "wait")
 
 #: Reward term names in ``info`` (``reward_<term>``), in the order the core sums them.
 REWARD_KEYS = tuple(f"reward_{t}" for t in _core.REWARD_TERMS)
-
-#: The keys of an info without the planner's (``WorldSim.results``), in order.
-_PLAIN_INFO_KEYS = (*REWARD_KEYS, "is_success", "collision", "time_of_day")
 
 #: Render modes both front ends support.
 RENDER_MODES = ("rgb_array", "topdown", "human")
@@ -201,10 +197,6 @@ class WorldSim:
         cols = [*self._outcome_cols.tolist(), *self._info_cols.tolist()]
         self._result_span = (min(cols), max(cols) + 1)
         self._result_at = [c - min(cols) for c in cols]
-        # The values of an info without the planner's keys, in the order of _PLAIN_INFO_KEYS,
-        # picked from a row's span in one call (see results()).
-        nterms = len(REWARD_KEYS)
-        self._plain_info = itemgetter(*self._result_at[3 : 5 + nterms], self._result_at[6 + nterms])
         sensors = scenario["sensors"]
         self.k_nearest: int = sensors["k_nearest"]
         self.lidar_rays: int = sensors["lidar_rays"]
@@ -225,7 +217,6 @@ class WorldSim:
         # The observation sections of a row, for robots=False and robots=True: the span of
         # columns copied (lo, hi) and each key's (offset in the span, length, shape of one row).
         self._obs_parts = {with_robots: self._obs_spec(with_robots) for with_robots in (False, True)}
-        self._obs_keys = {robots: [key for key, *_ in spec[2]] for robots, spec in self._obs_parts.items()}
         self.planning = [True] * w.num_robots
         self.topdown: Any = None
         self._viewer: Any = None
@@ -391,13 +382,11 @@ class WorldSim:
             src = self.rows[rows, lo:hi]
         data = src.astype(np.float32)
         n = len(data)
-        # Each key's rows as views listed in one go (an array's iteration, cheaper than indexing
-        # it robot by robot), then zipped into the robots' dicts.
-        columns = [
-            list(data[:, off : off + length] if len(shape) == 1 else data[:, off : off + length].reshape(n, *shape))
-            for _, off, length, shape in parts
+        arrays = [
+            (key, data[:, off : off + length] if len(shape) == 1 else data[:, off : off + length].reshape(n, *shape))
+            for key, off, length, shape in parts
         ]
-        return [dict(zip(self._obs_keys[robots], views, strict=True)) for views in zip(*columns, strict=True)]
+        return [{key: arr[i] for key, arr in arrays} for i in range(n)]
 
     def observation(self, row: int, robots: bool) -> dict[str, np.ndarray]:
         """Robot `row`'s observation (see :meth:`observations`), float32 views of one fresh copy."""
@@ -428,18 +417,13 @@ class WorldSim:
             rewards.append(v[rew])
             terms.append(v[term] != 0.0)
             truncs.append(v[trunc] != 0.0)
-            info: dict[str, Any]
+            info: dict[str, Any] = dict(zip(REWARD_KEYS, v[first : first + nterms], strict=True))
+            info["is_success"] = v[success] != 0.0
+            info["collision"] = v[collision] != 0.0
             if planning[r]:
-                info = dict(zip(REWARD_KEYS, v[first : first + nterms], strict=True))
-                info["is_success"] = v[success] != 0.0
-                info["collision"] = v[collision] != 0.0
                 info["planner_action"] = actions[r]
                 info["planner_mode"] = PLANNER_MODES[int(v[mode])]
-                info["time_of_day"] = v[tod]
-            else:  # the keys in one go (the flags' values replaced by bools, in place)
-                info = dict(zip(_PLAIN_INFO_KEYS, self._plain_info(v), strict=True))
-                info["is_success"] = v[success] != 0.0
-                info["collision"] = v[collision] != 0.0
+            info["time_of_day"] = v[tod]
             infos.append(info)
         return rewards, terms, truncs, infos
 
