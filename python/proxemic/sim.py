@@ -541,7 +541,7 @@ class Simulation:
         if people != self._hints[1]:
             for arr in self._person_flags:
                 arr[...] = near_people
-            self._near = tuple(k for k, h in enumerate(people) if h)
+            self._near = tuple(np.flatnonzero(near_people).tolist())
         self._hints = (static, people)
 
     def step(self, command: np.ndarray, contacts_possible: bool = True) -> None:
@@ -630,8 +630,9 @@ class Simulation:
                 arr[n:] = 0
             crowd.near, crowd.idx = near, idx
             crowd.pos, crowd.quat = crowd.mocap_pos[:n], crowd.mocap_quat[:n]
-        np.take(self._mocap_pos, crowd.idx, axis=0, out=crowd.pos)
-        np.take(self._mocap_quat, crowd.idx, axis=0, out=crowd.quat)
+        # (the arrays' own take: numpy's function adds a wrapper's cost as large as the copy's)
+        self._mocap_pos.take(crowd.idx, axis=0, out=crowd.pos)
+        self._mocap_quat.take(crowd.idx, axis=0, out=crowd.quat)
         return crowd.model, crowd.data
 
     def _new_crowd(self, size: int) -> _Crowd:
