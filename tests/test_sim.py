@@ -337,3 +337,52 @@ def test_periods_with_a_few_people_in_reach_on_the_crowd_models_end_in_the_same_
     assert all(np.array_equal(a, b) for a, b in zip(fast, plain, strict=True))
     assert touched == plain_touched > 10
     assert set(sizes) == {1, 2, 4, 8, 16} and reassigned > 10
+
+
+def test_a_period_stepped_in_one_call_reads_the_contacts_of_every_physics_step():
+    """Eleven robots driving blindly into walls, people and each other: every control period the
+    simulation steps (in one call, again a physics step at a time when a step found a contact)
+    ends in the same state with the same contact bits as plain stepping, one physics step at a
+    time on the physics model reading each step's contacts; and periods occur whose contacts
+    were found only in physics steps before their last."""
+    import proxemic
+
+    env = proxemic.parallel_env("museum_multi", robots=11, planner_actions=False)
+    sim = env.ws.sim
+    m = sim.model
+    ref = mujoco.MjData(m)
+    real = sim.step
+    owner, bit = sim._owner_list, sim._bit_list
+    periods, early_only = [0], [0]
+
+    def step(command: np.ndarray, possible: bool = True) -> None:
+        # the reference: the physics model from the same state, the same contact bits set
+        for name in ("qpos", "qvel", "act", "ctrl", "qacc_warmstart", "mocap_pos", "mocap_quat"):
+            getattr(ref, name)[:] = getattr(sim.data, name)
+        ref.time = sim.data.time
+        sim._ctrl[...] = command
+        ref.ctrl[:] = sim.data.ctrl
+        acc = [0] * sim.num_robots
+        last = 0
+        for _ in range(sim.frame_skip):
+            mujoco.mj_step(m, ref)
+            last = ref.ncon
+            for g1, g2 in ref.contact.geom[: ref.ncon].tolist():
+                if owner[g1] >= 0:
+                    acc[owner[g1]] |= bit[g2]
+                if owner[g2] >= 0:
+                    acc[owner[g2]] |= bit[g1]
+        real(command, possible)
+        assert sim.contacts.tolist() == acc
+        assert np.array_equal(sim.data.qpos, ref.qpos) and np.array_equal(sim.data.qvel, ref.qvel)
+        periods[0] += 1
+        early_only[0] += int(any(acc) and last == 0)
+
+    sim.step = step  # type: ignore[method-assign]
+    rng = np.random.default_rng(4)
+    env.reset(seed=2)
+    for _ in range(300):
+        if not env.agents:
+            env.reset()
+        env.step({a: np.array([1.0, rng.uniform(-0.5, 0.5), rng.uniform(-0.3, 0.3)]) for a in env.agents})
+    assert periods[0] == 300 and early_only[0] > 0

@@ -570,11 +570,13 @@ class Simulation:
                     target = self._robots_only
                 else:
                     target = self._crowd(near) if len(near) <= self._crowd_max else None
+            state, sig = self._state, self._sig
             if target is not None:
-                state, sig = self._state, self._sig
                 mujoco.mj_getState(m, d, state, sig)
                 m, d = target
                 mujoco.mj_setState(m, d, state, sig)
+            elif contacts_possible:
+                mujoco.mj_getState(m, d, state, sig)  # the period's start, should it be stepped again
             if not contacts_possible:
                 if target is None:
                     opt = self._opt
@@ -586,7 +588,10 @@ class Simulation:
                 else:
                     mujoco.mj_step(m, d, self.frame_skip)
                 self.contacts.fill(0)
-            else:
+            elif not self._contact_in_period(m, d):
+                self.contacts.fill(0)
+            else:  # the period again from its start, a physics step at a time
+                mujoco.mj_setState(m, d, state, sig)
                 owner, bit = self._owner_list, self._bit_list
                 acc = [0] * self.num_robots
                 step = mujoco.mj_step
@@ -607,6 +612,20 @@ class Simulation:
         finally:
             if timer is not None:
                 _TIMER.value = timer  # type: ignore[union-attr]
+
+    def _contact_in_period(self, m: mujoco.MjModel, d: mujoco.MjData) -> bool:
+        """Steps the control period in one call; whether any of its physics steps found a contact.
+
+        MuJoCo's high-water mark of contacts (``maxuse_con``, raised by every physics step's
+        constraint stage to the contacts it found) is cleared first: still 0 afterwards, no step
+        found one, and the period is done. Otherwise :meth:`step` steps it again from its start a
+        physics step at a time to read each step's contacts (the same steps from the same
+        integration state, so the same states bit for bit); most periods with contacts possible
+        have none, and save the calls of stepping one physics step at a time.
+        """
+        d.maxuse_con = 0
+        mujoco.mj_step(m, d, self.frame_skip)
+        return bool(d.maxuse_con)
 
     def _crowd(self, near: tuple[int, ...]) -> tuple[mujoco.MjModel, mujoco.MjData]:
         """The crowd model for the people `near` (indices, ascending), their stand-ins posed.
