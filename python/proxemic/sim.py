@@ -20,7 +20,10 @@ robots are possible, the robots alone (``Simulation.contact_free_model``) while 
 The people's mocap bodies then act on nothing (nor the static geometry without contacts), so the
 robots end each such period in the same state with the same contacts bit for bit, at a third of
 the cost with 50 people (their bodies' kinematics are most of a contact-free step), a fifth
-without the static geometry.
+without the static geometry. Periods with a few people in reach are stepped on a crowd model
+(``Simulation._crowd``): the physics model with 1, 2, 4, ... stand-in people taking over the
+bodies and poses of just those people, in the same order, so the contacts are the same and come
+in the same order.
 
 Contact filtering: the static geometry has contype 2 and conaffinity 0, robots contype 1 and
 conaffinity 1 (other robots, people) plus 2 while the core's ``near_static`` hint says they are
