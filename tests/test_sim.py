@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections import Counter
+
 import mujoco
 import numpy as np
 import pytest
@@ -281,3 +283,106 @@ def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_sam
         assert touched > 0  # into walls and objects
     else:
         assert kinds.count((True, True)) > 30
+
+
+def test_periods_with_a_few_people_in_reach_on_the_crowd_models_end_in_the_same_states():
+    """Eleven robots driving at the nearest person they see in the museum: the env stepping its
+    control periods with a few people in reach on the crowd models (stand-ins for those people
+    only) equals the one stepping them on the physics model, bit for bit, with the same contacts;
+    every crowd model is used, people are touched in those periods, and the people in reach
+    change while a crowd model keeps its size (its stand-ins reassigned)."""
+    import proxemic
+
+    def run(crowds: bool) -> tuple[list[np.ndarray], Counter[int], int, int]:
+        env = proxemic.parallel_env("museum_multi", robots=11, planner_actions=False)
+        sim = env.ws.sim
+        assert sorted(sim._crowds) == [1, 2, 4, 8, 16] and sim._crowd_max == 16
+        assert all(c.model.nbody == sim.robots_model.nbody + k for k, c in sim._crowds.items())
+        if not crowds:
+            sim._crowd_max = 0
+        sizes: Counter[int] = Counter()
+        touched, reassigned = [0], [0]
+        real = sim.step
+
+        def step(command: np.ndarray, possible: bool = True) -> None:
+            near = sim._near
+            on_crowd = possible and 0 < len(near) <= 16
+            if on_crowd:
+                size = 1 << (len(near) - 1).bit_length()
+                sizes[size] += 1
+                reassigned[0] += int(sim._crowds[size].near not in ((), near))
+            real(command, possible)
+            touched[0] += int(on_crowd and bool((sim.contacts & _core.CONTACT_PERSON).any()))
+
+        sim.step = step  # type: ignore[method-assign]
+        rng = np.random.default_rng(3)
+        env.reset(seed=5)
+        states = []
+        for _ in range(400):
+            if not env.agents:
+                env.reset()
+            obs = env.ws.observations(robots=True)
+            actions = {}
+            for a in env.agents:
+                o = obs[int(a.split("_")[1])]
+                x, y = o["people"][0][:2] if o["people_mask"][0] else (1.0, 0.0)
+                scale = max(1.0, abs(float(x)), abs(float(y)))
+                actions[a] = np.array([x / scale, y / scale, rng.uniform(-0.3, 0.3)], np.float32)
+            env.step(actions)
+            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, sim.contacts]))
+        return states, sizes, touched[0], reassigned[0]
+
+    fast, sizes, touched, reassigned = run(True)
+    plain, _, plain_touched, _ = run(False)
+    assert all(np.array_equal(a, b) for a, b in zip(fast, plain, strict=True))
+    assert touched == plain_touched > 10
+    assert set(sizes) == {1, 2, 4, 8, 16} and reassigned > 10
+
+
+def test_a_period_stepped_in_one_call_reads_the_contacts_of_every_physics_step():
+    """Eleven robots driving blindly into walls, people and each other: every control period the
+    simulation steps (in one call, again a physics step at a time when a step found a contact)
+    ends in the same state with the same contact bits as plain stepping, one physics step at a
+    time on the physics model reading each step's contacts; and periods occur whose contacts
+    were found only in physics steps before their last."""
+    import proxemic
+
+    env = proxemic.parallel_env("museum_multi", robots=11, planner_actions=False)
+    sim = env.ws.sim
+    m = sim.model
+    ref = mujoco.MjData(m)
+    real = sim.step
+    owner, bit = sim._owner_list, sim._bit_list
+    periods, early_only = [0], [0]
+
+    def step(command: np.ndarray, possible: bool = True) -> None:
+        # the reference: the physics model from the same state, the same contact bits set
+        for name in ("qpos", "qvel", "act", "ctrl", "qacc_warmstart", "mocap_pos", "mocap_quat"):
+            getattr(ref, name)[:] = getattr(sim.data, name)
+        ref.time = sim.data.time
+        sim._ctrl[...] = command
+        ref.ctrl[:] = sim.data.ctrl
+        acc = [0] * sim.num_robots
+        last = 0
+        for _ in range(sim.frame_skip):
+            mujoco.mj_step(m, ref)
+            last = ref.ncon
+            for g1, g2 in ref.contact.geom[: ref.ncon].tolist():
+                if owner[g1] >= 0:
+                    acc[owner[g1]] |= bit[g2]
+                if owner[g2] >= 0:
+                    acc[owner[g2]] |= bit[g1]
+        real(command, possible)
+        assert sim.contacts.tolist() == acc
+        assert np.array_equal(sim.data.qpos, ref.qpos) and np.array_equal(sim.data.qvel, ref.qvel)
+        periods[0] += 1
+        early_only[0] += int(any(acc) and last == 0)
+
+    sim.step = step  # type: ignore[method-assign]
+    rng = np.random.default_rng(4)
+    env.reset(seed=2)
+    for _ in range(300):
+        if not env.agents:
+            env.reset()
+        env.step({a: np.array([1.0, rng.uniform(-0.5, 0.5), rng.uniform(-0.3, 0.3)]) for a in env.agents})
+    assert periods[0] == 300 and early_only[0] > 0

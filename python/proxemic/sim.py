@@ -20,7 +20,10 @@ robots are possible, the robots alone (``Simulation.contact_free_model``) while 
 The people's mocap bodies then act on nothing (nor the static geometry without contacts), so the
 robots end each such period in the same state with the same contacts bit for bit, at a third of
 the cost with 50 people (their bodies' kinematics are most of a contact-free step), a fifth
-without the static geometry.
+without the static geometry. Periods with a few people in reach are stepped on a crowd model
+(``Simulation._crowd``): the physics model with 1, 2, 4, ... stand-in people taking over the
+bodies and poses of just those people, in the same order, so the contacts are the same and come
+in the same order.
 
 Contact filtering: the static geometry has contype 2 and conaffinity 0, robots contype 1 and
 conaffinity 1 (other robots, people) plus 2 while the core's ``near_static`` hint says they are
@@ -37,6 +40,7 @@ import contextlib
 import ctypes
 import os
 from collections.abc import Iterator
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -270,6 +274,37 @@ def _strip_to_physics(spec: mujoco.MjSpec) -> None:
             g.contype, g.conaffinity = DYNAMIC_BIT, DYNAMIC_BIT | STATIC_BIT
 
 
+#: Most people in reach of a robot in a control period stepped on a crowd model (see
+#: ``Simulation._crowd``; also at most half the scene's people): the crowd models are compiled
+#: with 1, 2, 4, ... stand-ins up to it.
+CROWD_MAX = 64
+
+#: The model values of a person's body geom that differ between people (its capsule's size and
+#: placement, and what the broadphase derives from them): what a stand-in takes over.
+_PERSON_GEOM = ("geom_size", "geom_pos", "geom_quat", "geom_rbound", "geom_aabb")
+#: Geom values that may differ between people without changing a contact (colour, owner body).
+_GEOM_ANY = ("geom_rgba", "geom_bodyid")
+
+
+@dataclass(eq=False)
+class _Crowd:
+    """A crowd model (see :meth:`Simulation._crowd`): the model and data, and views of its stand-ins."""
+
+    model: mujoco.MjModel
+    data: mujoco.MjData
+    #: The stand-ins' values of each ``_PERSON_GEOM`` field, their bounding volumes and body flags.
+    geom: dict[str, np.ndarray]
+    bvh: np.ndarray
+    flags: list[np.ndarray]
+    mocap_pos: np.ndarray
+    mocap_quat: np.ndarray
+    #: The people the stand-ins stand in for, and the views of the used stand-ins' mocap poses.
+    near: tuple[int, ...] = ()
+    idx: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
+    pos: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    quat: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+
+
 class Simulation:
     """The physics model and data of a scenario (and its render model), with arrays in and out.
 
@@ -361,8 +396,23 @@ class Simulation:
         )
         self._state = np.zeros(mujoco.mj_stateSize(m, self._sig))
         has_static = bool(scenario["walls"] or scenario["objects"])
+        # The robots' affinity views of every reduced model with the static geometry (set_hints
+        # writes them all).
+        self._solo_affs: list[tuple[np.ndarray, np.ndarray]] = []
         self._robots_only = self._reduced(scenario, static=True) if scenario["persons"] else None
         self._free = self._reduced(scenario, static=False) if scenario["persons"] or has_static else None
+        # Periods with a few people in reach: the people in reach (indices, from the hints), the
+        # physics model's values the stand-ins take over (each person's body geom and bounding
+        # volume) and the crowd models (see `_crowd`) by size, compiled here (a compilation in
+        # a step would cost some hundred steps).
+        self._near: tuple[int, ...] = ()
+        self._person_geom = {f: _view(getattr(m, f), np.array(person_geoms, dtype=np.intp)) for f in _PERSON_GEOM}
+        self._person_bvh = m.bvh_aabb[m.body_bvhadr[pb]] if p else np.zeros((0, 6))
+        if p and not (m.body_bvhnum[pb] == 1).all():  # SHOULD NOT OCCUR: one collision geom each
+            raise ValueError("a person's body with more than one bounding volume")
+        sizes = [1 << k for k in range(min(p // 2, CROWD_MAX).bit_length())]
+        self._crowds = {size: self._new_crowd(size) for size in sizes}
+        self._crowd_max = sizes[-1] if sizes else 0  # more people in reach: the physics model
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
 
@@ -383,11 +433,12 @@ class Simulation:
         """
         return self.model if self._free is None else self._free[0]
 
-    def _reduced(self, scenario: dict[str, Any], static: bool) -> tuple[mujoco.MjModel, mujoco.MjData]:
+    def _reduced(self, scenario: dict[str, Any], static: bool, people: int = 0) -> tuple[mujoco.MjModel, mujoco.MjData]:
         """A reduced physics model for :meth:`step`, and its data.
 
         The physics model of `scenario` without the people (and with `static` False, without
-        the walls and objects).
+        the walls and objects); with `people`, with the first `people` people (the crowd models'
+        stand-ins, see :meth:`_crowd`).
 
         While no person's body is in the broadphase (no contact possible at all, or only the
         robots' with the static geometry and each other) the people's mocap bodies act on
@@ -399,7 +450,10 @@ class Simulation:
         contacts, bit for bit, for a third of the cost with 50 people (a fifth without the
         static geometry).
         """
-        reduced = {**scenario, "persons": []} if static else {**scenario, "persons": [], "walls": [], "objects": []}
+        persons = scenario["persons"][:people]
+        reduced = (
+            {**scenario, "persons": persons} if static else {**scenario, "persons": [], "walls": [], "objects": []}
+        )
         m = build_spec(reduced, visual=False).compile()
         full = self.model
         names = [(mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt), (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu)]
@@ -412,8 +466,10 @@ class Simulation:
         if not same or mujoco.mj_stateSize(m, self._sig) != len(self._state):  # SHOULD NOT OCCUR: built alike
             raise ValueError("a reduced physics model differs from the physics model in joints, bodies or geoms")
         if static:
-            self._solo_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
-            self._solo_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
+            affs = (_view(m.geom_conaffinity, self._robot_geom_ids), _view(m.body_conaffinity, self._robot_body_ids))
+            affs[0][...] = self._robot_geom_aff  # the hints set so far
+            affs[1][...] = self._robot_body_aff
+            self._solo_affs.append(affs)
         else:
             m.opt.disableflags = self._flags_no_contact
         return m, mujoco.MjData(m)
@@ -482,12 +538,13 @@ class Simulation:
             aff += DYNAMIC_BIT
             self._robot_geom_aff[...] = aff[:, None]
             self._robot_body_aff[...] = aff
-            if self._robots_only is not None:
-                self._solo_geom_aff[...] = aff[:, None]
-                self._solo_body_aff[...] = aff
+            for geom_aff, body_aff in self._solo_affs:
+                geom_aff[...] = aff[:, None]
+                body_aff[...] = aff
         if people != self._hints[1]:
             for arr in self._person_flags:
                 arr[...] = near_people
+            self._near = tuple(np.flatnonzero(near_people).tolist())
         self._hints = (static, people)
 
     def step(self, command: np.ndarray, contacts_possible: bool = True) -> None:
@@ -509,13 +566,20 @@ class Simulation:
             # A reduced model when no person is in reach (and the state back below).
             target = self._free
             if contacts_possible:
-                hints = self._hints[1]
-                target = self._robots_only if hints is not None and not any(hints) else None
+                near = self._near
+                if self._hints[1] is None:  # every pair enabled (reset)
+                    target = None
+                elif not near:
+                    target = self._robots_only
+                else:
+                    target = self._crowd(near) if len(near) <= self._crowd_max else None
+            state, sig = self._state, self._sig
             if target is not None:
-                state, sig = self._state, self._sig
                 mujoco.mj_getState(m, d, state, sig)
                 m, d = target
                 mujoco.mj_setState(m, d, state, sig)
+            elif contacts_possible:
+                mujoco.mj_getState(m, d, state, sig)  # the period's start, should it be stepped again
             if not contacts_possible:
                 if target is None:
                     opt = self._opt
@@ -527,7 +591,10 @@ class Simulation:
                 else:
                     mujoco.mj_step(m, d, self.frame_skip)
                 self.contacts.fill(0)
-            else:
+            elif not self._contact_in_period(m, d):
+                self.contacts.fill(0)
+            else:  # the period again from its start, a physics step at a time
+                mujoco.mj_setState(m, d, state, sig)
                 owner, bit = self._owner_list, self._bit_list
                 acc = [0] * self.num_robots
                 step = mujoco.mj_step
@@ -548,6 +615,79 @@ class Simulation:
         finally:
             if timer is not None:
                 _TIMER.value = timer  # type: ignore[union-attr]
+
+    def _contact_in_period(self, m: mujoco.MjModel, d: mujoco.MjData) -> bool:
+        """Steps the control period in one call; whether any of its physics steps found a contact.
+
+        MuJoCo's high-water mark of contacts (``maxuse_con``, raised by every physics step's
+        constraint stage to the contacts it found) is cleared first: still 0 afterwards, no step
+        found one, and the period is done. Otherwise :meth:`step` steps it again from its start a
+        physics step at a time to read each step's contacts (the same steps from the same
+        integration state, so the same states bit for bit); most periods with contacts possible
+        have none, and save the calls of stepping one physics step at a time.
+        """
+        d.maxuse_con = 0
+        mujoco.mj_step(m, d, self.frame_skip)
+        return bool(d.maxuse_con)
+
+    def _crowd(self, near: tuple[int, ...]) -> tuple[mujoco.MjModel, mujoco.MjData]:
+        """The crowd model for the people `near` (indices, ascending), their stand-ins posed.
+
+        A crowd model is the physics model with K people (K a power of two, the smallest not below
+        ``len(near)``): stand-ins that take over the body geoms, bounding volumes and poses of the
+        people in reach, in the same order (so the broadphase pairs, and the contacts, come in the
+        same order), the others left out of the broadphase. The people out of reach act on
+        nothing in such a period, so the robots end it in the same state with the same contacts
+        bit for bit, without the cost of every person's body kinematics.
+        """
+        n = len(near)
+        crowd = self._crowds[1 << (n - 1).bit_length()]
+        if crowd.near != near:
+            idx = np.array(near, dtype=np.intp)
+            for f, dst in crowd.geom.items():
+                dst[:n] = self._person_geom[f][idx]
+            crowd.bvh[:n] = self._person_bvh[idx]
+            for arr in crowd.flags:
+                arr[:n] = 1
+                arr[n:] = 0
+            crowd.near, crowd.idx = near, idx
+            crowd.pos, crowd.quat = crowd.mocap_pos[:n], crowd.mocap_quat[:n]
+        # (the arrays' own take: numpy's function adds a wrapper's cost as large as the copy's)
+        self._mocap_pos.take(crowd.idx, axis=0, out=crowd.pos)
+        self._mocap_quat.take(crowd.idx, axis=0, out=crowd.quat)
+        return crowd.model, crowd.data
+
+    def _new_crowd(self, size: int) -> _Crowd:
+        """A crowd model of `size` stand-ins (see :meth:`_crowd`), nobody in reach yet."""
+        m, d = self._reduced(self.scenario, static=True, people=size)
+        full = self.model
+        geoms = np.array([m.geom(f"person_{i}/body").id for i in range(size)], dtype=np.intp)
+        bodies = np.array([m.body(f"person_{i}/root").id for i in range(size)], dtype=np.intp)
+        mocap = np.array([m.body_mocapid[b] for b in bodies], dtype=np.intp)
+        # Everything else about a person's body geom is the asset's, the same for every person
+        # and stand-in (checked: a difference would make the contacts differ).
+        person_geoms = np.array([full.geom(f"person_{i}/body").id for i in range(self.num_people)], dtype=np.intp)
+        for f in dir(full):
+            a = getattr(full, f)
+            if f.startswith("geom_") and f not in _PERSON_GEOM and f not in _GEOM_ANY and isinstance(a, np.ndarray):
+                if a.shape[:1] == (full.ngeom,) and not (a[person_geoms] == getattr(m, f)[geoms[0]]).all():
+                    raise ValueError(f"people's body geoms differ in {f}")  # SHOULD NOT OCCUR
+        start = int(m.body_bvhadr[bodies[0]])
+        if not (m.body_bvhnum[bodies] == 1).all() or not np.array_equal(m.body_bvhadr[bodies], start + np.arange(size)):
+            # SHOULD NOT OCCUR: built alike
+            raise ValueError("a stand-in's body with more than one bounding volume")
+        flags = [_view(m.body_contype, bodies), _view(m.body_conaffinity, bodies)]
+        for arr in flags:
+            arr[...] = 0
+        return _Crowd(
+            model=m,
+            data=d,
+            geom={f: _view(getattr(m, f), geoms) for f in _PERSON_GEOM},
+            bvh=m.bvh_aabb[start : start + size],
+            flags=flags,
+            mocap_pos=_view(d.mocap_pos, mocap),
+            mocap_quat=_view(d.mocap_quat, mocap),
+        )
 
     def read(self) -> None:
         """Reads the robots' world-frame poses and velocities into `state`."""

@@ -54,8 +54,10 @@ pub fn scan(
 
 /// A lidar with its working buffers: [`scan`] without allocations, and with the static part of
 /// the last scan kept, so a lidar that has not moved (same origin, heading, range and ray count,
-/// bit for bit) against the same geometry reuses it instead of casting its rays again. Results
-/// are exactly those of [`scan`]. Use one `Scanner` per lidar and one static geometry.
+/// bit for bit) against the same geometry reuses it instead of casting its rays again; a lidar
+/// that only turned (same origin and range) reuses the edges facing it, with their bearings,
+/// and casts its rays against them. Results are exactly those of [`scan`]. Use one `Scanner`
+/// per lidar and one static geometry.
 #[derive(Clone, Debug, Default)]
 pub struct Scanner {
     /// (origin x, origin y, heading, range) of the cached static ranges and directions, as bits.
@@ -64,6 +66,26 @@ pub struct Scanner {
     ranges: Vec<f64>,
     /// The unit direction of every ray of the last scan.
     dirs: Vec<Vec2>,
+    /// (origin x, origin y, range) of the cached facing edges, as bits.
+    edges_key: Option<[u64; 3]>,
+    /// Whether that origin is inside the static geometry (then there are no edges).
+    inside: bool,
+    /// The edges near that origin that face it, in the geometry's order.
+    edges: Vec<FacingEdge>,
+}
+
+/// A polygon edge `a -> b` that faces a lidar's origin, as the static cast uses it.
+#[derive(Clone, Copy, Debug)]
+struct FacingEdge {
+    /// `a` relative to the origin (m).
+    pa: Vec2,
+    /// `b - a` (m).
+    seg: Vec2,
+    /// The bearing of `b` from the origin ([`atan2_approx`], radians, world frame).
+    bearing: f64,
+    /// The angle the edge spans seen from the origin, from `b` counter-clockwise to `a`
+    /// ([`atan2_approx`], radians, below pi).
+    span: f64,
 }
 
 /// Largest error of [`atan2_approx`] (radians): the series' first omitted term,
@@ -151,7 +173,8 @@ impl Scanner {
             out.copy_from_slice(&self.ranges);
         } else {
             self.set_directions(heading, step, n);
-            Self::cast_static(geom, origin, heading, max_range, step, &self.dirs, out);
+            self.facing_edges(geom, origin, max_range);
+            Self::cast_static(&self.edges, self.inside, heading, max_range, step, &self.dirs, out);
             self.ranges.clear();
             self.ranges.extend_from_slice(out);
             self.key = Some(key);
@@ -211,22 +234,48 @@ impl Scanner {
         }
     }
 
-    /// The static part of a scan along `dirs` (0 everywhere from inside a polygon).
+    /// The edges near `origin` (within `max_range`) that face it, into `edges` (and whether
+    /// `origin` is inside the static geometry), unless they are those of the last call.
     ///
     /// Polygons are counter-clockwise and the origin is outside all of them, so a ray's first hit
-    /// is where it enters a polygon: on an edge that has the origin on its right. Each such edge
-    /// near the origin is tested against the rays of its angular extent only (found with
-    /// [`atan2_approx`] and widened by its error), with the hit computed exactly.
+    /// is where it enters a polygon: on an edge that has the origin on its right.
+    fn facing_edges(&mut self, geom: &StaticGeometry, origin: Vec2, max_range: f64) {
+        let key = [origin.x.to_bits(), origin.y.to_bits(), max_range.to_bits()];
+        if self.edges_key == Some(key) {
+            return;
+        }
+        self.edges.clear();
+        self.inside = geom.contains(origin);
+        if !self.inside {
+            let edges = &mut self.edges;
+            geom.for_each_edge_near(origin, max_range, |a, b| {
+                let (pa, pb) = (a - origin, b - origin);
+                let turn = cross(pa, pb);
+                if turn >= 0.0 {
+                    return; // the origin on the edge's inner side or on its line: never a first hit
+                }
+                // The edge spans the angles from pb counter-clockwise to pa (less than pi).
+                let bearing = atan2_approx(pb.y, pb.x);
+                let span = atan2_approx(-turn, pb.dot(&pa));
+                edges.push(FacingEdge { pa, seg: b - a, bearing, span });
+            });
+        }
+        self.edges_key = Some(key);
+    }
+
+    /// The static part of a scan along `dirs` against the facing `edges` (0 everywhere from
+    /// `inside` a polygon). Each edge is tested against the rays of its angular extent only
+    /// (found with [`atan2_approx`] and widened by its error), with the hit computed exactly.
     fn cast_static(
-        geom: &StaticGeometry,
-        origin: Vec2,
+        edges: &[FacingEdge],
+        inside: bool,
         heading: f64,
         max_range: f64,
         step: f64,
         dirs: &[Vec2],
         out: &mut [f64],
     ) {
-        if geom.contains(origin) {
+        if inside {
             out.fill(0.0);
             return;
         }
@@ -234,18 +283,10 @@ impl Scanner {
         let n = out.len() as i64;
         let heading = heading.rem_euclid(std::f64::consts::TAU);
         let tol = 2.0 * ATAN2_MAX_ERROR;
-        geom.for_each_edge_near(origin, max_range, |a, b| {
-            let (pa, pb) = (a - origin, b - origin);
-            let turn = cross(pa, pb);
-            if turn >= 0.0 {
-                return; // the origin on the edge's inner side or on its line: never a first hit
-            }
-            // The edge spans the angles from pb counter-clockwise to pa (less than pi).
-            let start = atan2_approx(pb.y, pb.x) - heading;
-            let span = atan2_approx(-turn, pb.dot(&pa));
+        for &FacingEdge { pa, seg, bearing, span } in edges {
+            let start = bearing - heading;
             let first = floor_i64((start - tol) / step);
             let last = ceil_i64((start + span + tol) / step).min(first + n - 1);
-            let seg = b - a;
             // Ray indices wrap around: one division for the first, then counted on.
             let mut next = first.rem_euclid(n) as usize;
             for _ in first..=last {
@@ -262,7 +303,7 @@ impl Scanner {
                     out[k] = t;
                 }
             }
-        });
+        }
     }
 }
 
@@ -430,9 +471,13 @@ mod tests {
             (v(0.0, 0.0), 0.3, &discs[..1]), // same pose: the static part comes from the cache
             (v(0.0, 0.0), 0.3, &[][..]),
             (v(0.5, 0.1), 0.3, &discs[..]),  // moved
-            (v(0.5, 0.1), -1.0, &discs[..]), // turned
-            (v(3.1, 0.0), 0.0, &discs[..]),  // inside the wall
+            (v(0.5, 0.1), -1.0, &discs[..]), // turned: the facing edges come from the cache
+            (v(0.5, 0.1), 2.5, &discs[..1]),
+            (v(0.5, 0.1), 2.5 + 1e-9, &[][..]),
+            (v(3.1, 0.0), 0.0, &discs[..]), // inside the wall
             (v(3.1, 0.0), 0.0, &discs[..]),
+            (v(3.1, 0.0), 1.0, &discs[..]), // turned inside the wall
+            (v(0.5, 0.1), 0.3, &discs[..]), // back where it was (the cache holds one origin)
         ] {
             sc.scan(&g, d, o, h, 8.0, &mut a).expect("valid");
             scan(&g, d, o, h, 8.0, &mut b).expect("valid");
@@ -440,6 +485,18 @@ mod tests {
                 a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
                 b.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
             );
+        }
+        // Turning in place at the same origin with a range the edges were not gathered for: the
+        // edges (gathered within the range) are gathered again, a wall beyond 2.5 m is not hit.
+        sc.scan(&g, &[], v(0.0, 0.0), 0.7, 8.0, &mut a).expect("valid");
+        for (range, h) in [(2.5, 0.8), (2.5, 0.9), (8.0, 1.0)] {
+            sc.scan(&g, &[], v(0.0, 0.0), h, range, &mut a).expect("valid");
+            scan(&g, &[], v(0.0, 0.0), h, range, &mut b).expect("valid");
+            assert_eq!(
+                a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                b.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+            assert_eq!(a.iter().any(|&r| r < range), range > 3.0, "range {range}");
         }
         // A different ray count at the same pose is not served from the cache.
         let mut c = vec![0.0; 12];
@@ -451,6 +508,33 @@ mod tests {
     }
 
     proptest! {
+        #[test]
+        fn a_turning_scanner_equals_scan_bit_for_bit(seed in any::<u64>(), n in 1usize..400) {
+            use rand::{Rng, SeedableRng};
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+            let polys = (0..rng.random_range(1..6))
+                .map(|_| {
+                    let c = v(rng.random_range(-6.0..6.0), rng.random_range(-6.0..6.0));
+                    let r = rng.random_range(0.3..2.0);
+                    (0..5).map(|i| c + v((i as f64 * 1.2566).cos(), (i as f64 * 1.2566).sin()) * r).collect()
+                })
+                .collect();
+            let g = StaticGeometry::new(polys, world()).expect("valid polygons");
+            let mut sc = Scanner::default();
+            let o = v(rng.random_range(-9.0..9.0), rng.random_range(-9.0..9.0));
+            let mut heading: f64 = rng.random_range(-4.0..4.0);
+            let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
+            for _ in 0..6 {
+                heading += rng.random_range(-0.5..0.5);
+                sc.scan(&g, &[], o, heading, 7.0, &mut a).expect("valid");
+                scan(&g, &[], o, heading, 7.0, &mut b).expect("valid");
+                prop_assert_eq!(
+                    a.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    b.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+                );
+            }
+        }
+
         #[test]
         fn equals_brute_force_on_random_scenes(seed in any::<u64>(), n in 1usize..1500) {
             use rand::{Rng, SeedableRng};
