@@ -259,13 +259,8 @@ fn polygon_interior_cells(spec: &GridSpec, polygon: &[Vec2]) -> Vec<u32> {
 type Rect = (usize, usize, usize, usize);
 
 /// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
-/// inside the social zone of a quadratic-form individual (see [`SpaceFunction::quadratic`]).
-/// The axis distances advance by constant steps along a row, and zones are decided by comparing
-/// the exponent with the zone radii's thresholds, without exp or sqrt.
-///
-/// `full` is the individual's whole box, `open` which of its cells are in sight of the
-/// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
-/// to visit.
+/// inside the social zone of a quadratic-form individual (see [`SpaceFunction::quadratic`]), in
+/// row order: the cells of the runs of [`for_each_zone_run`].
 #[allow(clippy::too_many_arguments)]
 fn for_each_zone_cell(
     spec: &GridSpec,
@@ -277,6 +272,37 @@ fn for_each_zone_cell(
     rect: Rect,
     mut f: impl FnMut(usize, usize),
 ) {
+    for_each_zone_run(spec, costs, quad, zone_scale, full, open, rect, |iy, x0, x1, zone| {
+        let row = spec.index(0, iy);
+        for ix in x0..=x1 {
+            f(row + ix, zone);
+        }
+    });
+}
+
+/// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
+/// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone of a quadratic-form
+/// individual (see [`SpaceFunction::quadratic`]) and in sight of it, rows in order and runs from
+/// left to right. Every cell is decided on its own (the runs only group the answers): the axis
+/// distances advance by constant steps along a row, and zones are decided by comparing the
+/// exponent with the zone radii's thresholds, without exp or sqrt.
+///
+/// `full` is the individual's whole box, `open` which of its cells are in sight of the
+/// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
+/// to visit.
+#[allow(clippy::too_many_arguments)]
+fn for_each_zone_run(
+    spec: &GridSpec,
+    costs: &SocialCosts,
+    quad: &[f64; 8],
+    zone_scale: f64,
+    full: Rect,
+    open: &Sight,
+    rect: Rect,
+    mut f: impl FnMut(usize, usize, usize, usize),
+) {
+    /// The zone of a cell outside the social zone or out of sight.
+    const NONE: usize = 3;
     let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
     let (a0, b0, a1, b1) = rect;
     let (f0x, f0y) = (full.0, full.1);
@@ -289,7 +315,6 @@ fn for_each_zone_cell(
     let res = spec.resolution;
     let rows = ZoneRows::new(quad, qs);
     for iy in b0..=b1 {
-        let row = spec.index(0, iy);
         let p0 = spec.center(a0, iy);
         let (dx, dy) = (p0.x - cx, p0.y - cy);
         let sight = open.row(iy - f0y);
@@ -309,23 +334,35 @@ fn for_each_zone_cell(
             sag += dsag;
             fro += dfro;
         }
+        // The current run: its first cell and zone.
+        let (mut start, mut run) = (lo, NONE);
         for ix in lo..=hi {
             let ks = if sag >= 0.0 { kf } else { kr };
             let kq = if fro >= 0.0 { kri } else { kl };
             let e = ks * sag * sag + kq * fro * fro;
             let x = ix - f0x;
-            if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
-                let zone = if e < qi {
+            let zone = if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
+                if e < qi {
                     0
                 } else if e < qp {
                     1
                 } else {
                     2
-                };
-                f(row + ix, zone);
+                }
+            } else {
+                NONE
+            };
+            if zone != run {
+                if run != NONE {
+                    f(iy, start, ix - 1, run);
+                }
+                (start, run) = (ix, zone);
             }
             sag += dsag;
             fro += dfro;
+        }
+        if run != NONE {
+            f(iy, start, hi, run);
         }
     }
 }
@@ -1261,7 +1298,86 @@ impl SocialMap {
         self.prev.clear();
         self.combined = self.static_grid.clone();
         self.set_object_factors(object_factors);
-        self.update_people(individuals);
+        // Fewer individuals than a count can hold: the counts never reach the clamp of
+        // `count_zones`, so they can be summed from the zones' runs.
+        if self.costs.mode == CostMode::Zones
+            && individuals.len() < usize::from(u16::MAX)
+            && individuals.iter().all(|s| s.quadratic().is_some())
+        {
+            self.rebuild_counted(individuals);
+        } else {
+            self.update_people(individuals);
+        }
+    }
+
+    /// The counting path's update from empty counts (what [`SocialMap::update_people_counted`]
+    /// does after a reset, with the same counts, contributions, layer and grid), by runs: each
+    /// run of cells of one zone in a row adds one at its first cell and takes one back after its
+    /// last (wrapping `u16` differences, exact as no count reaches `u16::MAX`), and one pass
+    /// over the grid sums each row's differences into the counts and sets the touched cells'
+    /// factors, in row order.
+    fn rebuild_counted<S: SpaceFunction>(&mut self, individuals: &[S]) {
+        let spec = self.static_grid.spec;
+        let mut counted = Vec::with_capacity(individuals.len());
+        for s in individuals {
+            let Some((quad, zone_scale, rect)) =
+                s.quadratic().and_then(|q| Some((q, s.zone_scale(), self.rect_of(s)?)))
+            else {
+                counted.push(None);
+                continue;
+            };
+            let open = in_sight(
+                &self.static_grid,
+                &self.free_bits,
+                Vec2::new(quad[0], quad[1]),
+                rect,
+                &mut self.sight,
+            );
+            let counts = &mut self.counts;
+            for_each_zone_run(
+                &spec,
+                &self.costs,
+                &quad,
+                zone_scale,
+                rect,
+                &open,
+                rect,
+                |iy, x0, x1, zone| {
+                    let row = spec.index(0, iy);
+                    counts[row + x0][zone] = counts[row + x0][zone].wrapping_add(1);
+                    if x1 + 1 < spec.width {
+                        counts[row + x1 + 1][zone] = counts[row + x1 + 1][zone].wrapping_sub(1);
+                    }
+                },
+            );
+            counted.push(Some(Contribution { quad, zone_scale, rect, open }));
+        }
+        self.counted = counted;
+        let c = self.costs;
+        let mut touched = 0;
+        for iy in 0..spec.height {
+            let row = spec.index(0, iy);
+            let mut sum = [0u16; 3];
+            for i in row..row + spec.width {
+                let d = self.counts[i];
+                sum = [sum[0].wrapping_add(d[0]), sum[1].wrapping_add(d[1]), sum[2].wrapping_add(d[2])];
+                self.counts[i] = sum;
+                if sum != [0; 3] {
+                    let [ci, cp, _] = sum;
+                    self.people[i] = if ci > 0 {
+                        f64::INFINITY
+                    } else if cp > 0 {
+                        c.personal_cost
+                    } else {
+                        c.social_cost
+                    };
+                    self.combine(i);
+                    touched += 1;
+                }
+            }
+        }
+        self.mark.resize(spec.len(), false);
+        self.touched = touched;
     }
 }
 
@@ -1813,6 +1929,78 @@ mod tests {
                     assert_eq!(m.grid().cost[c], expected, "case {case} round {round} cell {c}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn rebuild_by_runs_is_the_per_cell_count_bit_for_bit() {
+        // Random walls (some touching the grid's edges), turned asymmetric individuals anywhere
+        // on, across and off the grid's edges, some very uneven: the rebuild, which counts the
+        // zones by runs, leaves the counts, contributions, people layer, grid and touched count
+        // of the per-cell counting from empty, and the people layer is the plain sweep cut by
+        // the reference walk.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(41);
+        for case in 0..40 {
+            let mut g = grid(12.0, 7.0);
+            g.spec.origin = Vec2::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3));
+            for _ in 0..rng.random_range(0..12) {
+                let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
+                let (len, vertical) = (rng.random_range(1..90), rng.random_bool(0.5));
+                for t in 0..len {
+                    let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
+                    if ix < g.spec.width && iy < g.spec.height {
+                        let i = g.spec.index(ix, iy);
+                        g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
+                    }
+                }
+            }
+            let people: Vec<Oval> = (0..rng.random_range(0..14))
+                .map(|k| {
+                    let th: f64 = if k % 4 == 0 {
+                        [0.0, 0.5, 1.0, 1.5][rng.random_range(0..4)] * std::f64::consts::PI
+                    } else {
+                        rng.random_range(-3.2..3.2)
+                    };
+                    let mut k = || 10f64.powf(rng.random_range(-0.7..0.4));
+                    let (kf, kr, kri, kl) = (k(), k(), k(), k());
+                    let (x, y) = (rng.random_range(-4.0..16.0), rng.random_range(-4.0..11.0));
+                    Oval {
+                        quad: [x, y, th.cos(), th.sin(), kf, kr, kri, kl],
+                        zone_scale: rng.random_range(0.7..1.4),
+                    }
+                })
+                .collect();
+            let mut runs = SocialMap::new(g.clone(), &[], SocialCosts::default());
+            runs.rebuild(&people, &[]);
+            let mut cells = SocialMap::new(g.clone(), &[], SocialCosts::default());
+            cells.update_people(&people);
+            assert!(runs.counts == cells.counts, "case {case}: counts");
+            assert_eq!(runs.counted.len(), cells.counted.len(), "case {case}");
+            for (a, b) in runs.counted.iter().zip(&cells.counted) {
+                let same = match (a, b) {
+                    (Some(a), Some(b)) => a.same(&b.quad, b.zone_scale, b.rect) && a.open.bits == b.open.bits,
+                    (a, b) => a.is_none() && b.is_none(),
+                };
+                assert!(same, "case {case}: contributions");
+            }
+            let bits = |m: &SocialMap| m.people_layer().iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&runs), bits(&cells), "case {case}: people layer");
+            let want = counted_layer_reference(&runs, &people);
+            assert_eq!(bits(&runs), want.iter().map(|f| f.to_bits()).collect::<Vec<_>>(), "case {case}");
+            assert_eq!(runs.grid(), cells.grid(), "case {case}: grid");
+            assert_eq!(runs.cells_touched(), cells.cells_touched(), "case {case}: touched");
+            assert!(runs.mark.iter().all(|&b| !b));
+            // Both go on counting alike.
+            let mut moved = people.clone();
+            for o in moved.iter_mut().step_by(2) {
+                o.quad[0] += 0.13;
+                o.quad[1] -= 0.07;
+            }
+            runs.update_people(&moved);
+            cells.update_people(&moved);
+            assert!(runs.counts == cells.counts, "case {case}: counts after a move");
+            assert_eq!(runs.grid(), cells.grid(), "case {case}: grid after a move");
         }
     }
 
