@@ -1449,29 +1449,47 @@ impl SocialMap {
             counted.push(Some(Contribution { quad, zone_scale, rect, open }));
         }
         self.counted = counted;
+        // The touched cells' factors and codes as `combine` sets them (the code of a factor
+        // kept for the run of cells that share it), over the layers' rows.
         let c = self.costs;
         let mut touched = 0;
-        for iy in 0..spec.height {
+        let mut last = self.last_code;
+        let (counts, people) = (&mut self.counts[..], &mut self.people[..]);
+        let (objects, fixed, combined) =
+            (&self.objects[..], &self.static_grid.cost[..], &mut self.combined.cost[..]);
+        let rows = counts.chunks_exact_mut(spec.width).zip(people.chunks_exact_mut(spec.width));
+        for (iy, (counts, people)) in rows.enumerate() {
             let row = spec.index(0, iy);
             let mut sum = [0u16; 3];
-            for i in row..row + spec.width {
-                let d = self.counts[i];
+            for (x, (count, person)) in counts.iter_mut().zip(people.iter_mut()).enumerate() {
+                let d = *count;
                 sum = [sum[0].wrapping_add(d[0]), sum[1].wrapping_add(d[1]), sum[2].wrapping_add(d[2])];
-                self.counts[i] = sum;
+                *count = sum;
                 if sum != [0; 3] {
                     let [ci, cp, _] = sum;
-                    self.people[i] = if ci > 0 {
+                    *person = if ci > 0 {
                         f64::INFINITY
                     } else if cp > 0 {
                         c.personal_cost
                     } else {
                         c.social_cost
                     };
-                    self.combine(i);
+                    let i = row + x;
+                    let s = fixed[i];
+                    combined[i] = if s >= INSCRIBED {
+                        s
+                    } else {
+                        let f = person.max(objects[i]);
+                        if f.to_bits() != last.0 {
+                            last = (f.to_bits(), c.encode(f));
+                        }
+                        last.1.max(s)
+                    };
                     touched += 1;
                 }
             }
         }
+        self.last_code = last;
         self.mark.resize(spec.len(), false);
         self.touched = touched;
     }
