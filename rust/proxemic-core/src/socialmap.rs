@@ -330,6 +330,92 @@ fn for_each_zone_cell(
     }
 }
 
+/// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
+/// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone of a quadratic-form
+/// individual (see [`SpaceFunction::quadratic`]) and in sight of it, rows in order and runs from
+/// left to right: the cells of [`for_each_zone_cell`], each decided by the same operations (the
+/// runs only group the answers), for the rebuild, which counts by runs.
+///
+/// `full` is the individual's whole box, `open` which of its cells are in sight of the
+/// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
+/// to visit.
+#[allow(clippy::too_many_arguments)]
+fn for_each_zone_run(
+    spec: &GridSpec,
+    costs: &SocialCosts,
+    quad: &[f64; 8],
+    zone_scale: f64,
+    full: Rect,
+    open: &Sight,
+    rect: Rect,
+    mut f: impl FnMut(usize, usize, usize, usize),
+) {
+    /// The zone of a cell outside the social zone or out of sight.
+    const NONE: usize = 3;
+    let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
+    let (a0, b0, a1, b1) = rect;
+    let (f0x, f0y) = (full.0, full.1);
+    let two_z2 = 2.0 * zone_scale * zone_scale;
+    let (qi, qp, qs) = (
+        costs.intimate * costs.intimate / two_z2,
+        costs.personal * costs.personal / two_z2,
+        costs.social * costs.social / two_z2,
+    );
+    let res = spec.resolution;
+    let rows = ZoneRows::new(quad, qs);
+    for iy in b0..=b1 {
+        let p0 = spec.center(a0, iy);
+        let (dx, dy) = (p0.x - cx, p0.y - cy);
+        let sight = open.row(iy - f0y);
+        // Only the cells of the row that can be in the social zone and in sight are tested.
+        let Some((lo, hi)) = rows
+            .cells(spec, cx, dy, (a0, a1))
+            .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
+        else {
+            continue;
+        };
+        let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
+        let mut sag = cos * dx + sin * dy;
+        let mut fro = sin * dx - cos * dy;
+        let (dsag, dfro) = (cos * res, sin * res);
+        // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
+        for _ in a0..lo {
+            sag += dsag;
+            fro += dfro;
+        }
+        // The current run: its first cell and zone.
+        let (mut start, mut run) = (lo, NONE);
+        for ix in lo..=hi {
+            let ks = if sag >= 0.0 { kf } else { kr };
+            let kq = if fro >= 0.0 { kri } else { kl };
+            let e = ks * sag * sag + kq * fro * fro;
+            let x = ix - f0x;
+            let zone = if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
+                if e < qi {
+                    0
+                } else if e < qp {
+                    1
+                } else {
+                    2
+                }
+            } else {
+                NONE
+            };
+            if zone != run {
+                if run != NONE {
+                    f(iy, start, ix - 1, run);
+                }
+                (start, run) = (ix, zone);
+            }
+            sag += dsag;
+            fro += dfro;
+        }
+        if run != NONE {
+            f(iy, start, hi, run);
+        }
+    }
+}
+
 /// The rows of the social zone of a quadrant-wise quadratic form (see
 /// [`SpaceFunction::quadratic`]): per quadrant, the constants that give the zone's part of a
 /// row in a few operations (see [`ZoneRows::cells`]).
@@ -587,11 +673,18 @@ fn span_bits(j: usize, x0: usize, x1: usize) -> u64 {
 /// spreading into the next room or corridor (where they would push the robot's path away from
 /// people it cannot even see). Every cell is open when the centre lies outside the rect or on an
 /// obstacle. `scratch` holds the walk's bit rows.
+///
+/// Only the cells within `reach` cells of the centre's cell (straight line, e.g. from
+/// [`zone_reach`]; infinite for all) are decided, the others may come out either way: a cell
+/// within reach is in sight only when the walk reaches it in at most `reach + SIGHT_SLACK` steps,
+/// so the walk stops after that many layers, and when no obstacle lies within that many steps of
+/// the centre (Chebyshev distance, where those layers stay) every cell within reach is open.
 fn in_sight(
     grid: &CostGrid,
     free_bits: &FreeBits,
     centre: Vec2,
     rect: Rect,
+    reach: f64,
     scratch: &mut SightScratch,
 ) -> Sight {
     let spec = &grid.spec;
@@ -619,25 +712,32 @@ fn in_sight(
     // `spread` has two zero rows above and below the layer's rows (row `y` at `y + 2`).
     spread.clear();
     spread.resize(n + 4 * words, 0);
+    // The last layer that can open a cell within reach.
+    let last = (reach + SIGHT_SLACK).floor().min(1e9) as usize;
+    let (x0, x1) = (sx.saturating_sub(last), sx.saturating_add(last).min(w - 1));
     let mut blocked = false;
     for y in 0..h {
-        blocked |= !free_bits.row_into(b0 + y, a0, w, &mut free[y * words..(y + 1) * words]);
+        let row = &mut free[y * words..(y + 1) * words];
+        if !free_bits.row_into(b0 + y, a0, w, row) && y.abs_diff(sy) <= last {
+            blocked |= (x0 / 64..=x1 / 64).any(|j| !row[j] & span_bits(j, x0, x1) != 0);
+        }
     }
-    // Without an obstacle in the rect the walk to every cell is its Chebyshev distance, never
-    // longer than the straight line: every cell is open, no walk needed.
+    // Without an obstacle within `last` steps of the centre the walk to every cell it reaches in
+    // `last` steps is its Chebyshev distance, never longer than the straight line: every cell
+    // within reach is open, no walk needed.
     if !blocked {
         return all;
     }
     let mut open = vec![0u64; n];
     if words <= 2 {
-        walk_narrow(free, narrow, words, (sx, sy), &mut open);
+        walk_narrow(free, narrow, words, (sx, sy), last, &mut open);
         return Sight { words, bits: Some(open) };
     }
     layer[sy * words + sx / 64] = 1 << (sx % 64);
     visited[sy * words + sx / 64] = 1 << (sx % 64);
     let (mut lo, mut hi) = (sy, sy); // the rows the current layer occupies
     let mut k = 0u64;
-    loop {
+    while k <= last as u64 {
         // The layer's cells in sight (all but those within the long-way half-width of the
         // centre's column), spread to their row neighbours in place.
         for y in lo..=hi {
@@ -709,12 +809,13 @@ fn in_sight(
 /// each layer in one pass over its rows: a row's cells are cut to those in sight and spread to
 /// their row neighbours as the pass reaches the row below them. A cell is in sight when the
 /// layer that reached it did not cut it, so the open cells are the visited ones less the cut
-/// ones, gathered once at the end.
+/// ones, gathered once at the end. The walk stops after layer `last`.
 fn walk_narrow(
     free: &[u64],
     rows: &mut [Vec<u128>; 4],
     words: usize,
     start: (usize, usize),
+    last: usize,
     open: &mut [u64],
 ) {
     let h = free.len() / words;
@@ -738,6 +839,13 @@ fn walk_narrow(
     let (mut lo, mut hi) = (sy, sy);
     let mut k = 0u64;
     loop {
+        if k > last as u64 {
+            // Past the last layer: its cells are not visited (nor open).
+            for y in lo..=hi {
+                visited[y] &= !layer[y];
+            }
+            break;
+        }
         let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
         // The half-width is below `m`: a row without cells nearer the centre's column keeps all.
         let near = if m > 0 { span(sx, m - 1) } else { 0 };
@@ -787,6 +895,20 @@ fn walk_narrow(
 /// as in sight (see [`in_sight`]): the 8-connected walk is never longer than the straight line
 /// in open space, so the slack only absorbs the grid's staircase along walls and doorposts.
 const SIGHT_SLACK: f64 = 2.0;
+
+/// A bound (cells, straight line from the centre's cell, for [`in_sight`]) on the cells in the
+/// social zone of a quadratic-form individual (see [`SpaceFunction::quadratic`]): a cell is in it
+/// when `e = k_s sag^2 + k_f fro^2 < q_s`, and `e >= k_min (sag^2 + fro^2) = k_min (cos^2 + sin^2)
+/// |d|^2`, so `|d| < sqrt(q_s / (k_min (cos^2 + sin^2)))` (metres, from the centre to the cell's
+/// centre); the centre lies in its cell, less than a cell from that cell's centre, and one more
+/// cell covers the rounding. Infinite when that cannot be bounded.
+fn zone_reach(costs: &SocialCosts, quad: &[f64; 8], zone_scale: f64, resolution: f64) -> f64 {
+    let [_, _, cos, sin, kf, kr, kri, kl] = *quad;
+    let kmin = kf.min(kr).min(kri).min(kl) * (cos * cos + sin * sin);
+    let qs = costs.social * costs.social / (2.0 * zone_scale * zone_scale);
+    let r = (qs / kmin).sqrt() / resolution + 2.0;
+    if kmin > 0.0 && r.is_finite() { r } else { f64::INFINITY }
+}
 
 /// The layered social cost map of one robot footprint.
 #[derive(Clone, Debug)]
@@ -1092,9 +1214,16 @@ impl SocialMap {
                     }
                     _ => {
                         let full = (a0, b0, a1, b1);
-                        let open = ind
-                            .centre()
-                            .map(|c| in_sight(&self.static_grid, &self.free_bits, c, full, &mut self.sight));
+                        let open = ind.centre().map(|c| {
+                            in_sight(
+                                &self.static_grid,
+                                &self.free_bits,
+                                c,
+                                full,
+                                f64::INFINITY,
+                                &mut self.sight,
+                            )
+                        });
                         for iy in lo_y..=hi_y {
                             let row = spec.index(0, iy);
                             let sight = open.as_ref().and_then(|o| o.row(iy - b0));
@@ -1170,6 +1299,7 @@ impl SocialMap {
                     &self.free_bits,
                     Vec2::new(quad[0], quad[1]),
                     rect,
+                    zone_reach(&self.costs, &quad, zone_scale, spec.resolution),
                     &mut self.sight,
                 );
                 let c = Contribution { quad, zone_scale, rect, open };
@@ -1225,7 +1355,9 @@ impl SocialMap {
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
-        let open = in_sight(&self.static_grid, &self.free_bits, Vec2::new(q[0], q[1]), full, &mut self.sight);
+        let reach = zone_reach(&c, q, zone_scale, self.static_grid.spec.resolution);
+        let open =
+            in_sight(&self.static_grid, &self.free_bits, Vec2::new(q[0], q[1]), full, reach, &mut self.sight);
         let people = &mut self.people;
         for_each_zone_cell(&self.static_grid.spec, &c, q, zone_scale, full, &open, rect, |idx, zone| {
             if factors[zone] > people[idx] {
@@ -1261,7 +1393,105 @@ impl SocialMap {
         self.prev.clear();
         self.combined = self.static_grid.clone();
         self.set_object_factors(object_factors);
-        self.update_people(individuals);
+        // Fewer individuals than a count can hold: the counts never reach the clamp of
+        // `count_zones`, so they can be summed from the zones' runs.
+        if self.costs.mode == CostMode::Zones
+            && individuals.len() < usize::from(u16::MAX)
+            && individuals.iter().all(|s| s.quadratic().is_some())
+        {
+            self.rebuild_counted(individuals);
+        } else {
+            self.update_people(individuals);
+        }
+    }
+
+    /// The counting path's update from empty counts (what [`SocialMap::update_people_counted`]
+    /// does after a reset, with the same counts, contributions, layer and grid), by runs: each
+    /// run of cells of one zone in a row adds one at its first cell and takes one back after its
+    /// last (wrapping `u16` differences, exact as no count reaches `u16::MAX`), and one pass
+    /// over the grid sums each row's differences into the counts and sets the touched cells'
+    /// factors, in row order.
+    fn rebuild_counted<S: SpaceFunction>(&mut self, individuals: &[S]) {
+        let spec = self.static_grid.spec;
+        let mut counted = Vec::with_capacity(individuals.len());
+        for s in individuals {
+            let Some((quad, zone_scale, rect)) =
+                s.quadratic().and_then(|q| Some((q, s.zone_scale(), self.rect_of(s)?)))
+            else {
+                counted.push(None);
+                continue;
+            };
+            let open = in_sight(
+                &self.static_grid,
+                &self.free_bits,
+                Vec2::new(quad[0], quad[1]),
+                rect,
+                zone_reach(&self.costs, &quad, zone_scale, spec.resolution),
+                &mut self.sight,
+            );
+            let counts = &mut self.counts;
+            for_each_zone_run(
+                &spec,
+                &self.costs,
+                &quad,
+                zone_scale,
+                rect,
+                &open,
+                rect,
+                |iy, x0, x1, zone| {
+                    let row = spec.index(0, iy);
+                    counts[row + x0][zone] = counts[row + x0][zone].wrapping_add(1);
+                    if x1 + 1 < spec.width {
+                        counts[row + x1 + 1][zone] = counts[row + x1 + 1][zone].wrapping_sub(1);
+                    }
+                },
+            );
+            counted.push(Some(Contribution { quad, zone_scale, rect, open }));
+        }
+        self.counted = counted;
+        // The touched cells' factors and codes as `combine` sets them (the code of a factor
+        // kept for the run of cells that share it), over the layers' rows.
+        let c = self.costs;
+        let mut touched = 0;
+        let mut last = self.last_code;
+        let (counts, people) = (&mut self.counts[..], &mut self.people[..]);
+        let (objects, fixed, combined) =
+            (&self.objects[..], &self.static_grid.cost[..], &mut self.combined.cost[..]);
+        let rows = counts.chunks_exact_mut(spec.width).zip(people.chunks_exact_mut(spec.width));
+        for (iy, (counts, people)) in rows.enumerate() {
+            let row = spec.index(0, iy);
+            let mut sum = [0u16; 3];
+            for (x, (count, person)) in counts.iter_mut().zip(people.iter_mut()).enumerate() {
+                let d = *count;
+                sum = [sum[0].wrapping_add(d[0]), sum[1].wrapping_add(d[1]), sum[2].wrapping_add(d[2])];
+                *count = sum;
+                if sum != [0; 3] {
+                    let [ci, cp, _] = sum;
+                    *person = if ci > 0 {
+                        f64::INFINITY
+                    } else if cp > 0 {
+                        c.personal_cost
+                    } else {
+                        c.social_cost
+                    };
+                    let i = row + x;
+                    let s = fixed[i];
+                    combined[i] = if s >= INSCRIBED {
+                        s
+                    } else {
+                        let f = person.max(objects[i]);
+                        if f.to_bits() != last.0 {
+                            last = (f.to_bits(), c.encode(f));
+                        }
+                        last.1.max(s)
+                    };
+                    touched += 1;
+                }
+            }
+        }
+        self.last_code = last;
+        self.mark.resize(spec.len(), false);
+        self.touched = touched;
     }
 }
 
@@ -1575,10 +1805,24 @@ mod tests {
                 let cell = (rng.random_range(rect.0..=rect.2), rng.random_range(rect.1..=rect.3));
                 g.spec.center(cell.0, cell.1)
             };
-            let sight = in_sight(&g, &FreeBits::of(&g), c, rect, &mut scratch);
+            // Half the cases decide every cell, the others only those within a random reach.
+            let reach = if case % 2 == 0 { f64::INFINITY } else { rng.random_range(0.0..60.0) };
+            let sight = in_sight(&g, &FreeBits::of(&g), c, rect, reach, &mut scratch);
             let (w, h) = (rect.2 + 1 - rect.0, rect.3 + 1 - rect.1);
+            let res = g.spec.resolution;
+            let (sx, sy) = (((c.x - g.spec.origin.x) / res).floor(), ((c.y - g.spec.origin.y) / res).floor());
+            let within = |i: usize| {
+                let (dx, dy) = ((rect.0 + i % w) as f64 - sx, (rect.1 + i / w) as f64 - sy);
+                (dx * dx + dy * dy).sqrt() <= reach
+            };
+            // The cells within reach as the reference walk decides them, the others as they came.
+            let want: Vec<bool> = in_sight_reference(&g, c, rect)
+                .into_iter()
+                .enumerate()
+                .map(|(i, open)| if within(i) { open } else { sight.is_open(i % w, i / w) })
+                .collect();
             let bits: Vec<bool> = (0..w * h).map(|i| sight.is_open(i % w, i / w)).collect();
-            assert_eq!(bits, in_sight_reference(&g, c, rect), "case {case}");
+            assert_eq!(bits, want, "case {case}");
         }
     }
 
@@ -1740,6 +1984,20 @@ mod tests {
                 })
                 .collect();
             assert_eq!(got, want, "case {case}");
+            // The runs of the rebuild: maximal, and their cells the same.
+            let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
+            for_each_zone_run(&spec, &costs, &quad, zone_scale, rect, &open, rect, |iy, x0, x1, z| {
+                runs.push((iy, x0, x1, z))
+            });
+            for w in runs.windows(2) {
+                let ((y0, _, e0, z0), (y1, s1, _, z1)) = (w[0], w[1]);
+                assert!(y0 < y1 || (y0 == y1 && (e0 + 1 < s1 || z0 != z1)), "case {case}: runs {w:?}");
+            }
+            let cells: Vec<(usize, usize)> = runs
+                .iter()
+                .flat_map(|&(iy, x0, x1, z)| (x0..=x1).map(move |ix| (spec.index(ix, iy), z)))
+                .collect();
+            assert_eq!(cells, want, "case {case}: runs");
         }
     }
 
@@ -1813,6 +2071,78 @@ mod tests {
                     assert_eq!(m.grid().cost[c], expected, "case {case} round {round} cell {c}");
                 }
             }
+        }
+    }
+
+    #[test]
+    fn rebuild_by_runs_is_the_per_cell_count_bit_for_bit() {
+        // Random walls (some touching the grid's edges), turned asymmetric individuals anywhere
+        // on, across and off the grid's edges, some very uneven: the rebuild, which counts the
+        // zones by runs, leaves the counts, contributions, people layer, grid and touched count
+        // of the per-cell counting from empty, and the people layer is the plain sweep cut by
+        // the reference walk.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(41);
+        for case in 0..40 {
+            let mut g = grid(12.0, 7.0);
+            g.spec.origin = Vec2::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3));
+            for _ in 0..rng.random_range(0..12) {
+                let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
+                let (len, vertical) = (rng.random_range(1..90), rng.random_bool(0.5));
+                for t in 0..len {
+                    let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
+                    if ix < g.spec.width && iy < g.spec.height {
+                        let i = g.spec.index(ix, iy);
+                        g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
+                    }
+                }
+            }
+            let people: Vec<Oval> = (0..rng.random_range(0..14))
+                .map(|k| {
+                    let th: f64 = if k % 4 == 0 {
+                        [0.0, 0.5, 1.0, 1.5][rng.random_range(0..4)] * std::f64::consts::PI
+                    } else {
+                        rng.random_range(-3.2..3.2)
+                    };
+                    let mut k = || 10f64.powf(rng.random_range(-0.7..0.4));
+                    let (kf, kr, kri, kl) = (k(), k(), k(), k());
+                    let (x, y) = (rng.random_range(-4.0..16.0), rng.random_range(-4.0..11.0));
+                    Oval {
+                        quad: [x, y, th.cos(), th.sin(), kf, kr, kri, kl],
+                        zone_scale: rng.random_range(0.7..1.4),
+                    }
+                })
+                .collect();
+            let mut runs = SocialMap::new(g.clone(), &[], SocialCosts::default());
+            runs.rebuild(&people, &[]);
+            let mut cells = SocialMap::new(g.clone(), &[], SocialCosts::default());
+            cells.update_people(&people);
+            assert!(runs.counts == cells.counts, "case {case}: counts");
+            assert_eq!(runs.counted.len(), cells.counted.len(), "case {case}");
+            for (a, b) in runs.counted.iter().zip(&cells.counted) {
+                let same = match (a, b) {
+                    (Some(a), Some(b)) => a.same(&b.quad, b.zone_scale, b.rect) && a.open.bits == b.open.bits,
+                    (a, b) => a.is_none() && b.is_none(),
+                };
+                assert!(same, "case {case}: contributions");
+            }
+            let bits = |m: &SocialMap| m.people_layer().iter().map(|f| f.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&runs), bits(&cells), "case {case}: people layer");
+            let want = counted_layer_reference(&runs, &people);
+            assert_eq!(bits(&runs), want.iter().map(|f| f.to_bits()).collect::<Vec<_>>(), "case {case}");
+            assert_eq!(runs.grid(), cells.grid(), "case {case}: grid");
+            assert_eq!(runs.cells_touched(), cells.cells_touched(), "case {case}: touched");
+            assert!(runs.mark.iter().all(|&b| !b));
+            // Both go on counting alike.
+            let mut moved = people.clone();
+            for o in moved.iter_mut().step_by(2) {
+                o.quad[0] += 0.13;
+                o.quad[1] -= 0.07;
+            }
+            runs.update_people(&moved);
+            cells.update_people(&moved);
+            assert!(runs.counts == cells.counts, "case {case}: counts after a move");
+            assert_eq!(runs.grid(), cells.grid(), "case {case}: grid after a move");
         }
     }
 
