@@ -9,14 +9,18 @@ MuJoCo's Python bindings install (``proxemic.sim.timer_off``: a clock read per t
 the bare denominators are stepped the same way, like with like. Control periods without a person
 in reach are stepped on reduced models (the same robot states and contacts bit for bit): contacts
 off on the robots alone (``Simulation.contact_free_model``), contacts on for walls, objects and
-robots only on the physics model without the people (``Simulation.robots_model``); their
-denominators step those models, and the matched one weights the three kinds of period.
+robots only on the physics model without the people (``Simulation.robots_model``), and periods
+with a few people in reach on a crowd model (the robots with stand-ins for just those people).
 
 The env steps a control period with contacts disabled when the core's hints rule every contact
-out (``Sim.step(contacts_possible=False)``). The bare denominators are therefore measured both
-ways from the same states, and the *matched* denominator weights them by the share of the env's
-own steps that had contacts on in that run; both the contacts-on and the matched ratios are
-printed, and the targets use the matched one (the contacts-on one flatters the env).
+out (``Sim.step(contacts_possible=False)``). The *matched* denominator is therefore measured on
+what the env stepped: every ``REPLAY_EVERY``-th control period of the timed run is kept (the
+model it was stepped on, ``Simulation.stepped``, and a copy of its data at the period's end) and
+stepped bare afterwards with the env's contact setting (``ContactCounter.replay_us``); the
+keeping's own cost is taken off the env's times. The physics model stepped with contacts on, the
+model without the people and the robots alone are printed beside it, and the old-style
+denominator (the physics model with contacts off, as the env stepped before the reduced models);
+the targets use the matched one.
 
 Three env settings: the autopilot with plain A* (medians of ``STEPS``-step blocks); the ``social``
 planner, whose cost is the **mean** over a ``SOCIAL_STEPS``-step run (throughput pays the periodic
@@ -41,6 +45,7 @@ Run: ``python benches/env_bench.py [--people N]`` (``make bench`` does).
 from __future__ import annotations
 
 import argparse
+import copy
 import os
 import re
 import statistics
@@ -64,6 +69,8 @@ from proxemic.viz.topdown import OVERLAYS
 TRIALS = 7
 STEPS = 400
 SOCIAL_STEPS = 600
+#: Every how many control periods the counter keeps one to replay bare (see ``ContactCounter``).
+REPLAY_EVERY = 4
 #: Env steps per second a learning policy's single env keeps (issue 19: at least the 8k steps/s
 #: the first wave measured).
 POLICY_TARGET = 8000
@@ -174,6 +181,8 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
         "Rust World.step": [],
         "contact share": [],
         "robots-only share": [],
+        "crowd share": [],
+        "matched": [],
         "bare robots only, contacts on": [],
         "bare contacts off": [],
         "bare contacts off, with the people": [],
@@ -183,9 +192,11 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
     seed = 0
     for _ in range(TRIALS):
         with counter:
-            res["env.step"].append(cpu_us(env_step, STEPS))
+            res["env.step"].append(cpu_us(env_step, STEPS) - counter.overhead_ns / 1e3 / STEPS)
         res["contact share"].append(counter.share())
         res["robots-only share"].append(counter.robots_only_share())
+        res["crowd share"].append(counter.crowd_share())
+        res["matched"].append(counter.replay_us())
         res["bare robots only, contacts on"].append(bare_us(contact_free(sim, contacts=True), STEPS))
         for key in models:
             bare = bare_from_env(key)
@@ -216,25 +227,48 @@ def bench_steps(env: ProxemicEnv) -> dict[str, float]:
 
 
 class ContactCounter:
-    """Counts, while active (``with``), how many of the env's physics steps had contacts on."""
+    """Counts, while active (``with``), the env's control periods by kind, and keeps some to replay.
+
+    Kinds: contacts on or off, and contacts on without a person in reach (the physics model
+    without the people) or with a few people in reach (a crowd model, see ``proxemic.sim``).
+    Every ``REPLAY_EVERY``-th period, the model the env stepped it on and a copy of its data at
+    the period's end are kept: :meth:`replay_us` steps each of them bare, as the env would step
+    the next period on that model, for the like-with-like denominator. What the counting costs
+    is summed in ``overhead_ns`` for the benches to take off the env's times.
+    """
 
     def __init__(self, sim: Any) -> None:
         self.sim = sim
         self.on = 0
         self.robots_only_on = 0
+        self.crowd_on = 0
         self.total = 0
+        self.kept: list[tuple[mujoco.MjModel, mujoco.MjData, int]] = []
+        #: Thread CPU time the counting and keeping took in the env's steps (ns), for the
+        #: benches to take off their env step times.
+        self.overhead_ns = 0
 
     def __enter__(self) -> ContactCounter:
-        self.on = self.robots_only_on = self.total = 0
+        self.on = self.robots_only_on = self.crowd_on = self.total = self.overhead_ns = 0
+        self.kept = []
         sim = self.sim
         step = sim.step
+        crowd_models = {id(c.model) for c in sim._crowds.values()}
+        no_contact = int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
         def counted(command: np.ndarray, contacts_possible: bool = True) -> None:
+            step(command, contacts_possible)
+            t0 = time.thread_time_ns()
+            m, d = sim.stepped
             self.on += bool(contacts_possible)
             # contacts on without a person in reach: stepped on the physics model without the people
-            self.robots_only_on += bool(contacts_possible) and not any(sim._hints[1] or [])
+            self.robots_only_on += bool(contacts_possible) and m is sim.robots_model
+            self.crowd_on += bool(contacts_possible) and id(m) in crowd_models
+            if self.total % REPLAY_EVERY == 0:
+                flags = int(m.opt.disableflags) | (0 if contacts_possible else no_contact)
+                self.kept.append((m, copy.copy(d), flags))
             self.total += 1
-            step(command, contacts_possible)
+            self.overhead_ns += time.thread_time_ns() - t0
 
         self.sim.step = counted
         return self
@@ -243,26 +277,38 @@ class ContactCounter:
         del self.sim.step  # the instance attribute: the class's method is back
 
     def share(self) -> float:
-        """The share of the counted physics steps that had contacts on (1.0 when none ran)."""
+        """The share of the counted control periods that had contacts on (1.0 when none ran)."""
         return self.on / self.total if self.total else 1.0
 
     def robots_only_share(self) -> float:
-        """The share of the counted physics steps with contacts on but no person in reach."""
+        """The share of the counted control periods with contacts on but no person in reach."""
         return self.robots_only_on / self.total if self.total else 0.0
 
+    def crowd_share(self) -> float:
+        """The share of the counted control periods stepped on a crowd model."""
+        return self.crowd_on / self.total if self.total else 0.0
 
-def matched(med: dict[str, float]) -> float:
-    """The bare denominator with the env's own shares of the three kinds of control period.
-
-    Contacts on with a person in reach (the physics model), contacts on without (the physics
-    model without the people), contacts off (the robots alone).
-    """
-    share, alone = med["contact share"], med["robots-only share"]
-    return (
-        (share - alone) * med["bare mj_step x frame_skip"]
-        + alone * med["bare robots only, contacts on"]
-        + (1.0 - share) * med["bare contacts off"]
-    )
+    def replay_us(self) -> float:
+        """Bare MuJoCo per control period, like with like: the mean over the kept periods of one
+        period's ``mj_step`` calls on the model the env stepped, from its state then, with the
+        env's contact setting (each the median of 3 on fresh copies; the bindings' timer off)."""
+        skip = self.sim.frame_skip
+        per: list[float] = []
+        scratch: dict[int, mujoco.MjData] = {}  # one per model, reused: warm, as the env's data is
+        with timer_off():
+            for m, kept, flags in self.kept:
+                d = scratch.setdefault(id(m), mujoco.MjData(m))
+                saved = int(m.opt.disableflags)
+                times = []
+                for _ in range(3):
+                    mujoco.mj_copyData(d, m, kept)
+                    m.opt.disableflags = flags
+                    t0 = time.thread_time_ns()
+                    mujoco.mj_step(m, d, skip)
+                    times.append((time.thread_time_ns() - t0) / 1e3)
+                    m.opt.disableflags = saved
+                per.append(statistics.median(times))
+        return statistics.fmean(per) if per else float("nan")
 
 
 def bench_policy(env: ProxemicEnv) -> dict[str, float]:
@@ -275,7 +321,6 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
     """
     sim = env.sim
     turn = np.array([0.0, 0.0, 0.5], np.float32)
-    d = mujoco.MjData(sim.model)
     counter = ContactCounter(sim)
 
     def env_step() -> None:
@@ -283,31 +328,14 @@ def bench_policy(env: ProxemicEnv) -> dict[str, float]:
         if te or tr:
             env.reset()
 
-    def on() -> None:
-        mujoco.mj_step(sim.model, d, sim.frame_skip)
-
-    res: dict[str, list[float]] = {
-        "env.step": [],
-        "contact share": [],
-        "robots-only share": [],
-        "bare mj_step x frame_skip": [],
-        "bare robots only, contacts on": [],
-        "bare contacts off": [],
-    }
+    res: dict[str, list[float]] = {"env.step": [], "contact share": [], "matched": []}
     env.reset(seed=0)
     for _ in range(TRIALS):
         with counter:
-            res["env.step"].append(cpu_us(env_step, STEPS))
+            res["env.step"].append(cpu_us(env_step, STEPS) - counter.overhead_ns / 1e3 / STEPS)
         res["contact share"].append(counter.share())
-        res["robots-only share"].append(counter.robots_only_share())
-        res["bare robots only, contacts on"].append(bare_us(contact_free(sim, contacts=True), STEPS))
-        for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
-            getattr(d, name)[:] = getattr(sim.data, name)
-        res["bare mj_step x frame_skip"].append(bare_us(on, STEPS))
-        res["bare contacts off"].append(bare_us(contact_free(sim), STEPS))
-    med = {k: statistics.median(v) for k, v in res.items()}
-    med["matched"] = matched(med)
-    return med
+        res["matched"].append(counter.replay_us())
+    return {k: statistics.median(v) for k, v in res.items()}
 
 
 def bench_social(env: ProxemicEnv) -> dict[str, float]:
@@ -317,47 +345,40 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
     skip = sim.frame_skip
     d = mujoco.MjData(sim.model)
     counter = ContactCounter(sim)
-    means: list[float] = []
-    blocks: list[float] = []
-    shares: list[float] = []
-    alone: list[float] = []
-    bare_alone: list[float] = []
-    bare_on: list[float] = []
-    bare_off: list[float] = []
+    res: dict[str, list[float]] = {
+        "mean": [],
+        "median block": [],
+        "contact share": [],
+        "crowd share": [],
+        "matched": [],
+        "bare mj_step x frame_skip": [],
+    }
     for trial in range(TRIALS):
         env.reset(seed=1000 + trial)
         times: list[float] = []
         with counter:
             for _ in range(SOCIAL_STEPS):
+                before = counter.overhead_ns
                 t0 = time.thread_time_ns()
                 _, _, te, tr, _ = env.step(zero)
-                times.append((time.thread_time_ns() - t0) / 1e3)
+                times.append((time.thread_time_ns() - t0 - (counter.overhead_ns - before)) / 1e3)
                 if te or tr:
                     env.reset()
-        shares.append(counter.share())
-        alone.append(counter.robots_only_share())
-        bare_alone.append(bare_us(contact_free(sim, contacts=True), STEPS))
-        means.append(statistics.fmean(times))
-        blocks.append(statistics.median(statistics.fmean(times[k : k + 50]) for k in range(0, len(times), 50)))
+        res["contact share"].append(counter.share())
+        res["crowd share"].append(counter.crowd_share())
+        res["matched"].append(counter.replay_us())
+        res["mean"].append(statistics.fmean(times))
+        res["median block"].append(
+            statistics.median(statistics.fmean(times[k : k + 50]) for k in range(0, len(times), 50))
+        )
         for name in ("qpos", "qvel", "ctrl", "mocap_pos", "mocap_quat", "qacc_warmstart"):
             getattr(d, name)[:] = getattr(sim.data, name)
 
         def on() -> None:
             mujoco.mj_step(sim.model, d, skip)
 
-        bare_on.append(bare_us(on, STEPS))
-        bare_off.append(bare_us(contact_free(sim), STEPS))
-    med = {
-        "mean": statistics.median(means),
-        "median block": statistics.median(blocks),
-        "contact share": statistics.median(shares),
-        "robots-only share": statistics.median(alone),
-        "bare robots only, contacts on": statistics.median(bare_alone),
-        "bare mj_step x frame_skip": statistics.median(bare_on),
-        "bare contacts off": statistics.median(bare_off),
-    }
-    med["matched"] = matched(med)
-    return med
+        res["bare mj_step x frame_skip"].append(bare_us(on, STEPS))
+    return {k: statistics.median(v) for k, v in res.items()}
 
 
 def bench_render(env: ProxemicEnv) -> dict[str, tuple[float, float]]:
@@ -394,7 +415,7 @@ def main() -> int:
     n = env.world.num_people
     skip = env.sim.frame_skip
     med = bench_steps(env)
-    base = matched(med)
+    base = med["matched"]
     on = med["bare mj_step x frame_skip"]
     how = f"{scripted} scripted + {copied} copied walkers" if copied else "as scripted"
     print(
@@ -412,11 +433,12 @@ def main() -> int:
         f"{100 * med['Rust World.step'] / med['env.step']:5.1f}% of the env step"
     )
     print(
-        f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (physics model; contacts on in "
-        f"{100 * med['contact share']:.0f}% of the env's steps: on {on:.1f} us, "
-        f"{100 * med['robots-only share']:.0f}% without a person in reach; "
-        f"on {med['bare robots only, contacts on']:.1f} us without the people; "
-        f"off {med['bare contacts off']:.1f} us the robots alone)"
+        f"  {'bare mj_step x frame_skip, matched':40s} {base:8.1f} us  (the models the env stepped, replayed "
+        f"from every {REPLAY_EVERY}th period; contacts on in {100 * med['contact share']:.0f}% of the env's "
+        f"steps: {100 * med['robots-only share']:.0f}% without a person in reach, "
+        f"{100 * med['crowd share']:.0f}% on a crowd model; the physics model with contacts on {on:.1f} us, "
+        f"without the people {med['bare robots only, contacts on']:.1f} us, "
+        f"the robots alone with contacts off {med['bare contacts off']:.1f} us)"
     )
     share = med["contact share"]
     with_people = share * on + (1.0 - share) * med["bare contacts off, with the people"]
@@ -436,7 +458,8 @@ def main() -> int:
         f"  {'env.step (autopilot: social)':40s} {soc['mean']:8.1f} us  mean over {SOCIAL_STEPS} steps, "
         f"{soc_ratio:5.2f}x bare MuJoCo matched ({soc['mean'] / soc['bare mj_step x frame_skip']:4.2f}x contacts on); "
         f"median 50-step block {soc['median block']:.1f} us ({soc['median block'] / soc['matched']:4.2f}x); "
-        f"bare matched {soc['matched']:.1f} us (contacts on in {100 * soc['contact share']:.0f}%)"
+        f"bare matched {soc['matched']:.1f} us (contacts on in {100 * soc['contact share']:.0f}%, "
+        f"{100 * soc['crowd share']:.0f}% on a crowd model)"
     )
     pol = bench_policy(policy_env)
     policy_env.close()

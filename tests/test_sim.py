@@ -262,6 +262,8 @@ def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_sam
             kinds.append((possible, possible and any(sim._hints[1] or [])))
             real(command, possible)
             touched[0] += int(sim.contacts.any())
+            if robots_only and not kinds[-1][1]:  # Simulation.stepped names the reduced model used
+                assert sim.stepped[0] is (sim.robots_model if possible else sim.contact_free_model)
 
         sim.step = step  # type: ignore[method-assign]
         rng = np.random.default_rng(8)

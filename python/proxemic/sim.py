@@ -406,6 +406,9 @@ class Simulation:
         # volume) and the crowd models (see `_crowd`) by size, compiled here (a compilation in
         # a step would cost some hundred steps).
         self._near: tuple[int, ...] = ()
+        #: The model and data the last control period was stepped on (the physics model, a
+        #: reduced or a crowd model; for the benches' like-with-like bare denominators).
+        self.stepped: tuple[mujoco.MjModel, mujoco.MjData] = (m, self.data)
         self._person_geom = {f: _view(getattr(m, f), np.array(person_geoms, dtype=np.intp)) for f in _PERSON_GEOM}
         self._person_bvh = m.bvh_aabb[m.body_bvhadr[pb]] if p else np.zeros((0, 6))
         if p and not (m.body_bvhnum[pb] == 1).all():  # SHOULD NOT OCCUR: one collision geom each
@@ -580,6 +583,7 @@ class Simulation:
                 mujoco.mj_setState(m, d, state, sig)
             elif contacts_possible:
                 mujoco.mj_getState(m, d, state, sig)  # the period's start, should it be stepped again
+            self.stepped = (m, d)
             if not contacts_possible:
                 if target is None:
                     opt = self._opt
