@@ -6,6 +6,8 @@
 //! Run: `cargo run --release -p proxemic-core --example people_cost_timing [-- scenario ...]`
 //! (default: museum and care_center, seeds 0-2).
 
+mod common;
+
 use proxemic_core::scenario::Scenario;
 use proxemic_core::world::{PERSON_OUT, World};
 
@@ -42,21 +44,7 @@ fn main() {
                 if w.command(&actions, &mut out).is_err() {
                     break;
                 }
-                for i in 0..n {
-                    let row = &out[i * lay.stride..(i + 1) * lay.stride];
-                    let pose = &row[lay.pose.offset..lay.pose.offset + 3];
-                    let c = &row[lay.command.offset..lay.command.offset + 3];
-                    let (sn, co) = pose[2].sin_cos();
-                    let (vx, vy) = (co * c[0] - sn * c[1], sn * c[0] + co * c[1]);
-                    state[6 * i..6 * i + 6].copy_from_slice(&[
-                        pose[0] + vx * dt,
-                        pose[1] + vy * dt,
-                        pose[2] + c[2] * dt,
-                        vx,
-                        vy,
-                        c[2],
-                    ]);
-                }
+                common::kinematics(&w, &out, &mut state, dt);
                 if w.step(&state, &contacts, &mut out, &mut people).is_err() {
                     break;
                 }

@@ -258,14 +258,107 @@ fn polygon_interior_cells(spec: &GridSpec, polygon: &[Vec2]) -> Vec<u32> {
 /// Inclusive cell rectangle `(x0, y0, x1, y1)`.
 type Rect = (usize, usize, usize, usize);
 
-/// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
-/// inside the social zone of a quadratic-form individual (see [`SpaceFunction::quadratic`]).
-/// The axis distances advance by constant steps along a row, and zones are decided by comparing
+/// What a zone sweep of one quadratic-form individual (see [`SpaceFunction::quadratic`]) needs
+/// along a row: the quadrants' coefficients, the zones' thresholds on the exponent and the
+/// axis distances' steps from one cell to the next.
+struct ZoneScan {
+    /// `1 / 2σ²` ahead, behind, to the right and to the left.
+    k: [f64; 4],
+    /// The exponent's thresholds of the intimate, personal and social zones.
+    q: [f64; 3],
+    /// The sagittal and frontal distances' steps per cell along a row (m).
+    step: (f64, f64),
+}
+
+impl ZoneScan {
+    /// The zone of a cell at sagittal and frontal distances `sag`, `fro` (0 intimate,
+    /// 1 personal, 2 social, [`ZoneScan::NONE`] outside the social zone or out of sight: bit `x`
+    /// of `sight`, when there is one).
+    #[inline]
+    fn zone(&self, sag: f64, fro: f64, sight: Option<&[u64]>, x: usize) -> usize {
+        let [kf, kr, kri, kl] = self.k;
+        let ks = if sag >= 0.0 { kf } else { kr };
+        let kq = if fro >= 0.0 { kri } else { kl };
+        let e = ks * sag * sag + kq * fro * fro;
+        let [qi, qp, qs] = self.q;
+        if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
+            if e < qi {
+                0
+            } else if e < qp {
+                1
+            } else {
+                2
+            }
+        } else {
+            Self::NONE
+        }
+    }
+
+    /// The zone of a cell outside the social zone or out of sight.
+    const NONE: usize = 3;
+}
+
+/// Calls `row(scan, iy, lo, hi, sag, fro, sight)` for every row `iy` of `rect` with cells that
+/// can lie in the social zone of a quadratic-form individual (see
+/// [`SpaceFunction::quadratic`]) and in sight of it, rows in order: the cells `lo ..= hi` are to
+/// be tested (with [`ZoneScan::zone`] and bit `ix - full.0` of `sight`), `sag` and `fro` are the
+/// axis distances at `lo`, and the next cell's are `+ scan.step` (the same additions as a sweep
+/// from the rect's first cell, so every cell sees the same values). Zones are decided by comparing
 /// the exponent with the zone radii's thresholds, without exp or sqrt.
 ///
 /// `full` is the individual's whole box, `open` which of its cells are in sight of the
 /// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
 /// to visit.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn for_each_zone_row(
+    spec: &GridSpec,
+    costs: &SocialCosts,
+    quad: &[f64; 8],
+    zone_scale: f64,
+    full: Rect,
+    open: &Sight,
+    rect: Rect,
+    mut row: impl FnMut(&ZoneScan, usize, usize, usize, f64, f64, Option<&[u64]>),
+) {
+    let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
+    let (a0, b0, a1, b1) = rect;
+    let (f0x, f0y) = (full.0, full.1);
+    let two_z2 = 2.0 * zone_scale * zone_scale;
+    let q = [
+        costs.intimate * costs.intimate / two_z2,
+        costs.personal * costs.personal / two_z2,
+        costs.social * costs.social / two_z2,
+    ];
+    let res = spec.resolution;
+    let scan = ZoneScan { k: [kf, kr, kri, kl], q, step: (cos * res, sin * res) };
+    let rows = ZoneRows::new(quad, q[2]);
+    for iy in b0..=b1 {
+        let p0 = spec.center(a0, iy);
+        let (dx, dy) = (p0.x - cx, p0.y - cy);
+        let sight = open.row(iy - f0y);
+        // Only the cells of the row that can be in the social zone and in sight are tested.
+        let Some((lo, hi)) = rows
+            .cells(spec, cx, dy, (a0, a1))
+            .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
+        else {
+            continue;
+        };
+        let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
+        let mut sag = cos * dx + sin * dy;
+        let mut fro = sin * dx - cos * dy;
+        // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
+        for _ in a0..lo {
+            sag += scan.step.0;
+            fro += scan.step.1;
+        }
+        row(&scan, iy, lo, hi, sag, fro, sight);
+    }
+}
+
+/// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
+/// inside the social zone of a quadratic-form individual and in sight of it (see
+/// [`for_each_zone_row`] for the arguments).
 #[allow(clippy::too_many_arguments)]
 fn for_each_zone_cell(
     spec: &GridSpec,
@@ -277,68 +370,34 @@ fn for_each_zone_cell(
     rect: Rect,
     mut f: impl FnMut(usize, usize),
 ) {
-    let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
-    let (a0, b0, a1, b1) = rect;
-    let (f0x, f0y) = (full.0, full.1);
-    let two_z2 = 2.0 * zone_scale * zone_scale;
-    let (qi, qp, qs) = (
-        costs.intimate * costs.intimate / two_z2,
-        costs.personal * costs.personal / two_z2,
-        costs.social * costs.social / two_z2,
-    );
-    let res = spec.resolution;
-    let rows = ZoneRows::new(quad, qs);
-    for iy in b0..=b1 {
-        let row = spec.index(0, iy);
-        let p0 = spec.center(a0, iy);
-        let (dx, dy) = (p0.x - cx, p0.y - cy);
-        let sight = open.row(iy - f0y);
-        // Only the cells of the row that can be in the social zone and in sight are tested.
-        let Some((lo, hi)) = rows
-            .cells(spec, cx, dy, (a0, a1))
-            .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
-        else {
-            continue;
-        };
-        let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
-        let mut sag = cos * dx + sin * dy;
-        let mut fro = sin * dx - cos * dy;
-        let (dsag, dfro) = (cos * res, sin * res);
-        // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
-        for _ in a0..lo {
-            sag += dsag;
-            fro += dfro;
-        }
-        for ix in lo..=hi {
-            let ks = if sag >= 0.0 { kf } else { kr };
-            let kq = if fro >= 0.0 { kri } else { kl };
-            let e = ks * sag * sag + kq * fro * fro;
-            let x = ix - f0x;
-            if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
-                let zone = if e < qi {
-                    0
-                } else if e < qp {
-                    1
-                } else {
-                    2
-                };
-                f(row + ix, zone);
+    let f0x = full.0;
+    for_each_zone_row(
+        spec,
+        costs,
+        quad,
+        zone_scale,
+        full,
+        open,
+        rect,
+        |scan, iy, lo, hi, mut sag, mut fro, sight| {
+            let row = spec.index(0, iy);
+            for ix in lo..=hi {
+                let zone = scan.zone(sag, fro, sight, ix - f0x);
+                if zone != ZoneScan::NONE {
+                    f(row + ix, zone);
+                }
+                sag += scan.step.0;
+                fro += scan.step.1;
             }
-            sag += dsag;
-            fro += dfro;
-        }
-    }
+        },
+    );
 }
 
 /// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
 /// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone of a quadratic-form
-/// individual (see [`SpaceFunction::quadratic`]) and in sight of it, rows in order and runs from
-/// left to right: the cells of [`for_each_zone_cell`], each decided by the same operations (the
-/// runs only group the answers), for the rebuild, which counts by runs.
-///
-/// `full` is the individual's whole box, `open` which of its cells are in sight of the
-/// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
-/// to visit.
+/// individual and in sight of it, rows in order and runs from left to right: the cells of
+/// [`for_each_zone_cell`], each decided by the same operations (the runs only group the
+/// answers), for the rebuild, which counts by runs (see [`for_each_zone_row`] for the arguments).
 #[allow(clippy::too_many_arguments)]
 fn for_each_zone_run(
     spec: &GridSpec,
@@ -350,69 +409,50 @@ fn for_each_zone_run(
     rect: Rect,
     mut f: impl FnMut(usize, usize, usize, usize),
 ) {
-    /// The zone of a cell outside the social zone or out of sight.
-    const NONE: usize = 3;
-    let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
-    let (a0, b0, a1, b1) = rect;
-    let (f0x, f0y) = (full.0, full.1);
-    let two_z2 = 2.0 * zone_scale * zone_scale;
-    let (qi, qp, qs) = (
-        costs.intimate * costs.intimate / two_z2,
-        costs.personal * costs.personal / two_z2,
-        costs.social * costs.social / two_z2,
-    );
-    let res = spec.resolution;
-    let rows = ZoneRows::new(quad, qs);
-    for iy in b0..=b1 {
-        let p0 = spec.center(a0, iy);
-        let (dx, dy) = (p0.x - cx, p0.y - cy);
-        let sight = open.row(iy - f0y);
-        // Only the cells of the row that can be in the social zone and in sight are tested.
-        let Some((lo, hi)) = rows
-            .cells(spec, cx, dy, (a0, a1))
-            .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
-        else {
-            continue;
-        };
-        let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
-        let mut sag = cos * dx + sin * dy;
-        let mut fro = sin * dx - cos * dy;
-        let (dsag, dfro) = (cos * res, sin * res);
-        // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
-        for _ in a0..lo {
-            sag += dsag;
-            fro += dfro;
-        }
-        // The current run: its first cell and zone.
-        let (mut start, mut run) = (lo, NONE);
-        for ix in lo..=hi {
-            let ks = if sag >= 0.0 { kf } else { kr };
-            let kq = if fro >= 0.0 { kri } else { kl };
-            let e = ks * sag * sag + kq * fro * fro;
-            let x = ix - f0x;
-            let zone = if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
-                if e < qi {
-                    0
-                } else if e < qp {
-                    1
-                } else {
-                    2
+    let f0x = full.0;
+    for_each_zone_row(
+        spec,
+        costs,
+        quad,
+        zone_scale,
+        full,
+        open,
+        rect,
+        |scan, iy, lo, hi, mut sag, mut fro, sight| {
+            // The current run: its first cell and zone.
+            let (mut start, mut run) = (lo, ZoneScan::NONE);
+            for ix in lo..=hi {
+                let zone = scan.zone(sag, fro, sight, ix - f0x);
+                if zone != run {
+                    if run != ZoneScan::NONE {
+                        f(iy, start, ix - 1, run);
+                    }
+                    (start, run) = (ix, zone);
                 }
-            } else {
-                NONE
-            };
-            if zone != run {
-                if run != NONE {
-                    f(iy, start, ix - 1, run);
-                }
-                (start, run) = (ix, zone);
+                sag += scan.step.0;
+                fro += scan.step.1;
             }
-            sag += dsag;
-            fro += dfro;
+            if run != ZoneScan::NONE {
+                f(iy, start, hi, run);
+            }
+        },
+    );
+}
+
+/// A cell's combined cost: its static cost where that is inscribed or lethal, else the code of
+/// the larger of its people and object factors, at least its static cost. `last` holds the last
+/// factor encoded and its code: neighbouring cells mostly share a factor, which is encoded once
+/// per run.
+#[inline]
+fn combined_cost(costs: &SocialCosts, fixed: u8, people: f64, objects: f64, last: &mut (u64, u8)) -> u8 {
+    if fixed >= INSCRIBED {
+        fixed
+    } else {
+        let f = people.max(objects);
+        if f.to_bits() != last.0 {
+            *last = (f.to_bits(), costs.encode(f));
         }
-        if run != NONE {
-            f(iy, start, hi, run);
-        }
+        last.1.max(fixed)
     }
 }
 
@@ -1368,17 +1408,13 @@ impl SocialMap {
 
     #[inline(always)]
     fn combine(&mut self, idx: usize) {
-        let s = self.static_grid.cost[idx];
-        self.combined.cost[idx] = if s >= INSCRIBED {
-            s
-        } else {
-            let f = self.people[idx].max(self.objects[idx]);
-            // Neighbouring cells mostly share a factor: encode each run of one factor once.
-            if f.to_bits() != self.last_code.0 {
-                self.last_code = (f.to_bits(), self.costs.encode(f));
-            }
-            self.last_code.1.max(s)
-        };
+        self.combined.cost[idx] = combined_cost(
+            &self.costs,
+            self.static_grid.cost[idx],
+            self.people[idx],
+            self.objects[idx],
+            &mut self.last_code,
+        );
     }
 
     /// Rebuilds every layer from scratch (for tests and benchmarks of the full rebuild).
@@ -1475,16 +1511,7 @@ impl SocialMap {
                         c.social_cost
                     };
                     let i = row + x;
-                    let s = fixed[i];
-                    combined[i] = if s >= INSCRIBED {
-                        s
-                    } else {
-                        let f = person.max(objects[i]);
-                        if f.to_bits() != last.0 {
-                            last = (f.to_bits(), c.encode(f));
-                        }
-                        last.1.max(s)
-                    };
+                    combined[i] = combined_cost(&c, fixed[i], *person, objects[i], &mut last);
                     touched += 1;
                 }
             }

@@ -8,25 +8,9 @@ use proxemic_core::world::{PERSON_OUT, World};
 
 const ENVS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../python/proxemic/data/envs");
 
-/// Integrates each robot's command (robot frame) over one control period into `state`.
-fn kinematics(world: &World, out: &[f64], state: &mut [f64], dt: f64) {
-    let lay = world.layout();
-    for i in 0..world.num_robots() {
-        let row = &out[i * lay.stride..(i + 1) * lay.stride];
-        let pose = &row[lay.pose.offset..lay.pose.offset + 3];
-        let c = &row[lay.command.offset..lay.command.offset + 3];
-        let (s, co) = pose[2].sin_cos();
-        let (vx, vy) = (co * c[0] - s * c[1], s * c[0] + co * c[1]);
-        state[6 * i..6 * i + 6].copy_from_slice(&[
-            pose[0] + vx * dt,
-            pose[1] + vy * dt,
-            pose[2] + c[2] * dt,
-            vx,
-            vy,
-            c[2],
-        ]);
-    }
-}
+#[path = "../examples/common/mod.rs"]
+mod common;
+use common::kinematics;
 
 /// Worlds of `name` reset with `seeds`, their buffers end to end.
 fn worlds(name: &str, seeds: &[u64]) -> (Vec<World>, Vec<f64>, Vec<f64>) {
