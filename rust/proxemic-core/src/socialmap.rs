@@ -298,88 +298,73 @@ impl ZoneScan {
     const NONE: usize = 3;
 }
 
-/// Calls `row(scan, iy, lo, hi, sag, fro, sight)` for every row `iy` of `rect` with cells that
-/// can lie in the social zone of a quadratic-form individual (see
-/// [`SpaceFunction::quadratic`]) and in sight of it, rows in order: the cells `lo ..= hi` are to
-/// be tested (with [`ZoneScan::zone`] and bit `ix - full.0` of `sight`), `sag` and `fro` are the
-/// axis distances at `lo`, and the next cell's are `+ scan.step` (the same additions as a sweep
-/// from the rect's first cell, so every cell sees the same values). Zones are decided by comparing
-/// the exponent with the zone radii's thresholds, without exp or sqrt.
-///
-/// `full` is the individual's whole box, `open` which of its cells are in sight of the
-/// individual (from [`in_sight`]: zones do not pass through walls) and `rect` the part of the box
-/// to visit.
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn for_each_zone_row(
-    spec: &GridSpec,
-    costs: &SocialCosts,
-    quad: &[f64; 8],
+/// The zone sweep of one quadratic-form individual (see [`SpaceFunction::quadratic`]) over a
+/// box of cells. Zones are decided by comparing the exponent with the zone radii's thresholds,
+/// without exp or sqrt.
+struct ZoneSweep<'a> {
+    spec: &'a GridSpec,
+    costs: &'a SocialCosts,
+    /// The individual's quadratic form.
+    quad: &'a [f64; 8],
     zone_scale: f64,
+    /// The individual's whole box.
     full: Rect,
-    open: &Sight,
+    /// Which cells of `full` are in sight of the individual (from [`in_sight`]: zones do not
+    /// pass through walls).
+    open: &'a Sight,
+    /// The part of the box to visit.
     rect: Rect,
-    mut row: impl FnMut(&ZoneScan, usize, usize, usize, f64, f64, Option<&[u64]>),
-) {
-    let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
-    let (a0, b0, a1, b1) = rect;
-    let (f0x, f0y) = (full.0, full.1);
-    let two_z2 = 2.0 * zone_scale * zone_scale;
-    let q = [
-        costs.intimate * costs.intimate / two_z2,
-        costs.personal * costs.personal / two_z2,
-        costs.social * costs.social / two_z2,
-    ];
-    let res = spec.resolution;
-    let scan = ZoneScan { k: [kf, kr, kri, kl], q, step: (cos * res, sin * res) };
-    let rows = ZoneRows::new(quad, q[2]);
-    for iy in b0..=b1 {
-        let p0 = spec.center(a0, iy);
-        let (dx, dy) = (p0.x - cx, p0.y - cy);
-        let sight = open.row(iy - f0y);
-        // Only the cells of the row that can be in the social zone and in sight are tested.
-        let Some((lo, hi)) = rows
-            .cells(spec, cx, dy, (a0, a1))
-            .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
-        else {
-            continue;
-        };
-        let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
-        let mut sag = cos * dx + sin * dy;
-        let mut fro = sin * dx - cos * dy;
-        // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
-        for _ in a0..lo {
-            sag += scan.step.0;
-            fro += scan.step.1;
-        }
-        row(&scan, iy, lo, hi, sag, fro, sight);
-    }
 }
 
-/// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
-/// inside the social zone of a quadratic-form individual and in sight of it (see
-/// [`for_each_zone_row`] for the arguments).
-#[allow(clippy::too_many_arguments)]
-fn for_each_zone_cell(
-    spec: &GridSpec,
-    costs: &SocialCosts,
-    quad: &[f64; 8],
-    zone_scale: f64,
-    full: Rect,
-    open: &Sight,
-    rect: Rect,
-    mut f: impl FnMut(usize, usize),
-) {
-    let f0x = full.0;
-    for_each_zone_row(
-        spec,
-        costs,
-        quad,
-        zone_scale,
-        full,
-        open,
-        rect,
-        |scan, iy, lo, hi, mut sag, mut fro, sight| {
+impl ZoneSweep<'_> {
+    /// Calls `row(scan, iy, lo, hi, sag, fro, sight)` for every row `iy` of `rect` with cells
+    /// that can lie in the social zone and in sight, rows in order: the cells `lo ..= hi` are to
+    /// be tested (with [`ZoneScan::zone`] and bit `ix - full.0` of `sight`), `sag` and `fro` are
+    /// the axis distances at `lo`, and the next cell's are `+ scan.step` (the same additions as
+    /// a sweep from the rect's first cell, so every cell sees the same values).
+    #[inline]
+    fn rows(&self, mut row: impl FnMut(&ZoneScan, usize, usize, usize, f64, f64, Option<&[u64]>)) {
+        let Self { spec, costs, quad, zone_scale, full, open, rect } = *self;
+        let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
+        let (a0, b0, a1, b1) = rect;
+        let (f0x, f0y) = (full.0, full.1);
+        let two_z2 = 2.0 * zone_scale * zone_scale;
+        let q = [
+            costs.intimate * costs.intimate / two_z2,
+            costs.personal * costs.personal / two_z2,
+            costs.social * costs.social / two_z2,
+        ];
+        let res = spec.resolution;
+        let scan = ZoneScan { k: [kf, kr, kri, kl], q, step: (cos * res, sin * res) };
+        let rows = ZoneRows::new(quad, q[2]);
+        for iy in b0..=b1 {
+            let p0 = spec.center(a0, iy);
+            let (dx, dy) = (p0.x - cx, p0.y - cy);
+            let sight = open.row(iy - f0y);
+            // Only the cells of the row that can be in the social zone and in sight are tested.
+            let Some((lo, hi)) = rows
+                .cells(spec, cx, dy, (a0, a1))
+                .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
+            else {
+                continue;
+            };
+            let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
+            let mut sag = cos * dx + sin * dy;
+            let mut fro = sin * dx - cos * dy;
+            // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
+            for _ in a0..lo {
+                sag += scan.step.0;
+                fro += scan.step.1;
+            }
+            row(&scan, iy, lo, hi, sag, fro, sight);
+        }
+    }
+
+    /// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
+    /// inside the social zone and in sight.
+    fn cells(&self, mut f: impl FnMut(usize, usize)) {
+        let (spec, f0x) = (self.spec, self.full.0);
+        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
             let row = spec.index(0, iy);
             for ix in lo..=hi {
                 let zone = scan.zone(sag, fro, sight, ix - f0x);
@@ -389,36 +374,17 @@ fn for_each_zone_cell(
                 sag += scan.step.0;
                 fro += scan.step.1;
             }
-        },
-    );
-}
+        });
+    }
 
-/// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
-/// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone of a quadratic-form
-/// individual and in sight of it, rows in order and runs from left to right: the cells of
-/// [`for_each_zone_cell`], each decided by the same operations (the runs only group the
-/// answers), for the rebuild, which counts by runs (see [`for_each_zone_row`] for the arguments).
-#[allow(clippy::too_many_arguments)]
-fn for_each_zone_run(
-    spec: &GridSpec,
-    costs: &SocialCosts,
-    quad: &[f64; 8],
-    zone_scale: f64,
-    full: Rect,
-    open: &Sight,
-    rect: Rect,
-    mut f: impl FnMut(usize, usize, usize, usize),
-) {
-    let f0x = full.0;
-    for_each_zone_row(
-        spec,
-        costs,
-        quad,
-        zone_scale,
-        full,
-        open,
-        rect,
-        |scan, iy, lo, hi, mut sag, mut fro, sight| {
+    /// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
+    /// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone and in sight,
+    /// rows in order and runs from left to right: the cells of [`ZoneSweep::cells`], each decided
+    /// by the same operations (the runs only group the answers), for the rebuild, which counts by
+    /// runs.
+    fn runs(&self, mut f: impl FnMut(usize, usize, usize, usize)) {
+        let f0x = self.full.0;
+        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
             // The current run: its first cell and zone.
             let (mut start, mut run) = (lo, ZoneScan::NONE);
             for ix in lo..=hi {
@@ -435,8 +401,8 @@ fn for_each_zone_run(
             if run != ZoneScan::NONE {
                 f(iy, start, hi, run);
             }
-        },
-    );
+        });
+    }
 }
 
 /// A cell's combined cost: its static cost where that is inscribed or lethal, else the code of
@@ -1334,14 +1300,7 @@ impl SocialMap {
         }
         for (k, n) in new.iter().enumerate() {
             if let (None, Some((quad, zone_scale, rect))) = (&next[k], *n) {
-                let open = in_sight(
-                    &self.static_grid,
-                    &self.free_bits,
-                    Vec2::new(quad[0], quad[1]),
-                    rect,
-                    zone_reach(&self.costs, &quad, zone_scale, spec.resolution),
-                    &mut self.sight,
-                );
+                let open = self.zone_sight(&quad, zone_scale, rect);
                 let c = Contribution { quad, zone_scale, rect, open };
                 self.count_zones(&c, 1, &mut touched);
                 next[k] = Some(c);
@@ -1372,38 +1331,51 @@ impl SocialMap {
     /// Adds `delta` to the zone counts of the cells of one contribution.
     fn count_zones(&mut self, c: &Contribution, delta: i32, touched: &mut Vec<u32>) {
         let (counts, mark) = (&mut self.counts, &mut self.mark);
-        for_each_zone_cell(
-            &self.static_grid.spec,
-            &self.costs,
-            &c.quad,
-            c.zone_scale,
-            c.rect,
-            &c.open,
-            c.rect,
-            |idx, zone| {
-                let slot = &mut counts[idx][zone];
-                *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
-                if !mark[idx] {
-                    mark[idx] = true;
-                    touched.push(idx as u32);
-                }
-            },
-        );
+        ZoneSweep {
+            spec: &self.static_grid.spec,
+            costs: &self.costs,
+            quad: &c.quad,
+            zone_scale: c.zone_scale,
+            full: c.rect,
+            open: &c.open,
+            rect: c.rect,
+        }
+        .cells(|idx, zone| {
+            let slot = &mut counts[idx][zone];
+            *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
+            if !mark[idx] {
+                mark[idx] = true;
+                touched.push(idx as u32);
+            }
+        });
+    }
+
+    /// Which cells of `rect` (an individual's whole box) are in sight of the quadratic-form
+    /// individual `quad`, decided up to its social zone's reach ([`in_sight`], [`zone_reach`]).
+    fn zone_sight(&mut self, quad: &[f64; 8], zone_scale: f64, rect: Rect) -> Sight {
+        let reach = zone_reach(&self.costs, quad, zone_scale, self.static_grid.spec.resolution);
+        in_sight(
+            &self.static_grid,
+            &self.free_bits,
+            Vec2::new(quad[0], quad[1]),
+            rect,
+            reach,
+            &mut self.sight,
+        )
     }
 
     /// Zone costs of one quadratic-form individual over a cell box (max with what is there).
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
-        let reach = zone_reach(&c, q, zone_scale, self.static_grid.spec.resolution);
-        let open =
-            in_sight(&self.static_grid, &self.free_bits, Vec2::new(q[0], q[1]), full, reach, &mut self.sight);
+        let open = self.zone_sight(q, zone_scale, full);
         let people = &mut self.people;
-        for_each_zone_cell(&self.static_grid.spec, &c, q, zone_scale, full, &open, rect, |idx, zone| {
-            if factors[zone] > people[idx] {
-                people[idx] = factors[zone];
-            }
-        });
+        ZoneSweep { spec: &self.static_grid.spec, costs: &c, quad: q, zone_scale, full, open: &open, rect }
+            .cells(|idx, zone| {
+                if factors[zone] > people[idx] {
+                    people[idx] = factors[zone];
+                }
+            });
     }
 
     #[inline(always)]
@@ -1457,31 +1429,24 @@ impl SocialMap {
                 counted.push(None);
                 continue;
             };
-            let open = in_sight(
-                &self.static_grid,
-                &self.free_bits,
-                Vec2::new(quad[0], quad[1]),
-                rect,
-                zone_reach(&self.costs, &quad, zone_scale, spec.resolution),
-                &mut self.sight,
-            );
+            let open = self.zone_sight(&quad, zone_scale, rect);
             let counts = &mut self.counts;
-            for_each_zone_run(
-                &spec,
-                &self.costs,
-                &quad,
+            ZoneSweep {
+                spec: &spec,
+                costs: &self.costs,
+                quad: &quad,
                 zone_scale,
+                full: rect,
+                open: &open,
                 rect,
-                &open,
-                rect,
-                |iy, x0, x1, zone| {
-                    let row = spec.index(0, iy);
-                    counts[row + x0][zone] = counts[row + x0][zone].wrapping_add(1);
-                    if x1 + 1 < spec.width {
-                        counts[row + x1 + 1][zone] = counts[row + x1 + 1][zone].wrapping_sub(1);
-                    }
-                },
-            );
+            }
+            .runs(|iy, x0, x1, zone| {
+                let row = spec.index(0, iy);
+                counts[row + x0][zone] = counts[row + x0][zone].wrapping_add(1);
+                if x1 + 1 < spec.width {
+                    counts[row + x1 + 1][zone] = counts[row + x1 + 1][zone].wrapping_sub(1);
+                }
+            });
             counted.push(Some(Contribution { quad, zone_scale, rect, open }));
         }
         self.counted = counted;
@@ -1952,6 +1917,23 @@ mod tests {
         layer
     }
 
+    /// Up to `walls` (exclusive) random wall segments of 1 to `len` cells, row- or column-wise,
+    /// lethal or (one in ten) inscribed.
+    fn random_walls(g: &mut CostGrid, rng: &mut rand_chacha::ChaCha8Rng, walls: usize, len: usize) {
+        use rand::Rng;
+        for _ in 0..rng.random_range(0..walls) {
+            let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
+            let (n, vertical) = (rng.random_range(1..len), rng.random_bool(0.5));
+            for t in 0..n {
+                let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
+                if ix < g.spec.width && iy < g.spec.height {
+                    let i = g.spec.index(ix, iy);
+                    g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
+                }
+            }
+        }
+    }
+
     #[test]
     fn zone_sweeps_limited_to_the_zones_rows_are_the_plain_sweep_bit_for_bit() {
         // Turned (and axis-aligned), very uneven individuals anywhere on and off a grid with an
@@ -2001,7 +1983,8 @@ mod tests {
                 Sight { words, bits: Some(bits) }
             };
             let mut got = Vec::new();
-            for_each_zone_cell(&spec, &costs, &quad, zone_scale, rect, &open, rect, |i, z| got.push((i, z)));
+            ZoneSweep { spec: &spec, costs: &costs, quad: &quad, zone_scale, full: rect, open: &open, rect }
+                .cells(|i, z| got.push((i, z)));
             let want: Vec<(usize, usize)> = plain_zones(&spec, &costs, &quad, zone_scale, rect)
                 .into_iter()
                 .enumerate()
@@ -2013,9 +1996,8 @@ mod tests {
             assert_eq!(got, want, "case {case}");
             // The runs of the rebuild: maximal, and their cells the same.
             let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
-            for_each_zone_run(&spec, &costs, &quad, zone_scale, rect, &open, rect, |iy, x0, x1, z| {
-                runs.push((iy, x0, x1, z))
-            });
+            ZoneSweep { spec: &spec, costs: &costs, quad: &quad, zone_scale, full: rect, open: &open, rect }
+                .runs(|iy, x0, x1, z| runs.push((iy, x0, x1, z)));
             for w in runs.windows(2) {
                 let ((y0, _, e0, z0), (y1, s1, _, z1)) = (w[0], w[1]);
                 assert!(y0 < y1 || (y0 == y1 && (e0 + 1 < s1 || z0 != z1)), "case {case}: runs {w:?}");
@@ -2043,17 +2025,7 @@ mod tests {
         };
         for case in 0..10 {
             let mut g = grid(16.0, 9.0);
-            for _ in 0..rng.random_range(0..10) {
-                let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
-                let (len, vertical) = (rng.random_range(1..80), rng.random_bool(0.5));
-                for t in 0..len {
-                    let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
-                    if ix < g.spec.width && iy < g.spec.height {
-                        let i = g.spec.index(ix, iy);
-                        g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
-                    }
-                }
-            }
+            random_walls(&mut g, &mut rng, 10, 80);
             let place = |o: &mut Oval, rng: &mut rand_chacha::ChaCha8Rng| {
                 o.quad[0] = rng.random_range(-1.0..17.0);
                 o.quad[1] = rng.random_range(-1.0..10.0);
@@ -2113,17 +2085,7 @@ mod tests {
         for case in 0..40 {
             let mut g = grid(12.0, 7.0);
             g.spec.origin = Vec2::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3));
-            for _ in 0..rng.random_range(0..12) {
-                let (x, y) = (rng.random_range(0..g.spec.width), rng.random_range(0..g.spec.height));
-                let (len, vertical) = (rng.random_range(1..90), rng.random_bool(0.5));
-                for t in 0..len {
-                    let (ix, iy) = if vertical { (x, y + t) } else { (x + t, y) };
-                    if ix < g.spec.width && iy < g.spec.height {
-                        let i = g.spec.index(ix, iy);
-                        g.cost[i] = if rng.random_bool(0.9) { LETHAL } else { INSCRIBED };
-                    }
-                }
-            }
+            random_walls(&mut g, &mut rng, 12, 90);
             let people: Vec<Oval> = (0..rng.random_range(0..14))
                 .map(|k| {
                     let th: f64 = if k % 4 == 0 {
