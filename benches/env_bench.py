@@ -15,7 +15,7 @@ with a few people in reach on a crowd model (the robots with stand-ins for just 
 The env steps a control period with contacts disabled when the core's hints rule every contact
 out (``Sim.step(contacts_possible=False)``). The *matched* denominator is therefore measured on
 what the env stepped: every ``REPLAY_EVERY``-th control period of the timed run is kept (the
-model it was stepped on, ``Simulation.stepped``, and a copy of its data at the period's end) and
+model it was stepped on, ``Simulation.stepped``, and its integration state at the period's end) and
 stepped bare afterwards with the env's contact setting (``ContactCounter.replay_us``); the
 keeping's own cost is taken off the env's times. The physics model stepped with contacts on, the
 model without the people and the robots alone are printed beside it, and the old-style
@@ -45,7 +45,6 @@ Run: ``python benches/env_bench.py [--people N]`` (``make bench`` does).
 from __future__ import annotations
 
 import argparse
-import copy
 import os
 import re
 import statistics
@@ -71,6 +70,8 @@ STEPS = 400
 SOCIAL_STEPS = 600
 #: Every how many control periods the counter keeps one to replay bare (see ``ContactCounter``).
 REPLAY_EVERY = 4
+#: What a kept period's replay starts from: MuJoCo's full integration state.
+INTEGRATION = int(mujoco.mjtState.mjSTATE_INTEGRATION)
 #: Env steps per second a learning policy's single env keeps (issue 19: at least the 8k steps/s
 #: the first wave measured).
 POLICY_TARGET = 8000
@@ -231,7 +232,7 @@ class ContactCounter:
 
     Kinds: contacts on or off, and contacts on without a person in reach (the physics model
     without the people) or with a few people in reach (a crowd model, see ``proxemic.sim``).
-    Every ``REPLAY_EVERY``-th period, the model the env stepped it on and a copy of its data at
+    Every ``REPLAY_EVERY``-th period, the model the env stepped it on and its integration state at
     the period's end are kept: :meth:`replay_us` steps each of them bare, as the env would step
     the next period on that model, for the like-with-like denominator. What the counting costs
     is summed in ``overhead_ns`` for the benches to take off the env's times.
@@ -243,7 +244,7 @@ class ContactCounter:
         self.robots_only_on = 0
         self.crowd_on = 0
         self.total = 0
-        self.kept: list[tuple[mujoco.MjModel, mujoco.MjData, int]] = []
+        self.kept: list[tuple[mujoco.MjModel, np.ndarray, int]] = []
         #: Thread CPU time the counting and keeping took in the env's steps (ns), for the
         #: benches to take off their env step times.
         self.overhead_ns = 0
@@ -266,7 +267,10 @@ class ContactCounter:
             self.crowd_on += bool(contacts_possible) and id(m) in crowd_models
             if self.total % REPLAY_EVERY == 0:
                 flags = int(m.opt.disableflags) | (0 if contacts_possible else no_contact)
-                self.kept.append((m, copy.copy(d), flags))
+                # the integration state only (a few kB; a copy of the data would be its 13 MB arena)
+                state = np.empty(mujoco.mj_stateSize(m, INTEGRATION))
+                mujoco.mj_getState(m, d, state, INTEGRATION)
+                self.kept.append((m, state, flags))
             self.total += 1
             self.overhead_ns += time.thread_time_ns() - t0
 
@@ -291,7 +295,7 @@ class ContactCounter:
     def replay_us(self) -> float:
         """Bare MuJoCo per control period, like with like: the mean over the kept periods of one
         period's ``mj_step`` calls on the model the env stepped, from its state then, with the
-        env's contact setting (each the median of 3 on fresh copies; the bindings' timer off)."""
+        env's contact setting (each the median of 3 from the kept state; the bindings' timer off)."""
         skip = self.sim.frame_skip
         per: list[float] = []
         scratch: dict[int, mujoco.MjData] = {}  # one per model, reused: warm, as the env's data is
@@ -301,7 +305,7 @@ class ContactCounter:
                 saved = int(m.opt.disableflags)
                 times = []
                 for _ in range(3):
-                    mujoco.mj_copyData(d, m, kept)
+                    mujoco.mj_setState(m, d, kept, INTEGRATION)
                     m.opt.disableflags = flags
                     t0 = time.thread_time_ns()
                     mujoco.mj_step(m, d, skip)
