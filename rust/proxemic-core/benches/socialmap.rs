@@ -66,7 +66,7 @@ fn bench(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("socialmap");
     g.bench_function("full_rebuild_50_people_10_objects", |bch| {
-        bch.iter(|| map.rebuild(&perception.individuals, &factors))
+        bch.iter(|| map.rebuild(&perception.individuals, &factors).expect("one factor per object"))
     });
     // Incremental: 5 of the 50 people move by 10 cm.
     let mut moved = crowd.clone();
@@ -74,7 +74,7 @@ fn bench(c: &mut Criterion) {
         p.pos.x += 0.1;
     }
     let after = perceive(&cfg, &moved, &features, &[]).expect("perception");
-    map.rebuild(&perception.individuals, &factors);
+    map.rebuild(&perception.individuals, &factors).expect("one factor per object");
     let mut flip = false;
     g.bench_function("incremental_5_of_50_move", |bch| {
         bch.iter(|| {
@@ -90,7 +90,9 @@ fn bench(c: &mut Criterion) {
     let mut layer = DensityLayer::new(spec, zones, density_map.costs());
     g.bench_function("calderita_full_rebuild_50_people_10_objects", |bch| {
         bch.iter(|| {
-            density_map.rebuild::<proxemic_core::perception::Individual>(&[], &factors);
+            density_map
+                .rebuild::<proxemic_core::perception::Individual>(&[], &factors)
+                .expect("one factor per object");
             layer.rebuild(&crowd);
             layer.write_to(&mut density_map).expect("the layer is made for this map");
         })
@@ -101,7 +103,7 @@ fn bench(c: &mut Criterion) {
     layer.rebuild(&crowd);
     g.bench_function("calderita_update_5_of_50_move", |bch| {
         bch.iter(|| {
-            density_map.set_object_factors(&factors);
+            density_map.set_object_factors(&factors).expect("one factor per object");
             layer.update(&moved);
             layer.write_to(&mut density_map).expect("the layer is made for this map");
         })
@@ -112,7 +114,7 @@ fn bench(c: &mut Criterion) {
 
     // Social A* across the museum, and plain A* between the same cells on the static grid (no
     // people, no object spaces): what the social map adds to a search.
-    map.rebuild(&perception.individuals, &factors);
+    map.rebuild(&perception.individuals, &factors).expect("one factor per object");
     let start =
         nearest_passable(&grid, spec.cell_of(Vec2::new(2.5, 15.0)).expect("inside"), 10).expect("free");
     let goal =

@@ -1020,14 +1020,19 @@ impl SocialMap {
         self.touched
     }
 
-    /// Sets the objects' factors R(t) (one per object polygon); only changed objects are redrawn.
-    pub fn set_object_factors(&mut self, factors: &[f64]) {
-        let changed: Vec<usize> = (0..self.object_factor.len().min(factors.len()))
-            .filter(|&k| self.object_factor[k] != factors[k])
-            .collect();
+    /// Sets the objects' factors R(t) (one per object polygon, in the polygons' order; finite);
+    /// only changed objects are redrawn.
+    ///
+    /// # Errors
+    /// [`CoreError::Input`] when `factors` does not hold one factor per object polygon or a factor
+    /// is not finite; the map is then unchanged.
+    pub fn set_object_factors(&mut self, factors: &[f64]) -> Result<(), CoreError> {
+        self.check_object_factors(factors)?;
+        let changed: Vec<usize> =
+            (0..factors.len()).filter(|&k| self.object_factor[k] != factors[k]).collect();
         self.touched = 0;
         if changed.is_empty() {
-            return;
+            return Ok(());
         }
         for &k in &changed {
             self.object_factor[k] = factors[k];
@@ -1058,6 +1063,22 @@ impl SocialMap {
             self.mark[c as usize] = false;
         }
         self.touched = dirty.len();
+        Ok(())
+    }
+
+    /// The error of [`SocialMap::set_object_factors`] for `factors`, if any.
+    fn check_object_factors(&self, factors: &[f64]) -> Result<(), CoreError> {
+        if factors.len() != self.object_factor.len() {
+            return Err(CoreError::input(
+                "object_factors",
+                format!("one factor per object polygon of the map ({} polygons)", self.object_factor.len()),
+                format!("{} factors", factors.len()),
+            ));
+        }
+        if let Some((k, f)) = factors.iter().enumerate().find(|(_, f)| !f.is_finite()) {
+            return Err(CoreError::input(format!("object_factors[{k}]"), "a finite factor", f.to_string()));
+        }
+        Ok(())
     }
 
     /// Replaces the whole people layer with `factors` (one per cell, row-major; infinity marks a
@@ -1390,7 +1411,15 @@ impl SocialMap {
     }
 
     /// Rebuilds every layer from scratch (for tests and benchmarks of the full rebuild).
-    pub fn rebuild<S: SpaceFunction>(&mut self, individuals: &[S], object_factors: &[f64]) {
+    ///
+    /// # Errors
+    /// As [`SocialMap::set_object_factors`], checked first: the map is then unchanged.
+    pub fn rebuild<S: SpaceFunction>(
+        &mut self,
+        individuals: &[S],
+        object_factors: &[f64],
+    ) -> Result<(), CoreError> {
+        self.check_object_factors(object_factors)?;
         // The layer starts empty, so the counting path can start from zero counts directly.
         self.counts.clear();
         self.counts.resize(self.static_grid.spec.len(), [0; 3]);
@@ -1400,7 +1429,7 @@ impl SocialMap {
         self.object_factor.fill(f64::NAN);
         self.prev.clear();
         self.combined = self.static_grid.clone();
-        self.set_object_factors(object_factors);
+        self.set_object_factors(object_factors)?; // checked above: cannot fail here
         // Fewer individuals than a count can hold: the counts never reach the clamp of
         // `count_zones`, so they can be summed from the zones' runs.
         if self.costs.mode == CostMode::Zones
@@ -1411,6 +1440,7 @@ impl SocialMap {
         } else {
             self.update_people(individuals);
         }
+        Ok(())
     }
 
     /// The counting path's update from empty counts (what [`SocialMap::update_people_counted`]
@@ -1544,14 +1574,14 @@ mod tests {
             .collect();
         let mut m = SocialMap::new(grid(10.0, 10.0), &polys, SocialCosts::default());
         let mut factors: Vec<f64> = (0..polys.len()).map(|_| rng.random_range(1.0..3.5)).collect();
-        m.rebuild::<Disc>(&[], &factors);
+        m.rebuild::<Disc>(&[], &factors).expect("one finite factor per object");
         for round in 0..30 {
             if round > 0 {
                 for _ in 0..rng.random_range(1..4) {
                     let k = rng.random_range(0..factors.len());
                     factors[k] = rng.random_range(1.0..3.5);
                 }
-                m.set_object_factors(&factors);
+                m.set_object_factors(&factors).expect("one finite factor per object");
             }
             let mut want = vec![1.0f64; m.grid().spec.len()];
             for (cells, &f) in m.object_cells.iter().zip(&factors) {
@@ -1636,7 +1666,8 @@ mod tests {
         assert_eq!(cost_at(&m, Vec2::new(6.3, 4.7)), c.encode(2.0));
         // The counted (incremental) update agrees with a rebuild.
         let mut full = m.clone();
-        full.rebuild(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0, quadratic: false }], &[]);
+        full.rebuild(&[Disc { c: Vec2::new(5.0, 2.0), sigma: 1.0, quadratic: false }], &[])
+            .expect("one finite factor per object");
         assert_eq!(m.grid(), full.grid());
     }
 
@@ -1649,14 +1680,14 @@ mod tests {
             Disc { c: Vec2::new(5.0, 5.0), sigma: 1.0, quadratic: false },
             Disc { c: Vec2::new(15.0, 5.0), sigma: 1.0, quadratic: false },
         ];
-        inc.set_object_factors(&[1.5]);
+        inc.set_object_factors(&[1.5]).expect("one finite factor per object");
         inc.update_people(&people);
         people[0].c = Vec2::new(6.0, 5.5);
         inc.update_people(&people);
         let touched = inc.cells_touched();
-        inc.set_object_factors(&[3.5]);
+        inc.set_object_factors(&[3.5]).expect("one finite factor per object");
         let mut full = SocialMap::new(spec_grid, &[poly], SocialCosts::default());
-        full.rebuild(&people, &[3.5]);
+        full.rebuild(&people, &[3.5]).expect("one finite factor per object");
         assert_eq!(inc.grid(), full.grid());
         assert!(touched < inc.grid().spec.len() / 2, "touched {touched}");
         // unchanged people cost nothing
@@ -1695,17 +1726,41 @@ mod tests {
     }
 
     #[test]
+    fn object_factors_of_the_wrong_length_or_not_finite_are_errors_leaving_the_map() {
+        let square = |x: f64| {
+            vec![Vec2::new(x, 1.0), Vec2::new(x + 2.0, 1.0), Vec2::new(x + 2.0, 3.0), Vec2::new(x, 3.0)]
+        };
+        let mut m = SocialMap::new(grid(10.0, 10.0), &[square(1.0), square(5.0)], SocialCosts::default());
+        m.set_object_factors(&[3.5, 1.5]).expect("one finite factor per object");
+        let before = m.clone();
+        for bad in [&[3.5][..], &[3.5, 1.5, 2.0], &[]] {
+            let err = m.set_object_factors(bad).expect_err("a bad factor list").to_string();
+            assert!(err.contains("object_factors") && err.contains("2 polygons"), "{err}");
+            assert!(err.contains(&format!("{} factors", bad.len())), "{err}");
+            let err = m.rebuild::<Disc>(&[], bad).expect_err("a bad factor list").to_string();
+            assert!(err.contains("2 polygons"), "{err}");
+        }
+        for bad in [f64::NAN, f64::INFINITY] {
+            let err = m.set_object_factors(&[2.0, bad]).expect_err("a bad factor list").to_string();
+            assert!(err.contains("object_factors[1]") && err.contains("finite"), "{err}");
+            assert!(m.rebuild::<Disc>(&[], &[bad, 2.0]).is_err());
+        }
+        assert_eq!(m.grid(), before.grid());
+        assert_eq!(m.object_layer(), before.object_layer());
+    }
+
+    #[test]
     fn object_space_takes_r_of_t_and_static_stays_lethal() {
         let mut g = grid(10.0, 10.0);
         let i = g.spec.index(20, 20);
         g.cost[i] = LETHAL;
         let poly = vec![Vec2::new(1.0, 1.0), Vec2::new(3.0, 1.0), Vec2::new(3.0, 3.0), Vec2::new(1.0, 3.0)];
         let mut m = SocialMap::new(g, &[poly], SocialCosts::default());
-        m.rebuild::<Disc>(&[], &[3.5]);
+        m.rebuild::<Disc>(&[], &[3.5]).expect("one finite factor per object");
         assert_eq!(cost_at(&m, Vec2::new(2.05, 2.05)), LETHAL);
         assert_eq!(cost_at(&m, Vec2::new(1.5, 1.5)), m.costs().encode(3.5));
         assert_eq!(cost_at(&m, Vec2::new(5.0, 5.0)), 0);
-        m.set_object_factors(&[1.5]);
+        m.set_object_factors(&[1.5]).expect("one finite factor per object");
         assert_eq!(cost_at(&m, Vec2::new(1.5, 1.5)), m.costs().encode(1.5));
         assert_eq!(m.cells_touched(), 400);
     }
@@ -2038,7 +2093,7 @@ mod tests {
                 })
                 .collect();
             let mut m = SocialMap::new(g.clone(), &[], SocialCosts::default());
-            m.rebuild(&people, &[]);
+            m.rebuild(&people, &[]).expect("one finite factor per object");
             for round in 0..8 {
                 if round > 0 {
                     for o in people.iter_mut() {
@@ -2103,7 +2158,7 @@ mod tests {
                 })
                 .collect();
             let mut runs = SocialMap::new(g.clone(), &[], SocialCosts::default());
-            runs.rebuild(&people, &[]);
+            runs.rebuild(&people, &[]).expect("one finite factor per object");
             let mut cells = SocialMap::new(g.clone(), &[], SocialCosts::default());
             cells.update_people(&people);
             assert!(runs.counts == cells.counts, "case {case}: counts");

@@ -226,7 +226,10 @@ impl SocialPlanning {
     pub fn update_map(&mut self, k: usize, time_of_day: f64) {
         let factors = self.object_factors(time_of_day);
         let Some(map) = self.maps.get_mut(k) else { return };
-        map.set_object_factors(&factors);
+        // One factor per object name, the names the maps were made with (`SocialPlanning::new`),
+        // finite for the world's finite clock.
+        let set = map.set_object_factors(&factors);
+        debug_assert!(set.is_ok(), "{set:?}");
         if self.perception.is_some() {
             map.update_people(&self.mapped);
         }
@@ -239,7 +242,8 @@ impl SocialPlanning {
         let (Some(map), Some(layer)) = (self.density_maps.get_mut(k), self.density_layers.get_mut(k)) else {
             return;
         };
-        map.set_object_factors(&factors);
+        let set = map.set_object_factors(&factors);
+        debug_assert!(set.is_ok(), "{set:?}");
         layer.update(&self.still);
         // The layer was made for this map's grid (`SocialPlanning::new`), so they always agree.
         let written = layer.write_to(map);
