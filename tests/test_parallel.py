@@ -189,6 +189,48 @@ def test_without_planner_actions_policy_agents_skip_their_planners():
     assert np.linalg.norm(moved, axis=1).min() > 0.5
 
 
+def test_batched_outputs_equal_the_per_robot_reads_bit_for_bit():
+    # The parallel env reads every live robot's observation, reward, flags and info in one go
+    # (WorldSim.observations and results); the single-robot env reads one robot at a time
+    # (observation, outcome, info): the same values, keys in the same order, for every robot
+    # and any subset, with planners on and off.
+    env = proxemic.parallel_env("museum_multi", robots=5, autopilot={"robot_3"}, planner_actions=False)
+    ws = env.ws
+    env.reset(seed=4)
+    rng = np.random.default_rng(5)
+    for step in range(12):
+        env.step({a: rng.uniform(-1, 1, 3).astype(np.float32) for a in env.agents if a != "robot_3"})
+        for rows in ([0, 1, 2, 3, 4], [1, 3, 4], [4, 0], [2]):
+            where = f"step {step}, rows {rows}"
+            batch = ws.observations(robots=True, rows=rows)
+            rewards, terms, truncs, infos = ws.results(rows)
+            for r, obs, rew, term, trunc, info in zip(rows, batch, rewards, terms, truncs, infos, strict=True):
+                one = ws.observation(r, robots=True)
+                assert list(obs) == list(one), where
+                _assert_same(obs, one, where)
+                assert (rew, term, trunc) == ws.outcome(r), where
+                single = ws.info(r)
+                assert list(info) == list(single), where
+                _assert_same(info, single, where)
+                assert [type(v) for v in info.values()] == [type(v) for v in single.values()], where
+                assert ("planner_action" in info) == (r == 3), where  # robot_3's planner drives it
+
+
+def test_actions_in_any_key_order_give_the_same_episode():
+    # step() takes the robot indices of actions given in the live agents' order as they are,
+    # and looks them up otherwise: the same actions in another order drive the same robots.
+    def episode(order: int) -> list:
+        env = proxemic.parallel_env("museum_multi", robots=4)
+        rng = np.random.default_rng(8)
+        trace = [env.reset(seed=2)]
+        for _ in range(15):
+            acts = {a: rng.uniform(-1, 1, 3).astype(np.float32) for a in env.agents}
+            trace.append(env.step(dict(list(acts.items())[::order])))
+        return trace
+
+    _assert_same(episode(1), episode(-1), "episode")
+
+
 JOIN_ROOM = """
 [scene]
 name = "join"

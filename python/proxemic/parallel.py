@@ -231,12 +231,14 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                     f"an action for every live agent not on autopilot {wanted}",
                     f"keys {list(actions)}, missing {missing}",
                 )
-        acting = [a for a in actions if a not in autopilot] if autopilot else list(actions)
-        ws.act_many(
-            list(map(index.__getitem__, acting)),
-            list(map(actions.__getitem__, acting)),
-            lambda k: f"actions[{acting[k]!r}]",
-        )
+        if autopilot:
+            acting = [a for a in actions if a not in autopilot]
+            acts = list(map(actions.__getitem__, acting))
+        else:
+            acting, acts = list(actions), list(actions.values())
+        # Actions in the live agents' order (what policies return): their robot indices are known.
+        robots = self._rows if acting == live else list(map(index.__getitem__, acting))
+        ws.act_many(robots, acts, lambda k: f"actions[{acting[k]!r}]")
         ws.step_actions()
         rows = self._rows
         obs = dict(zip(live, ws.observations(robots=True, rows=rows), strict=True))

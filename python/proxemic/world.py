@@ -12,6 +12,7 @@ and the rendering live here too, so both front ends describe a robot the same wa
 from __future__ import annotations
 
 import functools
+import operator
 import os
 import re
 import warnings
@@ -196,7 +197,9 @@ class WorldSim:
         # terminated, truncated), then the info's; and their places in the span.
         cols = [*self._outcome_cols.tolist(), *self._info_cols.tolist()]
         self._result_span = (min(cols), max(cols) + 1)
-        self._result_at = [c - min(cols) for c in cols]
+        # (reward, terminated, truncated, the reward terms, success, collision, mode, time of day)
+        # of a row's span, in one call.
+        self._result_get = operator.itemgetter(*[c - min(cols) for c in cols])
         sensors = scenario["sensors"]
         self.k_nearest: int = sensors["k_nearest"]
         self.lidar_rays: int = sensors["lidar_rays"]
@@ -382,11 +385,16 @@ class WorldSim:
             src = self.rows[rows, lo:hi]
         data = src.astype(np.float32)
         n = len(data)
-        arrays = [
+        (k0, a0), (k1, a1), (k2, a2), (k3, a3), *peers = [
             (key, data[:, off : off + length] if len(shape) == 1 else data[:, off : off + length].reshape(n, *shape))
             for key, off, length, shape in parts
         ]
-        return [{key: arr[i] for key, arr in arrays} for i in range(n)]
+        # Dict displays, not a comprehension per robot (a function call each): this runs for every
+        # agent at every step. The keys are the spec's, four, and with `robots` the peers' two.
+        if peers:
+            (k4, a4), (k5, a5) = peers
+            return [{k0: a0[i], k1: a1[i], k2: a2[i], k3: a3[i], k4: a4[i], k5: a5[i]} for i in range(n)]
+        return [{k0: a0[i], k1: a1[i], k2: a2[i], k3: a3[i]} for i in range(n)]
 
     def observation(self, row: int, robots: bool) -> dict[str, np.ndarray]:
         """Robot `row`'s observation (see :meth:`observations`), float32 views of one fresh copy."""
@@ -405,25 +413,30 @@ class WorldSim:
         """
         lo, hi = self._result_span
         vals = self.rows[:, lo:hi].tolist()
-        at = self._result_at
-        rew, term, trunc, nterms = at[0], at[1], at[2], len(REWARD_KEYS)
-        first = at[3]  # the reward terms are neighbours: first to first + nterms
-        success, collision, mode, tod = at[3 + nterms : 7 + nterms]
         planning = self.planning
         actions = list(self.sections["planner_action"].astype(np.float32)) if any(planning) else []
+        t0, t1, t2, t3, t4 = REWARD_KEYS  # the core's five terms (an error here if that changes)
         rewards, terms, truncs, infos = [], [], [], []
-        for r in rows:  # info() inlined: this runs for every agent at every step
-            v = vals[r]
-            rewards.append(v[rew])
-            terms.append(v[term] != 0.0)
-            truncs.append(v[trunc] != 0.0)
-            info: dict[str, Any] = dict(zip(REWARD_KEYS, v[first : first + nterms], strict=True))
-            info["is_success"] = v[success] != 0.0
-            info["collision"] = v[collision] != 0.0
+        # info() inlined, with dict displays: this runs for every agent at every step.
+        for r, (rew, term, trunc, v0, v1, v2, v3, v4, success, collision, mode, tod) in zip(
+            rows, map(self._result_get, map(vals.__getitem__, rows)), strict=True
+        ):
+            rewards.append(rew)
+            terms.append(term != 0.0)
+            truncs.append(trunc != 0.0)
+            info: dict[str, Any] = {
+                t0: v0,
+                t1: v1,
+                t2: v2,
+                t3: v3,
+                t4: v4,
+                "is_success": success != 0.0,
+                "collision": collision != 0.0,
+            }
             if planning[r]:
                 info["planner_action"] = actions[r]
-                info["planner_mode"] = PLANNER_MODES[int(v[mode])]
-            info["time_of_day"] = v[tod]
+                info["planner_mode"] = PLANNER_MODES[int(mode)]
+            info["time_of_day"] = tod
             infos.append(info)
         return rewards, terms, truncs, infos
 
