@@ -272,16 +272,15 @@ struct ZoneScan {
 
 impl ZoneScan {
     /// The zone of a cell at sagittal and frontal distances `sag`, `fro` (0 intimate,
-    /// 1 personal, 2 social, [`ZoneScan::NONE`] outside the social zone or out of sight: bit `x`
-    /// of `sight`, when there is one).
+    /// 1 personal, 2 social, [`ZoneScan::NONE`] outside the social zone).
     #[inline]
-    fn zone(&self, sag: f64, fro: f64, sight: Option<&[u64]>, x: usize) -> usize {
+    fn zone(&self, sag: f64, fro: f64) -> usize {
         let [kf, kr, kri, kl] = self.k;
         let ks = if sag >= 0.0 { kf } else { kr };
         let kq = if fro >= 0.0 { kri } else { kl };
         let e = ks * sag * sag + kq * fro * fro;
         let [qi, qp, qs] = self.q;
-        if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
+        if e < qs {
             if e < qi {
                 0
             } else if e < qp {
@@ -337,71 +336,147 @@ impl ZoneSweep<'_> {
         let res = spec.resolution;
         let scan = ZoneScan { k: [kf, kr, kri, kl], q, step: (cos * res, sin * res) };
         let rows = ZoneRows::new(quad, q[2]);
+        // Up to `BATCH` rows at a time: their axis distances are brought from `a0` to their
+        // first tested cell together (independent chains of additions, each row's its own).
+        const BATCH: usize = 4;
+        let mut batch = [(0usize, 0usize, 0usize); BATCH];
+        let (mut sag, mut fro) = ([0.0f64; BATCH], [0.0f64; BATCH]);
+        let mut n = 0;
         for iy in b0..=b1 {
             let p0 = spec.center(a0, iy);
             let (dx, dy) = (p0.x - cx, p0.y - cy);
             let sight = open.row(iy - f0y);
             // Only the cells of the row that can be in the social zone and in sight are tested.
-            let Some((lo, hi)) = rows
+            if let Some((lo, hi)) = rows
                 .cells(spec, cx, dy, (a0, a1))
                 .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
-            else {
-                continue;
-            };
-            let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
-            let mut sag = cos * dx + sin * dy;
-            let mut fro = sin * dx - cos * dy;
-            // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
-            for _ in a0..lo {
-                sag += scan.step.0;
-                fro += scan.step.1;
+            {
+                let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
+                batch[n] = (iy, lo, hi);
+                sag[n] = cos * dx + sin * dy;
+                fro[n] = sin * dx - cos * dy;
+                n += 1;
             }
-            row(&scan, iy, lo, hi, sag, fro, sight);
+            if n == BATCH || (iy == b1 && n > 0) {
+                // The same additions as a sweep from `a0`: the cells from `lo` on see the same
+                // values. The steps all rows of the batch take go side by side.
+                let common = batch[..n].iter().map(|&(_, lo, _)| lo - a0).min().unwrap_or(0);
+                for _ in 0..common {
+                    for k in 0..BATCH {
+                        sag[k] += scan.step.0;
+                        fro[k] += scan.step.1;
+                    }
+                }
+                for (k, &(iy, lo, hi)) in batch[..n].iter().enumerate() {
+                    for _ in a0 + common..lo {
+                        sag[k] += scan.step.0;
+                        fro[k] += scan.step.1;
+                    }
+                    row(&scan, iy, lo, hi, sag[k], fro[k], open.row(iy - f0y));
+                }
+                n = 0;
+            }
         }
+    }
+
+    /// Calls `f(iy, ix, zone)` for every tested cell `ix` of row `iy` in sight (zone
+    /// [`ZoneScan::NONE`] outside the social zone), rows in order and cells from left to right,
+    /// each cell decided by [`ZoneScan::zone`]; and `f(iy, e + 1, ZoneScan::NONE)` after each
+    /// run `..= e` of cells in sight. The cells out of sight are stepped over.
+    #[inline(always)]
+    fn sweep(&self, mut f: impl FnMut(usize, usize, usize)) {
+        let f0x = self.full.0;
+        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
+            // The cell `sag` and `fro` are at.
+            let mut at = lo;
+            for (s, e) in OpenRuns::new(sight, f0x, lo, hi) {
+                for _ in at..s {
+                    sag += scan.step.0;
+                    fro += scan.step.1;
+                }
+                for ix in s..=e {
+                    f(iy, ix, scan.zone(sag, fro));
+                    sag += scan.step.0;
+                    fro += scan.step.1;
+                }
+                f(iy, e + 1, ZoneScan::NONE);
+                at = e + 1;
+            }
+        });
     }
 
     /// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
     /// inside the social zone and in sight.
     fn cells(&self, mut f: impl FnMut(usize, usize)) {
-        let (spec, f0x) = (self.spec, self.full.0);
-        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
-            let row = spec.index(0, iy);
-            for ix in lo..=hi {
-                let zone = scan.zone(sag, fro, sight, ix - f0x);
-                if zone != ZoneScan::NONE {
-                    f(row + ix, zone);
-                }
-                sag += scan.step.0;
-                fro += scan.step.1;
+        let spec = self.spec;
+        self.sweep(|iy, ix, zone| {
+            if zone != ZoneScan::NONE {
+                f(spec.index(ix, iy), zone);
             }
         });
     }
 
     /// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
     /// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone and in sight,
-    /// rows in order and runs from left to right: the cells of [`ZoneSweep::cells`], each decided
-    /// by the same operations (the runs only group the answers), for the rebuild, which counts by
-    /// runs.
+    /// rows in order and runs from left to right: the cells of [`ZoneSweep::cells`] (the runs
+    /// only group the answers), for the rebuild, which counts by runs.
     fn runs(&self, mut f: impl FnMut(usize, usize, usize, usize)) {
-        let f0x = self.full.0;
-        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
-            // The current run: its first cell and zone.
-            let (mut start, mut run) = (lo, ZoneScan::NONE);
-            for ix in lo..=hi {
-                let zone = scan.zone(sag, fro, sight, ix - f0x);
-                if zone != run {
-                    if run != ZoneScan::NONE {
-                        f(iy, start, ix - 1, run);
-                    }
-                    (start, run) = (ix, zone);
+        // The current run: its first cell and zone (every run of cells in sight ends in `NONE`).
+        let (mut start, mut run) = (0, ZoneScan::NONE);
+        self.sweep(|iy, ix, zone| {
+            if zone != run {
+                if run != ZoneScan::NONE {
+                    f(iy, start, ix - 1, run);
                 }
-                sag += scan.step.0;
-                fro += scan.step.1;
-            }
-            if run != ZoneScan::NONE {
-                f(iy, start, hi, run);
+                (start, run) = (ix, zone);
             }
         });
+    }
+}
+
+/// The maximal runs `x0 ..= x1` of open cells of `lo ..= hi`, from left to right: bit `x - off`
+/// of `bits` is cell `x`; all of `lo ..= hi` when `bits` is `None`.
+struct OpenRuns<'a> {
+    bits: Option<&'a [u64]>,
+    off: usize,
+    /// The next cell to look at and the last cell (minus `off`).
+    x: usize,
+    end: usize,
+}
+
+impl<'a> OpenRuns<'a> {
+    fn new(bits: Option<&'a [u64]>, off: usize, lo: usize, hi: usize) -> Self {
+        OpenRuns { bits, off, x: lo - off, end: hi - off }
+    }
+
+    /// The first cell of `x ..= end` whose bit is `bit`, if any.
+    #[inline]
+    fn find(bits: &[u64], x: usize, end: usize, bit: bool) -> Option<usize> {
+        (x / 64..=end / 64).find_map(|j| {
+            let w = if bit { bits[j] } else { !bits[j] } & span_bits(j, x, end);
+            (w != 0).then(|| 64 * j + w.trailing_zeros() as usize)
+        })
+    }
+}
+
+impl Iterator for OpenRuns<'_> {
+    type Item = (usize, usize);
+
+    #[inline]
+    fn next(&mut self) -> Option<(usize, usize)> {
+        let Self { bits, off, x, end } = *self;
+        if x > end {
+            return None;
+        }
+        let (s, e) = match bits {
+            None => (x, end),
+            Some(bits) => {
+                let s = Self::find(bits, x, end, true)?;
+                (s, Self::find(bits, s, end, false).map_or(end, |z| z - 1))
+            }
+        };
+        self.x = e + 1;
+        Some((s + off, e + off))
     }
 }
 
@@ -1939,7 +2014,9 @@ mod tests {
         // Turned (and axis-aligned), very uneven individuals anywhere on and off a grid with an
         // odd origin, over rects smaller and larger than their zones, with and without a sight
         // mask: the sweep that tests only the cells of [`ZoneRows::cells`] and of the mask's open
-        // span visits exactly the cells, with the zones, of the plain sweep of the whole rect.
+        // runs (stepping over the closed cells between them), bringing a batch of rows to their
+        // first tested cells side by side, visits exactly the cells, with the zones, of the plain
+        // sweep of the whole rect.
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(29);
         let spec = GridSpec { origin: Vec2::new(-3.37, 1.21), ..grid(16.0, 9.0).spec };
