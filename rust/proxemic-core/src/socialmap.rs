@@ -680,7 +680,7 @@ struct SightScratch {
     layer: Vec<u64>,
     spread: Vec<u64>,
     /// The same rows as single `u128`s, for rects at most 128 cells wide (see [`walk_narrow`]).
-    narrow: [Vec<u128>; 4],
+    narrow: [Vec<u128>; 3],
 }
 
 /// Whether a walk of `k` steps to a cell `dx`, `dy` cells from the centre is longer than its
@@ -887,13 +887,15 @@ fn in_sight(
 /// The walk of [`in_sight`] for a rect at most 128 cells wide (`words` 1 or 2), one `u128` per
 /// row: `free` the rect's free cells (bit rows of `words` words), `start` the centre's cell; adds
 /// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk,
-/// each layer in one pass over its rows: a row's cells are cut to those in sight and spread to
-/// their row neighbours as the pass reaches the row below them. A cell is in sight when the
-/// layer that reached it did not cut it, so the open cells are the visited ones less the cut
-/// ones, gathered once at the end. The walk stops after layer `last`.
+/// each layer in two passes over its rows: the first cuts the rows near the centre's column to
+/// their cells in sight, the second spreads every row to its neighbours and keeps the free cells
+/// not yet visited (one row of those, `avail`, stands for the free and the visited rows). A cell
+/// is in sight when the layer that reached it did not cut it, so the open cells are the visited
+/// ones (free, no longer available) less the cut ones, gathered once at the end. The walk stops
+/// after layer `last`.
 fn walk_narrow(
     free: &[u64],
-    rows: &mut [Vec<u128>; 4],
+    rows: &mut [Vec<u128>; 3],
     words: usize,
     start: (usize, usize),
     last: usize,
@@ -901,11 +903,11 @@ fn walk_narrow(
 ) {
     let h = free.len() / words;
     let (sx, sy) = start;
-    let [nfree, visited, layer, cut] = rows;
+    let [avail, layer, cut] = rows;
     let row = |r: &[u64]| u128::from(r[0]) | r.get(1).map_or(0, |&hi| u128::from(hi) << 64);
-    nfree.clear();
-    nfree.extend(free.chunks_exact(words).map(row));
-    for v in [&mut *visited, &mut *layer, &mut *cut] {
+    avail.clear();
+    avail.extend(free.chunks_exact(words).map(row));
+    for v in [&mut *layer, &mut *cut] {
         v.clear();
         v.resize(h, 0);
     }
@@ -915,7 +917,7 @@ fn walk_narrow(
         (u128::MAX >> (127 - hi)) & (u128::MAX << lo)
     };
     layer[sy] = 1 << sx;
-    visited[sy] = 1 << sx;
+    avail[sy] &= !(1 << sx);
     // Rows outside `lo ..= hi` (the rows of the current layer) hold no cell of the layer.
     let (mut lo, mut hi) = (sy, sy);
     let mut k = 0u64;
@@ -923,33 +925,37 @@ fn walk_narrow(
         if k > last as u64 {
             // Past the last layer: its cells are not visited (nor open).
             for y in lo..=hi {
-                visited[y] &= !layer[y];
+                avail[y] |= layer[y];
             }
             break;
         }
+        // The layer's rows cut to their cells in sight: only the rows less than `m` from the
+        // centre's have a long-way half-width (below `m`: a row without cells nearer the
+        // centre's column keeps all).
         let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
-        // The half-width is below `m`: a row without cells nearer the centre's column keeps all.
-        let near = if m > 0 { span(sx, m - 1) } else { 0 };
-        // Layer row `y` cut to its cells in sight, spread to their row neighbours.
-        let mut spread = |layer: &mut [u128], y: usize| {
-            let mut e = layer[y];
-            if e & near != 0
-                && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
-            {
-                let c = e & span(sx, usize::try_from(a).unwrap_or(usize::MAX));
-                cut[y] |= c;
-                e &= !c;
+        if m > 0 {
+            let near = span(sx, m - 1);
+            for y in lo.max(sy.saturating_sub(m - 1))..=hi.min(sy.saturating_add(m - 1)) {
+                let e = layer[y];
+                if e & near != 0
+                    && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
+                {
+                    let c = e & span(sx, usize::try_from(a).unwrap_or(usize::MAX));
+                    cut[y] |= c;
+                    layer[y] = e & !c;
+                }
             }
-            e | (e << 1) | (e >> 1)
-        };
+        }
+        // Layer row spread to its row neighbours.
+        let spread = |e: u128| e | (e << 1) | (e >> 1);
         let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
         let (mut first, mut last) = (usize::MAX, 0);
         // The spread rows above, at and below `y` (row `nlo - 1` is outside the layer).
-        let (mut above, mut at) = (0u128, spread(layer, nlo));
+        let (mut above, mut at) = (0u128, spread(layer[nlo]));
         for y in nlo..=nhi {
-            let below = if y < hi { spread(layer, y + 1) } else { 0 };
-            let fresh = (above | at | below) & nfree[y] & !visited[y];
-            visited[y] |= fresh;
+            let below = if y < hi { spread(layer[y + 1]) } else { 0 };
+            let fresh = (above | at | below) & avail[y];
+            avail[y] ^= fresh;
             layer[y] = fresh;
             if fresh != 0 {
                 first = first.min(y);
@@ -963,8 +969,8 @@ fn walk_narrow(
         (lo, hi) = (first, last);
         k += 1;
     }
-    for (y, (&v, &c)) in visited.iter().zip(cut.iter()).enumerate() {
-        let o = v & !c;
+    for (y, (&a, &c)) in avail.iter().zip(cut.iter()).enumerate() {
+        let o = row(&free[y * words..(y + 1) * words]) & !a & !c;
         open[y * words] |= o as u64;
         if words == 2 {
             open[y * words + 1] |= (o >> 64) as u64;
