@@ -272,16 +272,15 @@ struct ZoneScan {
 
 impl ZoneScan {
     /// The zone of a cell at sagittal and frontal distances `sag`, `fro` (0 intimate,
-    /// 1 personal, 2 social, [`ZoneScan::NONE`] outside the social zone or out of sight: bit `x`
-    /// of `sight`, when there is one).
+    /// 1 personal, 2 social, [`ZoneScan::NONE`] outside the social zone).
     #[inline]
-    fn zone(&self, sag: f64, fro: f64, sight: Option<&[u64]>, x: usize) -> usize {
+    fn zone(&self, sag: f64, fro: f64) -> usize {
         let [kf, kr, kri, kl] = self.k;
         let ks = if sag >= 0.0 { kf } else { kr };
         let kq = if fro >= 0.0 { kri } else { kl };
         let e = ks * sag * sag + kq * fro * fro;
         let [qi, qp, qs] = self.q;
-        if e < qs && sight.is_none_or(|b| b[x / 64] >> (x % 64) & 1 == 1) {
+        if e < qs {
             if e < qi {
                 0
             } else if e < qp {
@@ -337,71 +336,147 @@ impl ZoneSweep<'_> {
         let res = spec.resolution;
         let scan = ZoneScan { k: [kf, kr, kri, kl], q, step: (cos * res, sin * res) };
         let rows = ZoneRows::new(quad, q[2]);
+        // Up to `BATCH` rows at a time: their axis distances are brought from `a0` to their
+        // first tested cell together (independent chains of additions, each row's its own).
+        const BATCH: usize = 4;
+        let mut batch = [(0usize, 0usize, 0usize); BATCH];
+        let (mut sag, mut fro) = ([0.0f64; BATCH], [0.0f64; BATCH]);
+        let mut n = 0;
         for iy in b0..=b1 {
             let p0 = spec.center(a0, iy);
             let (dx, dy) = (p0.x - cx, p0.y - cy);
             let sight = open.row(iy - f0y);
             // Only the cells of the row that can be in the social zone and in sight are tested.
-            let Some((lo, hi)) = rows
+            if let Some((lo, hi)) = rows
                 .cells(spec, cx, dy, (a0, a1))
                 .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
-            else {
-                continue;
-            };
-            let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
-            let mut sag = cos * dx + sin * dy;
-            let mut fro = sin * dx - cos * dy;
-            // The same additions as a sweep from `a0`: the cells from `lo` on see the same values.
-            for _ in a0..lo {
-                sag += scan.step.0;
-                fro += scan.step.1;
+            {
+                let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
+                batch[n] = (iy, lo, hi);
+                sag[n] = cos * dx + sin * dy;
+                fro[n] = sin * dx - cos * dy;
+                n += 1;
             }
-            row(&scan, iy, lo, hi, sag, fro, sight);
+            if n == BATCH || (iy == b1 && n > 0) {
+                // The same additions as a sweep from `a0`: the cells from `lo` on see the same
+                // values. The steps all rows of the batch take go side by side.
+                let common = batch[..n].iter().map(|&(_, lo, _)| lo - a0).min().unwrap_or(0);
+                for _ in 0..common {
+                    for k in 0..BATCH {
+                        sag[k] += scan.step.0;
+                        fro[k] += scan.step.1;
+                    }
+                }
+                for (k, &(iy, lo, hi)) in batch[..n].iter().enumerate() {
+                    for _ in a0 + common..lo {
+                        sag[k] += scan.step.0;
+                        fro[k] += scan.step.1;
+                    }
+                    row(&scan, iy, lo, hi, sag[k], fro[k], open.row(iy - f0y));
+                }
+                n = 0;
+            }
         }
+    }
+
+    /// Calls `f(iy, ix, zone)` for every tested cell `ix` of row `iy` in sight (zone
+    /// [`ZoneScan::NONE`] outside the social zone), rows in order and cells from left to right,
+    /// each cell decided by [`ZoneScan::zone`]; and `f(iy, e + 1, ZoneScan::NONE)` after each
+    /// run `..= e` of cells in sight. The cells out of sight are stepped over.
+    #[inline(always)]
+    fn sweep(&self, mut f: impl FnMut(usize, usize, usize)) {
+        let f0x = self.full.0;
+        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
+            // The cell `sag` and `fro` are at.
+            let mut at = lo;
+            for (s, e) in OpenRuns::new(sight, f0x, lo, hi) {
+                for _ in at..s {
+                    sag += scan.step.0;
+                    fro += scan.step.1;
+                }
+                for ix in s..=e {
+                    f(iy, ix, scan.zone(sag, fro));
+                    sag += scan.step.0;
+                    fro += scan.step.1;
+                }
+                f(iy, e + 1, ZoneScan::NONE);
+                at = e + 1;
+            }
+        });
     }
 
     /// Calls `f(cell index, zone)` (0 intimate, 1 personal, 2 social) for every cell of `rect`
     /// inside the social zone and in sight.
     fn cells(&self, mut f: impl FnMut(usize, usize)) {
-        let (spec, f0x) = (self.spec, self.full.0);
-        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
-            let row = spec.index(0, iy);
-            for ix in lo..=hi {
-                let zone = scan.zone(sag, fro, sight, ix - f0x);
-                if zone != ZoneScan::NONE {
-                    f(row + ix, zone);
-                }
-                sag += scan.step.0;
-                fro += scan.step.1;
+        let spec = self.spec;
+        self.sweep(|iy, ix, zone| {
+            if zone != ZoneScan::NONE {
+                f(spec.index(ix, iy), zone);
             }
         });
     }
 
     /// Calls `f(row, x0, x1, zone)` (zone 0 intimate, 1 personal, 2 social) for every run of
     /// consecutive cells `x0 ..= x1` of a row of `rect` that lie in the same zone and in sight,
-    /// rows in order and runs from left to right: the cells of [`ZoneSweep::cells`], each decided
-    /// by the same operations (the runs only group the answers), for the rebuild, which counts by
-    /// runs.
+    /// rows in order and runs from left to right: the cells of [`ZoneSweep::cells`] (the runs
+    /// only group the answers), for the rebuild, which counts by runs.
     fn runs(&self, mut f: impl FnMut(usize, usize, usize, usize)) {
-        let f0x = self.full.0;
-        self.rows(|scan, iy, lo, hi, mut sag, mut fro, sight| {
-            // The current run: its first cell and zone.
-            let (mut start, mut run) = (lo, ZoneScan::NONE);
-            for ix in lo..=hi {
-                let zone = scan.zone(sag, fro, sight, ix - f0x);
-                if zone != run {
-                    if run != ZoneScan::NONE {
-                        f(iy, start, ix - 1, run);
-                    }
-                    (start, run) = (ix, zone);
+        // The current run: its first cell and zone (every run of cells in sight ends in `NONE`).
+        let (mut start, mut run) = (0, ZoneScan::NONE);
+        self.sweep(|iy, ix, zone| {
+            if zone != run {
+                if run != ZoneScan::NONE {
+                    f(iy, start, ix - 1, run);
                 }
-                sag += scan.step.0;
-                fro += scan.step.1;
-            }
-            if run != ZoneScan::NONE {
-                f(iy, start, hi, run);
+                (start, run) = (ix, zone);
             }
         });
+    }
+}
+
+/// The maximal runs `x0 ..= x1` of open cells of `lo ..= hi`, from left to right: bit `x - off`
+/// of `bits` is cell `x`; all of `lo ..= hi` when `bits` is `None`.
+struct OpenRuns<'a> {
+    bits: Option<&'a [u64]>,
+    off: usize,
+    /// The next cell to look at and the last cell (minus `off`).
+    x: usize,
+    end: usize,
+}
+
+impl<'a> OpenRuns<'a> {
+    fn new(bits: Option<&'a [u64]>, off: usize, lo: usize, hi: usize) -> Self {
+        OpenRuns { bits, off, x: lo - off, end: hi - off }
+    }
+
+    /// The first cell of `x ..= end` whose bit is `bit`, if any.
+    #[inline]
+    fn find(bits: &[u64], x: usize, end: usize, bit: bool) -> Option<usize> {
+        (x / 64..=end / 64).find_map(|j| {
+            let w = if bit { bits[j] } else { !bits[j] } & span_bits(j, x, end);
+            (w != 0).then(|| 64 * j + w.trailing_zeros() as usize)
+        })
+    }
+}
+
+impl Iterator for OpenRuns<'_> {
+    type Item = (usize, usize);
+
+    #[inline]
+    fn next(&mut self) -> Option<(usize, usize)> {
+        let Self { bits, off, x, end } = *self;
+        if x > end {
+            return None;
+        }
+        let (s, e) = match bits {
+            None => (x, end),
+            Some(bits) => {
+                let s = Self::find(bits, x, end, true)?;
+                (s, Self::find(bits, s, end, false).map_or(end, |z| z - 1))
+            }
+        };
+        self.x = e + 1;
+        Some((s + off, e + off))
     }
 }
 
@@ -605,7 +680,7 @@ struct SightScratch {
     layer: Vec<u64>,
     spread: Vec<u64>,
     /// The same rows as single `u128`s, for rects at most 128 cells wide (see [`walk_narrow`]).
-    narrow: [Vec<u128>; 4],
+    narrow: [Vec<u128>; 3],
 }
 
 /// Whether a walk of `k` steps to a cell `dx`, `dy` cells from the centre is longer than its
@@ -812,13 +887,15 @@ fn in_sight(
 /// The walk of [`in_sight`] for a rect at most 128 cells wide (`words` 1 or 2), one `u128` per
 /// row: `free` the rect's free cells (bit rows of `words` words), `start` the centre's cell; adds
 /// the cells in sight to `open` (bit rows of `words` words). The same steps as the general walk,
-/// each layer in one pass over its rows: a row's cells are cut to those in sight and spread to
-/// their row neighbours as the pass reaches the row below them. A cell is in sight when the
-/// layer that reached it did not cut it, so the open cells are the visited ones less the cut
-/// ones, gathered once at the end. The walk stops after layer `last`.
+/// each layer in two passes over its rows: the first cuts the rows near the centre's column to
+/// their cells in sight, the second spreads every row to its neighbours and keeps the free cells
+/// not yet visited (one row of those, `avail`, stands for the free and the visited rows). A cell
+/// is in sight when the layer that reached it did not cut it, so the open cells are the visited
+/// ones (free, no longer available) less the cut ones, gathered once at the end. The walk stops
+/// after layer `last`.
 fn walk_narrow(
     free: &[u64],
-    rows: &mut [Vec<u128>; 4],
+    rows: &mut [Vec<u128>; 3],
     words: usize,
     start: (usize, usize),
     last: usize,
@@ -826,11 +903,11 @@ fn walk_narrow(
 ) {
     let h = free.len() / words;
     let (sx, sy) = start;
-    let [nfree, visited, layer, cut] = rows;
+    let [avail, layer, cut] = rows;
     let row = |r: &[u64]| u128::from(r[0]) | r.get(1).map_or(0, |&hi| u128::from(hi) << 64);
-    nfree.clear();
-    nfree.extend(free.chunks_exact(words).map(row));
-    for v in [&mut *visited, &mut *layer, &mut *cut] {
+    avail.clear();
+    avail.extend(free.chunks_exact(words).map(row));
+    for v in [&mut *layer, &mut *cut] {
         v.clear();
         v.resize(h, 0);
     }
@@ -840,7 +917,7 @@ fn walk_narrow(
         (u128::MAX >> (127 - hi)) & (u128::MAX << lo)
     };
     layer[sy] = 1 << sx;
-    visited[sy] = 1 << sx;
+    avail[sy] &= !(1 << sx);
     // Rows outside `lo ..= hi` (the rows of the current layer) hold no cell of the layer.
     let (mut lo, mut hi) = (sy, sy);
     let mut k = 0u64;
@@ -848,33 +925,37 @@ fn walk_narrow(
         if k > last as u64 {
             // Past the last layer: its cells are not visited (nor open).
             for y in lo..=hi {
-                visited[y] &= !layer[y];
+                avail[y] |= layer[y];
             }
             break;
         }
+        // The layer's rows cut to their cells in sight: only the rows less than `m` from the
+        // centre's have a long-way half-width (below `m`: a row without cells nearer the
+        // centre's column keeps all).
         let m = usize::try_from(k.saturating_sub(2)).unwrap_or(usize::MAX);
-        // The half-width is below `m`: a row without cells nearer the centre's column keeps all.
-        let near = if m > 0 { span(sx, m - 1) } else { 0 };
-        // Layer row `y` cut to its cells in sight, spread to their row neighbours.
-        let mut spread = |layer: &mut [u128], y: usize| {
-            let mut e = layer[y];
-            if e & near != 0
-                && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
-            {
-                let c = e & span(sx, usize::try_from(a).unwrap_or(usize::MAX));
-                cut[y] |= c;
-                e &= !c;
+        if m > 0 {
+            let near = span(sx, m - 1);
+            for y in lo.max(sy.saturating_sub(m - 1))..=hi.min(sy.saturating_add(m - 1)) {
+                let e = layer[y];
+                if e & near != 0
+                    && let Some(a) = long_way_half_width(k, y.abs_diff(sy) as u64)
+                {
+                    let c = e & span(sx, usize::try_from(a).unwrap_or(usize::MAX));
+                    cut[y] |= c;
+                    layer[y] = e & !c;
+                }
             }
-            e | (e << 1) | (e >> 1)
-        };
+        }
+        // Layer row spread to its row neighbours.
+        let spread = |e: u128| e | (e << 1) | (e >> 1);
         let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
         let (mut first, mut last) = (usize::MAX, 0);
         // The spread rows above, at and below `y` (row `nlo - 1` is outside the layer).
-        let (mut above, mut at) = (0u128, spread(layer, nlo));
+        let (mut above, mut at) = (0u128, spread(layer[nlo]));
         for y in nlo..=nhi {
-            let below = if y < hi { spread(layer, y + 1) } else { 0 };
-            let fresh = (above | at | below) & nfree[y] & !visited[y];
-            visited[y] |= fresh;
+            let below = if y < hi { spread(layer[y + 1]) } else { 0 };
+            let fresh = (above | at | below) & avail[y];
+            avail[y] ^= fresh;
             layer[y] = fresh;
             if fresh != 0 {
                 first = first.min(y);
@@ -888,8 +969,8 @@ fn walk_narrow(
         (lo, hi) = (first, last);
         k += 1;
     }
-    for (y, (&v, &c)) in visited.iter().zip(cut.iter()).enumerate() {
-        let o = v & !c;
+    for (y, (&a, &c)) in avail.iter().zip(cut.iter()).enumerate() {
+        let o = row(&free[y * words..(y + 1) * words]) & !a & !c;
         open[y * words] |= o as u64;
         if words == 2 {
             open[y * words + 1] |= (o >> 64) as u64;
@@ -1994,7 +2075,9 @@ mod tests {
         // Turned (and axis-aligned), very uneven individuals anywhere on and off a grid with an
         // odd origin, over rects smaller and larger than their zones, with and without a sight
         // mask: the sweep that tests only the cells of [`ZoneRows::cells`] and of the mask's open
-        // span visits exactly the cells, with the zones, of the plain sweep of the whole rect.
+        // runs (stepping over the closed cells between them), bringing a batch of rows to their
+        // first tested cells side by side, visits exactly the cells, with the zones, of the plain
+        // sweep of the whole rect.
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(29);
         let spec = GridSpec { origin: Vec2::new(-3.37, 1.21), ..grid(16.0, 9.0).spec };
