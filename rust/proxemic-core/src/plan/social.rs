@@ -78,6 +78,8 @@ pub struct SocialPath {
     samples: Vec<(Vec2, f64, f64)>,
     /// The people model the path was planned with (its checks use the same).
     pub model: PeopleModel,
+    /// Cells the search that found it expanded (its cost in work, for the refresh period).
+    pub expansions: usize,
 }
 
 /// State of the social planner for all robots of a world.
@@ -331,7 +333,7 @@ impl SocialPlanning {
                 (q, pf, of)
             })
             .collect();
-        Some(SocialPath { points, samples, model })
+        Some(SocialPath { points, samples, model, expansions: path.expansions })
     }
 
     /// Cost of `path` when it was planned: its length weighted by the traversal factor seen

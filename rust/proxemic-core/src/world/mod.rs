@@ -117,6 +117,11 @@ struct RobotRuntime {
     /// The social path (social planners only) and when it was last planned.
     social_path: Option<SocialPath>,
     last_plan_step: usize,
+    /// Cells expanded by the robot's last social search (kept or not; 0 before the first and
+    /// after one that found nothing): sets the refresh period.
+    last_search_cells: usize,
+    /// Social searches run this episode (the first plan, re-plans and refreshes, kept or not).
+    searches: usize,
     replans: usize,
     /// The elastic band (eband planner only).
     band: Option<ElasticBand>,
@@ -344,6 +349,8 @@ impl World {
             user_command: false,
             social_path: None,
             last_plan_step: 0,
+            last_search_cells: 0,
+            searches: 0,
             replans: 0,
             band: None,
             mode: Mode::FollowPath,

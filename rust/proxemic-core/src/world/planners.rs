@@ -24,6 +24,15 @@ const SOCIAL_MIN_REPLAN: usize = 10;
 /// when the new one is cheaper (see [`SOCIAL_REPLAN_GAIN`]): a way that people blocked when the
 /// path was made may have cleared.
 const SOCIAL_REFRESH: usize = 20;
+/// ...unless the robot's last social search expanded more than this many cells per step of
+/// [`SOCIAL_REFRESH`]: then the refresh waits one control step per this many cells it expanded, so
+/// that refreshes cost at most about this many expanded cells per control step on average
+/// (proxemic's choice, for large maps: a refresh of a 100 × 60 m hall of 1000 people expands
+/// about 480,000 cells, and every one in our runs was kept out by [`SOCIAL_REPLAN_GAIN`]). No
+/// search in a shipped scene, or a generated one of the default size, expands more than 20 × this
+/// (the museum's grid, the largest, has 90,720 cells), so their refresh stays every
+/// [`SOCIAL_REFRESH`] steps.
+const SOCIAL_REFRESH_CELLS_PER_STEP: usize = 5_000;
 /// A re-planned social path replaces the current one only when it costs at least this fraction
 /// less than what is left of the current one on the same map (or the current one is blocked):
 /// without it, two ways of nearly equal cost (around a gallery or along the corridor) took turns
@@ -108,6 +117,13 @@ impl World {
         self.robots.get(i).map_or(0, |r| r.replans)
     }
 
+    /// Number of social searches run for robot `i` this episode: its first plan, its triggered
+    /// re-plans and its refreshes, whether the new path was kept or not (0 for a robot that is not
+    /// on a social planner, or an index out of range).
+    pub fn social_searches(&self, i: usize) -> usize {
+        self.robots.get(i).map_or(0, |r| r.searches)
+    }
+
     /// (Re-)plans robot `i`'s social path from `p`; falls back to the plain path when the goal
     /// is unreachable on the social map (for example inside someone's intimate zone). A new
     /// social path replaces the current one only when it is [`SOCIAL_REPLAN_GAIN`] cheaper.
@@ -135,6 +151,8 @@ impl World {
         }
         let model = people_model(st.planner);
         let plan = self.social.plan_with(&mut self.planner, k, p, goal, time_of_day, model);
+        self.robots[i].last_search_cells = plan.as_ref().map_or(0, |sp| sp.expansions);
+        self.robots[i].searches += 1;
         if let (Some(new), Some(left)) = (&plan, left)
             && left.is_finite()
             && SocialPlanning::planned_cost(new) > (1.0 - SOCIAL_REPLAN_GAIN) * left
@@ -193,7 +211,8 @@ impl World {
                 Some(path) => self.social.check(path, p, tod),
                 None => Trigger::Blocked, // on the plain fallback: try the social map again
             };
-            let stale = self.steps >= self.robots[i].last_plan_step + SOCIAL_REFRESH;
+            let stale = self.steps
+                >= self.robots[i].last_plan_step + refresh_period(self.robots[i].last_search_cells);
             if trigger != Trigger::None || off_path || stale {
                 self.social_plan(i, p, tod);
             }
@@ -618,6 +637,13 @@ enum PeopleAs {
     IntimateZones,
     /// Non-cooperating agents at their body radius, no social term (the `astar_orca` baseline).
     Bodies,
+}
+
+/// Control steps between a social path's refreshes (re-plans without a trigger) after a search
+/// that expanded `cells` cells: [`SOCIAL_REFRESH`], or longer after a search of more than
+/// `SOCIAL_REFRESH × SOCIAL_REFRESH_CELLS_PER_STEP` cells.
+fn refresh_period(cells: usize) -> usize {
+    SOCIAL_REFRESH.max(cells.div_ceil(SOCIAL_REFRESH_CELLS_PER_STEP))
 }
 
 /// The people model of a social global planner's map.
