@@ -297,6 +297,36 @@ impl ZoneScan {
     const NONE: usize = 3;
 }
 
+/// The exponent's thresholds of the intimate, personal and social zones of an individual with
+/// zone scale `zone_scale`.
+fn zone_thresholds(costs: &SocialCosts, zone_scale: f64) -> [f64; 3] {
+    let two_z2 = 2.0 * zone_scale * zone_scale;
+    [
+        costs.intimate * costs.intimate / two_z2,
+        costs.personal * costs.personal / two_z2,
+        costs.social * costs.social / two_z2,
+    ]
+}
+
+/// The cells `lo ..= hi` of a row that can lie in a social zone, `None` when none can.
+type Span = Option<(usize, usize)>;
+
+/// The spans of the rows of `full`, in order, that can lie in the social zone of the
+/// quadratic-form individual `quad` ([`ZoneRows::cells`] over the box's columns): a zone sweep
+/// tests only their cells (those of a part of the box are the part's columns of them), and
+/// [`in_sight`] needs to decide only theirs.
+fn zone_spans(
+    spec: &GridSpec,
+    costs: &SocialCosts,
+    quad: &[f64; 8],
+    zone_scale: f64,
+    full: Rect,
+) -> Vec<Span> {
+    let (a0, b0, a1, b1) = full;
+    let rows = ZoneRows::new(quad, zone_thresholds(costs, zone_scale)[2]);
+    (b0..=b1).map(|iy| rows.cells(spec, quad[0], spec.center(a0, iy).y - quad[1], (a0, a1))).collect()
+}
+
 /// The zone sweep of one quadratic-form individual (see [`SpaceFunction::quadratic`]) over a
 /// box of cells. Zones are decided by comparing the exponent with the zone radii's thresholds,
 /// without exp or sqrt.
@@ -311,6 +341,8 @@ struct ZoneSweep<'a> {
     /// Which cells of `full` are in sight of the individual (from [`in_sight`]: zones do not
     /// pass through walls).
     open: &'a Sight,
+    /// The cells of each row of `full` that can lie in the social zone (from [`zone_spans`]).
+    spans: &'a [Span],
     /// The part of the box to visit.
     rect: Rect,
 }
@@ -323,19 +355,16 @@ impl ZoneSweep<'_> {
     /// a sweep from the rect's first cell, so every cell sees the same values).
     #[inline]
     fn rows(&self, mut row: impl FnMut(&ZoneScan, usize, usize, usize, f64, f64, Option<&[u64]>)) {
-        let Self { spec, costs, quad, zone_scale, full, open, rect } = *self;
+        let Self { spec, costs, quad, zone_scale, full, open, spans, rect } = *self;
         let [cx, cy, cos, sin, kf, kr, kri, kl] = *quad;
         let (a0, b0, a1, b1) = rect;
         let (f0x, f0y) = (full.0, full.1);
-        let two_z2 = 2.0 * zone_scale * zone_scale;
-        let q = [
-            costs.intimate * costs.intimate / two_z2,
-            costs.personal * costs.personal / two_z2,
-            costs.social * costs.social / two_z2,
-        ];
         let res = spec.resolution;
-        let scan = ZoneScan { k: [kf, kr, kri, kl], q, step: (cos * res, sin * res) };
-        let rows = ZoneRows::new(quad, q[2]);
+        let scan = ZoneScan {
+            k: [kf, kr, kri, kl],
+            q: zone_thresholds(costs, zone_scale),
+            step: (cos * res, sin * res),
+        };
         // Up to `BATCH` rows at a time: their axis distances are brought from `a0` to their
         // first tested cell together (independent chains of additions, each row's its own).
         const BATCH: usize = 4;
@@ -347,8 +376,11 @@ impl ZoneSweep<'_> {
             let (dx, dy) = (p0.x - cx, p0.y - cy);
             let sight = open.row(iy - f0y);
             // Only the cells of the row that can be in the social zone and in sight are tested.
-            if let Some((lo, hi)) = rows
-                .cells(spec, cx, dy, (a0, a1))
+            if let Some((lo, hi)) = spans[iy - f0y]
+                .and_then(|(lo, hi)| {
+                    let (lo, hi) = (lo.max(a0), hi.min(a1));
+                    (lo <= hi).then_some((lo, hi))
+                })
                 .and_then(|(lo, hi)| sight.map_or(Some((lo, hi)), |b| open_span(b, lo - f0x, hi - f0x)))
             {
                 let (lo, hi) = if sight.is_some() { (lo + f0x, hi + f0x) } else { (lo, hi) };
@@ -681,6 +713,8 @@ struct SightScratch {
     spread: Vec<u64>,
     /// The same rows as single `u128`s, for rects at most 128 cells wide (see [`walk_narrow`]).
     narrow: [Vec<u128>; 3],
+    /// The hulls of [`spread_hulls`], per layer.
+    hulls: Vec<[i64; 4]>,
 }
 
 /// Whether a walk of `k` steps to a cell `dx`, `dy` cells from the centre is longer than its
@@ -760,12 +794,16 @@ fn span_bits(j: usize, x0: usize, x1: usize) -> u64 {
 /// within reach is in sight only when the walk reaches it in at most `reach + SIGHT_SLACK` steps,
 /// so the walk stops after that many layers, and when no obstacle lies within that many steps of
 /// the centre (Chebyshev distance, where those layers stay) every cell within reach is open.
+/// With `zone` (the spans of the rect's rows, in order, e.g. from [`zone_spans`]) only the
+/// spans' cells within reach need to be decided: a rect at most 128 cells wide is walked only
+/// where a span's cell can still be reached in sight (see [`spread_hulls`]).
 fn in_sight(
     grid: &CostGrid,
     free_bits: &FreeBits,
     centre: Vec2,
     rect: Rect,
     reach: f64,
+    zone: Option<&[Span]>,
     scratch: &mut SightScratch,
 ) -> Sight {
     let spec = &grid.spec;
@@ -784,7 +822,7 @@ fn in_sight(
     // Breadth-first, one layer (walk length) at a time, on bit rows (as in [`Sight`]). Only the
     // cells of a layer that are in sight expand to the next layer (the free, unvisited
     // 8-neighbours of them).
-    let SightScratch { free, visited, layer, spread, narrow } = scratch;
+    let SightScratch { free, visited, layer, spread, narrow, hulls } = scratch;
     let n = words * h;
     for v in [&mut *free, &mut *visited, &mut *layer] {
         v.clear();
@@ -811,7 +849,11 @@ fn in_sight(
     }
     let mut open = vec![0u64; n];
     if words <= 2 {
-        walk_narrow(free, narrow, words, (sx, sy), last, &mut open);
+        let hulls = zone.map(|spans| {
+            spread_hulls(spans, a0, (sx, sy), last, hulls);
+            &hulls[..]
+        });
+        walk_narrow(free, narrow, hulls, words, (sx, sy), last, &mut open);
         return Sight { words, bits: Some(open) };
     }
     layer[sy * words + sx / 64] = 1 << (sx % 64);
@@ -892,10 +934,12 @@ fn in_sight(
 /// not yet visited (one row of those, `avail`, stands for the free and the visited rows). A cell
 /// is in sight when the layer that reached it did not cut it, so the open cells are the visited
 /// ones (free, no longer available) less the cut ones, gathered once at the end. The walk stops
-/// after layer `last`.
+/// after layer `last`. With `hulls` (from [`spread_hulls`]) the cells of layer `k` outside
+/// `hulls[k + 1]` do not spread.
 fn walk_narrow(
     free: &[u64],
     rows: &mut [Vec<u128>; 3],
+    hulls: Option<&[[i64; 4]]>,
     words: usize,
     start: (usize, usize),
     last: usize,
@@ -918,7 +962,8 @@ fn walk_narrow(
     };
     layer[sy] = 1 << sx;
     avail[sy] &= !(1 << sx);
-    // Rows outside `lo ..= hi` (the rows of the current layer) hold no cell of the layer.
+    // The rows of the current layer are `lo ..= hi`; only those are read (the others may hold
+    // cells of earlier layers).
     let (mut lo, mut hi) = (sy, sy);
     let mut k = 0u64;
     loop {
@@ -946,14 +991,33 @@ fn walk_narrow(
                 }
             }
         }
+        // The rows `slo ..= shi` and columns `cols` of the layer's cells that spread: all, or
+        // those within the layer's hull.
+        let (slo, shi, cols) = match hulls {
+            None => (lo, hi, u128::MAX),
+            Some(hulls) => {
+                let [r0, r1, c0, c1] = hulls.get(k as usize + 1).copied().unwrap_or(EMPTY_HULL);
+                let k = k as i64;
+                let (slo, shi) = ((r0 + k).max(lo as i64), (r1 - k).min(hi as i64));
+                let (clo, chi) = ((c0 + k).max(0), (c1 - k).min(127));
+                if slo > shi || clo > chi {
+                    break;
+                }
+                let cols = (u128::MAX >> (127 - chi)) & (u128::MAX << clo);
+                (slo as usize, shi as usize, cols)
+            }
+        };
         // Layer row spread to its row neighbours.
-        let spread = |e: u128| e | (e << 1) | (e >> 1);
-        let (nlo, nhi) = (lo.saturating_sub(1), (hi + 1).min(h - 1));
+        let spread = |e: u128| {
+            let e = e & cols;
+            e | (e << 1) | (e >> 1)
+        };
+        let (nlo, nhi) = (slo.saturating_sub(1), (shi + 1).min(h - 1));
         let (mut first, mut last) = (usize::MAX, 0);
-        // The spread rows above, at and below `y` (row `nlo - 1` is outside the layer).
-        let (mut above, mut at) = (0u128, spread(layer[nlo]));
+        // The spread rows above, at and below `y` (rows outside `slo ..= shi` do not spread).
+        let (mut above, mut at) = (0u128, if nlo < slo { 0 } else { spread(layer[slo]) });
         for y in nlo..=nhi {
-            let below = if y < hi { spread(layer[y + 1]) } else { 0 };
+            let below = if y < shi { spread(layer[y + 1]) } else { 0 };
             let fresh = (above | at | below) & avail[y];
             avail[y] ^= fresh;
             layer[y] = fresh;
@@ -977,6 +1041,58 @@ fn walk_narrow(
         }
     }
 }
+
+/// Per layer `k` of [`walk_narrow`], the hull of the cells that can still lead
+/// to a cell of `spans` (the spans of the rect's rows, columns from `a0`) in sight: rows
+/// `r0 + k ..= r1 - k` and rect columns `c0 + k ..= c1 - k` of `hulls[k + 1] = [r0, r1, c0, c1]`
+/// (empty when `r0 > r1`, and past the end of `hulls`). Only the cells of layer `k` in it need to
+/// spread.
+///
+/// Why the spans' cells come out the same. Let `A(y)` be the largest layer at which a cell of
+/// row `y`'s span can be open: at most `last`, and at most the largest `k` with
+/// `!too_long(k, dx, dy)` for the span's farthest `dx` from the centre's column, since that
+/// test's rounded steps are all non-decreasing in `dx`, so it holds for every nearer cell of the
+/// span at the same `k`. The hull of layer `k` is that of the rectangles `y - (A - k) ..= y + (A - k)`
+/// by `l - (A - k) ..= r + (A - k)` over the spans `(l, r)` of the rows `y` with `A(y) >= k + 1`.
+/// Write `d(v)` for the layer at which the plain walk reaches `v` and `d'(v)` for the pruned one.
+/// - `d' >= d` everywhere: if `v` is reached at `d'(v) = j + 1` from `u` that spread at
+///   `d'(u) = j`, then `u` was not cut at `j`, so (by induction `d(u) <= j`, and a cell not cut at
+///   a layer is not cut at an earlier one) not cut at `d(u)` in the plain walk either, where it
+///   spread: `d(v) <= d(u) + 1 <= j + 1`.
+/// - A span's cell `c` open in the plain walk, `n = d(c) <= A(c_y)`: take a plain walk's path
+///   `v_0 .. v_n = c` with `d(v_i) = i`, every `v_i` (`i < n`) spread. Then `i + 1 <= n <= A(c_y)`
+///   and `v_i` lies within `n - i <= A(c_y) - i` cells of `c` (Chebyshev) in rows and columns, so
+///   in the hull of layer `i`; by induction `d'(v_i) = i` (`>= d` above, and `v_{i-1}` spread
+///   in the pruned walk too, not cut at the same layer) and `v_i` spreads: `d'(c) = n`, open.
+/// - A span's cell not open in the plain walk is reached at a layer past `last` or cut at
+///   `d(c)`; `d'(c) >= d(c)`, so it is again past `last` or cut (a later layer cuts too).
+///
+/// The other cells may come out either way.
+fn spread_hulls(spans: &[Span], a0: usize, start: (usize, usize), last: usize, hulls: &mut Vec<[i64; 4]>) {
+    hulls.clear();
+    let (sx, sy) = start;
+    for (y, span) in spans.iter().enumerate() {
+        let Some((l, r)) = *span else { continue };
+        let (l, r) = (l - a0, r - a0);
+        // The largest `k` with `!too_long(k, dx, dy)`: `k <= sqrt(dx^2 + dy^2) + SIGHT_SLACK`.
+        let (dx, dy) = (sx.abs_diff(l).max(sx.abs_diff(r)) as f64, y.abs_diff(sy) as f64);
+        let a = ((dx * dx + dy * dy).sqrt() + SIGHT_SLACK).floor().min(last as f64) as usize;
+        let (y, l, r, ai) = (y as i64, l as i64, r as i64, a as i64);
+        if hulls.len() < a + 2 {
+            hulls.resize(a + 2, EMPTY_HULL);
+        }
+        let h = &mut hulls[a];
+        *h = [h[0].min(y - ai), h[1].max(y + ai), h[2].min(l - ai), h[3].max(r + ai)];
+    }
+    for a in (0..hulls.len().saturating_sub(1)).rev() {
+        let n = hulls[a + 1];
+        let h = &mut hulls[a];
+        *h = [h[0].min(n[0]), h[1].max(n[1]), h[2].min(n[2]), h[3].max(n[3])];
+    }
+}
+
+/// The empty hull of [`spread_hulls`].
+const EMPTY_HULL: [i64; 4] = [i64::MAX / 4, i64::MIN / 4, i64::MAX / 4, i64::MIN / 4];
 
 /// Steps (cells) a walk to a cell may take beyond its straight-line distance and still count
 /// as in sight (see [`in_sight`]): the 8-connected walk is never longer than the straight line
@@ -1024,13 +1140,15 @@ pub struct SocialMap {
     last_code: (u64, u8),
 }
 
-/// What one individual added to the zone counts: its quadratic form, zone scale and box, and
-/// the cells of the box in sight of it (kept, so taking the contribution back costs no search).
+/// What one individual added to the zone counts: its quadratic form, zone scale and box, the
+/// spans of the box's rows that can lie in its social zone and the cells of the box in sight of
+/// it (kept, so taking the contribution back costs no search).
 #[derive(Clone, Debug)]
 struct Contribution {
     quad: [f64; 8],
     zone_scale: f64,
     rect: Rect,
+    spans: Vec<Span>,
     open: Sight,
 }
 
@@ -1038,6 +1156,12 @@ impl Contribution {
     /// Same individual in the same place (the sight mask follows from these).
     fn same(&self, quad: &[f64; 8], zone_scale: f64, rect: Rect) -> bool {
         self.quad == *quad && self.zone_scale == zone_scale && self.rect == rect
+    }
+
+    /// The zone sweep of the whole box.
+    fn sweep<'a>(&'a self, spec: &'a GridSpec, costs: &'a SocialCosts) -> ZoneSweep<'a> {
+        let Self { ref quad, zone_scale, rect, ref spans, ref open } = *self;
+        ZoneSweep { spec, costs, quad, zone_scale, full: rect, open, spans, rect }
     }
 }
 
@@ -1329,6 +1453,7 @@ impl SocialMap {
                                 c,
                                 full,
                                 f64::INFINITY,
+                                None,
                                 &mut self.sight,
                             )
                         });
@@ -1402,8 +1527,8 @@ impl SocialMap {
         }
         for (k, n) in new.iter().enumerate() {
             if let (None, Some((quad, zone_scale, rect))) = (&next[k], *n) {
-                let open = self.zone_sight(&quad, zone_scale, rect);
-                let c = Contribution { quad, zone_scale, rect, open };
+                let (spans, open) = self.zone_sight(&quad, zone_scale, rect);
+                let c = Contribution { quad, zone_scale, rect, spans, open };
                 self.count_zones(&c, 1, &mut touched);
                 next[k] = Some(c);
             }
@@ -1433,16 +1558,7 @@ impl SocialMap {
     /// Adds `delta` to the zone counts of the cells of one contribution.
     fn count_zones(&mut self, c: &Contribution, delta: i32, touched: &mut Vec<u32>) {
         let (counts, mark) = (&mut self.counts, &mut self.mark);
-        ZoneSweep {
-            spec: &self.static_grid.spec,
-            costs: &self.costs,
-            quad: &c.quad,
-            zone_scale: c.zone_scale,
-            full: c.rect,
-            open: &c.open,
-            rect: c.rect,
-        }
-        .cells(|idx, zone| {
+        c.sweep(&self.static_grid.spec, &self.costs).cells(|idx, zone| {
             let slot = &mut counts[idx][zone];
             *slot = (i32::from(*slot) + delta).clamp(0, i32::from(u16::MAX)) as u16;
             if !mark[idx] {
@@ -1452,32 +1568,40 @@ impl SocialMap {
         });
     }
 
-    /// Which cells of `rect` (an individual's whole box) are in sight of the quadratic-form
-    /// individual `quad`, decided up to its social zone's reach ([`in_sight`], [`zone_reach`]).
-    fn zone_sight(&mut self, quad: &[f64; 8], zone_scale: f64, rect: Rect) -> Sight {
-        let reach = zone_reach(&self.costs, quad, zone_scale, self.static_grid.spec.resolution);
-        in_sight(
+    /// The spans of the rows of `rect` (an individual's whole box) that can lie in the social
+    /// zone of the quadratic-form individual `quad` ([`zone_spans`]), and which cells of the box
+    /// are in sight of it, decided for the spans' cells within its social zone's reach
+    /// ([`in_sight`], [`zone_reach`]).
+    fn zone_sight(&mut self, quad: &[f64; 8], zone_scale: f64, rect: Rect) -> (Vec<Span>, Sight) {
+        let spec = &self.static_grid.spec;
+        let spans = zone_spans(spec, &self.costs, quad, zone_scale, rect);
+        let reach = zone_reach(&self.costs, quad, zone_scale, spec.resolution);
+        let open = in_sight(
             &self.static_grid,
             &self.free_bits,
             Vec2::new(quad[0], quad[1]),
             rect,
             reach,
+            Some(&spans),
             &mut self.sight,
-        )
+        );
+        (spans, open)
     }
 
     /// Zone costs of one quadratic-form individual over a cell box (max with what is there).
     fn splat_zones(&mut self, q: &[f64; 8], zone_scale: f64, full: Rect, rect: Rect) {
         let c = self.costs;
         let factors = [f64::INFINITY, c.personal_cost, c.social_cost];
-        let open = self.zone_sight(q, zone_scale, full);
+        let (spans, open) = self.zone_sight(q, zone_scale, full);
         let people = &mut self.people;
-        ZoneSweep { spec: &self.static_grid.spec, costs: &c, quad: q, zone_scale, full, open: &open, rect }
-            .cells(|idx, zone| {
+        let spec = &self.static_grid.spec;
+        ZoneSweep { spec, costs: &c, quad: q, zone_scale, full, open: &open, spans: &spans, rect }.cells(
+            |idx, zone| {
                 if factors[zone] > people[idx] {
                     people[idx] = factors[zone];
                 }
-            });
+            },
+        );
     }
 
     #[inline(always)]
@@ -1540,25 +1664,17 @@ impl SocialMap {
                 counted.push(None);
                 continue;
             };
-            let open = self.zone_sight(&quad, zone_scale, rect);
+            let (spans, open) = self.zone_sight(&quad, zone_scale, rect);
+            let c = Contribution { quad, zone_scale, rect, spans, open };
             let counts = &mut self.counts;
-            ZoneSweep {
-                spec: &spec,
-                costs: &self.costs,
-                quad: &quad,
-                zone_scale,
-                full: rect,
-                open: &open,
-                rect,
-            }
-            .runs(|iy, x0, x1, zone| {
+            c.sweep(&spec, &self.costs).runs(|iy, x0, x1, zone| {
                 let row = spec.index(0, iy);
                 counts[row + x0][zone] = counts[row + x0][zone].wrapping_add(1);
                 if x1 + 1 < spec.width {
                     counts[row + x1 + 1][zone] = counts[row + x1 + 1][zone].wrapping_sub(1);
                 }
             });
-            counted.push(Some(Contribution { quad, zone_scale, rect, open }));
+            counted.push(Some(c));
         }
         self.counted = counted;
         // The touched cells' factors and codes as `combine` sets them (the code of a factor
@@ -1904,7 +2020,7 @@ mod tests {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(19);
         let mut scratch = SightScratch::default();
-        for case in 0..200 {
+        for case in 0..2000 {
             let mut g = grid(16.0, 9.0);
             // Random wall segments and blocks, some cases with none (the open fast path).
             let walls = if case % 5 == 0 { 0 } else { rng.random_range(1..8) };
@@ -1933,17 +2049,28 @@ mod tests {
                 let cell = (rng.random_range(rect.0..=rect.2), rng.random_range(rect.1..=rect.3));
                 g.spec.center(cell.0, cell.1)
             };
-            // Half the cases decide every cell, the others only those within a random reach.
+            // Half the cases decide every cell, the others only those within a random reach; and
+            // in half of either, only the cells of random row spans (some rows without).
             let reach = if case % 2 == 0 { f64::INFINITY } else { rng.random_range(0.0..60.0) };
-            let sight = in_sight(&g, &FreeBits::of(&g), c, rect, reach, &mut scratch);
             let (w, h) = (rect.2 + 1 - rect.0, rect.3 + 1 - rect.1);
+            let spans: Vec<Span> = (0..h)
+                .map(|_| {
+                    let l = rng.random_range(rect.0..=rect.2);
+                    let r = (l + rng.random_range(0..8)).min(rect.2);
+                    rng.random_bool(0.3).then_some((l, r))
+                })
+                .collect();
+            let zone = (case % 4 >= 2).then_some(&spans[..]);
+            let sight = in_sight(&g, &FreeBits::of(&g), c, rect, reach, zone, &mut scratch);
             let res = g.spec.resolution;
             let (sx, sy) = (((c.x - g.spec.origin.x) / res).floor(), ((c.y - g.spec.origin.y) / res).floor());
             let within = |i: usize| {
-                let (dx, dy) = ((rect.0 + i % w) as f64 - sx, (rect.1 + i / w) as f64 - sy);
-                (dx * dx + dy * dy).sqrt() <= reach
+                let (x, y) = (rect.0 + i % w, i / w);
+                let (dx, dy) = (x as f64 - sx, (rect.1 + y) as f64 - sy);
+                let spanned = zone.is_none_or(|z| z[y].is_some_and(|(l, r)| (l..=r).contains(&x)));
+                (dx * dx + dy * dy).sqrt() <= reach && spanned
             };
-            // The cells within reach as the reference walk decides them, the others as they came.
+            // The cells decided as the reference walk decides them, the others as they came.
             let want: Vec<bool> = in_sight_reference(&g, c, rect)
                 .into_iter()
                 .enumerate()
@@ -2121,21 +2248,22 @@ mod tests {
                 Sight { words, bits: Some(bits) }
             };
             let mut got = Vec::new();
-            ZoneSweep { spec: &spec, costs: &costs, quad: &quad, zone_scale, full: rect, open: &open, rect }
-                .cells(|i, z| got.push((i, z)));
+            let spans = zone_spans(&spec, &costs, &quad, zone_scale, rect);
+            let c = Contribution { quad, zone_scale, rect, spans, open };
+            let sweep = c.sweep(&spec, &costs);
+            sweep.cells(|i, z| got.push((i, z)));
             let want: Vec<(usize, usize)> = plain_zones(&spec, &costs, &quad, zone_scale, rect)
                 .into_iter()
                 .enumerate()
                 .filter_map(|(k, z)| {
                     let (x, y) = (k % w, k / w);
-                    Some((spec.index(rect.0 + x, rect.1 + y), z.filter(|_| open.is_open(x, y))?))
+                    Some((spec.index(rect.0 + x, rect.1 + y), z.filter(|_| c.open.is_open(x, y))?))
                 })
                 .collect();
             assert_eq!(got, want, "case {case}");
             // The runs of the rebuild: maximal, and their cells the same.
             let mut runs: Vec<(usize, usize, usize, usize)> = Vec::new();
-            ZoneSweep { spec: &spec, costs: &costs, quad: &quad, zone_scale, full: rect, open: &open, rect }
-                .runs(|iy, x0, x1, z| runs.push((iy, x0, x1, z)));
+            sweep.runs(|iy, x0, x1, z| runs.push((iy, x0, x1, z)));
             for w in runs.windows(2) {
                 let ((y0, _, e0, z0), (y1, s1, _, z1)) = (w[0], w[1]);
                 assert!(y0 < y1 || (y0 == y1 && (e0 + 1 < s1 || z0 != z1)), "case {case}: runs {w:?}");
