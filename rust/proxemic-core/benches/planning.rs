@@ -1,4 +1,5 @@
-//! Planning and sensing benchmarks on a synthetic 36 x 24 m museum at 0.1 m (360 x 240 cells).
+//! Planning and sensing benchmarks on a synthetic 36 x 24 m museum at 0.1 m (360 x 240 cells), and
+//! social A* across a crowded 100 x 60 m hall (1000 x 600 cells, the size of `crowd_bench.py`).
 //!
 //! Run with `cargo bench --bench planning` (add `-- --quick` for a short run).
 
@@ -80,13 +81,23 @@ fn cost_grid(geom: &StaticGeometry) -> CostGrid {
     CostGrid::inflated(&df, ROBOT_RADIUS)
 }
 
-/// Adds 25 Gaussian personal-space blobs (peak 252, sigma 0.8 m) at random passable places.
-fn with_social_blobs(base: &CostGrid, rng: &mut ChaCha8Rng) -> CostGrid {
+/// A 100 x 60 m hall: its four walls and nothing else.
+fn hall() -> StaticGeometry {
+    let (w, h, t) = (100.0, 60.0, 0.2);
+    let p = vec![rect(0.0, 0.0, w, t), rect(0.0, h - t, w, h), rect(0.0, 0.0, t, h), rect(w - t, 0.0, w, h)];
+    let bounds = Bounds { min: Vec2::new(0.0, 0.0), max: Vec2::new(w, h) };
+    StaticGeometry::new(p, bounds).expect("valid hall")
+}
+
+/// Adds `count` Gaussian personal-space blobs (peak 252, `sigma` metres, cut at 3 sigma) centred
+/// at random places at least 1 m inside the grid.
+fn with_social_blobs(base: &CostGrid, rng: &mut ChaCha8Rng, count: usize, sigma: f64) -> CostGrid {
     let mut g = base.clone();
     let spec = g.spec;
-    for _ in 0..25 {
-        let c = Vec2::new(rng.random_range(1.0..35.0), rng.random_range(1.0..23.0));
-        let (sigma, reach) = (0.8, 2.4);
+    let (w, h) = (spec.width as f64 * spec.resolution, spec.height as f64 * spec.resolution);
+    for _ in 0..count {
+        let c = spec.origin + Vec2::new(rng.random_range(1.0..w - 1.0), rng.random_range(1.0..h - 1.0));
+        let reach = 3.0 * sigma;
         let lo = spec.cell_of(c - Vec2::new(reach, reach)).unwrap_or((0, 0));
         let hi = spec.cell_of(c + Vec2::new(reach, reach)).unwrap_or((spec.width - 1, spec.height - 1));
         for iy in lo.1..=hi.1 {
@@ -122,7 +133,7 @@ fn benches(c: &mut Criterion) {
     let goal =
         nearest_passable(&grid, spec.cell_of(Vec2::new(35.2, 23.2)).expect("in grid"), 20).expect("goal");
     let mut rng = ChaCha8Rng::seed_from_u64(7);
-    let social = with_social_blobs(&grid, &mut rng);
+    let social = with_social_blobs(&grid, &mut rng, 25, 0.8);
     let noise = with_noise(&grid, &mut rng);
     let mut planner = PathPlanner::new();
 
@@ -157,6 +168,17 @@ fn benches(c: &mut Criterion) {
     });
     c.bench_function("plan/astar_w2_noise", |b| {
         b.iter(|| black_box(planner.plan(&noise, start, goal, SearchMode::weighted(2.0))))
+    });
+    // Across the hall through 1000 people's blobs: the social planner's re-plan in the crowd bench.
+    let hall_grid = with_social_blobs(&cost_grid(&hall()), &mut ChaCha8Rng::seed_from_u64(1), 1000, 1.0);
+    let (hall_start, hall_goal) = (
+        nearest_passable(&hall_grid, (20, 300), 20).expect("start"),
+        nearest_passable(&hall_grid, (980, 300), 20).expect("goal"),
+    );
+    let p = planner.plan(&hall_grid, hall_start, hall_goal, SearchMode::weighted(2.0)).expect("connected");
+    eprintln!("weighted A* (hall): cost {:.3} m, {} expansions", p.cost, p.expansions);
+    c.bench_function("plan/astar_w2_hall", |b| {
+        b.iter(|| black_box(planner.plan(&hall_grid, hall_start, hall_goal, SearchMode::weighted(2.0))))
     });
     let plain_path = planner.plan(&grid, start, goal, SearchMode::PLAIN).expect("connected");
     let social_path = planner.plan(&social, start, goal, SearchMode::weighted(2.0)).expect("connected");
