@@ -88,6 +88,8 @@ pub struct SocialPlanning {
     agenda: Agenda,
     object_names: Vec<String>,
     object_polygons: Vec<Vec<Vec2>>,
+    /// The y range (lowest, highest vertex) of each of `object_polygons` ([`object_factor`]).
+    object_spans: Vec<(f64, f64)>,
     maps: Vec<SocialMap>,
     /// The maps of [`PeopleModel::Density`], one per inflated grid, and their people layers.
     density_maps: Vec<SocialMap>,
@@ -127,6 +129,7 @@ impl SocialPlanning {
                 SocialMap::new(g.clone(), &object_polygons, costs)
             })
             .collect();
+        let object_spans = object_polygons.iter().map(|poly| y_span(poly)).collect();
         let density_maps = maps.clone();
         let params = match cfg.groups {
             Some(GroupMethod::Density(p)) => p,
@@ -141,6 +144,7 @@ impl SocialPlanning {
             agenda,
             object_names,
             object_polygons,
+            object_spans,
             maps,
             density_maps,
             density_layers,
@@ -269,13 +273,7 @@ impl SocialPlanning {
                 people = density_factor(&self.density, &self.cfg.costs, &self.still, p);
             }
         }
-        let mut objects: f64 = 1.0;
-        for (poly, f) in self.object_polygons.iter().zip(object_factors) {
-            if contains_point_polygon(p, poly) {
-                objects = objects.max(*f);
-            }
-        }
-        (people, objects)
+        (people, object_factor(p, &self.object_polygons, &self.object_spans, object_factors))
     }
 
     /// Plans a social A* path on map `k` from `start` to `goal` at `time_of_day` (updating the
@@ -401,6 +399,27 @@ impl SocialPlanning {
     }
 }
 
+/// The y range of `poly`: its lowest and highest vertex (`(inf, -inf)` when empty).
+fn y_span(poly: &[Vec2]) -> (f64, f64) {
+    poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), q| (lo.min(q.y), hi.max(q.y)))
+}
+
+/// The object factor at `p`: the largest of `factors` (finite) of the `polygons` containing `p`,
+/// at least 1. `spans` holds each polygon's [`y_span`]. A polygon is tested only when its factor
+/// could raise the maximum so far and `p.y` is in its y range (lowest vertex included, highest
+/// excluded): [`contains_point_polygon`] counts the edges whose ends lie on either side of the
+/// line `y = p.y` (one above it, the other on or below), and no edge does otherwise, so the
+/// skipped tests are false, and the result is the plain maximum's bit for bit.
+fn object_factor(p: Vec2, polygons: &[Vec<Vec2>], spans: &[(f64, f64)], factors: &[f64]) -> f64 {
+    let mut objects: f64 = 1.0;
+    for ((poly, &(lo, hi)), &f) in polygons.iter().zip(spans).zip(factors) {
+        if f > objects && p.y >= lo && p.y < hi && contains_point_polygon(p, poly) {
+            objects = f;
+        }
+    }
+    objects
+}
+
 fn ind_bounds(ind: &crate::perception::Individual) -> [f64; 4] {
     use crate::socialmap::SpaceFunction;
     ind.bounds()
@@ -430,6 +449,55 @@ fn sample_path(points: &[Vec2], from: f64, to: f64) -> Vec<Vec2> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`object_factor`] (a polygon tested only when its factor could raise the maximum and the
+    /// point is in its y range) against the plain maximum over every containing polygon, bit for
+    /// bit, at random points and at points on the polygons' vertex rows and vertices.
+    #[test]
+    fn object_factor_skips_only_tests_that_cannot_change_it() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(19);
+        for _ in 0..200 {
+            let polygons: Vec<Vec<Vec2>> = (0..rng.random_range(0..6))
+                .map(|_| {
+                    let c = Vec2::new(rng.random_range(0.0..10.0), rng.random_range(0.0..10.0));
+                    // Star-shaped, some with a horizontal bottom or top edge (two vertices at the
+                    // same y), some empty.
+                    let n = rng.random_range(0..7);
+                    let mut poly: Vec<Vec2> = (0..n)
+                        .map(|k| {
+                            let a = k as f64 / n as f64 * std::f64::consts::TAU;
+                            c + Vec2::new(a.cos(), a.sin()) * rng.random_range(0.5..3.0)
+                        })
+                        .collect();
+                    if n >= 3 && rng.random_bool(0.5) {
+                        poly[1].y = poly[0].y;
+                    }
+                    poly
+                })
+                .collect();
+            let spans: Vec<(f64, f64)> = polygons.iter().map(|p| y_span(p)).collect();
+            let factors: Vec<f64> = polygons.iter().map(|_| rng.random_range(0.5..4.0)).collect();
+            let vertices: Vec<Vec2> = polygons.iter().flatten().copied().collect();
+            for k in 0..400 {
+                let mut p = Vec2::new(rng.random_range(-2.0..12.0), rng.random_range(-2.0..12.0));
+                if !vertices.is_empty() && k % 2 == 0 {
+                    let v = vertices[rng.random_range(0..vertices.len())];
+                    p.y = v.y;
+                    if k % 4 == 0 {
+                        p.x = v.x;
+                    }
+                }
+                let plain = polygons
+                    .iter()
+                    .zip(&factors)
+                    .filter(|(poly, _)| contains_point_polygon(p, poly))
+                    .fold(1.0_f64, |m, (_, &f)| m.max(f));
+                let fast = object_factor(p, &polygons, &spans, &factors);
+                assert_eq!(fast.to_bits(), plain.to_bits(), "{p:?} {polygons:?} {factors:?}");
+            }
+        }
+    }
 
     #[test]
     fn samples_are_evenly_spaced_and_end_at_the_goal() {

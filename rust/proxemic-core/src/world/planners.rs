@@ -428,16 +428,17 @@ impl World {
         let st = &self.statics[i];
         let rb = &self.robots[i];
         let p = Vec2::new(rb.pose[0], rb.pose[1]);
+        // Sized up front (with room for the active object spaces' agents): a filtered collect
+        // grows, and reallocated, several times per robot and step.
         let mut people: Vec<CtlPerson> =
-            all_people.iter().filter(|(_, r)| *r != Some(i)).map(|&(q, _)| q).collect();
-        let others: Vec<OtherRobot> = (0..self.robots.len())
-            .filter(|&j| j != i)
-            .map(|j| OtherRobot {
-                pos: Vec2::new(self.robots[j].pose[0], self.robots[j].pose[1]),
-                vel: self.robots[j].velocity,
-                radius: self.statics[j].radius,
-            })
-            .collect();
+            Vec::with_capacity(all_people.len() + self.social.object_polygons().len());
+        people.extend(all_people.iter().filter(|(_, r)| *r != Some(i)).map(|&(q, _)| q));
+        let mut others: Vec<OtherRobot> = Vec::with_capacity(self.robots.len());
+        others.extend((0..self.robots.len()).filter(|&j| j != i).map(|j| OtherRobot {
+            pos: Vec2::new(self.robots[j].pose[0], self.robots[j].pose[1]),
+            vel: self.robots[j].velocity,
+            radius: self.statics[j].radius,
+        }));
         let mode = select_mode(local, p, rb.exec_v, st.radius, rb.mode, &people, &others, &self.control);
         if mode != Mode::SocialMomentum {
             return mode;
