@@ -363,7 +363,7 @@ struct Flags {
 /// The per-cell `g` and parent buffers are sized to the largest grid seen and never cleared: a
 /// cell's entries are valid only if its bit in the reached bitset is set. The reached and closed
 /// sets are bitsets (one bit a cell, small enough to stay in cache), cleared per call and
-/// interleaved word by word ([`Flags`]), so one load serves both tests of a neighbour: stale
+/// interleaved word by word (`Flags`), so one load serves both tests of a neighbour: stale
 /// open-list entries, closed neighbours and first visits are told apart without touching the
 /// per-cell buffers, and a relaxation reads 8 bytes of `g` (not a 16-byte node) only for a cell
 /// already reached, which keeps the search's working set small on large grids.
