@@ -1,12 +1,15 @@
 //! Group-detection benchmarks: Delaunay for 200 standing + moving people in a 36 x 24 m area
-//! (target <= 200 us), density and F-formation for 50.
+//! (target <= 200 us), from scratch and from one control step to the next with the detector's
+//! memory (informational), density and F-formation for 50.
 //!
 //! Run with `cargo bench --bench groups` (add `-- --quick` for a short run).
 
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use proxemic_core::groups::{DelaunayParams, DensityParams, FFormationParams, PersonState, detect};
+use proxemic_core::groups::{
+    DelaunayParams, DensityParams, DetectorMemory, FFormationParams, PersonState, detect, detect_with,
+};
 use proxemic_core::math::Vec2;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -57,6 +60,18 @@ fn bench_groups(c: &mut Criterion) {
     let mut g = c.benchmark_group("groups");
     g.warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
     g.bench_function("delaunay_200", |b| b.iter(|| detect(black_box(&crowd), &delaunay)));
+    // A control step later (0.1 s): each call moves everyone from one state to the other and
+    // back, so the detector's memory repairs the previous triangulation every time.
+    let later: Vec<PersonState> =
+        crowd.iter().map(|p| PersonState { pos: p.pos + p.vel * 0.1, ..*p }).collect();
+    let mut memory = DetectorMemory::default();
+    let mut flip = false;
+    g.bench_function("delaunay_200_next_step", |b| {
+        b.iter(|| {
+            flip = !flip;
+            detect_with(black_box(if flip { &later } else { &crowd }), &delaunay, &mut memory)
+        })
+    });
     g.bench_function("delaunay_distance_only_200", |b| {
         b.iter(|| detect(black_box(&crowd), &DelaunayParams::distance_only(1.5).method()))
     });

@@ -3,7 +3,9 @@
 //!
 //! # Rules, as implemented
 //!
-//! The people's positions are triangulated (Delaunay, `spade`). Each person is *moving* when its
+//! The people's positions are triangulated (Delaunay, `spade`; from one control step to the next
+//! the previous triangulation repaired by edge flips where that gives the same one, see
+//! [`super::DetectorMemory`]). Each person is *moving* when its
 //! speed is at least [`DelaunayParams::moving_speed`], *standing* otherwise. Groups are the
 //! connected components (union-find, smallest index as root) of the following links:
 //!
@@ -46,6 +48,7 @@
 //! Degenerate input: fewer than three distinct positions or all positions collinear give no
 //! triangles, so only the pair rules apply; this never panics.
 
+use super::mesh::Mesh;
 use super::{GroupMethod, Groups, PersonState, UnionFind, check_positive, check_range};
 use crate::error::{CoreError, Result};
 use crate::geom::{contains_point_triangle, cross};
@@ -216,14 +219,17 @@ impl Ctx<'_> {
     }
 }
 
-/// Runs the Delaunay detector (people already validated by [`super::detect`]).
-pub(crate) fn detect(people: &[PersonState], params: &DelaunayParams) -> Result<Groups> {
+/// Runs the Delaunay detector (people already validated by [`super::detect`]), carrying the
+/// triangulation in `mesh` from one call to the next ([`Mesh`]; `None` to start afresh). The groups
+/// do not depend on what `mesh` holds: a kept mesh is exactly the triangulation `spade` builds.
+pub(crate) fn detect(
+    people: &[PersonState],
+    params: &DelaunayParams,
+    mesh: &mut Option<Mesh>,
+) -> Result<Groups> {
     params.validate()?;
     let n = people.len();
     let mut uf = UnionFind::new(n);
-    if n == 0 {
-        return Ok(uf.into_groups());
-    }
     let ctx = Ctx {
         people,
         params,
@@ -232,51 +238,74 @@ pub(crate) fn detect(people: &[PersonState], params: &DelaunayParams) -> Result<
         cos_pair: params.pair_facing_tolerance.cos(),
         cos_heading: params.max_heading_diff.cos(),
     };
+    let keys: Vec<Point2<Real>> =
+        people.iter().map(|p| Point2::new(flush(p.pos.x), flush(p.pos.y))).collect();
 
-    // Rule 1: de-duplicate exact coincidences; the lowest index represents the set.
-    let key = |i: usize| (flush(people[i].pos.x), flush(people[i].pos.y));
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| {
-        let (ka, kb) = (key(a), key(b));
-        ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(a.cmp(&b))
-    });
-    let mut reps: Vec<Vertex> = Vec::with_capacity(n);
-    let mut prev: Option<usize> = None;
-    for &i in &order {
-        if let Some(r) = prev
-            && key(r) == key(i)
-        {
-            uf.union(r, i);
-            continue;
+    // A mesh with everyone as a vertex that is still valid proves that no two people coincide
+    // (two vertices at one point would make their triangles overlap, see `Mesh`), so rule 1 has
+    // nothing to do.
+    let mut kept = mesh.as_mut().is_some_and(|m| m.has_everyone(n) && m.advance(&keys));
+    if !kept && mesh.as_ref().is_some_and(|m| m.has_everyone(n)) {
+        *mesh = None;
+    }
+    if !kept {
+        // Rule 1: de-duplicate exact coincidences; the lowest index represents the set.
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_unstable_by(|&a, &b| {
+            let (ka, kb) = (keys[a], keys[b]);
+            ka.x.total_cmp(&kb.x).then(ka.y.total_cmp(&kb.y)).then(a.cmp(&b))
+        });
+        let mut reps: Vec<Vertex> = Vec::with_capacity(n);
+        let mut is_vertex = vec![false; n];
+        let mut prev: Option<usize> = None;
+        for &i in &order {
+            if let Some(r) = prev
+                && keys[r] == keys[i]
+            {
+                uf.union(r, i);
+                continue;
+            }
+            prev = Some(i);
+            reps.push(Vertex { p: keys[i], idx: i });
+            is_vertex[i] = true;
         }
-        prev = Some(i);
-        let (x, y) = key(i);
-        reps.push(Vertex { p: Point2::new(x, y), idx: i });
+        if reps.len() < 2 {
+            *mesh = None;
+            return Ok(uf.into_groups());
+        }
+        kept = mesh.as_mut().is_some_and(|m| m.has_vertices(&is_vertex) && m.advance(&keys));
+        if !kept {
+            let tri: DelaunayTriangulation<Vertex> = DelaunayTriangulation::bulk_load(reps).map_err(|e| {
+                CoreError::input("people", "positions the triangulation accepts", format!("{e:?}"))
+            })?;
+            *mesh = Mesh::from_spade(&tri, n, |v| v.idx);
+            if mesh.is_none() {
+                // No triangle (all collinear): the pair rules on the edges alone.
+                for e in tri.undirected_edges() {
+                    let [a, b] = e.vertices();
+                    let (i, j) = (a.data().idx, b.data().idx);
+                    if ctx.pair_link(i, j) {
+                        uf.union(i, j);
+                    }
+                }
+                return Ok(uf.into_groups());
+            }
+        }
     }
-    if reps.len() < 2 {
+    let Some(m) = mesh.as_ref() else {
         return Ok(uf.into_groups());
-    }
-
-    let tri: DelaunayTriangulation<Vertex> = DelaunayTriangulation::bulk_load(reps)
-        .map_err(|e| CoreError::input("people", "positions the triangulation accepts", format!("{e:?}")))?;
+    };
 
     // Rules 2-5 and the pair part of rule 6: one test per Delaunay edge.
-    for e in tri.undirected_edges() {
-        let [a, b] = e.vertices();
-        let (i, j) = (a.data().idx, b.data().idx);
+    for (i, j) in m.edges() {
         if ctx.pair_link(i, j) {
             uf.union(i, j);
         }
     }
 
     if params.orientation_rule {
-        let triangles: Vec<[usize; 3]> = tri
-            .inner_faces()
-            .map(|f| {
-                let [a, b, c] = f.vertices();
-                [a.data().idx, b.data().idx, c.data().idx]
-            })
-            .collect();
+        let triangles: Vec<[usize; 3]> =
+            m.triangles().iter().map(|t| [t[0] as usize, t[1] as usize, t[2] as usize]).collect();
         orientation_rule(&ctx, &triangles, &mut uf);
     }
     Ok(uf.into_groups())

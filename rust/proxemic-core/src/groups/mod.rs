@@ -27,6 +27,7 @@ pub mod delaunay;
 pub mod density;
 pub mod fformation;
 pub mod individual;
+mod mesh;
 pub mod robots;
 
 #[cfg(test)]
@@ -148,9 +149,33 @@ impl Groups {
 /// `people[i].heading`, `people[i].vel`), or invalid parameters (named by their field).
 /// An empty input gives empty [`Groups`].
 pub fn detect(people: &[PersonState], method: &GroupMethod) -> Result<Groups> {
+    detect_with(people, method, &mut DetectorMemory::default())
+}
+
+/// What a detector carries from one call to the next to answer faster: the Delaunay detector's
+/// triangulation. When the people have moved a little, the previous triangulation is moved with
+/// them and repaired by Lawson's edge flips (with boundary vertices filled in or peeled off as
+/// people enter or leave the boundary), and kept only when exact predicates prove it is the
+/// unique Delaunay triangulation of the new positions; otherwise (a triangle folded over, four
+/// people exactly cocircular, ...) `spade` triangulates afresh. It never changes a result:
+/// [`detect_with`] gives [`detect`]'s groups whatever the memory holds. The density and
+/// F-formation detectors carry nothing.
+#[derive(Debug, Clone, Default)]
+pub struct DetectorMemory {
+    mesh: Option<mesh::Mesh>,
+}
+
+/// [`detect`], reusing and updating `memory` (kept by the caller between control steps).
+///
+/// Errors: as [`detect`].
+pub fn detect_with(
+    people: &[PersonState],
+    method: &GroupMethod,
+    memory: &mut DetectorMemory,
+) -> Result<Groups> {
     validate_people(people)?;
     match method {
-        GroupMethod::Delaunay(p) => delaunay::detect(people, p),
+        GroupMethod::Delaunay(p) => delaunay::detect(people, p, &mut memory.mesh),
         GroupMethod::Density(p) => density::detect(people, p),
         GroupMethod::FFormation(p) => fformation::detect(people, p),
     }

@@ -654,3 +654,62 @@ fn stationary_robot_in_personal_zone_joins() {
     ));
     assert!(robot_joins_interaction(&people[..2], &groups, &robots, &JoinParams::default()).is_err());
 }
+
+#[test]
+fn carrying_the_triangulation_between_calls_changes_no_group() {
+    // Walkers, standing conversations (people around a centre, facing it) and
+    // two people who meet at one point and stand there; each step's groups with the detector's memory of the
+    // previous step must equal a fresh detection's, with the orientation rule on and off.
+    let mut rng = ChaCha8Rng::seed_from_u64(19);
+    let mut people: Vec<PersonState> = Vec::new();
+    for g in 0..6 {
+        let (cx, cy) = (3.0 + 4.0 * f64::from(g % 3), 3.0 + 5.0 * f64::from(g / 3));
+        for k in 0..4 {
+            let a = FRAC_PI_2 * f64::from(k) + 0.2 * f64::from(g);
+            let r = rng.random_range(0.6..0.8);
+            people.push(facing(cx + r * a.cos(), cy + r * a.sin(), cx, cy));
+        }
+    }
+    for _ in 0..40 {
+        let (a, s): (f64, f64) = (rng.random_range(0.0..2.0 * PI), rng.random_range(0.4..1.4));
+        people.push(walk(rng.random_range(0.0..20.0), rng.random_range(0.0..16.0), s * a.cos(), s * a.sin()));
+    }
+    let (meet_a, meet_b) = (people.len(), people.len() + 1);
+    people.push(walk(6.0, 11.0, 0.5, 0.0));
+    people.push(walk(8.0, 11.0, -0.5, 0.0));
+    for method in [delaunay(), GroupMethod::Delaunay(DelaunayParams::distance_only(1.5))] {
+        let mut memory = DetectorMemory::default();
+        let mut people = people.clone();
+        let (mut linked, mut kept, mut last) = (0, 0, 0);
+        for step in 0..200 {
+            for p in &mut people {
+                p.pos += 0.1 * p.vel;
+                if !(0.0..=20.0).contains(&p.pos.x) {
+                    p.vel.x = -p.vel.x;
+                }
+                if !(0.0..=16.0).contains(&p.pos.y) {
+                    p.vel.y = -p.vel.y;
+                }
+            }
+            if step == 20 {
+                // The two meet exactly and stand there for 20 steps: rule 1 links them.
+                people[meet_b].pos = people[meet_a].pos;
+                people[meet_a].vel = Vec2::zeros();
+                people[meet_b].vel = Vec2::zeros();
+            }
+            if step == 40 {
+                people[meet_b].vel = Vec2::new(0.0, -0.8);
+            }
+            let carried = detect_with(&people, &method, &mut memory).expect("valid");
+            let fresh = detect(&people, &method).expect("valid");
+            assert_eq!(carried, fresh, "step {step}");
+            linked += usize::from(carried.labels[meet_a] == carried.labels[meet_b]);
+            let times = memory.mesh.as_ref().map_or(0, |m| m.times_kept());
+            kept += usize::from(times > last);
+            last = times;
+        }
+        // Both paths ran: most steps on the carried mesh, the meeting on spade.
+        assert!(kept > 100 && kept < 200, "kept {kept} of 200");
+        assert!(linked >= 20, "the meeting was seen {linked} times");
+    }
+}

@@ -24,10 +24,10 @@
 use crate::chronemics::Agenda;
 use crate::error::Result;
 use crate::geom::contains_point_polygon;
-use crate::groups::{DensityParams, GroupMethod, PersonState, RobotDisc};
+use crate::groups::{DensityParams, DetectorMemory, GroupMethod, PersonState, RobotDisc};
 use crate::math::Vec2;
 use crate::pedestrians::Crowd;
-use crate::perception::{Individual, Perception, SocialConfig, perceive};
+use crate::perception::{Individual, Perception, SocialConfig, perceive_with};
 use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path};
 use crate::proxemics::DensityZones;
 use crate::scenario::Scenario;
@@ -104,6 +104,8 @@ pub struct SocialPlanning {
     /// The perceived individuals that stay where they are (the global map's people).
     mapped: Vec<Individual>,
     people: Vec<PersonState>,
+    /// The group detector's memory from the previous perception.
+    detector: DetectorMemory,
 }
 
 impl SocialPlanning {
@@ -152,6 +154,7 @@ impl SocialPlanning {
             still: Vec::new(),
             features,
             perception: None,
+            detector: DetectorMemory::default(),
             mapped: Vec::new(),
             people: Vec::new(),
         })
@@ -211,7 +214,7 @@ impl SocialPlanning {
         for k in 0..crowd.len() {
             self.people.push(PersonState { pos: crowd.pos[k], heading: crowd.heading[k], vel: crowd.vel[k] });
         }
-        let perception = perceive(&self.cfg, &self.people, &self.features, robots)?;
+        let perception = perceive_with(&self.cfg, &self.people, &self.features, robots, &mut self.detector)?;
         let people = &self.people;
         self.mapped.clear();
         self.mapped.extend(
