@@ -120,9 +120,9 @@ impl DelaunayParams {
 
 /// A triangulation vertex: a position and the index of the person it stands for.
 #[derive(Debug, Clone, Copy)]
-struct Vertex {
-    p: Point2<Real>,
-    idx: usize,
+pub(super) struct Vertex {
+    pub(super) p: Point2<Real>,
+    pub(super) idx: usize,
 }
 
 impl HasPosition for Vertex {

@@ -433,22 +433,11 @@ fn strictly_convex_once(hull: &[u32], pos: &[Point2<f64>]) -> bool {
 
 #[cfg(test)]
 mod tests {
+    use super::super::delaunay::Vertex as V;
     use super::*;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
     use std::collections::BTreeSet;
-
-    #[derive(Clone, Copy)]
-    struct V {
-        p: Point2<f64>,
-        idx: usize,
-    }
-    impl HasPosition for V {
-        type Scalar = f64;
-        fn position(&self) -> Point2<f64> {
-            self.p
-        }
-    }
 
     type Sets = (BTreeSet<(usize, usize)>, BTreeSet<[usize; 3]>);
 
