@@ -24,7 +24,9 @@ the targets use the matched one.
 
 Three env settings: the autopilot with plain A* (medians of ``STEPS``-step blocks); the ``social``
 planner, whose cost is the **mean** over a ``SOCIAL_STEPS``-step run (throughput pays the periodic
-re-plans too), with its median block beside it; and what a learning policy pays: the planner off
+re-plans too), with its median block beside it and its mean over the steps in which the planner
+ran no social search (``World.social_searches``, read outside the timer: a step without
+re-planning, against the run's matched denominator); and what a learning policy pays: the planner off
 (``planner_actions=False``), the policy turning in place. Targets: plain A* at least 3,000 env
 steps/s and at most 1.5x bare MuJoCo; ``social`` at most 2.0x bare MuJoCo (mean); the policy at
 least 8,000 env steps/s; reset at most 1 ms. A missed target prints ``MISSED`` and the bench exits
@@ -356,18 +358,25 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
         "crowd share": [],
         "matched": [],
         "bare mj_step x frame_skip": [],
+        "quiet mean": [],
+        "quiet share": [],
     }
     for trial in range(TRIALS):
         env.reset(seed=1000 + trial)
         times: list[float] = []
+        quiet: list[float] = []  # the steps in which the robot ran no social search
         with counter:
             for _ in range(SOCIAL_STEPS):
-                before = counter.overhead_ns
+                before, searches = counter.overhead_ns, env.world.social_searches(0)
                 t0 = time.thread_time_ns()
                 _, _, te, tr, _ = env.step(zero)
                 times.append((time.thread_time_ns() - t0 - (counter.overhead_ns - before)) / 1e3)
+                if env.world.social_searches(0) == searches:
+                    quiet.append(times[-1])
                 if te or tr:
                     env.reset()
+        res["quiet mean"].append(statistics.fmean(quiet) if quiet else float("nan"))
+        res["quiet share"].append(len(quiet) / SOCIAL_STEPS)
         res["contact share"].append(counter.share())
         res["crowd share"].append(counter.crowd_share())
         res["matched"].append(counter.replay_us())
@@ -464,6 +473,11 @@ def main() -> int:
         f"median 50-step block {soc['median block']:.1f} us ({soc['median block'] / soc['matched']:4.2f}x); "
         f"bare matched {soc['matched']:.1f} us (contacts on in {100 * soc['contact share']:.0f}%, "
         f"{100 * soc['crowd share']:.0f}% on a crowd model)"
+    )
+    print(
+        f"  {'':40s} without its searches: {soc['quiet mean']:.1f} us mean over the "
+        f"{100 * soc['quiet share']:.0f}% of steps in which the planner ran no social search "
+        f"({soc['quiet mean'] / soc['matched']:4.2f}x the run's bare matched)"
     )
     pol = bench_policy(policy_env)
     policy_env.close()

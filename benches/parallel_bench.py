@@ -37,7 +37,11 @@ prints matched denominators, and no target here uses this one), and for the full
 (the render model, which is what the physics stepped
 before the physics model lost its visual parts); and the step split into the physics (the
 callback of ``World.step``: MuJoCo and its Python wrapper), the core (the rest of the
-``World.step`` call) and Python (the rest of ``env.step``).
+``World.step`` call) and Python (the rest of ``env.step``). With built-in social planners the
+core is also split by the robots' social searches (their first plans, triggered re-plans and
+refreshes, ``World.social_searches``, counted outside the timers): the mean core of the steps in
+which no robot searched (what the core costs without re-planning) and what the steps with
+searches add to the mean.
 
 Run: ``python benches/parallel_bench.py`` (``make bench`` does).
 """
@@ -45,6 +49,7 @@ Run: ``python benches/parallel_bench.py`` (``make bench`` does).
 from __future__ import annotations
 
 import copy
+import math
 import os
 import random
 import re
@@ -178,11 +183,20 @@ def bench(
             return {a: drive(state["obs"][a]) for a in env.agents}
         return dict.fromkeys(env.agents, TURN)
 
+    world = ws.world
+    rows = range(world.num_robots)
+    #: (core ns, social searches) of each timed step (counted outside the timers).
+    split: list[tuple[int, int]] = []
+
+    def searches() -> int:
+        return sum(map(world.social_searches, rows))
+
     def run(n: int) -> tuple[float, int, float, float]:
         """(step us, agent-steps, physics us, World.step us) summed over `n` steps."""
         nonlocal seed
         total, agents = 0, 0
         physics_ns[0] = call_ns[0] = 0
+        split.clear()
         for _ in range(n):
             if not env.agents or (driving and len(env.agents) < robots):
                 seed += 1
@@ -190,9 +204,11 @@ def bench(
                 state["obs"], state["infos"] = env.reset(seed=seed)
             acts = actions()
             agents += len(acts)
+            c0, p0, s0 = call_ns[0], physics_ns[0], searches()
             t0 = time.thread_time_ns()
             out = env.step(acts)
             total += time.thread_time_ns() - t0
+            split.append((call_ns[0] - c0 - (physics_ns[0] - p0), searches() - s0))
             state["obs"], state["infos"] = out[0], out[4]
         return total / 1e3, agents, physics_ns[0] / 1e3, call_ns[0] / 1e3
 
@@ -211,9 +227,15 @@ def bench(
 
     run(20)  # warm up
     resets[0] = 0
-    res: dict[str, list[float]] = {k: [] for k in ("step", "agent", "physics", "core", "bare", "bare_full")}
+    keys = ("step", "agent", "physics", "core", "bare", "bare_full", "core_quiet", "quiet", "searches", "extra")
+    res: dict[str, list[float]] = {k: [] for k in keys}
     for _ in range(TRIALS):
         total, agents, physics, world_call = run(STEPS)
+        quiet = [core for core, k in split if k == 0]
+        res["core_quiet"].append(statistics.fmean(quiet) / 1e3 if quiet else math.nan)
+        res["quiet"].append(len(quiet) / STEPS)
+        res["searches"].append(sum(k for _, k in split) / STEPS)
+        res["extra"].append((world_call - physics) / STEPS - res["core_quiet"][-1])
         res["step"].append(total / STEPS)
         res["agent"].append(total / max(agents, 1))
         res["physics"].append(physics / STEPS)
@@ -264,6 +286,14 @@ def main() -> int:
                 print(
                     f"  {'':46s} target {TARGET} agent-steps/s with 11 robots: {'met' if rate >= TARGET else 'MISSED'}"
                     f"; the bare MuJoCo stepping alone allows {robots * 1e6 / r['bare']:.0f}"
+                )
+            if planners is None and planner_actions:
+                # The core without its searches: the steps in which no robot ran a social search.
+                print(
+                    f"  {'':46s} {r['searches']:.2f} social searches per step; in the {100 * r['quiet']:.0f}% of "
+                    f"steps without one the core takes {r['core_quiet']:.0f} us "
+                    f"({r['core_quiet'] / r['physics']:.2f}x physics); the steps with searches add "
+                    f"{r['extra']:.0f} us to the mean core"
                 )
             if robots == 11 and planners is None and planner_actions:
                 ok = r["core"] <= r["physics"]

@@ -195,6 +195,7 @@ def test_every_robot_index_is_checked_once_with_one_error():
         "astar_path": lambda: world.astar_path(bad),
         "trajectory": lambda: world.trajectory(bad),
         "replans": lambda: world.replans(bad),
+        "social_searches": lambda: world.social_searches(bad),
     }
     for name, call in calls.items():
         with pytest.raises(InputError) as e:

@@ -123,6 +123,11 @@ def test_social_planner_drives_an_episode_and_replans(room):
     assert info["metrics"]["outcome"] == "success"
     assert min_d > 0.45  # never in anyone's intimate zone (centre distance)
     assert env.world.replans(0) == 0  # planned once, never re-planned: nobody moved into the path
+    # ...though its refreshes searched again (and kept the path they found no better).
+    searches = env.world.social_searches(0)
+    assert searches > 1
+    env.reset(seed=0)
+    assert env.world.social_searches(0) < searches  # counted per episode
     env.close()
 
 
@@ -136,6 +141,7 @@ def test_a_person_walking_into_the_path_triggers_a_replan(write_scenario):
         if terminated or truncated:
             break
     assert env.world.replans(0) >= 1
+    assert env.world.social_searches(0) >= env.world.replans(0)
     env.close()
 
 

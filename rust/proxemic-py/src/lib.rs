@@ -665,6 +665,14 @@ impl PyWorld {
         Ok(self.inner.replans(robot))
     }
 
+    /// How many social searches ran for robot `robot` this episode: its first plan, its
+    /// triggered re-plans and its refreshes, whether the new path was kept or not (0 for a robot
+    /// that is not on a social planner). At least :meth:`replans`.
+    fn social_searches(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+        let robot = self.robot(py, robot)?;
+        Ok(self.inner.social_searches(robot))
+    }
+
     /// The people now: (P, 6) float64 of x, y, heading, vx, vy, radius.
     fn people<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let c = self.inner.crowd();
