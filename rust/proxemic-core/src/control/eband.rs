@@ -55,6 +55,10 @@
 //! `contraction_gain = 1`, `repulsion_gain = social_gain = k_r / k_c`; the defaults are
 //! `from_calderita_gains(120, 60)`, i.e. 1.0 and 0.5.
 
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
 use crate::error::{CoreError, Result};
 use crate::math::Vec2;
 
@@ -189,6 +193,55 @@ pub struct ElasticBand {
     steps: Vec<(Vec2, f64)>,
     connected: bool,
     params: EbandParams,
+}
+
+/// A cost of a point with its values remembered, keyed by the point's bit patterns: each distinct
+/// point is evaluated once, and the value returned is always the function's own at that exact
+/// point. For a band's social cost that is expensive and fixed for one [`ElasticBand::update`]
+/// (`calderita`'s summed Gaussians of the crowd: bubbles that did not move since the previous
+/// iteration look again at the same points, about a third of its evaluations); a cheap cost
+/// pays more for the hashing than it saves.
+pub(crate) struct PointMemo<'a> {
+    f: &'a dyn Fn(Vec2) -> f64,
+    seen: RefCell<HashMap<(u64, u64), f64, BuildHasherDefault<PointHasher>>>,
+}
+
+impl<'a> PointMemo<'a> {
+    /// `f` remembered (nothing evaluated yet).
+    pub(crate) fn new(f: &'a dyn Fn(Vec2) -> f64) -> Self {
+        Self { f, seen: RefCell::new(HashMap::default()) }
+    }
+
+    /// `f(q)`, evaluated at the first call for `q`'s bits.
+    pub(crate) fn get(&self, q: Vec2) -> f64 {
+        let key = (q.x.to_bits(), q.y.to_bits());
+        if let Some(&v) = self.seen.borrow().get(&key) {
+            return v;
+        }
+        let v = (self.f)(q);
+        self.seen.borrow_mut().insert(key, v);
+        v
+    }
+}
+
+/// A fast hasher for [`PointMemo`]'s keys (two `u64` bit patterns; not for untrusted input).
+#[derive(Default)]
+struct PointHasher(u64);
+
+impl Hasher for PointHasher {
+    fn finish(&self) -> u64 {
+        self.0 ^ (self.0 >> 29)
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(27) ^ x).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
 }
 
 /// Clearance sanitised: NaN and negatives are 0 (colliding), +inf stays.
@@ -662,6 +715,36 @@ mod tests {
             b.points().iter().filter(|p| (p.x - 5.0).abs() < 0.4).map(|p| p.y).fold(f64::INFINITY, f64::min);
         assert!(at5 > 0.1, "did not move away from the block: {at5}");
         assert!(b.points().iter().all(|p| p.y < 2.0), "pushed into the top wall");
+    }
+
+    #[test]
+    fn a_remembered_cost_is_the_cost_evaluated_once_per_point() {
+        use std::cell::Cell;
+        let calls = Cell::new(0usize);
+        let f = |q: Vec2| {
+            calls.set(calls.get() + 1);
+            (3.0 * q.x).sin() + q.y * q.y + if q.x.is_sign_negative() { 1.0 } else { 0.0 }
+        };
+        let memo = PointMemo::new(&f);
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        // Random points, points sharing an x or a y, and 0.0 against -0.0 (other bits, and here
+        // another value).
+        let mut points: Vec<Vec2> =
+            (0..200).map(|_| Vec2::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0))).collect();
+        for k in 0..50 {
+            points.push(Vec2::new(points[k].x, points[k + 1].y));
+            points.push(Vec2::new(points[k + 2].y, points[k].x));
+        }
+        points.extend([Vec2::new(0.0, 1.0), Vec2::new(-0.0, 1.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, -0.0)]);
+        let distinct: std::collections::HashSet<(u64, u64)> =
+            points.iter().map(|q| (q.x.to_bits(), q.y.to_bits())).collect();
+        for _ in 0..3 {
+            for &q in &points {
+                assert_eq!(memo.get(q).to_bits(), f(q).to_bits());
+            }
+        }
+        // 3 passes of direct calls, plus one call per distinct point through the memo.
+        assert_eq!(calls.get(), 3 * points.len() + distinct.len());
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! triggers, and the per-step dispatch to the local planners of [`crate::control`].
 
 use super::World;
-use crate::control::eband::ElasticBand;
+use crate::control::eband::{ElasticBand, PointMemo};
 use crate::control::mode_switch::{
     LocalPlanner, Mode, OtherRobot, Person as CtlPerson, select_mode, social_momentum_step,
 };
@@ -585,7 +585,10 @@ impl World {
                     (p.pos, p.facing())
                 })
                 .collect();
-            let social = |q: Vec2| zones.density_facing_capped(&people, q, 1.0);
+            let density = |q: Vec2| zones.density_facing_capped(&people, q, 1.0);
+            // The people stand still during the update: each point's density once.
+            let memo = PointMemo::new(&density);
+            let social = |q: Vec2| memo.get(q);
             band.update(&clearance, Some(&social));
             let full = band.points().len() >= band.params().max_bubbles;
             if band.is_connected() || !full {
