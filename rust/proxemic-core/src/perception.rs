@@ -168,6 +168,36 @@ impl SpaceFunction for Individual {
     }
 }
 
+/// Margin (in the exponent) by which an individual's exponent must exceed the best one so far for
+/// [`max_value`] to skip its `exp`: `exp(-q)` is then at least a relative 1e-9 below the best
+/// value, far more than the libm `exp`'s error of under 1 ulp, so its computed value is not
+/// above the best one's either.
+const SKIP_MARGIN: f64 = 1e-9;
+
+/// The largest personal-space value of `individuals` at `p`, in [0, 1] (0 with none): the same
+/// bits as `individuals.iter().map(|i| i.value(p)).fold(0.0, f64::max)`, but the `exp` of an
+/// individual whose exponent exceeds the largest value's exponent so far (by [`SKIP_MARGIN`]) is
+/// not taken: its value cannot raise the maximum (the elastic band's social cost, evaluated at
+/// every bubble of the `eband` planner, where the `exp`s were most of its time).
+pub fn max_value(individuals: &[Individual], p: Vec2) -> f64 {
+    let mut best: f64 = 0.0;
+    // The exponent the best value came from (none yet: nothing is skipped).
+    let mut best_exponent = f64::INFINITY;
+    for ind in individuals {
+        let q = ind.placed.exponent(p);
+        if q >= best_exponent + SKIP_MARGIN {
+            continue;
+        }
+        let v = ind.placed.value_of_exponent(q);
+        if v > best {
+            best = v;
+            // (A subnormal best skips nothing: the 1-ulp bound is relative to normal numbers.)
+            best_exponent = if v >= f64::MIN_POSITIVE { q } else { f64::INFINITY };
+        }
+    }
+    best
+}
+
 /// What the robot perceives of the people in one step.
 #[derive(Clone, Debug)]
 pub struct Perception {
@@ -264,6 +294,52 @@ mod tests {
 
     fn standing(x: f64, y: f64, th: f64) -> PersonState {
         PersonState::standing(Vec2::new(x, y), th)
+    }
+
+    #[test]
+    fn max_value_is_the_plain_maximum_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(23);
+        let cfg = SocialConfig::default();
+        let mut skipped_somewhere = false;
+        for trial in 0..40 {
+            // People scattered, some in conversations (groups), some twice at the same pose.
+            let n = 1 + trial % 30;
+            let mut people: Vec<PersonState> = (0..n)
+                .map(|_| {
+                    standing(
+                        rng.random_range(-8.0..8.0),
+                        rng.random_range(-5.0..5.0),
+                        rng.random_range(-3.2..3.2),
+                    )
+                })
+                .collect();
+            if n > 2 {
+                people.push(people[1]);
+            }
+            let features = vec![vec![]; people.len()];
+            let p = perceive(&cfg, &people, &features, &[]).expect("valid");
+            let inds = &p.individuals;
+            let mut points: Vec<Vec2> = (0..300)
+                .map(|_| Vec2::new(rng.random_range(-12.0..12.0), rng.random_range(-9.0..9.0)))
+                .collect();
+            // At the centres, and far enough for subnormal and zero values.
+            points.extend(inds.iter().map(|i| i.centre));
+            points.extend([Vec2::new(60.0, 0.0), Vec2::new(0.0, 90.0), Vec2::new(400.0, 400.0)]);
+            for q in points {
+                let plain = inds.iter().map(|i| i.value(q)).fold(0.0, f64::max);
+                assert_eq!(max_value(inds, q).to_bits(), plain.to_bits(), "trial {trial} at {q:?}");
+                // Whether some exp was skipped here (an individual farther than the best one).
+                let exps: Vec<f64> = inds.iter().map(|i| i.placed.exponent(q)).collect();
+                let mut best = f64::INFINITY;
+                for &e in &exps {
+                    skipped_somewhere |= e >= best + SKIP_MARGIN;
+                    best = best.min(e);
+                }
+            }
+        }
+        assert!(skipped_somewhere);
+        assert_eq!(max_value(&[], Vec2::zeros()).to_bits(), 0.0f64.to_bits());
     }
 
     #[test]

@@ -325,7 +325,13 @@ impl Placed {
     /// The value at `point` (metres, world frame), in [0, 1]; 0 where undefined (NaN inputs).
     #[inline]
     pub fn value(&self, point: Vec2) -> f64 {
-        let v = (-self.exponent(point)).exp();
+        self.value_of_exponent(self.exponent(point))
+    }
+
+    /// The value for the exponent `q` of [`Placed::exponent`]: `exp(-q)` at most 1, 0 for NaN.
+    #[inline]
+    pub fn value_of_exponent(&self, q: f64) -> f64 {
+        let v = (-q).exp();
         if v.is_nan() { 0.0 } else { v.min(1.0) }
     }
 }

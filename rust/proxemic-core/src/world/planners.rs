@@ -606,7 +606,7 @@ impl World {
             }
         } else {
             let individuals = self.social.perception().map(|per| per.individuals.clone()).unwrap_or_default();
-            let social = |q: Vec2| individuals.iter().map(|ind| ind.value(q)).fold(0.0, f64::max);
+            let social = |q: Vec2| crate::perception::max_value(&individuals, q);
             band.update(&clearance, Some(&social));
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         }
