@@ -176,7 +176,7 @@ const SKIP_MARGIN: f64 = 1e-9;
 
 /// The largest personal-space value of `individuals` at `p`, in [0, 1] (0 with none): the same
 /// bits as `individuals.iter().map(|i| i.value(p)).fold(0.0, f64::max)`, but the `exp` of an
-/// individual whose exponent exceeds the largest value's exponent so far (by [`SKIP_MARGIN`]) is
+/// individual whose exponent exceeds the largest value's exponent so far (by a margin of 1e-9) is
 /// not taken: its value cannot raise the maximum (the elastic band's social cost, evaluated at
 /// every bubble of the `eband` planner, where the `exp`s were most of its time).
 pub fn max_value(individuals: &[Individual], p: Vec2) -> f64 {
