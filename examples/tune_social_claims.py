@@ -8,8 +8,9 @@ tuning seeds only, so a constant chosen by looking at its output never saw a tes
     python examples/tune_social_claims.py --episodes 40 --scenes 100
     python examples/tune_social_claims.py --cache out/tune_claims_baselines.json
 
-The baselines (``astar``, ``astar_orca``) do not change when only ``social`` is tuned: with
-``--cache`` their records are stored on the first run and reused, and only ``social`` is re-run.
+The other planners (the baselines ``astar`` and ``astar_orca``, and the papers' planners whose
+rates are printed beside them) do not change when only ``social`` is tuned: with ``--cache``
+their records are stored on the first run and reused, and only ``social`` is re-run.
 """
 
 from __future__ import annotations
@@ -105,11 +106,12 @@ def main() -> None:
         seeds = tuple(pool[args.offset : args.offset + n])
         assert not set(seeds) & set(splits.TEST_EPISODE_SEEDS + splits.TEST_SCENE_SEEDS)
         key = f"{scene}:{seeds[0]}-{seeds[-1]}"
-        if key in cache:
+        others = [p for p in C.PLANNERS if p != C.SOCIAL]
+        if all(p in cache.get(key, {}) for p in others):
             rec = {**cache[key], **run(scene, seeds, (C.SOCIAL,), args.workers)}
-        else:
+        else:  # not cached, or cached before a planner was added to the claims' runner
             rec = run(scene, seeds, C.PLANNERS, args.workers)
-            cache[key] = {b: [_clean(r) for r in rec[b]] for b in C.BASELINES}
+            cache[key] = {p: [_clean(r) for r in rec[p]] for p in others}
         print(f"== {scene} (tuning seeds {seeds[0]}-{seeds[-1]})")
         for k, v in figures(rec).items():
             print(f"  {k:24s} {v}")

@@ -5,6 +5,9 @@ from __future__ import annotations
 import csv
 import json
 import math
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -164,3 +167,28 @@ def test_tune_on_ray_matches_processes(tmp_path):
         results[backend] = run_tune(cfg, progress=False)
     assert results["ray"] == results["process"]
     assert len(results["ray"]["trials"]) == 2
+
+
+def test_tune_social_claims_reuses_its_cache_of_every_other_planner(tmp_path):
+    """``examples/tune_social_claims.py --cache``: the first run stores every planner but ``social``,
+    the second re-runs only ``social`` and prints the same figures, and a cache written before the
+    papers' planners joined the claims' runner (baselines only) is run afresh, not a KeyError."""
+    root = Path(__file__).resolve().parent.parent
+    cache = tmp_path / "cache.json"
+    cmd = [sys.executable, "examples/tune_social_claims.py", "--sets", "generated", "--scenes", "1"]
+    cmd += ["--workers", "1", "--cache", str(cache)]
+
+    def run() -> str:
+        done = subprocess.run(cmd, cwd=root, capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+        return done.stdout
+
+    first = run()
+    stored = json.loads(cache.read_text())
+    (key,) = stored
+    assert sorted(stored[key]) == sorted(["astar", "astar_orca", "daza2021", "sousa2022", "calderita"])
+    assert "collision" in first and "calderita" in first
+    assert run() == first
+    cache.write_text(json.dumps({key: {p: stored[key][p] for p in ("astar", "astar_orca")}}))
+    assert run() == first
+    assert sorted(json.loads(cache.read_text())[key]) == sorted(stored[key])
