@@ -119,6 +119,16 @@ def contact_free(sim: Any, people: bool = False, contacts: bool = False) -> Call
     return step
 
 
+def physics_model_us(contact_share: float, on_us: float, off_us: float) -> float:
+    """The old-style denominator: the physics model stepped with the env's contact setting.
+
+    The physics model with contacts on (`on_us`) in the `contact_share` of periods the env stepped
+    with contacts possible, with contacts off (`off_us`) in the others, as the env stepped before
+    the reduced models.
+    """
+    return contact_share * on_us + (1.0 - contact_share) * off_us
+
+
 def wall_cpu_ms(fn: Callable[[], Any], n: int) -> tuple[float, float]:
     c0, t0 = time.thread_time_ns(), time.perf_counter_ns()
     for _ in range(n):
@@ -457,7 +467,7 @@ def main() -> int:
         f"the robots alone with contacts off {med['bare contacts off']:.1f} us)"
     )
     share = med["contact share"]
-    with_people = share * on + (1.0 - share) * med["bare contacts off, with the people"]
+    with_people = physics_model_us(share, on, med["bare contacts off, with the people"])
     print(
         f"  {'bare, contacts off with the people':40s} {with_people:8.1f} us  matched (off "
         f"{med['bare contacts off, with the people']:.1f} us: the physics model, as stepped before the "
@@ -477,9 +487,8 @@ def main() -> int:
         f"bare matched {soc['matched']:.1f} us (contacts on in {100 * soc['contact share']:.0f}%, "
         f"{100 * soc['crowd share']:.0f}% on a crowd model)"
     )
-    soc_people = (
-        soc["contact share"] * soc["bare mj_step x frame_skip"]
-        + (1.0 - soc["contact share"]) * soc["bare contacts off, with the people"]
+    soc_people = physics_model_us(
+        soc["contact share"], soc["bare mj_step x frame_skip"], soc["bare contacts off, with the people"]
     )
     print(
         f"  {'':40s} the physics model as stepped before the reduced models (contacts on in the same "
