@@ -28,8 +28,8 @@
 use crate::error::CoreError;
 use crate::geom::distance_point_segment;
 use crate::map::grid::GridSpec;
+use crate::map::{CostGrid, INSCRIBED, LETHAL};
 use crate::math::Vec2;
-use crate::plan::{CostGrid, INSCRIBED, LETHAL};
 
 mod density;
 pub use density::{DensityLayer, density_factor, density_layer};
