@@ -83,6 +83,22 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _fresh_out(parent: Path) -> Path:
+    """A new folder under ``parent`` named for the date and time (``-2``, ... if taken): a run's default output."""
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    out, k = parent / stamp, 1
+    while out.exists():
+        k += 1
+        out = parent / f"{stamp}-{k}"
+    return out
+
+
+def _clear_old_videos(out: Path) -> None:
+    """Removes the videos an earlier run wrote into ``out/videos`` (``<planner>_seed<N>.mp4``)."""
+    for old in (out / "videos").glob("*_seed*.mp4"):
+        old.unlink()
+
+
 def _eval_suite(args: argparse.Namespace) -> int:
     """``eval --suite francis2023``: every archetype with every planner, a table per archetype."""
     from proxemic import francis2023
@@ -116,6 +132,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
     from proxemic.evaluation import EvalConfig, headline_text, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
+    args.out = str(_fresh_out(Path("out/eval")) if args.out is None else Path(args.out))
+    _clear_old_videos(Path(args.out))
     if args.suite:
         return _eval_suite(args)
     if args.max_time is not None:
@@ -429,7 +447,12 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--policy-name", default=None, help="the policy's label in tables and plots (default: its module)")
     e.add_argument("--episodes", type=_positive_int, default=20, help="episodes per planner (default: 20)")
     e.add_argument("--seed", type=int, default=0, help="first seed; every planner runs the same seeds (default: 0)")
-    e.add_argument("--out", default="out/eval", help="output folder (default: out/eval)")
+    e.add_argument(
+        "--out",
+        default=None,
+        help="output folder (default: a new out/eval/<date>-<time>/ per run, so no run overwrites another; "
+        "a given folder's files are replaced and its old videos removed)",
+    )
     e.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     e.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
     e.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
