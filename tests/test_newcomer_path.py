@@ -52,3 +52,46 @@ def test_ppo_example_without_its_extra_names_it():
     assert proc.returncode == 1
     assert "Traceback" not in proc.stderr
     assert "pip install '.[rl]'" in proc.stderr
+
+
+def test_demo_runs_test_split_seeds_draws_every_episode_and_says_what_figures_mean(tmp_path, monkeypatch, capsys):
+    from proxemic import splits
+    from proxemic.viz import plots
+
+    drawn: dict[str, int] = {}
+    real = plots.plot_episodes
+
+    def counting(scenario, episodes, path, **kw):
+        drawn[Path(path).name] = len(episodes)
+        return real(scenario, episodes, path, **kw)
+
+    monkeypatch.setattr(plots, "plot_episodes", counting)
+    argv = ["demo", "--scenario", "daza2021_path3", "--planner", "astar", "--planner", "social", "--episodes", "2"]
+    assert cli.main([*argv, "--workers", "1", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    first = splits.TEST_EPISODE_SEEDS[0]
+    assert f"seeds {first}-{first + 1}" in out and "the test split" in out
+    assert drawn == {"trajectories_astar.png": 2, "trajectories_social.png": 2}
+    assert "Drawn: every episode" in out
+    assert "What the figures mean" in out and "path length ratio (x geodesic)" in out
+    assert "not ended by a collision" in out and "personal-zone time (%)" in out
+
+
+def test_demo_path_length_ratio_leaves_out_collided_episodes():
+    from proxemic.evaluation import summarise
+
+    records = [
+        {"planner": "astar", "outcome": "collision", "collision": True, "path_length_ratio": 0.4},
+        {"planner": "astar", "outcome": "success", "collision": False, "path_length_ratio": 1.2},
+    ]
+    (row,) = summarise(cli._without_collided_path_ratio(records))
+    assert row["path_length_ratio"] == 1.2 and row["path_length_ratio_n"] == 1
+
+
+def test_demo_defaults_to_the_test_split():
+    from proxemic import splits
+
+    args = cli.build_parser().parse_args(["demo"])
+    assert args.seed == splits.TEST_EPISODE_SEEDS[0]
+    assert set(range(args.seed, args.seed + args.episodes)) <= set(splits.TEST_EPISODE_SEEDS)
+    assert cli.seeds_split(range(0, 10)).startswith("the tuning split")
