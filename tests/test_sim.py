@@ -208,7 +208,7 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
 
 
 def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small_room):
-    from proxemic import sim as sim_module
+    from proxemic.sim import timer as sim_module
 
     if sim_module._TIMER is None or sim_module._DEFAULT_TIMER is None:
         pytest.skip("this MuJoCo's bindings install no default timer")
