@@ -42,8 +42,9 @@ build: $(VENV)/.deps ## compile the Rust core and install the package into the v
 
 setup: system-deps build ## everything needed to run the demo and the tests
 
-demo: setup ## plain A* vs the social planners in the museum and the care center: metrics tables and plots (in out/)
+demo: setup ## the baselines vs the social planners in the museum and the care center on test-split seeds: tables and plots (in out/)
 	$(VENV)/bin/proxemic demo --out $(OUT)
+	@echo "The proxemic command and the package are in $(VENV): run . $(VENV)/bin/activate, then proxemic --help (or call $(VENV)/bin/proxemic and $(VENV)/bin/python)."
 
 test: setup test-rust test-python ## all Rust and Python tests
 
