@@ -7,17 +7,22 @@
 //! - [`geometry`]: the world's static polygons and exact queries on them (parry2d underneath).
 //! - [`grid`]: the grid frame, conservative rasterisation and the Euclidean distance transform.
 //! - [`lidar`]: a 2D range scan against the static geometry plus dynamic discs.
+//! - [`raster`]: the cells of a polygon (with a margin).
+//! - `sight`: the line-of-sight walk (the cells of a rectangle open to a point, around obstacles).
 
 pub mod cost_grid;
 pub mod geometry;
 pub mod grid;
 pub mod lidar;
+pub mod raster;
 pub mod raycast;
+pub(crate) mod sight;
 
 pub use cost_grid::{CostGrid, INSCRIBED, LETHAL};
 pub use geometry::{Bounds, StaticGeometry};
 pub use grid::{DistanceField, GridSpec, OccupancyGrid};
 pub use lidar::{Scanner, scan};
+pub use raster::polygon_cells;
 
 #[cfg(test)]
 mod tests {
