@@ -94,7 +94,7 @@ def test_every_object_kind_has_a_model_and_keeps_its_collision_footprint():
 
 
 def test_robots_are_colour_coded_like_the_top_down_view():
-    from proxemic.viz.topdown import ROBOT_PALETTE
+    from proxemic.palette import ROBOT_PALETTE
 
     _, desc = scenarios.load("daza2021_fig15")
     m = Simulation(desc).render_model

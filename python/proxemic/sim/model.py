@@ -34,7 +34,7 @@ import mujoco
 import numpy as np
 
 from proxemic.furniture import add_object
-from proxemic.viz.topdown import ROBOT_PALETTE
+from proxemic.palette import ROBOT_PALETTE
 
 #: Colours of robots by index (RGBA), cycled: the top-down view's palette, so a robot has the same
 #: colour in both views.
