@@ -65,7 +65,7 @@ def demo_legend(split: str, episodes: int) -> str:
     lines = [textwrap.fill(f"What the figures mean: {episodes} episodes per planner, seeds of {split}.", 100)]
     for key in HEADLINE:
         info = METRICS[key]
-        definition = str(registry.get(key, {}).get("definition", "")).split(". ")[0].rstrip(".")
+        definition = str(registry[key]["definition"]).split(". ")[0].rstrip(".") if key in registry else ""
         unit = f" ({info.unit})" if info.unit else ""
         text = "; ".join(x for x in (definition, DEMO_FIGURE_NOTES.get(key, "")) if x)
         lines.append(textwrap.fill(f"- {info.label}{unit}: {text}.", 100, subsequent_indent="  "))
@@ -83,14 +83,15 @@ def demo_legend(split: str, episodes: int) -> str:
 
 def _without_collided_path_ratio(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """The records with ``path_length_ratio`` removed from the episodes a collision ended."""
-    from proxemic.evaluation import _collided
+    from proxemic.evaluation.summary import collided
 
-    return [{**r, "path_length_ratio": None} if _collided(r) else r for r in records]
+    return [{**r, "path_length_ratio": None} if collided(r) else r for r in records]
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on test-split seeds, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, _collided, headline_text, run_evaluation, summarise
+    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation, summarise
+    from proxemic.evaluation.summary import collided
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -118,7 +119,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
             for row in result.summary
         ]
         excluded = {
-            p: sum(r["path_length_ratio"] is not None and _collided(r) for r in result.records if r["planner"] == p)
+            p: sum(r["path_length_ratio"] is not None and collided(r) for r in result.records if r["planner"] == p)
             for p in planners
         }
         print()
