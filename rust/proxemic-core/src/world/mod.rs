@@ -49,6 +49,7 @@ use crate::control::progress::ProgressMonitor;
 use crate::control::stop_and_wait::StopAndWait;
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
+use crate::map::CostGrid;
 use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::map::lidar::Scanner;
@@ -58,9 +59,9 @@ use crate::metrics::{
 };
 use crate::pedestrians::scripts::Script;
 use crate::pedestrians::{Crowd, GuideState, RobotFree, SocialForceParams};
+use crate::plan::PathPlanner;
 use crate::plan::geodesic::GoalField;
 use crate::plan::social::{SocialPath, SocialPlanning};
-use crate::plan::{CostGrid, PathPlanner};
 use crate::scenario::{PlannerKind, Scenario};
 
 pub use build::START_CLEARANCE;
