@@ -134,6 +134,13 @@ def test_cli_policy_gives_the_same_records_on_processes_and_ray(at_root, tmp_pat
         ("tests/bad_policies.py:short_action", r"got an action of shape \(2,\)"),
         ("tests/bad_policies.py:not_a_policy", "expected a callable obs -> action"),
         ("tests/bad_policies.py:no_arguments", "the factory must take (observation_space, action_space)"),
+        ("tests/bad_policies.py:complex_action", "of real numbers, got complex128 values"),
+        ("tests/bad_policies.py:bool_action", "of real numbers, got bool values"),
+        (
+            "tests/bad_policies.py:raises_in_factory",
+            "policy 'tests/bad_policies.py:raises_in_factory' raised RuntimeError: no weights file in its factory",
+        ),
+        ("tests/bad_policy_import.py:make", "raised RuntimeError: this policy module fails at import while its module"),
     ],
 )
 def test_a_bad_policy_is_a_one_line_error(at_root, tmp_path, capsys, policy, message):
@@ -142,6 +149,24 @@ def test_a_bad_policy_is_a_one_line_error(at_root, tmp_path, capsys, policy, mes
     assert err.count("\n") == 1 and "Traceback" not in err, err
     assert err.startswith("proxemic: error: ") and message.replace("\\", "") in err.replace("\\", ""), err
     assert not (tmp_path / "episodes.csv").exists()  # checked before any episode
+
+
+@pytest.mark.parametrize(
+    ("policy", "message"),
+    [
+        ("raises_at_step", "raised ZeroDivisionError: division by zero in the policy at step 0 of the episode of seed 0"),
+        ("exits_at_step", "called sys.exit(3) at step 0 of the episode of seed 0"),
+    ],
+)
+def test_a_policy_failing_in_an_episode_names_the_policy_the_episode_and_the_step(
+    at_root, tmp_path, capsys, policy, message
+):
+    path = f"tests/bad_policies.py:{policy}"
+    argv = ["eval", "--scenario", SCENE, "--policy", path, "--episodes", "1", "--workers", "1", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert f"policy 'bad_policies' {message}" in err, err
 
 
 def test_policy_labels_must_differ(at_root, tmp_path, capsys):

@@ -195,6 +195,13 @@ def _eval_suite(args: argparse.Namespace) -> int:
     if args.policy or args.video:
         print("proxemic: error: --suite runs built-in planners only (no --policy, no --video)", file=sys.stderr)
         return 2
+    if args.scenario is not None:
+        print(
+            f"proxemic: error: --scenario: a --suite run makes its own scenes (got --scenario {args.scenario} with "
+            f"--suite {args.suite}; drop one, or pick archetypes with --archetype)",
+            file=sys.stderr,
+        )
+        return 2
     t0 = time.perf_counter()
     result = francis2023.run_suite(
         args.planner or ["astar"],
@@ -228,15 +235,24 @@ def cmd_eval(args: argparse.Namespace) -> int:
     if args.max_time is not None:
         print("proxemic: error: --max-time applies to a --suite run", file=sys.stderr)
         return 2
+    if args.archetype:
+        print(
+            f"proxemic: error: --archetype applies to a --suite run (got --archetype {' '.join(args.archetype)} "
+            "without --suite; add --suite francis2023, or use --scenario francis2023/<archetype>)",
+            file=sys.stderr,
+        )
+        return 2
     policies = []
     if args.policy:
-        name = args.policy_name or args.policy.partition(":")[0].rpartition(".")[2].removesuffix(".py")
+        module = args.policy.partition(":")[0]
+        stem = Path(module).stem if module.endswith(".py") else module.rpartition(".")[2]
+        name = args.policy_name or stem
         policies.append(PolicyRef(name.rpartition("/")[2], args.policy, os.getcwd()))
     elif args.policy_name:
         print("proxemic: error: --policy-name labels a --policy; no --policy given", file=sys.stderr)
         return 2
     cfg = EvalConfig(
-        scenario=args.scenario,
+        scenario=args.scenario or "museum",
         planners=args.planner or ([] if policies else list(BASELINE_PLANNERS)),
         episodes=args.episodes,
         seed=args.seed,
@@ -540,7 +556,7 @@ def build_parser() -> argparse.ArgumentParser:
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
     e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
-    e.add_argument("--scenario", default="museum", help=f"{SCENARIO_HELP} (default: museum)")
+    e.add_argument("--scenario", default=None, help=f"{SCENARIO_HELP} (default: museum; not with --suite)")
     e.add_argument(
         "--suite",
         choices=["francis2023"],

@@ -51,7 +51,7 @@ pub(crate) fn evaluate(
     let mut exceed = 0usize;
     for t in 0..s.n {
         let mut closest = f64::INFINITY;
-        for i in 0..np {
+        for i in (0..np).filter(|&i| people.is_present(t, i)) {
             let q: Vec2 = people.positions[t * np + i];
             closest = closest.min((q - s.pos[t]).norm() - rr - people.radii[i]);
             exceed += usize::from(force(t, i) > SNQI_FORCE_THRESHOLD);
