@@ -84,6 +84,7 @@ impl World {
             planner,
             layout,
             rng: ChaCha8Rng::seed_from_u64(0),
+            seed: 0,
             steps: 0,
             started: false,
             scratch_people: Vec::new(),

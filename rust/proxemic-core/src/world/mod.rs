@@ -165,6 +165,8 @@ pub struct World {
     planner: PathPlanner,
     layout: Layout,
     rng: ChaCha8Rng,
+    /// The seed of the running episode (names it in an invariant's error).
+    seed: u64,
     steps: usize,
     started: bool,
     scratch_people: Vec<(f64, usize)>,
@@ -245,6 +247,7 @@ impl World {
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
+        self.seed = seed;
         let clear = self.start_areas();
         self.crowd = Crowd::spawn_scripted(
             &self.scenario.persons,
@@ -327,6 +330,7 @@ impl World {
             success_radius: self.scenario.episode.success_radius,
             astar_path,
             geodesic_length,
+            episode: format!("{}, seed {}, robot {i}", self.scenario.scene.name, self.seed),
         };
         let recorder = match recorder {
             Some(mut r) => {
