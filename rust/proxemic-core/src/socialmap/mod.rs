@@ -30,15 +30,16 @@
 //!   ([`SocialCosts`], [`CostMode`]) and the `u8` encoding of factors;
 //! - `zone_sweep`: the row sweeps that decide the zone of every cell of an individual's box;
 //! - `incremental`: the layered map ([`SocialMap`]) and its incremental updates;
-//! - `density`: Calderita's density layer ([`DensityLayer`]).
+//! - `calderita`: the density layer of Calderita et al. ([`DensityLayer`]) and its tiled
+//!   accelerator.
 
+mod calderita;
 mod cost_model;
-mod density;
 mod incremental;
 mod zone_sweep;
 
+pub use calderita::{DensityLayer, density_factor, density_layer};
 pub use cost_model::{CostMode, SocialCosts, SpaceFunction};
-pub use density::{DensityLayer, density_factor, density_layer};
 pub use incremental::SocialMap;
 
 #[cfg(test)]
