@@ -46,10 +46,12 @@ def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) 
 
     Raises:
         UnknownNameError: `archetype` is not one of :data:`ARCHETYPES` (with a suggestion).
-        InputError: `seed` not a non-negative integer, `max_time` not a number.
+        InputError: `archetype` not a string, `seed` not a non-negative integer, `max_time` not a number.
     """
     from proxemic.errors import UnknownNameError
 
+    if not isinstance(archetype, str):
+        raise input_error("archetype", f"one of {list(ARCHETYPES)}", f"{type(archetype).__name__} {archetype!r}")
     if archetype not in ARCHETYPES:
         raise UnknownNameError(
             f"unknown archetype {archetype!r}{scenarios.suggest(archetype, ARCHETYPES)}: expected one of "
