@@ -18,6 +18,7 @@ import numpy as np
 from proxemic import scenarios, splits
 from proxemic.errors import ProxemicError
 from proxemic.evaluation import BASELINE_PLANNERS
+from proxemic.viz.topdown import FRAME_SIZE
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
 DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None), ("calderita_exp1", None))
@@ -532,6 +533,8 @@ SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v0; see `pr
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``proxemic`` command."""
+    from proxemic.tuning import DEFAULT_RANGES
+
     p = _Parser(prog="proxemic", description="Evaluation gym for socially-aware robot navigation.")
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser(
@@ -615,8 +618,8 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
     v.add_argument("--fps", type=float, default=None, help="frames per second (default: the control rate)")
     v.add_argument("--max-steps", type=int, default=None, help="stop after this many steps (default: episode end)")
-    v.add_argument("--width", type=int, default=640, help="frame width, even (default: 640)")
-    v.add_argument("--height", type=int, default=480, help="frame height, even (default: 480)")
+    v.add_argument("--width", type=int, default=FRAME_SIZE[0], help=f"frame width, even (default: {FRAME_SIZE[0]})")
+    v.add_argument("--height", type=int, default=FRAME_SIZE[1], help=f"frame height, even (default: {FRAME_SIZE[1]})")
     _add_video_view_args(v)
     v.set_defaults(func=cmd_video)
     t = sub.add_parser("tune", help="Calderita's gain search: controller gains minimising G = aH + bD + cQ + dP")
@@ -650,7 +653,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         type=_parse_range,
         metavar="NAME=LOW:HIGH",
-        help="a gain to tune and its range; repeat (default: contraction_gain=0.1:3 repulsion_gain=0:2)",
+        help="a gain to tune and its range; repeat (default: "
+        + " ".join(f"{n}={lo:g}:{hi:g}" for n, (lo, hi) in DEFAULT_RANGES.items())
+        + ")",
     )
     t.add_argument(
         "--weights",

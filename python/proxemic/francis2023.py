@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from proxemic import _core, evaluation, reference, scenarios
+from proxemic import _core, evaluation, markdown, reference, scenarios
 from proxemic.errors import input_error
 from proxemic.evaluation import episodes as eval_episodes
 from proxemic.evaluation import summary as eval_summary
@@ -247,12 +247,13 @@ def headline_table(summary: Sequence[Mapping[str, Any]]) -> str:
     Cells are means with 95% intervals (a single episode has none).
     """
     cols = ["archetype", "planner", "episodes", *(eval_summary.header(m) for m in evaluation.HEADLINE)]
-    lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
+    rows = []
     for r in summary:
         n = f"{r['episodes']} x {r['robots']} robots" if r.get("robots", 1) > 1 else str(r["episodes"])
-        cells = [str(r["archetype"]), str(r["planner"]), n, *(eval_summary.cell(r, m) for m in evaluation.HEADLINE)]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        rows.append(
+            [str(r["archetype"]), str(r["planner"]), n, *(eval_summary.cell(r, m) for m in evaluation.HEADLINE)]
+        )
+    return markdown.table(cols, rows)
 
 
 def headline_text(summary: Sequence[Mapping[str, Any]]) -> str:
@@ -281,9 +282,10 @@ def summary_markdown(
     """``summary.md``: the headline table per archetype, then every registry metric's mean."""
     means = metric_means(records)
     keys = [k for k in means[0] if k not in ("archetype", "planner")] if means else []
-    full = ["| archetype | planner | " + " | ".join(keys) + " |", "|---|---|" + "---|" * len(keys)]
-    for r in means:
-        full.append("| " + " | ".join([str(r["archetype"]), str(r["planner"]), *(_fmt(r[k]) for k in keys)]) + " |")
+    full = markdown.table(
+        ["archetype", "planner", *keys],
+        ([str(r["archetype"]), str(r["planner"]), *(_fmt(r[k]) for k in keys)] for r in means),
+    )
     return "\n\n".join(
         [
             f"# Francis et al. 2023 suite: {episodes} scene(s) per archetype and planner (scene and episode seeds "
@@ -291,7 +293,7 @@ def summary_markdown(
             "## Headline per archetype",
             headline_table(summary),
             "## Every metric per archetype (means over episodes and robots; units in metrics.md)",
-            "\n".join(full),
+            full,
         ]
     )
 

@@ -72,3 +72,8 @@ OBJECT_COST_COLORS: tuple[RGB, RGB] = ((255, 226, 120), (215, 35, 25))
 OBJECT_COST_ALPHA: float = 0.55
 #: Fill colour of objects of an unknown kind.
 DEFAULT_OBJECT_COLOR: RGB = (150, 150, 150)
+
+
+def rgba(rgb: RGB, alpha: float = 1.0) -> tuple[float, float, float, float]:
+    """`rgb` (0-255) as MuJoCo's RGBA (0-1)."""
+    return (rgb[0] / 255.0, rgb[1] / 255.0, rgb[2] / 255.0, alpha)

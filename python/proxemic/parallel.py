@@ -15,6 +15,7 @@ from pettingzoo import ParallelEnv
 from proxemic import _core, scenarios
 from proxemic.errors import NeedsResetError, input_error
 from proxemic.records import EpisodeMetrics
+from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
     RENDER_MODES,
     WorldSim,
@@ -75,8 +76,8 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         autopilot: bool | Collection[str] = False,
         planner_actions: bool = True,
         render_mode: str | None = None,
-        width: int = 640,
-        height: int = 480,
+        width: int = FRAME_SIZE[0],
+        height: int = FRAME_SIZE[1],
     ) -> None:
         """Builds the environment.
 

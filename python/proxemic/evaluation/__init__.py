@@ -20,12 +20,11 @@ from __future__ import annotations
 from proxemic.evaluation.backend import Backend, iter_results
 from proxemic.evaluation.config import BASELINE_PLANNERS, EpisodeResult, EvalConfig
 from proxemic.evaluation.episodes import cached_env, check_policies, policy_env, run_task
-from proxemic.evaluation.metrics import METRIC_GROUPS, METRICS
+from proxemic.evaluation.metrics import HEADLINE, METRIC_GROUPS, METRICS, VERDICT_METRICS
 from proxemic.evaluation.output import RecordWriter, check_out_dir, plot_planners_on_social_map
 from proxemic.evaluation.run import EvalResult, evaluate, run_eval, run_evaluation
 from proxemic.evaluation.stats import mean_ci, paired_ratio, t95, wilson
 from proxemic.evaluation.summary import (
-    HEADLINE,
     headline_markdown,
     headline_text,
     policy_robot_note,
@@ -34,7 +33,7 @@ from proxemic.evaluation.summary import (
     summary_markdown,
     summary_report,
 )
-from proxemic.evaluation.verdicts import VERDICT_METRICS, verdict, verdicts
+from proxemic.evaluation.verdicts import verdict, verdicts
 
 __all__ = [
     "BASELINE_PLANNERS",

@@ -6,25 +6,10 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from proxemic import scenarios, snqi
+from proxemic import markdown, scenarios, snqi
 from proxemic.evaluation.config import EvalConfig
-from proxemic.evaluation.metrics import MEAN_METRICS, METRICS, RATE_METRICS
+from proxemic.evaluation.metrics import HEADLINE, MEAN_METRICS, METRICS, RATE_METRICS
 from proxemic.evaluation.stats import mean_ci, wilson
-
-#: The columns of the headline table (terminal and top of ``summary.md``); "collision" is a collision
-#: that ends the episode (walls, furniture, a robot, or a person by the robot's fault).
-#: "o-space crossings" are the robot's crossings of the segments joining people in interaction
-#: (person-person, i.e. through a group's o-space, and person-object).
-HEADLINE = (
-    "success",
-    "collision",
-    "time_to_goal",
-    "path_length_ratio",
-    "psi_personal",
-    "interaction_crossings",
-    "psi_objects_active",
-    "snqi",
-)
 
 
 def collided(record: Mapping[str, Any]) -> bool:
@@ -56,7 +41,7 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
         robots = len({r.get("robot", 0) for r in recs})
         episodes = sum(1 for r in recs if r.get("robot", 0) == 0)
         row: dict[str, Any] = {"planner": planner, "episodes": episodes, "robots": robots}
-        for m in (*RATE_METRICS, "collision"):
+        for m in RATE_METRICS:
             k = sum(collided(r) if m == "collision" else bool(r.get(m)) for r in recs)
             p, lo, hi = wilson(k, len(recs))
             row[m] = p
@@ -76,7 +61,7 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
 
 def is_rate(m: str) -> bool:
     """Whether `m` is summarised as a rate (a share of episodes, Wilson interval)."""
-    return m in (*RATE_METRICS, "collision")
+    return m in RATE_METRICS
 
 
 def cell(row: Mapping[str, Any], m: str) -> str:
@@ -102,12 +87,12 @@ def header(m: str) -> str:
 
 def _table(rows: Sequence[Mapping[str, Any]], metrics: Sequence[str]) -> str:
     cols = ["planner", "episodes", *(header(m) for m in metrics)]
-    lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
+    lines = []
     for r in rows:
         n = f"{r['episodes']} x {r['robots']} robots" if r.get("robots", 1) > 1 else str(r["episodes"])
         cells = [str(r["planner"]), n, *(cell(r, m) for m in metrics)]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        lines.append(cells)
+    return markdown.table(cols, lines)
 
 
 def robots_note(rows: Sequence[Mapping[str, Any]]) -> str:
@@ -170,7 +155,7 @@ def headline_text(rows: Sequence[dict[str, Any]]) -> str:
 
 def summary_markdown(rows: Sequence[dict[str, Any]]) -> str:
     """The full summary as a markdown table: rates and means as m [lo, hi] (Wilson, Student t)."""
-    return _table(rows, [*RATE_METRICS, "collision", *MEAN_METRICS])
+    return _table(rows, [*RATE_METRICS, *MEAN_METRICS])
 
 
 def summary_report(rows: Sequence[dict[str, Any]], verdict_lines: Sequence[str], snqi_line: str = "") -> str:

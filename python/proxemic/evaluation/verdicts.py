@@ -8,20 +8,9 @@ from typing import Any
 
 import numpy as np
 
-from proxemic.evaluation.metrics import METRICS
+from proxemic.evaluation.metrics import METRICS, VERDICT_METRICS
 from proxemic.evaluation.stats import paired_ratio
 from proxemic.evaluation.summary import collided
-
-#: The metrics of a verdict: (metric, how a ratio is said: "times" as 1.2x, "share" as 55% less).
-VERDICT_METRICS: tuple[tuple[str, str], ...] = (
-    ("time_to_goal", "times"),
-    ("path_length", "times"),
-    ("l_ratio", "times"),
-    ("psi_personal", "share"),
-    ("ospace_pct", "share"),
-    ("interaction_crossings", "share"),
-    ("psi_objects_active", "share"),
-)
 
 
 def _change(r: float, lo: float, hi: float) -> str:

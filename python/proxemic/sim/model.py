@@ -34,13 +34,11 @@ import mujoco
 import numpy as np
 
 from proxemic.furniture import add_object
-from proxemic.palette import ROBOT_PALETTE
+from proxemic.palette import ROBOT_PALETTE, rgba
 
-#: Colours of robots by index (RGBA), cycled: the top-down view's palette, so a robot has the same
-#: colour in both views.
-ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(
-    (r / 255.0, g / 255.0, b / 255.0, 1.0) for r, g, b in ROBOT_PALETTE
-)
+#: Colours of robots by index (RGBA), cycled: the palette's, so a robot has the same colour in
+#: every view.
+ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(rgba(c) for c in ROBOT_PALETTE)
 
 #: Contact bits of the physics model: the static geometry's contype, and the robots' and
 #: people's contype (see the module docstring).

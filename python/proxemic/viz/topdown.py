@@ -56,7 +56,7 @@ from proxemic.viz.raster import (
     rows,
 )
 
-__all__ = ["OVERLAYS", "ZONE_NEAREST", "TopDownRenderer"]
+__all__ = ["FRAME_SIZE", "OVERLAYS", "ZONE_NEAREST", "TopDownRenderer"]
 
 #: The switchable top-down overlays: ``zones`` (Hall's intimate, personal and social rings around
 #: each person), ``groups`` (detected groups: their o-space filled, the group outlined),
@@ -66,6 +66,10 @@ OVERLAYS: tuple[str, ...] = ("zones", "groups", "object_spaces", "path")
 #: The zones overlay rings only the people nearest to a robot (the closest this many to each robot),
 #: so that a crowded scene (the museum's 52 people) stays readable.
 ZONE_NEAREST: int = 6
+
+#: The default frame size (width, height) in pixels of every view: the env's renders, videos and
+#: the top-down renderer.
+FRAME_SIZE: tuple[int, int] = (640, 480)
 
 _DEFAULT_ROBOT_RADIUS = 0.24
 
@@ -86,7 +90,9 @@ class TopDownRenderer:
 
     """
 
-    def __init__(self, scenario: Mapping[str, Any], width: int = 640, height: int = 480, margin: float = 0.5) -> None:
+    def __init__(
+        self, scenario: Mapping[str, Any], width: int = FRAME_SIZE[0], height: int = FRAME_SIZE[1], margin: float = 0.5
+    ) -> None:
         """Precompute the transform and rasterise the static background.
 
         Args:

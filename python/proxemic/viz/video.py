@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from proxemic.errors import input_error, require_extra
+from proxemic.viz.topdown import FRAME_SIZE
 
 if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
@@ -191,8 +192,8 @@ def record_episode(
     view: str = "topdown",
     fps: float | None = None,
     max_steps: int | None = None,
-    width: int = 640,
-    height: int = 480,
+    width: int = FRAME_SIZE[0],
+    height: int = FRAME_SIZE[1],
     overlays: Iterable[str] = ("path",),
     progress: bool = False,
     metrics: dict[str, Any] | None = None,
