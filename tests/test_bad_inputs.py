@@ -147,6 +147,12 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
     ("gen-duplicate-key", "proxemic.env.ProxemicEnv('generated/3?robots=1&robots=2')", "ScenarioError", "robots"),
     ("francis-duplicate-key", "proxemic.env.ProxemicEnv('francis2023/crossing_90?seed=1&seed=2')", "ScenarioError", "seed"),
     ("francis-archetype-none", "gym.make('proxemic/Francis2023-v0', archetype=None)", "InputError", "archetype"),
+    (
+        "sim-crowd-too-large",
+        "from proxemic.sim.model import check_crowd_fits, max_people\ncheck_crowd_fits({'persons': [{}] * (max_people(1) + 1), 'robots': [{}]})",
+        "InputError",
+        "persons",
+    ),
     ("vec-num-envs-huge", "from proxemic.vector import vector_env\nvector_env('museum', num_envs=10**9)", "InputError", "num_envs"),
     ("core-astar-path-negative", "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.astar_path(-1)", "InputError", "robot"),
     (
