@@ -270,7 +270,10 @@ def big_rows(tmp: Path) -> bool:
                 check=True,
             ).stdout
             rows[n, planner] = json.loads(out.splitlines()[-1])
-    print(f"{'people':>7} {'hall [m]':>10} {'build [s]':>10} {'step astar [ms]':>16} {'step social [ms]':>17} {'RSS [MB]':>9}")
+    print(
+        f"{'people':>7} {'hall [m]':>10} {'build [s]':>10} {'step astar [ms]':>16} {'step social [ms]':>17}"
+        f" {'RSS [MB]':>9}"
+    )
     for n in BIG_SIZES:
         a, b = rows[n, "astar"], rows[n, "social"]
         w, h = hall_size(n)

@@ -143,9 +143,19 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
     ("par-robots-float", "proxemic.parallel_env('museum_multi', robots=2.5)", "InputError", "robots"),
     ("par-step-none", "multi().step(None)", "InputError", "actions"),
     ("par-step-list", "multi().step([np.zeros(3), np.zeros(3)])", "InputError", "actions"),
-    ("par-autopilot-string", "proxemic.parallel_env('museum_multi', robots=2, autopilot='robot_0')", "InputError", "autopilot"),
+    (
+        "par-autopilot-string",
+        "proxemic.parallel_env('museum_multi', robots=2, autopilot='robot_0')",
+        "InputError",
+        "autopilot",
+    ),
     ("gen-duplicate-key", "proxemic.env.ProxemicEnv('generated/3?robots=1&robots=2')", "ScenarioError", "robots"),
-    ("francis-duplicate-key", "proxemic.env.ProxemicEnv('francis2023/crossing_90?seed=1&seed=2')", "ScenarioError", "seed"),
+    (
+        "francis-duplicate-key",
+        "proxemic.env.ProxemicEnv('francis2023/crossing_90?seed=1&seed=2')",
+        "ScenarioError",
+        "seed",
+    ),
     ("francis-archetype-none", "gym.make('proxemic/Francis2023-v0', archetype=None)", "InputError", "archetype"),
     (
         "sim-crowd-too-large",
@@ -153,8 +163,18 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "InputError",
         "persons",
     ),
-    ("vec-num-envs-huge", "from proxemic.vector import vector_env\nvector_env('museum', num_envs=10**9)", "InputError", "num_envs"),
-    ("core-astar-path-negative", "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.astar_path(-1)", "InputError", "robot"),
+    (
+        "vec-num-envs-huge",
+        "from proxemic.vector import vector_env\nvector_env('museum', num_envs=10**9)",
+        "InputError",
+        "num_envs",
+    ),
+    (
+        "core-astar-path-negative",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.astar_path(-1)",
+        "InputError",
+        "robot",
+    ),
     (
         "core-reset-seed-2-64",
         "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.reset(2**64, np.zeros(w.stride), np.zeros(w.num_people * _core.PERSON_OUT))",
@@ -667,7 +687,11 @@ CLI_CASES: list[tuple[str, list[str], str]] = [
     ("cli-demo-episodes-zero", ["demo", "--episodes", "0"], "--episodes"),
     ("cli-video-out-directory", ["video", "--max-steps", "2", "--out", "/tmp"], "out"),
     ("cli-video-out-unwritable", ["video", "--max-steps", "2", "--out", "/proc/proxemic/v.mp4"], "out"),
-    ("cli-eval-archetype-without-suite", ["eval", "--archetype", "crossing_90", "--out", "/tmp/bad-cli"], "--archetype"),
+    (
+        "cli-eval-archetype-without-suite",
+        ["eval", "--archetype", "crossing_90", "--out", "/tmp/bad-cli"],
+        "--archetype",
+    ),
     (
         "cli-eval-scenario-with-suite",
         ["eval", "--suite", "francis2023", "--scenario", "museum", "--out", "/tmp/bad-cli"],

@@ -59,8 +59,10 @@ PAIR_BYTES = 5
 
 
 def model_memory(bodies: int) -> int:
-    """The arena (``<size memory>``, bytes) of a model with `bodies` bodies (people, robots and the
-    world): MuJoCo's default plus :data:`PAIR_BYTES` per pair of bodies."""
+    """The arena (``<size memory>``, bytes) of a model with `bodies` bodies (people, robots, world).
+
+    MuJoCo's default plus :data:`PAIR_BYTES` per pair of bodies.
+    """
     return BASE_MEMORY + PAIR_BYTES * bodies * bodies
 
 
@@ -71,8 +73,11 @@ def max_people(robots: int) -> int:
 
 
 def check_crowd_fits(scenario: dict[str, Any]) -> None:
-    """Raises :class:`proxemic.InputError` naming the number of people and the limit when the scene's
-    crowd does not fit in a MuJoCo model (instead of MuJoCo's fatal stack overflow)."""
+    """Raises :class:`proxemic.InputError` naming the people and the limit when the crowd does not fit.
+
+    The limit is the MuJoCo model's (:func:`max_people`); without it MuJoCo stops with a fatal
+    stack overflow.
+    """
     from proxemic.errors import input_error
 
     people, robots = len(scenario["persons"]), len(scenario["robots"])
