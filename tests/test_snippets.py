@@ -134,3 +134,23 @@ def test_submodules_are_reachable_after_a_plain_import():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd="/")
     assert proc.returncode == 0, proc.stderr
     assert "has no attribute 'no_such_module'" in proc.stdout
+
+
+def test_long_snippets_parse_in_the_fast_run():
+    """Every ``proxemic`` command of a snippet marked full parses (its run is in make test-full)."""
+    import shlex
+
+    from proxemic.cli import build_parser
+
+    commands = [
+        line.split("#")[0]
+        for ss in ALL.values()
+        for s in ss
+        if _runnable(s) and s.mark == "full"
+        for line in s.code.splitlines()
+        if line.startswith("proxemic ")
+    ]
+    assert len(commands) >= 5
+    for command in commands:
+        args = build_parser().parse_args(shlex.split(command)[1:])
+        assert callable(args.func), command

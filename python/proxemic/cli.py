@@ -65,7 +65,7 @@ def demo_legend(split: str, episodes: int) -> str:
     lines = [textwrap.fill(f"What the figures mean: {episodes} episodes per planner, seeds of {split}.", 100)]
     for key in HEADLINE:
         info = METRICS[key]
-        definition = str(registry.get(key, {}).get("definition", "")).split(". ")[0].rstrip(".")
+        definition = str(registry[key]["definition"]).split(". ")[0].rstrip(".") if key in registry else ""
         unit = f" ({info.unit})" if info.unit else ""
         text = "; ".join(x for x in (definition, DEMO_FIGURE_NOTES.get(key, "")) if x)
         lines.append(textwrap.fill(f"- {info.label}{unit}: {text}.", 100, subsequent_indent="  "))
@@ -83,14 +83,15 @@ def demo_legend(split: str, episodes: int) -> str:
 
 def _without_collided_path_ratio(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """The records with ``path_length_ratio`` removed from the episodes a collision ended."""
-    from proxemic.evaluation import _collided
+    from proxemic.evaluation.summary import collided
 
-    return [{**r, "path_length_ratio": None} if _collided(r) else r for r in records]
+    return [{**r, "path_length_ratio": None} if collided(r) else r for r in records]
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on test-split seeds, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, _collided, headline_text, run_evaluation, summarise
+    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation, summarise
+    from proxemic.evaluation.summary import collided
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -118,7 +119,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
             for row in result.summary
         ]
         excluded = {
-            p: sum(r["path_length_ratio"] is not None and _collided(r) for r in result.records if r["planner"] == p)
+            p: sum(r["path_length_ratio"] is not None and collided(r) for r in result.records if r["planner"] == p)
             for p in planners
         }
         print()
@@ -455,6 +456,39 @@ def cmd_generate(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_crowd_card(args: argparse.Namespace) -> int:
+    """Writes the crowd card (the pedestrian model against each recording)."""
+    from proxemic import crowdcard
+
+    window = tuple(args.window) if args.window else None
+    cards = crowdcard.write_cards(args.recordings, args.out, window=window)
+    for c in cards:
+        cl = c["closed_loop"]
+        print(
+            f"{c['recording']}: closed-loop ADE {cl['proxemic']['ade_m']:.3f} m "
+            f"(straight line {cl['straight_line']['ade_m']:.3f}), open-loop ADE "
+            f"{c['open_loop']['proxemic']['ade_m']:.3f} m (constant velocity "
+            f"{c['open_loop']['constant_velocity']['ade_m']:.3f})"
+        )
+    if args.docs:
+        crowdcard.write_docs(cards, args.out, args.docs)
+        print(f"updated {args.docs}")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def cmd_crowd_fit(args: argparse.Namespace) -> int:
+    """Fits the pedestrian model's interaction parameters on recordings (the calibration)."""
+    from proxemic import crowdcard
+
+    best, history = crowdcard.calibrate(args.recordings, rounds=args.rounds)
+    final = history[-1] if history else None
+    print(json.dumps({"fitted": best, "evaluations": len(history), "final": final}, indent=2))
+    if args.out:
+        Path(args.out).write_text(json.dumps({"fitted": best, "history": history}, indent=2) + "\n")
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line on stderr (exit code 2), naming the argument."""
 
@@ -663,6 +697,23 @@ def build_parser() -> argparse.ArgumentParser:
         g.add_argument(f"--{key.replace('_', '-')}", dest=key, type=_finite_float, help=f"{key} ({unit})")
     g.add_argument("--out", default="scene.toml", help="the scenario file to write (default: scene.toml)")
     g.set_defaults(func=cmd_generate)
+    cc = sub.add_parser("crowd-card", help="the pedestrian model against recorded crowds (card.md, card.json, plots)")
+    cc.add_argument("recordings", nargs="+", help="replay CSV files t,id,x,y (e.g. ETH/UCY scenes)")
+    cc.add_argument("--out", required=True, help="output folder (one sub-folder per recording if several)")
+    cc.add_argument(
+        "--window",
+        nargs=2,
+        type=_finite_float,
+        metavar=("T0", "T1"),
+        help="keep only the tracks lying wholly in this time window (s, the recording's clock)",
+    )
+    cc.add_argument("--docs", help="also put the cards (tables and plots) into this docs page, between its markers")
+    cc.set_defaults(func=cmd_crowd_card)
+    cf = sub.add_parser("crowd-fit", help="fit the pedestrian model's interaction parameters on recordings")
+    cf.add_argument("recordings", nargs="+", help="replay CSV files t,id,x,y (the training recordings)")
+    cf.add_argument("--rounds", type=_positive_int, default=2, help="coordinate-descent passes (default 2)")
+    cf.add_argument("--out", help="write the fit and every evaluation to this JSON file")
+    cf.set_defaults(func=cmd_crowd_fit)
     s = sub.add_parser("scenes", help="list the bundled scenarios")
     s.set_defaults(func=cmd_scenes)
     sc = sub.add_parser("schema", help="print the JSON Schema of scenario files (for editor completion)")

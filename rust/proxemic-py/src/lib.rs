@@ -16,6 +16,8 @@
 //! callback runs once for all of them, then the worlds' second halves run in scoped threads
 //! (`proxemic_core::world::batch`).
 
+mod validation;
+
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadwriteArray1};
@@ -932,5 +934,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(metric_registry, m)?)?;
     m.add_function(wrap_pyfunction!(scenario_schema, m)?)?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
+    validation::register(m)?;
     Ok(())
 }

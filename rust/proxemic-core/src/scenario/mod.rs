@@ -45,6 +45,7 @@ mod schema;
 mod tests;
 
 pub use build::people::ROBOT_GUIDE;
+pub use build::replay::read_track_file;
 pub use check::parse_time_of_day;
 pub use load::{APPENDABLE, MAX_EXTENDS};
 pub use model::{
