@@ -154,7 +154,10 @@ def test_a_bad_policy_is_a_one_line_error(at_root, tmp_path, capsys, policy, mes
 @pytest.mark.parametrize(
     ("policy", "message"),
     [
-        ("raises_at_step", "raised ZeroDivisionError: division by zero in the policy at step 0 of the episode of seed 0"),
+        (
+            "raises_at_step",
+            "raised ZeroDivisionError: division by zero in the policy at step 0 of the episode of seed 0",
+        ),
         ("exits_at_step", "called sys.exit(3) at step 0 of the episode of seed 0"),
     ],
 )

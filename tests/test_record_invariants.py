@@ -66,7 +66,9 @@ def replay_scene(tmp: Path, name: str, t0: float, react_radius: float, window: f
     return path
 
 
-def cases(tmp: Path, seeds: int = 2, windows: int = 1, replays: bool = True) -> Iterator[tuple[str, str | Path, str | None, int, int]]:
+def cases(
+    tmp: Path, seeds: int = 2, windows: int = 1, replays: bool = True
+) -> Iterator[tuple[str, str | Path, str | None, int, int]]:
     """(family, scene, planner or None for the scene's own, seed, steps) of every checked episode:
     without `replays`, every scene family but the recorded crowds; with it, only those."""
     if replays:

@@ -62,10 +62,12 @@ class EpisodeError(ProxemicError):
 
 
 class PolicyError(ProxemicError):
-    """A user policy failed: it raised (at import, in its factory, at ``reset`` or at a step) or
-    called ``sys.exit``. ``field`` is ``"policy"``, ``file`` the policy's label and where it
+    """A user policy failed: it raised (at import, in its factory, at ``reset`` or at a step) or called ``sys.exit``.
+
+    ``field`` is ``"policy"``, ``file`` the policy's label and where it
     failed (the episode's seed and the step), ``found`` the exception it raised; the original
-    exception is the ``__cause__``."""
+    exception is the ``__cause__``.
+    """
 
 
 class InvariantError(ProxemicError):

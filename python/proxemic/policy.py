@@ -55,12 +55,19 @@ _EXPECTED_POLICY = "a callable obs -> action, or an object with predict(obs, det
 
 
 def policy_failure(name: str, where: str, exc: BaseException) -> PolicyError:
-    """The :class:`PolicyError` of policy `name` failing `where` (e.g. ``"at step 3 of the episode of
-    seed 5"``) with `exc` (an exception, or the ``SystemExit`` of a ``sys.exit`` call)."""
+    """The :class:`PolicyError` of policy `name` failing `where` with `exc`.
+
+    `where` is e.g. ``"at step 3 of the episode of seed 5"``; `exc` an exception, or the
+    ``SystemExit`` of a ``sys.exit`` call.
+    """
     what = f"called sys.exit({exc.code!r})" if isinstance(exc, SystemExit) else f"raised {type(exc).__name__}: {exc}"
     found = f"{type(exc).__name__}: {exc}"
     return PolicyError(
-        f"policy {name!r} {what} {where}", file=f"policy {name!r} {where}", field="policy", expected="an action", found=found
+        f"policy {name!r} {what} {where}",
+        file=f"policy {name!r} {where}",
+        field="policy",
+        expected="an action",
+        found=found,
     )
 
 

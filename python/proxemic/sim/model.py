@@ -45,6 +45,49 @@ ROBOT_COLOURS: tuple[tuple[float, float, float, float], ...] = tuple(rgba(c) for
 STATIC_BIT = 2
 DYNAMIC_BIT = 1
 
+#: MuJoCo's default arena (``<size memory>``), enough for the bundled scenes.
+BASE_MEMORY = 16 << 20
+#: The most arena one model may ask for (bytes): MuJoCo's collision pass takes two buffers of
+#: about 2 bytes per pair of bodies each from it (measured with 10,003 bodies: mj_collision asked
+#: for 200,060,004 bytes, then mj_broadphase for 200,020,000), so the arena grows with the square
+#: of the crowd. Only the touched part of the arena becomes resident memory.
+MAX_MEMORY = 2 << 30
+#: Bytes of arena per pair of bodies in the collision pass, with a margin over the 4 measured.
+PAIR_BYTES = 5
+
+
+def model_memory(bodies: int) -> int:
+    """The arena (``<size memory>``, bytes) of a model with `bodies` bodies (people, robots, world).
+
+    MuJoCo's default plus :data:`PAIR_BYTES` per pair of bodies.
+    """
+    return BASE_MEMORY + PAIR_BYTES * bodies * bodies
+
+
+def max_people(robots: int) -> int:
+    """The most people a scene with `robots` robots can hold in its MuJoCo model (:data:`MAX_MEMORY`)."""
+    bodies = int(((MAX_MEMORY - BASE_MEMORY) / PAIR_BYTES) ** 0.5)
+    return bodies - robots - 1
+
+
+def check_crowd_fits(scenario: dict[str, Any]) -> None:
+    """Raises :class:`proxemic.InputError` naming the people and the limit when the crowd does not fit.
+
+    The limit is the MuJoCo model's (:func:`max_people`); without it MuJoCo stops with a fatal
+    stack overflow.
+    """
+    from proxemic.errors import input_error
+
+    people, robots = len(scenario["persons"]), len(scenario["robots"])
+    limit = max_people(robots)
+    if people > limit:
+        raise input_error(
+            "persons",
+            f"at most {limit} people with {robots} robot(s) (the MuJoCo model's collision arena, "
+            f"{MAX_MEMORY >> 20} MB, grows with the square of the bodies)",
+            f"{people} people",
+        )
+
 
 def models_dir() -> Path:
     """Folder of the MJCF assets shipped inside the package."""
@@ -66,8 +109,10 @@ def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpe
             module docstring.
     """
     scene = scenario["scene"]
+    check_crowd_fits(scenario)
     spec = mujoco.MjSpec()
     spec.modelname = scene["name"]
+    spec.memory = model_memory(len(scenario["persons"]) + len(scenario["robots"]) + 1)
     spec.copy_during_attach = True  # the robot and person models are attached many times
     spec.compiler.degree = False
     spec.option.timestep = 1.0 / scene["physics_hz"]

@@ -109,7 +109,9 @@ def write_video(
         out.parent.mkdir(parents=True, exist_ok=True)
         out.open("wb").close()
     except OSError as e:
-        raise input_error("out", "the path of an .mp4 file that can be written", f"{os.fspath(path)!r} ({e.strerror or e})") from e
+        raise input_error(
+            "out", "the path of an .mp4 file that can be written", f"{os.fspath(path)!r} ({e.strerror or e})"
+        ) from e
     bar = None
     if progress:
         from tqdm import tqdm

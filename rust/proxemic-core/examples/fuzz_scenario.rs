@@ -348,9 +348,9 @@ fn exercise(input: &Input) -> Result<bool, String> {
             Input::Name(name) if name.starts_with(francis2023::PREFIX) => {
                 francis2023::generate(name).map(|g| g.scenario)
             }
-            Input::Name(name) => {
-                generate::parse_spec(name).and_then(|(seed, p)| generate::generate(seed, &p)).map(|g| g.scenario)
-            }
+            Input::Name(name) => generate::parse_spec(name)
+                .and_then(|(seed, p)| generate::generate(seed, &p))
+                .map(|g| g.scenario),
             Input::Tracks(text, dir) => {
                 let _ = std::fs::write(dir.join("tracks.csv"), text);
                 let source = dir.join("fuzz.toml");

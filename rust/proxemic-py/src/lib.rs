@@ -227,7 +227,12 @@ impl PyScenario {
     /// instead of its file goal. Raises `ScenarioError`; a goal inside a wall or object is
     /// rejected when a `World` is built.
     #[pyo3(signature = (goal, robot = 0))]
-    fn with_goal(&self, py: Python<'_>, goal: [f64; 2], #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<Self> {
+    fn with_goal(
+        &self,
+        py: Python<'_>,
+        goal: [f64; 2],
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Self> {
         let inner = enter_core(py, || self.inner.with_goal(robot, goal))?;
         Ok(PyScenario { inner })
     }
@@ -553,21 +558,33 @@ impl PyWorld {
 
     /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
     /// reference path of `l_ratio`, `smooth_rad2` and `smooth_rad`), as a (K, 2) float64 array.
-    fn astar_path<'py>(&self, py: Python<'py>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn astar_path<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, CoreWorld::astar_path)?)
     }
 
     /// Robot `robot`'s poses x, y, theta (m, m, rad, world frame) at every control instant of
     /// the episode so far, the start first, as a (T + 1, 3) float64 array (what its metrics are
     /// computed from; steps after its episode ended are not recorded).
-    fn trajectory<'py>(&self, py: Python<'py>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn trajectory<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let poses = self.of_robot(py, robot, CoreWorld::trajectory)?;
         let flat: Vec<f64> = poses.iter().flatten().copied().collect();
         PyArray1::from_vec(py, flat).reshape([poses.len(), 3])
     }
 
     /// The global path robot `robot` is following, as a (K, 2) float64 array.
-    fn path<'py>(&self, py: Python<'py>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn path<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, CoreWorld::path)?)
     }
 
@@ -697,7 +714,11 @@ impl PyWorld {
     /// How many social searches ran for robot `robot` this episode: its first plan, its
     /// triggered re-plans and its refreshes, whether the new path was kept or not (0 for a robot
     /// that is not on a social planner). At least :meth:`replans`.
-    fn social_searches(&self, py: Python<'_>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<usize> {
+    fn social_searches(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<usize> {
         let robot = self.robot(py, robot)?;
         Ok(self.inner.social_searches(robot))
     }
@@ -721,7 +742,11 @@ impl PyWorld {
 
     /// Robot `robot`'s inflated cost grid as ((H, W) uint8 array, (origin_x, origin_y,
     /// resolution)); row 0 is the lowest y. 254 marks static obstacles, 253 the inflation.
-    fn cost_grid<'py>(&self, py: Python<'py>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<Bound<'py, PyTuple>> {
+    fn cost_grid<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyTuple>> {
         let g = self.of_robot(py, robot, CoreWorld::cost_grid)?;
         let arr = PyArray1::from_slice(py, &g.cost).reshape([g.spec.height, g.spec.width])?;
         let meta = (g.spec.origin.x, g.spec.origin.y, g.spec.resolution);
@@ -729,7 +754,11 @@ impl PyWorld {
     }
 
     /// Geodesic shortest collision-free distance from robot `robot`'s nominal start to its goal (m).
-    fn geodesic_start_distance(&self, py: Python<'_>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<f64> {
+    fn geodesic_start_distance(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<f64> {
         let robot = self.robot(py, robot)?;
         self.inner.geodesic_start_distance(robot).ok_or_else(|| internal_error(py))
     }

@@ -85,7 +85,8 @@ pub(crate) struct StepContact<'a> {
 impl StepContact<'_> {
     /// Whether person `i` is in the scene over the whole step.
     pub(crate) fn here(&self, i: usize) -> bool {
-        self.present_before.get(i).copied().unwrap_or(true) && self.present_after.get(i).copied().unwrap_or(true)
+        self.present_before.get(i).copied().unwrap_or(true)
+            && self.present_after.get(i).copied().unwrap_or(true)
     }
 }
 

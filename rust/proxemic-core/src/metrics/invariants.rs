@@ -30,10 +30,11 @@
 //!   and at most their sum, and `dist_person_min` is the least of the per-person `d_min`.
 
 use super::fault::{Touch, touches};
-use super::{
-    EvalContext, FullMetrics, Groups, ObjectSpaces, PeopleTracks, RobotFreeTracks, Samples, Trajectory, evaluate,
-};
 use super::{CONTACT_PERSON, EpisodeReport, METRICS, Outcome, collisions::swept_gap};
+use super::{
+    EvalContext, FullMetrics, Groups, ObjectSpaces, PeopleTracks, RobotFreeTracks, Samples, Trajectory,
+    evaluate,
+};
 use crate::math::Vec2;
 
 /// The names of the invariants, in the order they are checked.
@@ -195,7 +196,11 @@ fn absent_people_never_count(
     let move_away = |pos: &[Vec2]| -> Vec<Vec2> {
         pos.iter()
             .enumerate()
-            .map(|(j, &p)| if people.present.get(j).copied().unwrap_or(true) { p } else { far(j % people.count) })
+            .map(
+                |(j, &p)| {
+                    if people.present.get(j).copied().unwrap_or(true) { p } else { far(j % people.count) }
+                },
+            )
             .collect()
     };
     let positions = move_away(people.positions);
@@ -213,7 +218,10 @@ fn absent_people_never_count(
         .map(|(f, p)| RobotFreeTracks { positions: p, ..*f });
     let ctx2 = EvalContext { robot_free, ..*ctx };
     let Ok(away) = evaluate(traj, &moved, groups, objects, &ctx2) else {
-        return fail("absent_people_never_count", "the record with absent people moved away is invalid".into());
+        return fail(
+            "absent_people_never_count",
+            "the record with absent people moved away is invalid".into(),
+        );
     };
     let families: [(&str, bool); 6] = [
         ("collisions", m.collisions == away.collisions),
@@ -265,7 +273,10 @@ fn bounds_and_counts(r: &EpisodeReport) -> Result<(), Violation> {
                 );
             }
             if COUNT_UNITS.contains(&info.unit) && x.fract() != 0.0 {
-                return fail("whole_counts", format!("{} = {x} is a count ({}) but not whole", info.key, info.unit));
+                return fail(
+                    "whole_counts",
+                    format!("{} = {x} is a count ({}) but not whole", info.key, info.unit),
+                );
             }
         }
     }
@@ -281,13 +292,19 @@ fn duration_and_path(r: &EpisodeReport, traj: &Trajectory) -> Result<(), Violati
     }
     let duration = steps as f64 * traj.dt;
     if r.duration != duration {
-        return fail(name, format!("duration = {} s but steps * dt = {steps} * {} = {duration} s", r.duration, traj.dt));
+        return fail(
+            name,
+            format!("duration = {} s but steps * dt = {steps} * {} = {duration} s", r.duration, traj.dt),
+        );
     }
     let length: f64 = traj.robot.windows(2).map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1])).sum();
     if !close(m.efficiency.path_length, length) {
         return fail(
             name,
-            format!("path_length = {} m but the recorded poses are {length} m long", m.efficiency.path_length),
+            format!(
+                "path_length = {} m but the recorded poses are {length} m long",
+                m.efficiency.path_length
+            ),
         );
     }
     let times = [
@@ -326,7 +343,10 @@ fn columns_add_up(m: &FullMetrics) -> Result<(), Violation> {
         if zones.iter().all(Option::is_some) {
             let total: f64 = zones.iter().flatten().sum();
             if !close(total, 100.0) {
-                return fail(name, format!("{who}_intimate + _personal + _social + _public = {total}, not 100"));
+                return fail(
+                    name,
+                    format!("{who}_intimate + _personal + _social + _public = {total}, not 100"),
+                );
             }
         } else if zones.iter().any(Option::is_some) {
             return fail(name, format!("{who}_* zones are partly undefined: {zones:?}"));
@@ -336,7 +356,10 @@ fn columns_add_up(m: &FullMetrics) -> Result<(), Violation> {
     if g.interaction_crossings != pp + po {
         return fail(
             name,
-            format!("interaction_crossings = {} but person_person + person_object = {pp} + {po}", g.interaction_crossings),
+            format!(
+                "interaction_crossings = {} but person_person + person_object = {pp} + {po}",
+                g.interaction_crossings
+            ),
         );
     }
     let o = &m.objects;
@@ -357,7 +380,9 @@ fn columns_add_up(m: &FullMetrics) -> Result<(), Violation> {
         if total < most || (total > sum && !close(total, sum)) {
             return fail(
                 name,
-                format!("psi_objects_{key} = {total} outside [largest object's {most}, sum over objects {sum}]"),
+                format!(
+                    "psi_objects_{key} = {total} outside [largest object's {most}, sum over objects {sum}]"
+                ),
             );
         }
     }
@@ -368,7 +393,10 @@ fn columns_add_up(m: &FullMetrics) -> Result<(), Violation> {
     }
     let least = p.d_min.iter().flatten().copied().reduce(f64::min);
     if least != p.dist_person_min {
-        return fail(name, format!("dist_person_min = {:?} but the least per-person d_min is {least:?}", p.dist_person_min));
+        return fail(
+            name,
+            format!("dist_person_min = {:?} but the least per-person d_min is {least:?}", p.dist_person_min),
+        );
     }
     Ok(())
 }
@@ -412,14 +440,17 @@ mod tests {
 
     fn report(present: &[bool]) -> EpisodeReport {
         let (log, rec) = episode(present);
-        rec.evaluate(&log, &|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default(), None).expect("consistent")
+        rec.evaluate(&log, &|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default(), None)
+            .expect("consistent")
     }
 
     #[test]
     fn a_consistent_record_passes() {
         let r = report(&[true; 11]);
         assert_eq!(r.outcome, Outcome::Success);
-        assert!(outcome_agrees(&r).is_ok() && bounds_and_counts(&r).is_ok() && columns_add_up(&r.metrics).is_ok());
+        assert!(
+            outcome_agrees(&r).is_ok() && bounds_and_counts(&r).is_ok() && columns_add_up(&r.metrics).is_ok()
+        );
     }
 
     #[test]

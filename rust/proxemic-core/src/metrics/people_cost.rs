@@ -82,7 +82,8 @@ pub(crate) fn evaluate(
     let (mut delay, mut extra, mut dev) = (Vec::new(), Vec::new(), Vec::new());
     for i in 0..np {
         let here = |t: usize| present.get(t * np + i).copied().unwrap_or(true);
-        let track = |pos: &[Vec2]| -> Vec<Vec2> { (0..n).filter(|&t| here(t)).map(|t| pos[t * np + i]).collect() };
+        let track =
+            |pos: &[Vec2]| -> Vec<Vec2> { (0..n).filter(|&t| here(t)).map(|t| pos[t * np + i]).collect() };
         let cf = free.stages.get(i).unwrap_or(&no_events);
         let re = free.real_stages.get(i).unwrap_or(&no_events);
         // Delay: the robot-free run's stage changes within the episode.
@@ -102,7 +103,10 @@ pub(crate) fn evaluate(
         let (a, b) = (track(real), track(free.positions));
         // The distance walked to instant `upto`, over the steps with the person there at both ends.
         let walked = |pos: &[Vec2], upto: usize| -> f64 {
-            (0..upto).filter(|&t| here(t) && here(t + 1)).map(|t| (pos[(t + 1) * np + i] - pos[t * np + i]).norm()).sum()
+            (0..upto)
+                .filter(|&t| here(t) && here(t + 1))
+                .map(|t| (pos[(t + 1) * np + i] - pos[t * np + i]).norm())
+                .sum()
         };
         extra.push(common.map_or(0.0, |(r, c)| (walked(real, r) - walked(free.positions, c)).max(0.0)));
         // Path deviation from the robot-free path.

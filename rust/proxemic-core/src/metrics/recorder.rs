@@ -263,9 +263,9 @@ impl EpisodeRecorder {
                     present_before: log.present_at(prev_t).unwrap_or(&[]),
                     present_after: log.present_at(prev_t + 1).unwrap_or(&[]),
                 };
-                let swept = (0..before.len()).filter(|&i| step.here(i)).any(|i| {
-                    swept_gap(p0, p1, before[i], after[i], rr, log.people_radii[i]) < 0.0
-                });
+                let swept = (0..before.len())
+                    .filter(|&i| step.here(i))
+                    .any(|i| swept_gap(p0, p1, before[i], after[i], rr, log.people_radii[i]) < 0.0);
                 classify_step(&step, &mut self.touches);
                 (swept, self.touches.contains(&Touch::RobotFault))
             }
