@@ -349,7 +349,7 @@ mod tests {
         // person absent.
         run.log = SceneLog::new(vec![0.2], vec![]);
         let absent = [false];
-        let mut push = |log: &mut SceneLog, p: &[Vec2], present: &[bool]| {
+        let push = |log: &mut SceneLog, p: &[Vec2], present: &[bool]| {
             let mut sn = snapshot(p);
             sn.present = present;
             log.push(&sn);

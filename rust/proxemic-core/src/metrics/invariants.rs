@@ -410,10 +410,12 @@ mod tests {
     /// at (0.5, 2) who is `present` at each instant.
     fn episode(present: &[bool]) -> (SceneLog, EpisodeRecorder) {
         let person = [Vec2::new(0.5, 2.0)];
+        let still = [Vec2::new(0.0, 0.0)];
+        let heading = [0.0];
         let snap = |k: usize| Snapshot {
             positions: &person,
-            velocities: &[Vec2::new(0.0, 0.0)],
-            headings: &[0.0],
+            velocities: &still,
+            headings: &heading,
             present: std::slice::from_ref(&present[k]),
             ospaces: &[],
             links: &[],
