@@ -44,7 +44,7 @@ mod schema;
 mod tests;
 
 pub use build::people::ROBOT_GUIDE;
-pub use check::parse_time_of_day;
+pub use check::{TimeOfDay, check_time_of_day, is_time_of_day, parse_time_of_day};
 pub use load::{APPENDABLE, MAX_EXTENDS};
 pub use model::{
     ActivitySpec, AgendaSpec, Approach, Behaviour, CIRCLE_VERTICES, EbandGains, Episode, Interaction,
