@@ -94,7 +94,7 @@ def test_every_object_kind_has_a_model_and_keeps_its_collision_footprint():
 
 
 def test_robots_are_colour_coded_like_the_top_down_view():
-    from proxemic.viz.topdown import ROBOT_PALETTE
+    from proxemic.palette import ROBOT_PALETTE
 
     _, desc = scenarios.load("daza2021_fig15")
     m = Simulation(desc).render_model
@@ -208,7 +208,7 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
 
 
 def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small_room):
-    from proxemic import sim as sim_module
+    from proxemic.sim import timer as sim_module
 
     if sim_module._TIMER is None or sim_module._DEFAULT_TIMER is None:
         pytest.skip("this MuJoCo's bindings install no default timer")

@@ -2,6 +2,7 @@
 
 from collections.abc import Callable, Sequence
 from os import PathLike
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -122,3 +123,28 @@ class World:
     def geodesic_start_distance(self, robot: int) -> float: ...
     def perception(self) -> Perception: ...
     def object_costs(self, time_of_day: float | None = None) -> dict[str, float]: ...
+
+# The pedestrian model against recorded crowds and the RiMEA tests (proxemic.crowdcard).
+def social_force_defaults() -> dict[str, float]: ...
+def read_tracks(path: str | PathLike[str]) -> list[tuple[str, npt.NDArray[np.float64]]]: ...
+def rimea1(params: dict[str, float] | None = None, radius: float = 0.2) -> float: ...
+def rimea4(
+    densities: Sequence[float],
+    params: dict[str, float] | None = None,
+    radius: float = 0.2,
+    seed: int = 0,
+    warmup: float = 20.0,
+    measure: float = 20.0,
+) -> list[float]: ...
+def rimea6(
+    params: dict[str, float] | None = None, radius: float = 0.2, seed: int = 0, duration: float = 120.0
+) -> dict[str, Any]: ...
+
+class Recording:
+    def __init__(self, tracks: Sequence[npt.NDArray[np.float64]], radius: float) -> None: ...
+    def reenact(
+        self, subjects: Sequence[int], params: dict[str, float] | None = None, overtime: float = 20.0
+    ) -> list[tuple[npt.NDArray[np.float64], float | None]]: ...
+    def open_loop(
+        self, params: dict[str, float] | None = None, observe: int = 8, predict: int = 12, sample_dt: float = 0.4
+    ) -> npt.NDArray[np.float64]: ...

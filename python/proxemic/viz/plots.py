@@ -23,18 +23,8 @@ from matplotlib.patches import Polygon as PolygonPatch
 from matplotlib.ticker import MaxNLocator
 
 from proxemic.errors import input_error
-
-from .topdown import (
-    DEFAULT_OBJECT_COLOR,
-    FLOOR_COLOR,
-    INTERACTION_COLOR,
-    OBJECT_COLORS,
-    WALL_COLOR,
-    interaction_polygon,
-    object_polygon,
-    scene_bounds,
-    wall_polygon,
-)
+from proxemic.palette import DEFAULT_OBJECT_COLOR, FLOOR_COLOR, INTERACTION_COLOR, OBJECT_COLORS, WALL_COLOR
+from proxemic.viz.geometry import interaction_polygon, object_polygon, scene_bounds, wall_polygon
 
 __all__ = [
     "format_table",

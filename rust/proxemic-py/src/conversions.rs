@@ -58,6 +58,30 @@ impl<K: Serialize, V: Serialize> Serialize for Named<'_, K, V> {
     }
 }
 
+/// A robot index argument: a negative or too large Python int is an `InputError` naming `robot`
+/// and what arrived (pyo3 alone raises `OverflowError`); a non-int keeps pyo3's `TypeError`.
+pub(crate) fn robot_index(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    obj.extract::<usize>().map_err(|e| {
+        if obj.is_instance_of::<pyo3::types::PyInt>() {
+            input_err(obj.py(), "robot", "a robot index, an integer >= 0".into(), obj.to_string())
+        } else {
+            e
+        }
+    })
+}
+
+/// A seed argument: a negative Python int or one of 2**64 or more is an `InputError` naming
+/// `seed` and what arrived (pyo3 alone raises `OverflowError`).
+pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+    obj.extract::<u64>().map_err(|e| {
+        if obj.is_instance_of::<pyo3::types::PyInt>() {
+            input_err(obj.py(), "seed", "an integer in [0, 2**64)".into(), obj.to_string())
+        } else {
+            e
+        }
+    })
+}
+
 /// `obj` as a one-dimensional numpy array of `T`, or an `InputError` naming `field` that says
 /// what arrived (a float32 state buffer, a list, a 2-D array...).
 pub(crate) fn array_of<'py, T: numpy::Element>(

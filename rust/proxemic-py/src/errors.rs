@@ -24,6 +24,9 @@ pub(crate) fn to_py_err(py: Python<'_>, e: CoreError) -> PyErr {
         CoreError::Planning { file, field, message } => {
             ("PlanningError", Some(file.clone()), field.clone(), None, Some(message.clone()))
         }
+        CoreError::Invariant { episode, invariant, detail } => {
+            ("InvariantError", Some(episode.clone()), invariant.clone(), None, Some(detail.clone()))
+        }
     };
     let message = e.to_string();
     let build = || -> PyResult<PyErr> {

@@ -9,7 +9,8 @@
 //!   other result through one serde-to-Python conversion (`conversions::to_py`);
 //! - [`scenario`]: `Scenario`, `generate`, `parse_time_of_day`, `scenario_schema`;
 //! - [`world`]: the class `World`;
-//! - [`step`]: the two-phase control step around the Python physics, and `step_worlds`.
+//! - [`step`]: the two-phase control step around the Python physics, and `step_worlds`;
+//! - [`validation`]: the pedestrian model against recorded crowds and the RiMEA tests.
 //!
 //! # Threading model
 //! `World.reset` and `World.step` copy nothing: they borrow the numpy buffers (read-only for
@@ -27,6 +28,7 @@ mod conversions;
 mod errors;
 mod scenario;
 mod step;
+mod validation;
 mod world;
 
 /// The metric reference: one dict per key of an episode's metrics (`key`, `family`, `label`,
@@ -63,5 +65,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(metric_registry, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::scenario_schema, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::generate, m)?)?;
+    validation::register(m)?;
     Ok(())
 }

@@ -6,7 +6,7 @@ use pyo3::types::PyDict;
 use proxemic_core::CoreError;
 use proxemic_core::scenario::{Scenario as CoreScenario, TimeOfDay as CoreTimeOfDay};
 
-use crate::conversions::{TimeOfDay, to_json_text};
+use crate::conversions::{TimeOfDay, robot_index, to_json_text};
 use crate::errors::{enter_core, input_err};
 
 /// A validated scenario (parsed once, from a TOML file or string).
@@ -92,7 +92,12 @@ impl PyScenario {
     /// instead of its file goal. Raises `ScenarioError`; a goal inside a wall or object is
     /// rejected when a `World` is built.
     #[pyo3(signature = (goal, robot = 0))]
-    fn with_goal(&self, py: Python<'_>, goal: [f64; 2], robot: usize) -> PyResult<Self> {
+    fn with_goal(
+        &self,
+        py: Python<'_>,
+        goal: [f64; 2],
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Self> {
         let inner = enter_core(py, || self.inner.with_goal(robot, goal))?;
         Ok(PyScenario { inner })
     }

@@ -7,7 +7,9 @@ use pyo3::types::{PyDict, PyTuple};
 use proxemic_core::scenario::check_time_of_day;
 use proxemic_core::world::World as CoreWorld;
 
-use crate::conversions::{Named, array_of, busy, finite_point, flat_mut, points_to_array, to_py};
+use crate::conversions::{
+    Named, array_of, busy, finite_point, flat_mut, points_to_array, robot_index, seed_arg, to_py,
+};
 use crate::errors::{enter_core, input_err, missing};
 use crate::scenario::PyScenario;
 use crate::step::{StepBuffers, two_phase_step};
@@ -124,7 +126,7 @@ impl PyWorld {
     fn reset(
         &mut self,
         py: Python<'_>,
-        seed: u64,
+        #[pyo3(from_py_with = seed_arg)] seed: u64,
         out: &Bound<'_, PyAny>,
         people_out: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
@@ -205,21 +207,33 @@ impl PyWorld {
 
     /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
     /// reference path of `l_ratio`, `smooth_rad2` and `smooth_rad`), as a (K, 2) float64 array.
-    fn astar_path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn astar_path<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, "A* path", CoreWorld::astar_path)?)
     }
 
     /// Robot `robot`'s poses x, y, theta (m, m, rad, world frame) at every control instant of
     /// the episode so far, the start first, as a (T + 1, 3) float64 array (what its metrics are
     /// computed from; steps after its episode ended are not recorded).
-    fn trajectory<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn trajectory<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let poses = self.of_robot(py, robot, "trajectory", CoreWorld::trajectory)?;
         let flat: Vec<f64> = poses.iter().flatten().copied().collect();
         PyArray1::from_vec(py, flat).reshape([poses.len(), 3])
     }
 
     /// The global path robot `robot` is following, as a (K, 2) float64 array.
-    fn path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn path<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, "path", CoreWorld::path)?)
     }
 
@@ -230,7 +244,7 @@ impl PyWorld {
     fn plan<'py>(
         &mut self,
         py: Python<'py>,
-        robot: usize,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
         start: (f64, f64),
         goal: (f64, f64),
         social: bool,
@@ -257,7 +271,7 @@ impl PyWorld {
     fn social_layers<'py>(
         &mut self,
         py: Python<'py>,
-        robot: usize,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
         time_of_day: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let robot = self.robot(py, robot)?;
@@ -304,7 +318,7 @@ impl PyWorld {
     }
 
     /// How many times robot `robot`'s social path was (re-)planned this episode.
-    fn replans(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+    fn replans(&self, py: Python<'_>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<usize> {
         let robot = self.robot(py, robot)?;
         Ok(self.inner.replans(robot))
     }
@@ -312,7 +326,11 @@ impl PyWorld {
     /// How many social searches ran for robot `robot` this episode: its first plan, its
     /// triggered re-plans and its refreshes, whether the new path was kept or not (0 for a robot
     /// that is not on a social planner). At least :meth:`replans`.
-    fn social_searches(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+    fn social_searches(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<usize> {
         let robot = self.robot(py, robot)?;
         Ok(self.inner.social_searches(robot))
     }
@@ -336,7 +354,11 @@ impl PyWorld {
 
     /// Robot `robot`'s inflated cost grid as ((H, W) uint8 array, (origin_x, origin_y,
     /// resolution)); row 0 is the lowest y. 254 marks static obstacles, 253 the inflation.
-    fn cost_grid<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyTuple>> {
+    fn cost_grid<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyTuple>> {
         let g = self.of_robot(py, robot, "cost grid", CoreWorld::cost_grid)?;
         let arr = PyArray1::from_slice(py, &g.cost).reshape([g.spec.height, g.spec.width])?;
         let meta = to_py(py, "the grid", &(g.spec.origin.x, g.spec.origin.y, g.spec.resolution))?;
@@ -344,7 +366,11 @@ impl PyWorld {
     }
 
     /// Geodesic shortest collision-free distance from robot `robot`'s nominal start to its goal (m).
-    fn geodesic_start_distance(&self, py: Python<'_>, robot: usize) -> PyResult<f64> {
+    fn geodesic_start_distance(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<f64> {
         let robot = self.robot(py, robot)?;
         self.inner.geodesic_start_distance(robot).ok_or_else(|| missing(py, "geodesic distance"))
     }

@@ -946,7 +946,7 @@ pub const METRICS: &[MetricInfo] = &[
         "(instant, person) pairs at which the robot's social force on the person (the force of \
          `social_force_on_people`) is above 2.0 m/s². robot-sf takes the total social force of its \
          pedestrian simulator on the person; we take the robot's own, so that it measures the \
-         robot's effect (README: choices).",
+         robot's effect (docs: choices.md).",
         "pairs `(t, i)` with `|F_R→i,t| > 2.0 m/s²`",
         "robot-sf (SNQI)",
     ),

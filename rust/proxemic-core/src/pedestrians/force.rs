@@ -70,6 +70,88 @@ impl Default for SocialForceParams {
     }
 }
 
+impl SocialForceParams {
+    /// The parameters' names, in declaration order (for [`SocialForceParams::get`] and
+    /// [`SocialForceParams::set`]).
+    pub const NAMES: [&'static str; 16] = [
+        "dt",
+        "tau",
+        "strength",
+        "lambda",
+        "gamma",
+        "n",
+        "n_prime",
+        "cutoff",
+        "wall_strength",
+        "wall_range",
+        "group_gaze",
+        "group_coherence",
+        "group_repulsion",
+        "group_d0",
+        "arrival",
+        "max_speed_factor",
+    ];
+
+    fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        Some(match name {
+            "dt" => &mut self.dt,
+            "tau" => &mut self.tau,
+            "strength" => &mut self.strength,
+            "lambda" => &mut self.lambda,
+            "gamma" => &mut self.gamma,
+            "n" => &mut self.n,
+            "n_prime" => &mut self.n_prime,
+            "cutoff" => &mut self.cutoff,
+            "wall_strength" => &mut self.wall_strength,
+            "wall_range" => &mut self.wall_range,
+            "group_gaze" => &mut self.group_gaze,
+            "group_coherence" => &mut self.group_coherence,
+            "group_repulsion" => &mut self.group_repulsion,
+            "group_d0" => &mut self.group_d0,
+            "arrival" => &mut self.arrival,
+            "max_speed_factor" => &mut self.max_speed_factor,
+            _ => return None,
+        })
+    }
+
+    /// The value of parameter `name` (one of [`SocialForceParams::NAMES`]).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        let mut copy = *self;
+        copy.slot(name).map(|v| *v)
+    }
+
+    /// Sets parameter `name` to `value`. Errors (naming the parameter, leaving the parameters
+    /// unchanged) for an unknown name, a non-finite value, a negative one, or a zero `dt`,
+    /// `tau`, `gamma` or `max_speed_factor` (they divide or bound the motion), and for `dt` not
+    /// below `2 tau` (explicit Euler on the relaxation term).
+    pub fn set(&mut self, name: &str, value: f64) -> crate::Result<()> {
+        let field = format!("social_force.{name}");
+        let positive = matches!(name, "dt" | "tau" | "gamma" | "max_speed_factor");
+        let mut next = *self;
+        let Some(slot) = next.slot(name) else {
+            return Err(crate::CoreError::input(
+                field,
+                format!("one of {:?}", Self::NAMES),
+                format!("{name:?}"),
+            ));
+        };
+        if !value.is_finite() || value < 0.0 || (positive && value <= 0.0) {
+            let want = if positive { "a finite value > 0" } else { "a finite value >= 0" };
+            return Err(crate::CoreError::input(field, want, format!("{value}")));
+        }
+        *slot = value;
+        if next.dt >= 2.0 * next.tau {
+            return Err(crate::CoreError::input(
+                field,
+                format!("dt below 2 tau (explicit Euler), tau = {}", next.tau),
+                format!("dt = {}", next.dt),
+            ));
+        }
+        *self = next;
+        Ok(())
+    }
+}
+
 /// Interaction force on a pedestrian at `pi` with velocity `vi` from an agent at `pj` with
 /// velocity `vj` (Moussaid, Helbing, Garnier, Johansson, Combe & Theraulaz 2009, Proc. R. Soc. B
 /// 276). Centre-to-centre distances; m/s^2.

@@ -39,18 +39,21 @@
 //! crowd), `steer.rs` (each script's motion for a substep), `follow.rs` (followers of a robot's
 //! tour), `replay.rs` (recorded people), `scripts.rs` (the scripts, planned once when the world is built),
 //! `counterfactual.rs` (the episode's people replayed without the robots, for the robot's cost to
-//! people).
+//! people), `validation.rs` (the model against recorded crowds: closed-loop re-enactment and
+//! open-loop prediction) and `rimea.rs` (the RiMEA known-answer tests).
 
 mod counterfactual;
 mod crowd;
 mod follow;
 mod force;
 pub mod replay;
+pub mod rimea;
 pub mod scripts;
 mod spawn;
 mod steer;
 #[cfg(test)]
 mod tests;
+pub mod validation;
 
 pub use counterfactual::{RobotFree, Stages};
 pub use crowd::{Crowd, GuideState};

@@ -1152,7 +1152,7 @@ mod tests {
                 people.push(on_a_contour(&spec, &mut rng, 15.5, 19.5));
             }
             let mut layer = DensityLayer::new(spec, z, &c);
-            let open = crate::plan::CostGrid { spec, cost: vec![0; spec.len()] };
+            let open = crate::map::CostGrid { spec, cost: vec![0; spec.len()] };
             let mut map = super::super::SocialMap::new(open, &[], c);
             layer.update(&people);
             layer.write_to(&mut map).expect("same grid");

@@ -7,7 +7,7 @@ mod objects;
 pub(super) mod people;
 pub(super) mod polygons;
 mod proxemics;
-mod replay;
+pub(super) mod replay;
 mod robots;
 mod scene;
 

@@ -67,6 +67,22 @@ pub(super) fn build_replays(
     Ok(people)
 }
 
+/// The tracks of a replay file (the format above) at `path`, in order of first appearance: each
+/// track's label and its `[t, x, y]` samples as recorded (no rotation, offset or clock shift).
+/// Errors name the file, the line and the column (field `recording`), like a scenario's
+/// `[[replay]]` file.
+pub fn read_track_file(path: &Path) -> Result<Vec<(String, Vec<[f64; 3]>)>> {
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        err(&shown, "recording".to_string(), "a readable UTF-8 CSV file `t,id,x,y`", format!("{e}"))
+    })?;
+    let rows = parse_rows(&shown, "recording", &text)?;
+    Ok(tracks(&shown, "recording", &rows)?
+        .into_iter()
+        .map(|(id, rows)| (id.to_string(), rows.iter().map(|r| [r.t, r.xy[0], r.xy[1]]).collect()))
+        .collect())
+}
+
 /// The data rows of a replay file, checked (header, four columns, finite numbers).
 fn parse_rows<'a>(file: &str, f: &str, text: &'a str) -> Result<Vec<Row<'a>>> {
     let mut lines = text.lines().enumerate().map(|(n, l)| (n + 1, l)).filter(|(_, l)| !is_skipped(l.trim()));
