@@ -86,7 +86,7 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'proxemic' has no attribute {name!r}")
 
 
-def generate(seed: int, **params: float) -> Scenario:
+def generate(seed: int, **params: float | str) -> Scenario:
     """A generated scene as a scenario; see :func:`proxemic.scenarios.generate`."""
     from proxemic.scenarios import generate as make
 

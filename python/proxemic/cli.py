@@ -443,7 +443,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
 def cmd_generate(args: argparse.Namespace) -> int:
     """Writes a generated scene's scenario file."""
-    params: dict[str, float] = {}
+    params: dict[str, float | str] = {}
     for key in scenarios.GENERATE_PARAMS:
         value = getattr(args, key, None)
         if value is not None:
@@ -687,6 +687,11 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--seed", type=int, required=True, help="the scene's seed (a non-negative integer)")
     g.add_argument("--robots", type=_positive_int, help="robots (default 1, at most 8)")
     g.add_argument("--encounters", type=int, help="conversation groups on each robot's way (0 or 1; default 0)")
+    g.add_argument(
+        "--reaction",
+        choices=["ignore", "aware", "yield", "curious", "cautious"],
+        help="the people's reaction to robots (default aware; docs/people.md)",
+    )
     g.add_argument("--objects-per-room", dest="objects_per_room", type=int, help="objects per room (default 3)")
     for key, unit in [
         ("width", "m"),

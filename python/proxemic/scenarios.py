@@ -106,11 +106,12 @@ FRANCIS2023_PREFIX = "francis2023/"
 GENERATE_PARAMS: tuple[str, ...] = tuple(_core.GENERATE_PARAMS)
 
 
-def generated_name(seed: int, **params: float) -> str:
+def generated_name(seed: int, **params: float | str) -> str:
     """The scenario name ``generated/<seed>?key=value&...`` of a generated scene.
 
     Raises:
-        InputError: `seed` not a non-negative integer, a parameter value not a number.
+        InputError: `seed` not a non-negative integer, a parameter value not a number (for
+            ``reaction``, not a string; an unknown name is the core's ScenarioError).
         UnknownNameError: a parameter name not in ``GENERATE_PARAMS``.
     """
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -124,6 +125,11 @@ def generated_name(seed: int, **params: float) -> str:
                 expected=f"one of {list(GENERATE_PARAMS)}",
                 found=key,
             )
+        if key == "reaction":
+            if not isinstance(value, str):
+                raise input_error(key, "a reaction name (ignore, aware, yield, curious, cautious)", value)
+            pairs.append(f"{key}={value}")
+            continue
         pairs.append(
             f"{key}={_number(value, key):g}"
             if key not in ("robots", "objects_per_room", "encounters")
@@ -133,7 +139,7 @@ def generated_name(seed: int, **params: float) -> str:
     return f"{GENERATED_PREFIX}{int(seed)}{query}"
 
 
-def generate(seed: int, **params: float) -> _core.Scenario:
+def generate(seed: int, **params: float | str) -> _core.Scenario:
     """A generated scene (a seeded floor plan with furniture, people and robots) as a scenario.
 
     Same seed and parameters, same scene. Parameters (defaults and ranges in ``docs/generated.md`` and the
@@ -141,7 +147,8 @@ def generate(seed: int, **params: float) -> _core.Scenario:
     ``corridor_width`` (m, 3, [2.4, 6]), ``door_width`` (m, 1.8, [1.4, 3]), ``density`` (people per
     100 m^2, 1.5, [0, 6]), ``group_share`` (0.3), ``walker_share`` (0.4), ``seated_share`` (0.2),
     ``objects_per_room`` (3, [0, 8]), ``robots`` (1, [1, 8]), ``max_time`` (s, 180, [30, 3600]),
-    ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way).
+    ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way),
+    ``reaction`` (the people's reaction to robots, default ``aware``; ``docs/people.md``).
     The same scene is ``gym.make("proxemic/Generated-v0", scenario=generated_name(seed, ...))``.
 
     Raises:
@@ -153,7 +160,7 @@ def generate(seed: int, **params: float) -> _core.Scenario:
     return core
 
 
-def generate_toml(seed: int, **params: float) -> str:
+def generate_toml(seed: int, **params: float | str) -> str:
     """The scenario file text of :func:`generate`'s scene (loads back as the same scenario)."""
     return _core.generate(generated_name(seed, **params))[1]
 

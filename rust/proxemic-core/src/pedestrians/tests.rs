@@ -7,7 +7,7 @@ use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::map::grid::{GridSpec, OccupancyGrid};
 use crate::math::Vec2;
-use crate::scenario::Behaviour;
+use crate::scenario::{Behaviour, Reaction};
 use crate::scenario::{Person, Randomize};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -23,7 +23,7 @@ fn walker(route: &[[f64; 2]], speed: f64, dwell: f64) -> Person {
         radius: 0.2,
         height: 1.7,
         group: None,
-        aware: true,
+        reaction: Reaction::Aware,
         features: vec![],
         ..Person::default()
     }
@@ -218,9 +218,9 @@ fn aware_walker_goes_around_a_standing_robot_and_oblivious_does_not_avoid_it() {
         room.step(&mut c, 0.1, &robot);
         min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
     }
-    assert!(min_gap >= YIELD_GAP - 1e-9, "gap {min_gap}");
+    assert!(min_gap >= ReactionParams::default().hard_gap - 1e-9, "gap {min_gap}");
     assert!(c.pos[0].x > 10.0, "stuck behind the robot at {:?}", c.pos[0]);
-    p.aware = false;
+    p.reaction = Reaction::Ignore;
     let mut c = spawn(&[p]);
     let mut min_gap = f64::INFINITY;
     for _ in 0..200 {
@@ -278,7 +278,7 @@ fn standing_person_stays() {
         radius: 0.2,
         height: 1.7,
         group: None,
-        aware: true,
+        reaction: Reaction::Aware,
         features: vec![],
         ..Person::default()
     };
