@@ -22,6 +22,13 @@ trials:
 The growth from 50 to 1000 people is printed as a ratio per person. Target (reliability issue):
 1000 people build in at most 2 s; the bench exits non-zero when it is missed.
 
+Ten thousand people (issue 43): the 1000-person hall and a hall of 10,000 people at the same
+density (:func:`hall_size`, 316 x 190 m), each built and stepped in a fresh process (its peak RSS
+is the process's): build (``ProxemicEnv`` and the first ``reset``), the median env step over
+:data:`BIG_STEPS` steps with plain A* and with ``social`` driving, the peak RSS, and the growth
+per person from 1000 to 10,000. Targets: build <= 5 s, env step with ``social`` <= 20 ms; the bench
+exits non-zero when one is missed.
+
 Run: ``python benches/crowd_bench.py`` (``make bench`` does). ``--write DIR`` writes the scenario
 files (``crowd_<people>.toml``) into ``DIR`` and exits, e.g. for the Rust example
 ``crowd_world_timing``, which times the core alone on them and prints a digest of its outputs.
@@ -57,27 +64,43 @@ BUILD_TARGET_S = 2.0
 #: The issue's target for an env step of the largest crowd with the ``social`` planner (microseconds).
 STEP_TARGET_US = 2000.0
 WIDTH, HEIGHT = 100.0, 60.0
+#: The ten-thousand-person rows: sizes, steps per run, targets (issue 43).
+BIG_SIZES = (1000, 10000)
+BIG_STEPS = 100
+BIG_BUILD_TARGET_S = 5.0
+BIG_STEP_TARGET_MS = 20.0
 #: Least distance between any two placed points of the crowd (m).
 CLEARANCE = 0.8
 
 
+def hall_size(people: int) -> tuple[float, float]:
+    """The hall of `people` people: 100 x 60 m up to 1000 people, larger beyond at the same density
+    (6 m² per person) and the same 5:3 shape."""
+    if people <= 1000:
+        return WIDTH, HEIGHT
+    scale = math.sqrt(people / 1000)
+    return round(WIDTH * scale), round(HEIGHT * scale)
+
+
 def crowd_scenario(people: int, seed: int = 1) -> str:
-    """The TOML text of the hall with `people` people (seeded).
+    """The TOML text of the hall (:func:`hall_size`) with `people` people (seeded).
 
     Three tenths of them stand alone, three tenths talk in groups of three (a conversation around
     an o-space centre for the whole episode; a group of two or one more standing person takes the
     remainder) and the rest walk between two random points of the hall.
     """
     rng = random.Random(seed)
-    corners = [(0, 0), (WIDTH, 0), (WIDTH, HEIGHT), (0, HEIGHT)]
+    width, height = hall_size(people)
+    corners = [(0, 0), (width, 0), (width, height), (0, height)]
     lines = [
         "[scene]",
         f'name = "crowd_{people}"',
-        f"bounds = [0, 0, {WIDTH}, {HEIGHT}]",
+        f"bounds = [0, 0, {width}, {height}]",
     ]
     for (x0, y0), (x1, y1) in zip(corners, corners[1:] + corners[:1], strict=True):
         lines += ["[[wall]]", f"from = [{x0}, {y0}]", f"to = [{x1}, {y1}]"]
-    lines += ["[[robot]]", "start = [2, 30, 0]", "goal = [98, 30]", 'planner = "social"']
+    lines += ["[[robot]]", f"start = [2, {height / 2:g}, 0]", f"goal = [{width - 2:g}, {height / 2:g}]"]
+    lines += ['planner = "social"']
     lines += ["[episode]", "max_time = 300"]
     # Every placed point (standing poses, route ends, conversation places) at least CLEARANCE
     # from the others: the scenario check rejects people placed overlapping. A coarse grid of
@@ -94,7 +117,7 @@ def crowd_scenario(people: int, seed: int = 1) -> str:
 
     def free_point(clear: float = CLEARANCE) -> tuple[float, float]:
         while True:
-            x, y = round(rng.uniform(5, 95), 2), round(rng.uniform(3, 57), 2)
+            x, y = round(rng.uniform(5, width - 5), 2), round(rng.uniform(3, height - 3), 2)
             if is_free(x, y, clear):
                 return x, y
 
@@ -210,8 +233,76 @@ def measure(path: Path) -> Trial:
     )
 
 
+def one_run(path: Path, planner: str, steps: int) -> dict[str, float]:
+    """Builds `path` with `planner` driving, steps it `steps` times: build (s), median step (ms)."""
+    import resource
+
+    t0 = time.perf_counter()
+    env = ProxemicEnv(path, autopilot=True, planner=planner)
+    env.reset(seed=0)
+    build = time.perf_counter() - t0
+    times = []
+    for _ in range(steps):
+        t = time.perf_counter()
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample() * 0)
+        times.append(time.perf_counter() - t)
+        if terminated or truncated:
+            env.reset()
+    env.close()
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    return {"build": build, "step": 1e3 * statistics.median(times), "rss": rss}
+
+
+def big_rows(tmp: Path) -> bool:
+    """The 1000 and 10,000-person rows (each run in a fresh process); returns whether the targets were met."""
+    import json
+    import subprocess
+
+    rows = {}
+    for n in BIG_SIZES:
+        path = tmp / f"crowd_{n}.toml"
+        path.write_text(crowd_scenario(n))
+        for planner in ("astar", "social"):
+            out = subprocess.run(
+                [sys.executable, __file__, "--one", str(path), planner, str(BIG_STEPS)],
+                capture_output=True,
+                text=True,
+                check=True,
+            ).stdout
+            rows[n, planner] = json.loads(out.splitlines()[-1])
+    print(
+        f"{'people':>7} {'hall [m]':>10} {'build [s]':>10} {'step astar [ms]':>16} {'step social [ms]':>17}"
+        f" {'RSS [MB]':>9}"
+    )
+    for n in BIG_SIZES:
+        a, b = rows[n, "astar"], rows[n, "social"]
+        w, h = hall_size(n)
+        print(
+            f"{n:>7} {f'{w:g} x {h:g}':>10} {statistics.median([a['build'], b['build']]):>10.2f}"
+            f" {a['step']:>16.2f} {b['step']:>17.2f} {max(a['rss'], b['rss']):>9.0f}"
+        )
+    n0, n1 = BIG_SIZES
+    for planner in ("astar", "social"):
+        g = rows[n1, planner]["step"] / rows[n0, planner]["step"]
+        print(f"growth {n0} -> {n1} people, {planner}: step x{g:.1f} for x{n1 / n0:.0f} people")
+    build = statistics.median([rows[n1, "astar"]["build"], rows[n1, "social"]["build"]])
+    step = rows[n1, "social"]["step"]
+    ok_build, ok_step = build <= BIG_BUILD_TARGET_S, step <= BIG_STEP_TARGET_MS
+    print(f"build of {n1} people: {build:.2f} s, target <= {BIG_BUILD_TARGET_S} s: {'met' if ok_build else 'MISSED'}")
+    print(
+        f"env step with {n1} people (social): {step:.2f} ms, target <= {BIG_STEP_TARGET_MS} ms: "
+        f"{'met' if ok_step else 'MISSED'}"
+    )
+    return ok_build and ok_step
+
+
 def main() -> int:
     """Runs the bench; returns the exit code (1 when a target is missed)."""
+    if len(sys.argv) == 5 and sys.argv[1] == "--one":
+        import json
+
+        print(json.dumps(one_run(Path(sys.argv[2]), sys.argv[3], int(sys.argv[4]))))
+        return 0
     if len(sys.argv) == 3 and sys.argv[1] == "--write":
         out = Path(sys.argv[2])
         out.mkdir(parents=True, exist_ok=True)
@@ -219,6 +310,9 @@ def main() -> int:
             (out / f"crowd_{n}.toml").write_text(crowd_scenario(n))
         print(f"wrote {', '.join(f'crowd_{n}.toml' for n in SIZES)} to {out}")
         return 0
+    if len(sys.argv) == 2 and sys.argv[1] == "--big":
+        with tempfile.TemporaryDirectory() as tmp:
+            return 0 if big_rows(Path(tmp)) else 1
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for n in SIZES:
@@ -240,6 +334,8 @@ def main() -> int:
     (n0, m0), (n1, m1) = rows[0], rows[-1]
     s0, s1, b1 = m0["step"], m1["step"], m1["build"]
     print(f"growth {n0} -> {n1} people: step x{s1 / s0:.1f} for x{n1 / n0:.0f} people")
+    with tempfile.TemporaryDirectory() as tmp:
+        ok_big = big_rows(Path(tmp))
     ok_build = b1 <= BUILD_TARGET_S
     ok_step = s1 <= STEP_TARGET_US
     print(f"build of {n1} people: {b1:.3f} s, target <= {BUILD_TARGET_S} s: {'met' if ok_build else 'MISSED'}")
@@ -247,7 +343,7 @@ def main() -> int:
         f"env step with {n1} people (social): {s1 / 1e3:.2f} ms, target <= {STEP_TARGET_US / 1e3:.1f} ms: "
         f"{'met' if ok_step else 'MISSED'}"
     )
-    return 0 if ok_build and ok_step else 1
+    return 0 if ok_build and ok_step and ok_big else 1
 
 
 if __name__ == "__main__":

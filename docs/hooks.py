@@ -3,6 +3,8 @@
 - ``<!-- generated: scenario-reference -->``: the scenario file's tables and fields, from the
   JSON Schema the core emits (``proxemic.reference.scenario_markdown``);
 - ``<!-- generated: cli-help -->``: ``proxemic <command> --help`` of every command;
+- ``<!-- generated: readme -->``: the repository's README (the home page; one source), its
+  ``docs/`` links made relative to the site;
 - after the build, the Rust core's ``cargo doc`` (``target/doc``, built by ``make docs``) is
   copied to ``site/rust-api``.
 """
@@ -35,6 +37,9 @@ def on_page_markdown(markdown: str, page: Any, config: Any, files: Any) -> str:
         from proxemic.reference import scenario_markdown
 
         markdown = markdown.replace("<!-- generated: scenario-reference -->", scenario_markdown())
+    if "<!-- generated: readme -->" in markdown:
+        readme = (ROOT / "README.md").read_text()
+        markdown = markdown.replace("<!-- generated: readme -->", readme.replace("](docs/", "]("))
     if "<!-- generated: cli-help -->" in markdown:
         markdown = markdown.replace("<!-- generated: cli-help -->", _cli_help())
     return markdown

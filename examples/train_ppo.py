@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
 import time
 from pathlib import Path
 from typing import Any
@@ -116,7 +117,13 @@ def main() -> None:
     ap.add_argument("--out", default="out/ppo")
     args = ap.parse_args()
     import proxemic
+    from proxemic.errors import MissingExtraError
 
+    try:
+        for module in ("torch", "stable_baselines3"):
+            require_extra(module, "rl", "examples/train_ppo.py")
+    except MissingExtraError as e:
+        sys.exit(f"{e}\nFrom the repository root: pip install '.[rl]' (stable-baselines3, which brings torch)")
     path = train(args.scenario, args.steps, Path(args.out), seed=args.seed)
     os.environ["PROXEMIC_PPO_MODEL"] = str(path.resolve())
     result = proxemic.evaluate(

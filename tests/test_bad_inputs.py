@@ -109,6 +109,7 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
     ("env-width-zero", "museum(render_mode='rgb_array', width=0)", "InputError", "width"),
     ("env-height-negative", "museum(render_mode='topdown', height=-5)", "InputError", "height"),
     ("env-width-float", "museum(width=640.5)", "InputError", "width"),
+    ("env-width-string", "museum(width='640')", "InputError", "width"),
     ("env-width-huge", "museum(width=100000)", "InputError", "width"),
     ("env-render-mode", "museum(render_mode='ascii')", "InputError", "render_mode"),
     ("env-camera", "museum(camera='side')", "InputError", "camera"),
@@ -140,6 +141,52 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
     ("par-robots-zero", "proxemic.parallel_env('museum_multi', robots=0)", "ScenarioError", "robots"),
     ("par-robots-many", "proxemic.parallel_env('museum_multi', robots=12)", "ScenarioError", "robots"),
     ("par-robots-float", "proxemic.parallel_env('museum_multi', robots=2.5)", "InputError", "robots"),
+    ("par-step-none", "multi().step(None)", "InputError", "actions"),
+    ("par-step-list", "multi().step([np.zeros(3), np.zeros(3)])", "InputError", "actions"),
+    (
+        "par-autopilot-string",
+        "proxemic.parallel_env('museum_multi', robots=2, autopilot='robot_0')",
+        "InputError",
+        "autopilot",
+    ),
+    ("gen-duplicate-key", "proxemic.env.ProxemicEnv('generated/3?robots=1&robots=2')", "ScenarioError", "robots"),
+    (
+        "francis-duplicate-key",
+        "proxemic.env.ProxemicEnv('francis2023/crossing_90?seed=1&seed=2')",
+        "ScenarioError",
+        "seed",
+    ),
+    ("francis-archetype-none", "gym.make('proxemic/Francis2023-v0', archetype=None)", "InputError", "archetype"),
+    (
+        "sim-crowd-too-large",
+        "from proxemic.sim.model import check_crowd_fits, max_people\ncheck_crowd_fits({'persons': [{}] * (max_people(1) + 1), 'robots': [{}]})",
+        "InputError",
+        "persons",
+    ),
+    (
+        "vec-num-envs-huge",
+        "from proxemic.vector import vector_env\nvector_env('museum', num_envs=10**9)",
+        "InputError",
+        "num_envs",
+    ),
+    (
+        "core-astar-path-negative",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.astar_path(-1)",
+        "InputError",
+        "robot",
+    ),
+    (
+        "core-reset-seed-2-64",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.reset(2**64, np.zeros(w.stride), np.zeros(w.num_people * _core.PERSON_OUT))",
+        "InputError",
+        "seed",
+    ),
+    (
+        "video-out-unwritable",
+        "from proxemic.viz.video import write_video\nwrite_video([np.zeros((8, 8, 3), np.uint8)], '/proc/proxemic/v.mp4')",
+        "InputError",
+        "out",
+    ),
     ("par-width-zero", "proxemic.parallel_env('museum_multi', robots=2, width=0)", "InputError", "width"),
     # --- scenario files
     (
@@ -639,6 +686,47 @@ CLI_CASES: list[tuple[str, list[str], str]] = [
     ("cli-tune-trials-zero", ["tune", "--trials", "0"], "--trials"),
     ("cli-demo-episodes-zero", ["demo", "--episodes", "0"], "--episodes"),
     ("cli-video-out-directory", ["video", "--max-steps", "2", "--out", "/tmp"], "out"),
+    ("cli-video-out-unwritable", ["video", "--max-steps", "2", "--out", "/proc/proxemic/v.mp4"], "out"),
+    (
+        "cli-eval-archetype-without-suite",
+        ["eval", "--archetype", "crossing_90", "--out", "/tmp/bad-cli"],
+        "--archetype",
+    ),
+    (
+        "cli-eval-scenario-with-suite",
+        ["eval", "--suite", "francis2023", "--scenario", "museum", "--out", "/tmp/bad-cli"],
+        "--scenario",
+    ),
+    (
+        "cli-eval-policy-complex-action",
+        ["eval", "--policy", "tests/bad_policies.py:complex_action", "--episodes", "1", "--out", "/tmp/bad-cli"],
+        "policy",
+    ),
+    (
+        "cli-eval-policy-bool-action",
+        ["eval", "--policy", "tests/bad_policies.py:bool_action", "--episodes", "1", "--out", "/tmp/bad-cli"],
+        "policy",
+    ),
+    (
+        "cli-eval-policy-raises-at-import",
+        ["eval", "--policy", "tests/bad_policy_import.py:make", "--episodes", "1", "--out", "/tmp/bad-cli"],
+        "policy",
+    ),
+    (
+        "cli-eval-policy-raises-in-factory",
+        ["eval", "--policy", "tests/bad_policies.py:raises_in_factory", "--episodes", "1", "--out", "/tmp/bad-cli"],
+        "policy",
+    ),
+    (
+        "cli-eval-policy-raises-at-step",
+        ["eval", "--policy", "tests/bad_policies.py:raises_at_step", "--episodes", "1", "--out", "/tmp/bad-cli"],
+        "policy",
+    ),
+    (
+        "cli-eval-policy-sys-exit",
+        ["eval", "--policy", "tests/bad_policies.py:exits_at_step", "--episodes", "1", "--out", "/tmp/bad-cli"],
+        "policy",
+    ),
 ]
 
 

@@ -104,7 +104,7 @@ def test_ray_backend_without_ray_is_a_clear_error(tmp_path, monkeypatch):
 
 
 def test_a_failing_episode_keeps_the_finished_records(tmp_path, monkeypatch, capsys):
-    from proxemic import evaluation
+    from proxemic.evaluation import episodes as evaluation
 
     real = evaluation.run_task
 
@@ -157,7 +157,7 @@ def test_ray_backend_gives_the_same_records_as_processes(tmp_path):
 
 
 def test_an_interrupted_run_keeps_the_finished_records(tmp_path, monkeypatch, capsys):
-    from proxemic import evaluation
+    from proxemic.evaluation import episodes as evaluation
 
     real = evaluation.run_task
 

@@ -365,16 +365,6 @@ def test_example_with_a_standard_multi_agent_wrapper_runs():
     assert result["steps"] == 30
 
 
-def test_readme_parallel_example_runs(capsys):
-    import re
-
-    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), flags=re.S)
-    block = next(b for b in blocks if "parallel_env" in b)
-    exec(compile(block, "README.md", "exec"), {})
-    rate, collisions, team_time = capsys.readouterr().out.split()
-    assert 0.0 <= float(rate) <= 1.0 and int(collisions) >= 0 and float(team_time) > 0.0
-
-
 class _CountingWorld:
     """Counts every attribute of the core ``World`` used (each one is a call into Rust)."""
 

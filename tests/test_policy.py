@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
 import sys
 from pathlib import Path
 
@@ -33,7 +32,7 @@ SCENE = "daza2021_path3"  # a 10 m route past a group: short episodes
 
 @pytest.fixture
 def at_root(monkeypatch):
-    """Runs from the repository root (where ``examples.my_policy`` imports), as the README says."""
+    """Runs from the repository root (where ``examples.my_policy`` imports), as docs/policies.md says."""
     monkeypatch.chdir(ROOT)
     yield ROOT
     for name in [m for m in sys.modules if m == "examples" or m.startswith("examples.")]:
@@ -135,6 +134,13 @@ def test_cli_policy_gives_the_same_records_on_processes_and_ray(at_root, tmp_pat
         ("tests/bad_policies.py:short_action", r"got an action of shape \(2,\)"),
         ("tests/bad_policies.py:not_a_policy", "expected a callable obs -> action"),
         ("tests/bad_policies.py:no_arguments", "the factory must take (observation_space, action_space)"),
+        ("tests/bad_policies.py:complex_action", "of real numbers, got complex128 values"),
+        ("tests/bad_policies.py:bool_action", "of real numbers, got bool values"),
+        (
+            "tests/bad_policies.py:raises_in_factory",
+            "policy 'tests/bad_policies.py:raises_in_factory' raised RuntimeError: no weights file in its factory",
+        ),
+        ("tests/bad_policy_import.py:make", "raised RuntimeError: this policy module fails at import while its module"),
     ],
 )
 def test_a_bad_policy_is_a_one_line_error(at_root, tmp_path, capsys, policy, message):
@@ -143,6 +149,27 @@ def test_a_bad_policy_is_a_one_line_error(at_root, tmp_path, capsys, policy, mes
     assert err.count("\n") == 1 and "Traceback" not in err, err
     assert err.startswith("proxemic: error: ") and message.replace("\\", "") in err.replace("\\", ""), err
     assert not (tmp_path / "episodes.csv").exists()  # checked before any episode
+
+
+@pytest.mark.parametrize(
+    ("policy", "message"),
+    [
+        (
+            "raises_at_step",
+            "raised ZeroDivisionError: division by zero in the policy at step 0 of the episode of seed 0",
+        ),
+        ("exits_at_step", "called sys.exit(3) at step 0 of the episode of seed 0"),
+    ],
+)
+def test_a_policy_failing_in_an_episode_names_the_policy_the_episode_and_the_step(
+    at_root, tmp_path, capsys, policy, message
+):
+    path = f"tests/bad_policies.py:{policy}"
+    argv = ["eval", "--scenario", SCENE, "--policy", path, "--episodes", "1", "--workers", "1", "--out", str(tmp_path)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert f"policy 'bad_policies' {message}" in err, err
 
 
 def test_policy_labels_must_differ(at_root, tmp_path, capsys):
@@ -225,18 +252,3 @@ def test_metrics_png_is_a_grid_of_at_most_five_columns(tmp_path):
     assert width <= 1500 and height > 400  # five 2.9-inch panels per row at 100 dpi, four rows
     summary = (tmp_path / "summary.md").read_text()
     assert summary.index("social vs astar") < summary.index("## All metrics")
-
-
-def test_readme_bring_your_own_policy_example_runs(at_root, tmp_path):
-    readme = (ROOT / "README.md").read_text()
-    section = readme[readme.index("## Bring your own policy") :]
-    section = section[: section.index("\n## ", 1)]
-    block = section[section.index("```python\n") + 10 : section.index("```", section.index("```python\n") + 10)]
-    env = {"__name__": "readme"}
-    old = os.getcwd()
-    try:
-        exec(compile(block, "README.md", "exec"), env)
-    finally:
-        os.chdir(old)
-    result = env["result"]
-    assert {r["planner"] for r in result.records} == {"my_policy", "astar"}

@@ -94,7 +94,7 @@ def test_every_object_kind_has_a_model_and_keeps_its_collision_footprint():
 
 
 def test_robots_are_colour_coded_like_the_top_down_view():
-    from proxemic.viz.topdown import ROBOT_PALETTE
+    from proxemic.palette import ROBOT_PALETTE
 
     _, desc = scenarios.load("daza2021_fig15")
     m = Simulation(desc).render_model
@@ -208,7 +208,7 @@ def test_contact_hints_change_nothing_but_the_cost(robots: int):
 
 
 def test_steps_without_the_bindings_default_timer_and_leaves_a_users_timer(small_room):
-    from proxemic import sim as sim_module
+    from proxemic.sim import timer as sim_module
 
     if sim_module._TIMER is None or sim_module._DEFAULT_TIMER is None:
         pytest.skip("this MuJoCo's bindings install no default timer")
@@ -388,3 +388,34 @@ def test_a_period_stepped_in_one_call_reads_the_contacts_of_every_physics_step()
             env.reset()
         env.step({a: np.array([1.0, rng.uniform(-0.5, 0.5), rng.uniform(-0.3, 0.3)]) for a in env.agents})
     assert periods[0] == 300 and early_only[0] > 0
+
+
+def test_a_crowd_beyond_the_default_arena_builds_and_steps(tmp_path):
+    # 2500 people: MuJoCo's collision pass needs about 4 bytes per pair of bodies, 25 MB, more than
+    # its default 16 MB arena (a bare mujoco.FatalError before the arena was sized from the scene).
+    from proxemic.env import ProxemicEnv
+
+    people = "".join(
+        f'[[person]]\nbehaviour = "standing"\npose = [{2 + (k % 50) * 1.2:.1f}, {2 + (k // 50) * 1.2:.1f}, 0]\n'
+        for k in range(2500)
+    )
+    text = f'[scene]\nname = "big"\nbounds = [0, -3, 64, 64]\n[[robot]]\nstart = [1, -2, 0]\ngoal = [60, -2]\n{people}'
+    path = tmp_path / "big.toml"
+    path.write_text(text)
+    env = ProxemicEnv(path, autopilot=True, planner="astar")
+    try:
+        env.reset(seed=0)
+        for _ in range(3):
+            env.step(np.zeros(3))
+    finally:
+        env.close()
+
+
+def test_a_crowd_too_large_for_mujoco_is_an_input_error_naming_the_people_and_the_limit():
+    from proxemic.errors import InputError
+    from proxemic.sim.model import check_crowd_fits, max_people
+
+    limit = max_people(1)
+    check_crowd_fits({"persons": [{}] * limit, "robots": [{}]})
+    with pytest.raises(InputError, match=rf"persons: expected at most {limit} people .* got {limit + 1} people"):
+        check_crowd_fits({"persons": [{}] * (limit + 1), "robots": [{}]})

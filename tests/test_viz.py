@@ -12,8 +12,7 @@ import pytest
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1] / "python"))
 
-from proxemic.viz import TopDownRenderer, format_table, plot_episodes
-from proxemic.viz.topdown import (
+from proxemic.palette import (
     FLOOR_COLOR,
     INTERACTION_COLOR,
     OBJECT_COLORS,
@@ -24,6 +23,7 @@ from proxemic.viz.topdown import (
     WALL_COLOR,
     ZONE_COLORS,
 )
+from proxemic.viz import TopDownRenderer, format_table, plot_episodes
 
 W, H = 640, 480
 

@@ -20,6 +20,8 @@ and the algorithms in ``docs/algorithms.md``.
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 from typing import TYPE_CHECKING, Any
 
 from proxemic import _core
@@ -27,8 +29,10 @@ from proxemic._core import EBAND_GAINS, PLANNERS, Scenario, parse_time_of_day
 from proxemic.errors import (
     EpisodeError,
     InputError,
+    InvariantError,
     NeedsResetError,
     PlanningError,
+    PolicyError,
     ProxemicError,
     ScenarioError,
     UnknownNameError,
@@ -64,7 +68,11 @@ def vector_env(*args: Any, **kwargs: Any) -> ProxemicVectorEnv:
 
 
 def __getattr__(name: str) -> Any:
-    """The environment classes, imported on first use (MuJoCo, and PettingZoo for the parallel one)."""
+    """The environment classes and the submodules, imported on first use.
+
+    ``proxemic.env.ProxemicEnv``, ``proxemic.policy.joint_policy`` or ``proxemic.viz.video`` work
+    after a plain ``import proxemic`` (MuJoCo, PettingZoo and matplotlib load only when used).
+    """
     if name == "ProxemicEnv":
         from proxemic.env import ProxemicEnv
 
@@ -73,6 +81,8 @@ def __getattr__(name: str) -> Any:
         from proxemic.parallel import ProxemicParallelEnv
 
         return ProxemicParallelEnv
+    if not name.startswith("_") and importlib.util.find_spec(f"{__name__}.{name}") is not None:
+        return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module 'proxemic' has no attribute {name!r}")
 
 
@@ -96,8 +106,10 @@ __all__ = [
     "PLANNERS",
     "EpisodeError",
     "InputError",
+    "InvariantError",
     "NeedsResetError",
     "PlanningError",
+    "PolicyError",
     "ProxemicEnv",
     "ProxemicError",
     "ProxemicParallelEnv",

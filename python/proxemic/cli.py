@@ -9,14 +9,16 @@ import os
 import sys
 import textwrap
 import time
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
 
-from proxemic import scenarios
+from proxemic import scenarios, splits
 from proxemic.errors import ProxemicError
 from proxemic.evaluation import BASELINE_PLANNERS
+from proxemic.viz.topdown import FRAME_SIZE
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
 DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None), ("calderita_exp1", None))
@@ -26,15 +28,77 @@ DEMO_SOCIAL_MAPS: tuple[tuple[str, str | None], ...] = (("sousa2022_fig16", None
 #: A* that stops for whoever is in its way), the social global planner alone, and proxemic's own social
 #: planner (social A* with Daza 2021's mode switch: Social Momentum near people and ORCA among robots).
 DEMO_PLANNERS = ("astar", "astar_orca", "astar_stop", "social_astar", "social")
+#: The demo's first episode seed: the test split's first (``proxemic.splits.TEST_EPISODE_SEEDS``).
+DEMO_FIRST_SEED = splits.TEST_EPISODE_SEEDS[0]
+
+
+def seeds_split(seeds: Sequence[int]) -> str:
+    """Which split of :mod:`proxemic.splits` the episode seeds belong to, in words."""
+    from proxemic import splits
+
+    if set(seeds) <= set(splits.TEST_EPISODE_SEEDS):
+        return "the test split (no constant or scene was tuned on these seeds; proxemic.splits)"
+    if set(seeds) <= set(splits.TUNING_EPISODE_SEEDS):
+        return "the tuning split (constants and scenes were tuned on these seeds; proxemic.splits)"
+    return "seeds of both the tuning and the test split (proxemic.splits)"
+
+
+#: How the demo's headline figures are averaged and measured, beside the registry's definitions.
+DEMO_FIGURE_NOTES: dict[str, str] = {
+    "success": "rate over the episodes, 95% Wilson interval",
+    "collision": "rate over the episodes, 95% Wilson interval",
+    "time_to_goal": "mean over the episodes that reached the goal, 95% Student t interval",
+    "path_length_ratio": "mean over the episodes not ended by a collision (a collision cuts the path short; "
+    "summary.md averages every episode)",
+    "psi_personal": "a person's centre to the robot's centre, against the scene's Hall radii",
+    "interaction_crossings": "mean per episode",
+    "psi_objects_active": "the robot's centre inside the space",
+    "snqi": "robot-sf's composite score (higher is better), normalised on the plain astar episodes",
+}
+
+
+def demo_legend(split: str, episodes: int) -> str:
+    """What each headline figure of the demo means: its unit, how it is measured and averaged, the split."""
+    from proxemic import _core
+    from proxemic.evaluation import HEADLINE, METRICS
+
+    registry = {m["key"]: m for m in _core.metric_registry()}
+    lines = [textwrap.fill(f"What the figures mean: {episodes} episodes per planner, seeds of {split}.", 100)]
+    for key in HEADLINE:
+        info = METRICS[key]
+        definition = str(registry[key]["definition"]).split(". ")[0].rstrip(".") if key in registry else ""
+        unit = f" ({info.unit})" if info.unit else ""
+        text = "; ".join(x for x in (definition, DEMO_FIGURE_NOTES.get(key, "")) if x)
+        lines.append(textwrap.fill(f"- {info.label}{unit}: {text}.", 100, subsequent_indent="  "))
+    lines.append(
+        textwrap.fill(
+            'A verdict ("social vs astar") compares the means over the seeds where both planners reached the '
+            "goal, with a 95% paired bootstrap interval; personal-zone time there is the share of instants above. "
+            "These few episodes illustrate; the claims are asserted by tests/test_social_vs_astar.py (make test) "
+            "on 20 test-split seeds per scene and 50 generated scenes, personal-zone time in seconds.",
+            100,
+        )
+    )
+    return "\n".join(lines)
+
+
+def _without_collided_path_ratio(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The records with ``path_length_ratio`` removed from the episodes a collision ended."""
+    from proxemic.evaluation.summary import collided
+
+    return [{**r, "path_length_ratio": None} if collided(r) else r for r in records]
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    """The main job: planners compared on seeded episodes, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation
+    """The main job: planners compared on test-split seeds, metrics tables, trajectory and social-map plots."""
+    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation, summarise
+    from proxemic.evaluation.summary import collided
     from proxemic.social import SocialMap
 
     out = Path(args.out)
     planners = args.planner or list(DEMO_PLANNERS)
+    seeds = range(args.seed, args.seed + args.episodes)
+    split = seeds_split(seeds)
     written: list[Path] = []
     for scenario in args.scenario or ["museum", "care_center"]:
         scene_out = out / Path(scenario).stem
@@ -45,23 +109,49 @@ def cmd_demo(args: argparse.Namespace) -> int:
             seed=args.seed,
             out=scene_out,
             workers=args.workers,
+            keep_trajectories=args.episodes,  # every episode reported is drawn
         )
         t0 = time.perf_counter()
         result = run_evaluation(cfg)
+        # The path length ratio of the headline over the episodes no collision cut short.
+        trimmed = {r["planner"]: r for r in summarise(_without_collided_path_ratio(result.records))}
+        rows = [
+            {**row, **{k: v for k, v in trimmed[row["planner"]].items() if k.startswith("path_length_ratio")}}
+            for row in result.summary
+        ]
+        excluded = {
+            p: sum(r["path_length_ratio"] is not None and collided(r) for r in result.records if r["planner"] == p)
+            for p in planners
+        }
         print()
         print(
-            f"## {scenario}: {', '.join(planners)}, {args.episodes} seeded episodes each "
+            f"## {scenario}: {', '.join(planners)}, {args.episodes} episodes each, seeds {seeds[0]}-{seeds[-1]} "
             f"({time.perf_counter() - t0:.1f} s; all metrics in {scene_out}/summary.md)"
         )
         print()
-        print(headline_text(result.summary))
+        print(headline_text(rows))
+        print()
+        print(
+            "path length ratio without the episodes a collision ended: "
+            + ", ".join(f"{p} {n} left out" for p, n in excluded.items())
+        )
         print()
         print(textwrap.fill(result.snqi_line, 100))
         for v in result.verdicts:
             print()
             print(v)
+        print()
+        print(
+            textwrap.fill(
+                f"Drawn: every episode (seeds {seeds[0]}-{seeds[-1]}) of each planner in trajectories_<planner>.png; "
+                f"seed {seeds[0]} of every planner in trajectories_social_map.png.",
+                100,
+            )
+        )
         written += [scene_out / "summary.md", scene_out / "metrics.png"]
         written += [scene_out / f"trajectories_{p}.png" for p in planners] + [scene_out / "trajectories_social_map.png"]
+    print()
+    print(demo_legend(split, args.episodes))
     print()
     print("## social maps: plain A* vs social A* paths")
     print()
@@ -83,12 +173,35 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+def _fresh_out(parent: Path) -> Path:
+    """A new folder under ``parent`` named for the date and time (``-2``, ... if taken): a run's default output."""
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    out, k = parent / stamp, 1
+    while out.exists():
+        k += 1
+        out = parent / f"{stamp}-{k}"
+    return out
+
+
+def _clear_old_videos(out: Path) -> None:
+    """Removes the videos an earlier run wrote into ``out/videos`` (``<planner>_seed<N>.mp4``)."""
+    for old in (out / "videos").glob("*_seed*.mp4"):
+        old.unlink()
+
+
 def _eval_suite(args: argparse.Namespace) -> int:
     """``eval --suite francis2023``: every archetype with every planner, a table per archetype."""
     from proxemic import francis2023
 
     if args.policy or args.video:
         print("proxemic: error: --suite runs built-in planners only (no --policy, no --video)", file=sys.stderr)
+        return 2
+    if args.scenario is not None:
+        print(
+            f"proxemic: error: --scenario: a --suite run makes its own scenes (got --scenario {args.scenario} with "
+            f"--suite {args.suite}; drop one, or pick archetypes with --archetype)",
+            file=sys.stderr,
+        )
         return 2
     t0 = time.perf_counter()
     result = francis2023.run_suite(
@@ -116,20 +229,31 @@ def cmd_eval(args: argparse.Namespace) -> int:
     from proxemic.evaluation import EvalConfig, headline_text, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
+    args.out = str(_fresh_out(Path("out/eval")) if args.out is None else Path(args.out))
+    _clear_old_videos(Path(args.out))
     if args.suite:
         return _eval_suite(args)
     if args.max_time is not None:
         print("proxemic: error: --max-time applies to a --suite run", file=sys.stderr)
         return 2
+    if args.archetype:
+        print(
+            f"proxemic: error: --archetype applies to a --suite run (got --archetype {' '.join(args.archetype)} "
+            "without --suite; add --suite francis2023, or use --scenario francis2023/<archetype>)",
+            file=sys.stderr,
+        )
+        return 2
     policies = []
     if args.policy:
-        name = args.policy_name or args.policy.partition(":")[0].rpartition(".")[2].removesuffix(".py")
+        module = args.policy.partition(":")[0]
+        stem = Path(module).stem if module.endswith(".py") else module.rpartition(".")[2]
+        name = args.policy_name or stem
         policies.append(PolicyRef(name.rpartition("/")[2], args.policy, os.getcwd()))
     elif args.policy_name:
         print("proxemic: error: --policy-name labels a --policy; no --policy given", file=sys.stderr)
         return 2
     cfg = EvalConfig(
-        scenario=args.scenario,
+        scenario=args.scenario or "museum",
         planners=args.planner or ([] if policies else list(BASELINE_PLANNERS)),
         episodes=args.episodes,
         seed=args.seed,
@@ -409,9 +533,13 @@ SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v0; see `pr
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``proxemic`` command."""
+    from proxemic.tuning import DEFAULT_RANGES
+
     p = _Parser(prog="proxemic", description="Evaluation gym for socially-aware robot navigation.")
     sub = p.add_subparsers(dest="command", required=True)
-    d = sub.add_parser("demo", help="planners compared in the museum and the care center, with plots")
+    d = sub.add_parser(
+        "demo", help="planners compared in the museum and the care center on test-split seeds, with plots"
+    )
     d.add_argument(
         "--scenario", action="append", help=f"scenario(s) to run: {SCENARIO_HELP} (default: museum and care_center)"
     )
@@ -421,12 +549,17 @@ def build_parser() -> argparse.ArgumentParser:
         help=_planner_help("planner(s) to compare (default: " + ", ".join(DEMO_PLANNERS) + ")"),
     )
     d.add_argument("--episodes", type=_positive_int, default=10, help="seeded episodes per planner (default: 10)")
-    d.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
+    d.add_argument(
+        "--seed",
+        type=int,
+        default=DEMO_FIRST_SEED,
+        help=f"first seed (default: {DEMO_FIRST_SEED}, the first of the test split's episode seeds; proxemic.splits)",
+    )
     d.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     d.add_argument("--out", default="out", help="output folder (default: out)")
     d.set_defaults(func=cmd_demo)
     e = sub.add_parser("eval", help="seeded comparison of planners and your policy with summaries and plots")
-    e.add_argument("--scenario", default="museum", help=f"{SCENARIO_HELP} (default: museum)")
+    e.add_argument("--scenario", default=None, help=f"{SCENARIO_HELP} (default: museum; not with --suite)")
     e.add_argument(
         "--suite",
         choices=["francis2023"],
@@ -462,7 +595,12 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--policy-name", default=None, help="the policy's label in tables and plots (default: its module)")
     e.add_argument("--episodes", type=_positive_int, default=20, help="episodes per planner (default: 20)")
     e.add_argument("--seed", type=int, default=0, help="first seed; every planner runs the same seeds (default: 0)")
-    e.add_argument("--out", default="out/eval", help="output folder (default: out/eval)")
+    e.add_argument(
+        "--out",
+        default=None,
+        help="output folder (default: a new out/eval/<date>-<time>/ per run, so no run overwrites another; "
+        "a given folder's files are replaced and its old videos removed)",
+    )
     e.add_argument("--workers", type=_positive_int, default=os.cpu_count() or 1, help="processes (default: all cores)")
     e.add_argument("--backend", choices=["process", "ray"], default="process", help="where episodes run")
     e.add_argument("--ray-address", default=None, help="address of an existing Ray cluster (default: start one)")
@@ -480,8 +618,8 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
     v.add_argument("--fps", type=float, default=None, help="frames per second (default: the control rate)")
     v.add_argument("--max-steps", type=int, default=None, help="stop after this many steps (default: episode end)")
-    v.add_argument("--width", type=int, default=640, help="frame width, even (default: 640)")
-    v.add_argument("--height", type=int, default=480, help="frame height, even (default: 480)")
+    v.add_argument("--width", type=int, default=FRAME_SIZE[0], help=f"frame width, even (default: {FRAME_SIZE[0]})")
+    v.add_argument("--height", type=int, default=FRAME_SIZE[1], help=f"frame height, even (default: {FRAME_SIZE[1]})")
     _add_video_view_args(v)
     v.set_defaults(func=cmd_video)
     t = sub.add_parser("tune", help="Calderita's gain search: controller gains minimising G = aH + bD + cQ + dP")
@@ -515,7 +653,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="append",
         type=_parse_range,
         metavar="NAME=LOW:HIGH",
-        help="a gain to tune and its range; repeat (default: contraction_gain=0.1:3 repulsion_gain=0:2)",
+        help="a gain to tune and its range; repeat (default: "
+        + " ".join(f"{n}={lo:g}:{hi:g}" for n, (lo, hi) in DEFAULT_RANGES.items())
+        + ")",
     )
     t.add_argument(
         "--weights",

@@ -13,6 +13,7 @@ import numpy as np
 from proxemic import _core, scenarios
 from proxemic.errors import NeedsResetError, input_error
 from proxemic.records import EpisodeMetrics
+from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
     PLANNER_MODES,
     RENDER_MODES,
@@ -110,10 +111,10 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
     | ``planner_actions`` | ``True`` | run the built-in planner every step to fill ``info["planner_action"]`` even while a policy acts; ``False`` skips that work (no ``planner_action`` / ``planner_mode`` in ``info``) |
-    | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``: ``astar``, ``social_astar``, ``social``, the non-social baselines ``astar_orca`` and ``astar_stop``, ``social_momentum``, ``eband``, and the papers' own ``daza2021`` and ``sousa2022``; README's planner table) |
+    | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``: ``astar``, ``social_astar``, ``social``, the non-social baselines ``astar_orca`` and ``astar_stop``, ``social_momentum``, ``eband``, and the papers' own ``daza2021`` and ``sousa2022``; docs: planners.md) |
     | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
     | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
-    | ``width``, ``height`` | 640, 480 | frame size |
+    | ``width``, ``height`` | ``FRAME_SIZE`` | frame size (``proxemic.viz.topdown.FRAME_SIZE``) |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
     | ``overlays`` | ``("path",)`` | what the ``"topdown"`` view draws over the scene: any of ``"zones"``, ``"groups"``, ``"object_spaces"``, ``"path"`` (see :meth:`set_overlays`) |
 
@@ -135,8 +136,8 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         planner: str | None = None,
         eband: Mapping[str, float] | None = None,
         goal: Sequence[float] | None = None,
-        width: int = 640,
-        height: int = 480,
+        width: int = FRAME_SIZE[0],
+        height: int = FRAME_SIZE[1],
         camera: str = "top",
         overlays: Iterable[str] = ("path",),
     ) -> None:

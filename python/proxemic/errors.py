@@ -61,6 +61,23 @@ class EpisodeError(ProxemicError):
     """An episode of an evaluation or tuning run failed; the finished episodes' records are kept."""
 
 
+class PolicyError(ProxemicError):
+    """A user policy failed: it raised (at import, in its factory, at ``reset`` or at a step) or called ``sys.exit``.
+
+    ``field`` is ``"policy"``, ``file`` the policy's label and where it
+    failed (the episode's seed and the step), ``found`` the exception it raised; the original
+    exception is the ``__cause__``.
+    """
+
+
+class InvariantError(ProxemicError):
+    """An episode's record broke one of its invariants: a bug in proxemic, not in the input.
+
+    ``file`` names the episode (scene, seed, robot), ``field`` the invariant (one of the core's
+    ``metrics::invariants::INVARIANTS``) and ``found`` what the record says that breaks it.
+    """
+
+
 class NeedsResetError(ProxemicError, ResetNeeded):
     """An env was stepped before ``reset()``, or after its episode ended (terminated or truncated).
 
@@ -140,9 +157,11 @@ __all__ = [
     "EXTRAS",
     "EpisodeError",
     "InputError",
+    "InvariantError",
     "MissingExtraError",
     "NeedsResetError",
     "PlanningError",
+    "PolicyError",
     "ProxemicError",
     "ScenarioError",
     "UnknownNameError",

@@ -26,8 +26,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from proxemic import _core, evaluation, reference, scenarios
+from proxemic import _core, evaluation, markdown, reference, scenarios
 from proxemic.errors import input_error
+from proxemic.evaluation import episodes as eval_episodes
+from proxemic.evaluation import summary as eval_summary
 
 #: Prefix of a Francis et al. 2023 scene's name.
 PREFIX = "francis2023/"
@@ -44,10 +46,12 @@ def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) 
 
     Raises:
         UnknownNameError: `archetype` is not one of :data:`ARCHETYPES` (with a suggestion).
-        InputError: `seed` not a non-negative integer, `max_time` not a number.
+        InputError: `archetype` not a string, `seed` not a non-negative integer, `max_time` not a number.
     """
     from proxemic.errors import UnknownNameError
 
+    if not isinstance(archetype, str):
+        raise input_error("archetype", f"one of {list(ARCHETYPES)}", f"{type(archetype).__name__} {archetype!r}")
     if archetype not in ARCHETYPES:
         raise UnknownNameError(
             f"unknown archetype {archetype!r}{scenarios.suggest(archetype, ARCHETYPES)}: expected one of "
@@ -169,7 +173,7 @@ def run_suite(
             evaluation.Backend("process", workers) as backend,
         ):
             items = [(t, False) for _, t in tasks]
-            for (archetype, _), res in zip(tasks, backend.imap(evaluation._run_task_kw, items), strict=True):
+            for (archetype, _), res in zip(tasks, backend.imap(eval_episodes._run_task_kw, items), strict=True):
                 for r in [res, *res.others]:
                     row = {"archetype": archetype, **{k: v for k, v in r.record.items() if k in keep}}
                     records.append(row)
@@ -209,7 +213,7 @@ def metric_means(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
             if not recs:
                 continue
             row: dict[str, Any] = {"archetype": a, "planner": p, "episodes": len(recs)}
-            row["collision"] = sum(evaluation._collided(r) for r in recs) / len(recs)
+            row["collision"] = sum(eval_summary.collided(r) for r in recs) / len(recs)
             for k in keys:
                 vals = [float(r[k]) for r in recs if _is_number(r.get(k)) or isinstance(r.get(k), bool)]
                 vals = [x for x in vals if math.isfinite(x)]
@@ -242,18 +246,19 @@ def headline_table(summary: Sequence[Mapping[str, Any]]) -> str:
 
     Cells are means with 95% intervals (a single episode has none).
     """
-    cols = ["archetype", "planner", "episodes", *(evaluation._header(m) for m in evaluation.HEADLINE)]
-    lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
+    cols = ["archetype", "planner", "episodes", *(eval_summary.header(m) for m in evaluation.HEADLINE)]
+    rows = []
     for r in summary:
         n = f"{r['episodes']} x {r['robots']} robots" if r.get("robots", 1) > 1 else str(r["episodes"])
-        cells = [str(r["archetype"]), str(r["planner"]), n, *(evaluation._cell(r, m) for m in evaluation.HEADLINE)]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        rows.append(
+            [str(r["archetype"]), str(r["planner"]), n, *(eval_summary.cell(r, m) for m in evaluation.HEADLINE)]
+        )
+    return markdown.table(cols, rows)
 
 
 def headline_text(summary: Sequence[Mapping[str, Any]]) -> str:
     """A terminal table: one line per archetype and planner, the headline metrics' means."""
-    heads = ["archetype", "planner", *(evaluation._header(m) for m in evaluation.HEADLINE)]
+    heads = ["archetype", "planner", *(eval_summary.header(m) for m in evaluation.HEADLINE)]
     rows = []
     for r in summary:
         cells = [str(r["archetype"]), str(r["planner"])]
@@ -277,9 +282,10 @@ def summary_markdown(
     """``summary.md``: the headline table per archetype, then every registry metric's mean."""
     means = metric_means(records)
     keys = [k for k in means[0] if k not in ("archetype", "planner")] if means else []
-    full = ["| archetype | planner | " + " | ".join(keys) + " |", "|---|---|" + "---|" * len(keys)]
-    for r in means:
-        full.append("| " + " | ".join([str(r["archetype"]), str(r["planner"]), *(_fmt(r[k]) for k in keys)]) + " |")
+    full = markdown.table(
+        ["archetype", "planner", *keys],
+        ([str(r["archetype"]), str(r["planner"]), *(_fmt(r[k]) for k in keys)] for r in means),
+    )
     return "\n\n".join(
         [
             f"# Francis et al. 2023 suite: {episodes} scene(s) per archetype and planner (scene and episode seeds "
@@ -287,7 +293,7 @@ def summary_markdown(
             "## Headline per archetype",
             headline_table(summary),
             "## Every metric per archetype (means over episodes and robots; units in metrics.md)",
-            "\n".join(full),
+            full,
         ]
     )
 

@@ -18,27 +18,15 @@ from typing import Any
 
 import mujoco
 
+from proxemic.palette import DEFAULT_OBJECT_COLOR, OBJECT_COLORS, rgba
+
 #: Geom group of the collision geoms (MuJoCo's default visual options show groups 0-2 only).
 COLLISION_GROUP = 3
 
-#: Colours of static objects by kind (RGBA): the main material of each model.
-OBJECT_COLOURS: dict[str, tuple[float, float, float, float]] = {
-    "exhibit": (0.75, 0.6, 0.25, 1.0),
-    "painting": (0.55, 0.2, 0.2, 1.0),
-    "poster": (0.3, 0.45, 0.6, 1.0),
-    "tv": (0.1, 0.1, 0.1, 1.0),
-    "table": (0.6, 0.45, 0.3, 1.0),
-    "round_table": (0.6, 0.45, 0.3, 1.0),
-    "bed": (0.85, 0.85, 0.95, 1.0),
-    "stretcher": (0.7, 0.85, 0.85, 1.0),
-    "sofa": (0.45, 0.3, 0.5, 1.0),
-    "bench": (0.45, 0.32, 0.2, 1.0),
-    "plinth": (0.85, 0.85, 0.82, 1.0),
-    "pillar": (0.8, 0.8, 0.78, 1.0),
-    "cabinet": (0.5, 0.4, 0.3, 1.0),
-    "chair": (0.5, 0.35, 0.25, 1.0),
-}
-_DEFAULT = (0.6, 0.6, 0.6, 1.0)
+#: Colours of static objects by kind (RGBA): the main material of each model, the palette's
+#: (:data:`proxemic.palette.OBJECT_COLORS`, the top-down view's too).
+OBJECT_COLOURS: dict[str, tuple[float, float, float, float]] = {kind: rgba(c) for kind, c in OBJECT_COLORS.items()}
+_DEFAULT = rgba(DEFAULT_OBJECT_COLOR)
 _METAL = (0.55, 0.56, 0.6, 1.0)
 _DARK = (0.15, 0.13, 0.12, 1.0)
 _LINEN = (0.95, 0.95, 0.97, 1.0)

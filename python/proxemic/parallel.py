@@ -15,6 +15,7 @@ from pettingzoo import ParallelEnv
 from proxemic import _core, scenarios
 from proxemic.errors import NeedsResetError, input_error
 from proxemic.records import EpisodeMetrics
+from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
     RENDER_MODES,
     WorldSim,
@@ -75,18 +76,22 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         autopilot: bool | Collection[str] = False,
         planner_actions: bool = True,
         render_mode: str | None = None,
-        width: int = 640,
-        height: int = 480,
+        width: int = FRAME_SIZE[0],
+        height: int = FRAME_SIZE[1],
     ) -> None:
         """Builds the environment.
 
         Args:
             scenario: Bundled scenario name, path of a scenario file, or a ``proxemic._core.Scenario``.
-            robots: Use the first `robots` robot definitions of the scenario (default: all).
+            robots: The number of robots, from 1 to the larger of the scenario's robots and
+                ``MAX_ROBOTS`` (8; default: the scenario's). The first `robots` robot definitions of
+                the scenario; beyond those, extra robots shaped like robot 0 with starts and goals
+                sampled free and reachable (``Scenario.with_robots``).
             planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``, for
                 example ``"daza2021"``, Daza et al. 2021 Algorithm 1 with ORCA among the robots
                 only) or per agent (``{"robot_1": "astar_orca"}``; the others keep the scenario's).
-            autopilot: True, or the agents driven by their built-in planner (actions ignored).
+            autopilot: True, False, or a collection (list, set) of the agents driven by their
+                built-in planner (actions ignored); a single name is given as ``["robot_0"]``.
             planner_actions: Run the built-in planners of the agents not on autopilot too, for
                 ``info["planner_action"]`` and ``info["planner_mode"]``. False skips their cost
                 (their infos then lack both keys).
@@ -97,8 +102,8 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         Raises:
             InputError: `robots` not an integer, an unknown agent in `planners` or `autopilot`, a bad
                 render mode.
-            ScenarioError: `robots` outside [1, the scenario's robots]; an unknown planner name;
-                robots starting overlapping.
+            ScenarioError: `robots` outside [1, max(the scenario's robots, 8)], or no room for the
+                extra robots; an unknown planner name; robots starting overlapping.
             UnknownNameError: an unknown scenario name.
         """
         check_render_mode(render_mode)
@@ -144,6 +149,13 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             self.autopilot: frozenset[str] = frozenset(names)
         elif autopilot is False:
             self.autopilot = frozenset()
+        elif isinstance(autopilot, (str, bytes)) or not isinstance(autopilot, Collection):
+            raise input_error(
+                "autopilot",
+                f"True, False or a list of agent names among {names}",
+                f"{type(autopilot).__name__} {autopilot!r}",
+                note=f"for one agent write autopilot=[{autopilot!r}]" if isinstance(autopilot, str) else None,
+            )
         else:
             self.autopilot = frozenset(names[_agent_index(a, names, "autopilot")] for a in autopilot)
         if not planner_actions:
@@ -206,11 +218,18 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         """Advances one control step for every live agent.
 
         Raises:
-            InputError: an action for an agent that is not live, a missing action for a live
-                agent not on autopilot, or an action that is not 3 finite numbers.
+            InputError: `actions` not a dict, an action for an agent that is not live, a missing
+                action for a live agent not on autopilot, or an action that is not 3 finite numbers.
             NeedsResetError: before ``reset()``, or after every agent finished.
         """
         ws, index, live = self.ws, self._index, self.agents
+        if not isinstance(actions, Mapping):
+            text = repr(actions)
+            raise input_error(
+                "actions",
+                f"a dict agent -> action with one entry per live agent {live} ({{}} when all are on autopilot)",
+                f"{type(actions).__name__} {text if len(text) <= 80 else text[:77] + '...'}",
+            )
         if not live:
             raise NeedsResetError(
                 "step() after every agent finished (env.agents is empty): call reset() first"

@@ -34,7 +34,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from proxemic.errors import input_error
+from proxemic.errors import PolicyError, input_error
 
 __all__ = [
     "FlatObservation",
@@ -52,6 +52,23 @@ __all__ = [
 
 _EXPECTED_FACTORY = "an import path 'module:factory' (or 'file.py:factory') naming a callable"
 _EXPECTED_POLICY = "a callable obs -> action, or an object with predict(obs, deterministic=True)"
+
+
+def policy_failure(name: str, where: str, exc: BaseException) -> PolicyError:
+    """The :class:`PolicyError` of policy `name` failing `where` with `exc`.
+
+    `where` is e.g. ``"at step 3 of the episode of seed 5"``; `exc` an exception, or the
+    ``SystemExit`` of a ``sys.exit`` call.
+    """
+    what = f"called sys.exit({exc.code!r})" if isinstance(exc, SystemExit) else f"raised {type(exc).__name__}: {exc}"
+    found = f"{type(exc).__name__}: {exc}"
+    return PolicyError(
+        f"policy {name!r} {what} {where}",
+        file=f"policy {name!r} {where}",
+        field="policy",
+        expected="an action",
+        found=found,
+    )
 
 
 @runtime_checkable
@@ -119,6 +136,8 @@ def load_factory(path: str, search_path: str | None = None) -> Callable[..., Any
             module = importlib.import_module(module_name)
     except ImportError as e:
         raise input_error("policy", _EXPECTED_FACTORY, path, note=f"cannot import {module_name!r}: {e}") from e
+    except (Exception, SystemExit) as e:
+        raise policy_failure(path, f"while its module {module_name!r} was imported", e) from e
     obj: Any = module
     for part in attr.split("."):
         if not hasattr(obj, part):
@@ -154,7 +173,10 @@ def build_policy(path: str, observation_space: Any, action_space: Any, search_pa
         ) from e
     except ValueError:
         pass  # a builtin without a signature: let the call decide
-    policy = factory(observation_space, action_space)
+    try:
+        policy = factory(observation_space, action_space)
+    except (Exception, SystemExit) as e:
+        raise policy_failure(path, "in its factory make(observation_space, action_space)", e) from e
     check_policy(policy, f"--policy {path!r}: the factory returned")
     return policy
 
@@ -181,41 +203,62 @@ class PolicyActor:
         self._predict = predict if callable(predict) else None
         reset = getattr(policy, "reset", None)
         self._reset = reset if callable(reset) else None
+        self.seed: int | None = None
+        self.steps = 0
+
+    def _where(self) -> str:
+        return f"at step {self.steps} of the episode of seed {self.seed}"
 
     def reset(self, seed: int | None) -> None:
-        """Tells the policy a new episode starts from `seed`."""
+        """Tells the policy a new episode starts from `seed`.
+
+        Raises:
+            PolicyError: The policy's ``reset`` raised or called ``sys.exit``.
+        """
+        self.seed, self.steps = seed, 0
         if self._reset is not None:
-            self._reset(seed)
+            try:
+                self._reset(seed)
+            except (Exception, SystemExit) as e:
+                raise policy_failure(self.name, f"in reset({seed!r})", e) from e
 
     def __call__(self, obs: Any) -> np.ndarray:
         """The policy's action for `obs`, as a float32 array of the action shape.
 
         Raises:
             InputError: The action is not numbers of the action shape (one line naming it).
+            PolicyError: The policy raised or called ``sys.exit`` (naming the episode's seed and the step).
         """
-        if self._predict is not None:
-            out = self._predict(obs, deterministic=True)
-            if isinstance(out, tuple) and len(out) == 2:
-                out = out[0]
-        else:
-            out = self.policy(obs)
+        try:
+            if self._predict is not None:
+                out = self._predict(obs, deterministic=True)
+                if isinstance(out, tuple) and len(out) == 2:
+                    out = out[0]
+            else:
+                out = self.policy(obs)
+        except (Exception, SystemExit) as e:
+            raise policy_failure(self.name, self._where(), e) from e
+        self.steps += 1
         return self.check_action(out)
 
     def check_action(self, action: Any) -> np.ndarray:
-        """`action` as a float32 array of the action shape, or an :class:`InputError`."""
+        """`action` as a float32 array of the action shape, or an :class:`InputError`.
+
+        Booleans, complex numbers and text are refused, not converted (as ``env.step`` does).
+        """
         expected = f"an action of shape {self.action_shape} (vx, vy, wz in [-1, 1])"
+        note = f"returned by policy {self.name!r} {self._where()}"
         try:
-            a = np.asarray(action, dtype=np.float32)
+            raw = np.asarray(action)
         except (TypeError, ValueError) as e:
-            raise input_error(
-                "policy", expected, f"{type(action).__name__} {action!r}", note=f"returned by policy {self.name!r}"
-            ) from e
+            raise input_error("policy", expected, f"{type(action).__name__} {action!r}", note=note) from e
+        if raw.dtype.kind not in "iuf":
+            raise input_error("policy", expected + " of real numbers", f"{raw.dtype} values {action!r}", note=note)
+        a = raw.astype(np.float32)
         if a.shape == (1, *self.action_shape):
             a = a[0]
         if a.shape != self.action_shape:
-            raise input_error(
-                "policy", expected, f"an action of shape {a.shape}", note=f"returned by policy {self.name!r}"
-            )
+            raise input_error("policy", expected, f"an action of shape {a.shape}", note=note)
         return a
 
 

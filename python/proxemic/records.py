@@ -135,6 +135,16 @@ class MetricInfo(TypedDict):
     """How it is computed (empty when the definition says it all)."""
     source: str
     """Where it comes from (empty for the project's own)."""
+    summary: Literal["rate", "mean"] | None
+    """How ``proxemic eval`` summarises it over episodes (None: it does not)."""
+    decimals: int
+    """Digits after the decimal point of a summarised mean (rates are whole percentages)."""
+    panel: Literal["outcome", "efficiency", "social", "papers"] | None
+    """The panel of the evaluation's ``metrics.png`` showing it, if any."""
+    headline: bool
+    """Whether it is a column of the evaluation's headline table."""
+    verdict: Literal["times", "share"] | None
+    """How verdicts say the ratio of two planners' means (None: not compared)."""
 
 
 class SocialLayers(TypedDict):

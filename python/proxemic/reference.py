@@ -21,7 +21,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from proxemic import _core
+from proxemic import _core, markdown
 from proxemic.records import MetricInfo
 
 #: The columns of an ``eval`` record that are not metrics, with their descriptions.
@@ -118,11 +118,11 @@ def metrics_markdown() -> str:
     lines: list[str] = []
     for family in families:
         ms = [m for m in _registry() if m["family"] == family]
-        lines += [f"## {family}", "", "| key | label | unit | better |", "|---|---|---|---|"]
+        rows = []
         for m in ms:
             key = f"`{m['key']}_<{m['per']}>`" if m["per"] != "episode" else f"`{m['key']}`"
-            lines.append(f"| [{key}](#{m['key']}) | {m['label']} | {_unit(m)} | {_better(m)} |")
-        lines.append("")
+            rows.append([f"[{key}](#{m['key']})", m["label"], _unit(m), _better(m)])
+        lines += [f"## {family}", "", markdown.table(["key", "label", "unit", "better"], rows), ""]
         for m in ms:
             lines += [f"### {m['key']}", ""]
             facts = [f"**{m['label']}**", f"unit: {_unit(m)}", f"better: {_better(m)}"]
@@ -180,14 +180,14 @@ def _cell(text: str) -> str:
 
 def _fields_table(root: Mapping[str, Any], node: Mapping[str, Any]) -> list[str]:
     required = set(node.get("required", []))
-    lines = ["| field | type | default | description |", "|---|---|---|---|"]
+    rows = []
     for name, prop in node.get("properties", {}).items():
         default = "required" if name in required else ("" if "default" not in prop else json.dumps(prop["default"]))
         desc = prop.get("description", "")
         if not desc and "$ref" in prop:
             desc = root["$defs"][prop["$ref"].rsplit("/", 1)[1]].get("description", "")
-        lines.append(f"| `{name}` | {_schema_type(root, prop)} | {_cell(default)} | {_cell(desc)} |")
-    return lines
+        rows.append([f"`{name}`", _schema_type(root, prop), _cell(default), _cell(desc)])
+    return markdown.table(["field", "type", "default", "description"], rows).split("\n")
 
 
 def scenario_markdown() -> str:

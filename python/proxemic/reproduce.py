@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from proxemic import _core, scenarios
+from proxemic import _core, markdown, scenarios
 from proxemic.errors import ScenarioError, input_error
 from proxemic.evaluation import EpisodeResult, mean_ci, run_task
 from proxemic.records import Individual
@@ -455,8 +455,7 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
         names = list(results)
         when = f", {exp.start_time}" if exp.start_time else ""
         lines += [f"## {exp.name} (`{exp.scene}`{when})", ""]
-        lines += ["| metric | published | " + " | ".join(f"ours: {n}" for n in names) + " |"]
-        lines += ["| --- | --- | " + " | ".join("---" for _ in names) + " |"]
+        rows = []
         notes: dict[tuple[str, str], list[str]] = {}
         zones = scenarios.load(scene)[1]["proxemics"]["zones"]
         for m in metrics:
@@ -472,7 +471,8 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
                 cells.append(_fmt(mean, half, k, len(results[n])) + mark)
                 if m in p.average and n in per_path:
                     per_path[n][m].append(None if k == 0 else mean)
-            lines.append(f"| {m} | {'-' if pub is None else f'{pub:g}'} | " + " | ".join(cells) + " |")
+            rows.append([m, "-" if pub is None else f"{pub:g}", *cells])
+        lines += [markdown.table(["metric", "published", *(f"ours: {n}" for n in names)], rows)]
         outcomes = {n: sum(r.record["outcome"] == "success" for r in rs) for n, rs in results.items()}
         lines += ["", "Successes: " + ", ".join(f"{n} {k}/{episodes}" for n, k in outcomes.items()), ""]
         if notes:
@@ -510,9 +510,8 @@ def _average_lines(p: Paper, per_path: dict[str, dict[str, list[float | None]]])
         f"means; a row whose metric is undefined (every episode failed) is left out and the count "
         f"says so.",
         "",
-        "| metric | published | " + " | ".join(f"ours: {pl}" for pl in planners) + " |",
-        "| --- | --- | " + " | ".join("---" for _ in planners) + " |",
     ]
+    rows = []
     for m, pub in p.average.items():
         cells = []
         for i, pl in enumerate(planners):
@@ -520,8 +519,8 @@ def _average_lines(p: Paper, per_path: dict[str, dict[str, list[float | None]]])
             mark = " *" if i == 0 and differs(pub, ours) else ""
             value = "n/a" if n == 0 else f"{ours:.2f}"
             cells.append(f"{value} (over {n} of {total} paths){mark}")
-        lines.append(f"| {m} | {pub:g} | " + " | ".join(cells) + " |")
-    return [*lines, ""]
+        rows.append([m, f"{pub:g}", *cells])
+    return [*lines, markdown.table(["metric", "published", *(f"ours: {pl}" for pl in planners)], rows), ""]
 
 
 def _write_csv(records: list[dict[str, Any]], path: Path) -> None:

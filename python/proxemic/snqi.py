@@ -20,7 +20,7 @@ Our inputs (``docs/metrics.md``): ``collisions`` is ``hc_count`` (instants of ro
 (robot-sf's thresholds, 0.5 m and 2.0 m/s²; the force is the robot's social force on each person),
 ``jerk_mean`` is ``jerk_avg``. Our choice where robot-sf leaves it to the user: the baseline of
 the normalisation is the plain ``astar`` planner's episodes in the same evaluation when it ran,
-otherwise every episode of the evaluation (README: choices). A missing value (``None``, e.g. no
+otherwise every episode of the evaluation (docs: choices.md). A missing value (``None``, e.g. no
 jerk in a 2-sample episode) contributes 0, as robot-sf does for a metric without baseline.
 
 The sensitivity analysis moves each weight alone by -50% and +50% and reports whether the

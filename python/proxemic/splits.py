@@ -14,11 +14,14 @@ What was tuned on which split (every entry below was looked at on the tuning spl
 - the museum's corridor widening and the care center's shortened task: edited while looking at
   those same seeds 0-59;
 - the care center's conversation on the robot's way in the physical therapy room (a caregiver and
-  a resident, group 4, issue 15): placed so that plain A* enters an o-space and crosses an
-  interaction there, with acceptance criteria written beside it in ``care_center.toml`` before
-  measuring, checked on care-center episode seeds 0-39 (the first placement tried met them);
+  a resident, group 4, added because without it plain A* entered no o-space and crossed no
+  interaction in the care center, so the claims about them passed vacuously): placed so that
+  plain A* enters an o-space and crosses an interaction there, with acceptance criteria written
+  beside it in ``care_center.toml`` before measuring, checked on care-center episode seeds 0-39
+  (the first placement tried met them);
 - the ``social`` planner's active-object comfort term (``SOCIAL_OBJECT_COMFORT`` in
-  ``proxemic-core``'s ``world/planners.rs``, issue 15): chosen with
+  ``proxemic-core``'s ``world/planners.rs``: the comfort radius round an active object space in
+  Social Momentum, as a multiple of the space's size): chosen with
   ``examples/tune_social_claims.py --episodes 40 --scenes 100`` (episode seeds 0-39 of the museum
   and care center, generated scene seeds 0-99 with the claims' query), as were the levers tried
   and left out (body-edge keep-out radius in Social Momentum, a step aside when every sample

@@ -44,7 +44,7 @@ from typing import Any
 
 import numpy as np
 
-from proxemic import scenarios
+from proxemic import markdown, scenarios
 from proxemic.errors import input_error
 from proxemic.evaluation import Backend, RecordWriter, cached_env, check_out_dir, mean_ci
 
@@ -304,12 +304,12 @@ def curve_text(result: Mapping[str, Any]) -> str:
     trials = result["trials"]
     names = list(result["ranges"])
     cols = ["trial", "varied", *names, "G (95% CI)", "best G", "success"]
-    lines = ["| " + " | ".join(cols) + " |", "| " + " | ".join("---" for _ in cols) + " |"]
+    rows = []
     best = math.inf
     for t in trials:
         best = min(best, t["G"])
         cells = [str(t["trial"]), t["varied"], *(f"{t[n]:.4g}" for n in names)]
         ci = f" ± {t['G_ci']:.3f}" if t["G_ci"] is not None else ""
         cells += [f"{t['G']:.3f}{ci}", f"{best:.3f}", f"{t['success']:.2f}"]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        rows.append(cells)
+    return markdown.table(cols, rows)

@@ -29,7 +29,12 @@ from proxemic import _core, scenarios
 from proxemic.errors import NeedsResetError, input_error
 from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_reset_args
 
-__all__ = ["ProxemicVectorEnv", "vector_env"]
+__all__ = ["MAX_NUM_ENVS", "ProxemicVectorEnv", "vector_env"]
+
+#: The most worlds one vector env holds. Each world keeps its own MuJoCo model and data (a few MB
+#: for the bundled scenes, more for large crowds) and its core world; 1024 of them already take
+#: gigabytes. A larger `num_envs` is refused with an InputError before anything is allocated.
+MAX_NUM_ENVS = 1024
 
 
 class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndarray]):
@@ -72,7 +77,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         Args:
             scenario: Bundled scenario name, env id, path to a scenario TOML file, or a
                 ``proxemic._core.Scenario``.
-            num_envs: Number of worlds (at least 1).
+            num_envs: Number of worlds, from 1 to :data:`MAX_NUM_ENVS`.
             autopilot: Ignore actions and let the robots' built-in planners drive.
             planner_actions: Run the built-in planner every step for ``info["planner_action"]``
                 even while the actions drive (``False`` skips that work).
@@ -89,8 +94,12 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
                 scenario, planner or gains.
         """
         super().__init__()
-        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
-            raise input_error("num_envs", "an integer of at least 1", num_envs)
+        if (
+            isinstance(num_envs, bool)
+            or not isinstance(num_envs, (int, np.integer))
+            or not 1 <= num_envs <= MAX_NUM_ENVS
+        ):
+            raise input_error("num_envs", f"an integer from 1 to {MAX_NUM_ENVS}", num_envs)
         if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
             raise input_error("threads", "an integer of at least 1", threads)
         self.num_envs = int(num_envs)

@@ -98,7 +98,12 @@ def check_frame_size(width: Any, height: Any) -> None:
     """Raises :class:`InputError` unless `width` and `height` are integers in [1, :data:`MAX_FRAME`]."""
     for name, value in (("width", width), ("height", height)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_FRAME:
-            raise input_error(name, f"a frame size in pixels, an integer from 1 to {MAX_FRAME}", value)
+            found = value if isinstance(value, (int, np.integer)) and not isinstance(value, bool) else None
+            raise input_error(
+                name,
+                f"a frame size in pixels, an integer from 1 to {MAX_FRAME}",
+                repr(found) if found is not None else f"{type(value).__name__} {value!r}",
+            )
 
 
 def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> None:

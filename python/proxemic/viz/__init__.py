@@ -11,6 +11,7 @@ env from any view) lives in :mod:`proxemic.viz.video`, also imported lazily.
 from __future__ import annotations
 
 import importlib
+import importlib.util
 from typing import TYPE_CHECKING, Any
 
 from .topdown import TopDownRenderer
@@ -40,13 +41,13 @@ _LAZY = {
 
 
 def __getattr__(name: str) -> Any:
-    """Import the plotting and video helpers on first access.
+    """Import the plotting and video helpers, and the submodules, on first access.
 
     Args:
         name: The attribute requested from the package.
 
     Returns:
-        The requested function.
+        The requested function or submodule.
 
     Raises:
         AttributeError: If ``name`` is not a public attribute of the package.
@@ -54,4 +55,6 @@ def __getattr__(name: str) -> Any:
     """
     if name in _LAZY:
         return getattr(importlib.import_module(_LAZY[name], __name__), name)
+    if not name.startswith("_") and importlib.util.find_spec(f"{__name__}.{name}") is not None:
+        return importlib.import_module(f"{__name__}.{name}")  # a submodule: proxemic.viz.video
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -22,19 +22,10 @@ from matplotlib.patches import Patch
 from matplotlib.patches import Polygon as PolygonPatch
 from matplotlib.ticker import MaxNLocator
 
+from proxemic import markdown
 from proxemic.errors import input_error
-
-from .topdown import (
-    DEFAULT_OBJECT_COLOR,
-    FLOOR_COLOR,
-    INTERACTION_COLOR,
-    OBJECT_COLORS,
-    WALL_COLOR,
-    interaction_polygon,
-    object_polygon,
-    scene_bounds,
-    wall_polygon,
-)
+from proxemic.palette import DEFAULT_OBJECT_COLOR, FLOOR_COLOR, INTERACTION_COLOR, OBJECT_COLORS, WALL_COLOR
+from proxemic.viz.geometry import interaction_polygon, object_polygon, scene_bounds, wall_polygon
 
 __all__ = [
     "format_table",
@@ -468,13 +459,9 @@ def format_table(rows: Sequence[Mapping[str, Any]], columns: Sequence[str], *, f
         (U+2013), bools as ``yes``/``no``, ints as is and ``|`` in text escaped.
 
     """
-    lines = [
-        "| " + " | ".join(str(c) for c in columns) + " |",
-        "| " + " | ".join("---" for _ in columns) + " |",
-    ]
-    for row in rows:
-        lines.append("| " + " | ".join(_format_cell(row.get(c), floatfmt) for c in columns) + " |")
-    return "\n".join(lines)
+    return markdown.table(
+        [str(c) for c in columns], ([_format_cell(row.get(c), floatfmt) for c in columns] for row in rows)
+    )
 
 
 def plot_social_map(

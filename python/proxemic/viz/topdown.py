@@ -7,93 +7,57 @@ paths, trails, goals, people and robots) with a handful of vectorised numpy oper
 
 Conventions: world coordinates are metres with y up; pixel coordinates are ``(col, row)`` floats
 where pixel ``(r, c)`` covers ``[c, c + 1) x [r, r + 1)`` and its centre is ``(c + 0.5, r + 0.5)``.
-Row 0 is the top of the image, so larger world y means a smaller row.
-
-The module also provides small geometry helpers shared with :mod:`proxemic.viz.plots` that read the
-polygons of the validated scenario's walls, objects and interaction spaces (the core computes them
-once, when the scenario is validated: ``polygon``, ``footprint``, ``interaction.polygon``).
+Row 0 is the top of the image, so larger world y means a smaller row. The colours are
+:mod:`proxemic.palette`'s, the polygons :mod:`proxemic.viz.geometry`'s, the drawing primitives
+:mod:`proxemic.viz.raster`'s.
 """
 
 from __future__ import annotations
 
 import math
-import types
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from proxemic.errors import input_error
-
-__all__ = [
-    "FLOOR_COLOR",
-    "GROUP_COLOR",
-    "INTERACTION_COLOR",
-    "OBJECT_COLORS",
-    "OUTSIDE_COLOR",
-    "OVERLAYS",
-    "PERSON_COLOR",
-    "ROBOT_PALETTE",
-    "WALL_COLOR",
-    "ZONE_COLORS",
-    "TopDownRenderer",
-    "interaction_polygon",
-    "object_polygon",
-    "scene_bounds",
-    "wall_polygon",
-]
-
-RGB = tuple[int, int, int]
-
-#: Colour of the walkable floor inside the scene bounds.
-FLOOR_COLOR: RGB = (244, 242, 236)
-#: Colour of the image area outside the scene bounds (the margin).
-OUTSIDE_COLOR: RGB = (214, 214, 214)
-#: Colour of wall footprints.
-WALL_COLOR: RGB = (64, 64, 64)
-#: Tint blended over the floor inside interaction spaces.
-INTERACTION_COLOR: RGB = (255, 196, 64)
-#: Alpha of the interaction-space tint.
-INTERACTION_ALPHA: float = 0.3
-#: Fill colour of people.
-PERSON_COLOR: RGB = (226, 96, 70)
-#: Outline colour of people.
-PERSON_OUTLINE: RGB = (120, 40, 25)
-#: Heading tick colour of people.
-PERSON_TICK: RGB = (50, 20, 10)
-#: Outline and heading tick colour of robots.
-ROBOT_OUTLINE: RGB = (20, 20, 20)
-ROBOT_TICK: RGB = (255, 255, 255)
-#: Categorical palette for robots (and their goals, paths and trails), indexed by robot index.
-ROBOT_PALETTE: tuple[RGB, ...] = (
-    (31, 119, 180),
-    (44, 160, 44),
-    (148, 103, 189),
-    (23, 190, 207),
-    (188, 189, 34),
-    (140, 86, 75),
-    (227, 119, 194),
-    (127, 127, 127),
+from proxemic.palette import (
+    DEFAULT_OBJECT_COLOR,
+    FLOOR_COLOR,
+    GROUP_COLOR,
+    INTERACTION_ALPHA,
+    INTERACTION_COLOR,
+    OBJECT_COLORS,
+    OBJECT_COST_ALPHA,
+    OBJECT_COST_COLORS,
+    OSPACE_ALPHA,
+    OUTSIDE_COLOR,
+    PERSON_COLOR,
+    PERSON_OUTLINE,
+    PERSON_TICK,
+    RGB,
+    ROBOT_OUTLINE,
+    ROBOT_PALETTE,
+    ROBOT_TICK,
+    WALL_COLOR,
+    ZONE_COLORS,
 )
-#: Fill colour of static objects by kind.
-OBJECT_COLORS: Mapping[str, RGB] = types.MappingProxyType(
-    {
-        "painting": (150, 92, 40),
-        "exhibit": (122, 102, 172),
-        "bench": (166, 124, 72),
-        "plinth": (172, 170, 160),
-        "table": (186, 146, 96),
-        "round_table": (186, 146, 96),
-        "tv": (40, 40, 48),
-        "poster": (206, 164, 60),
-        "bed": (150, 182, 212),
-        "stretcher": (186, 198, 212),
-        "sofa": (118, 150, 108),
-        "pillar": (108, 108, 108),
-        "cabinet": (146, 108, 78),
-        "chair": (172, 132, 90),
-    }
+from proxemic.viz.geometry import interaction_polygon, object_polygon, scene_bounds, wall_polygon
+from proxemic.viz.raster import (
+    blend_discs,
+    draw_discs,
+    draw_segments,
+    mix,
+    nearest_people,
+    pixel_view,
+    pixels,
+    polygon_mask,
+    ring_segments,
+    rows,
 )
+
+__all__ = ["FRAME_SIZE", "OVERLAYS", "ZONE_NEAREST", "TopDownRenderer"]
+
 #: The switchable top-down overlays: ``zones`` (Hall's intimate, personal and social rings around
 #: each person), ``groups`` (detected groups: their o-space filled, the group outlined),
 #: ``object_spaces`` (interaction spaces coloured by the agenda's R(t) now) and ``path`` (the
@@ -102,306 +66,12 @@ OVERLAYS: tuple[str, ...] = ("zones", "groups", "object_spaces", "path")
 #: The zones overlay rings only the people nearest to a robot (the closest this many to each robot),
 #: so that a crowded scene (the museum's 52 people) stays readable.
 ZONE_NEAREST: int = 6
-#: Ring colours of the intimate, personal and social zones.
-ZONE_COLORS: tuple[RGB, RGB, RGB] = ((200, 30, 30), (235, 140, 20), (70, 130, 200))
-#: Colour of group outlines and o-space fills.
-GROUP_COLOR: RGB = (128, 50, 170)
-#: Alpha of the o-space fill.
-OSPACE_ALPHA: float = 0.35
-#: Interaction-space colours at the agenda's idle cost and at its active cost (R(t) in between is
-#: interpolated linearly).
-OBJECT_COST_COLORS: tuple[RGB, RGB] = ((255, 226, 120), (215, 35, 25))
-#: Alpha of the R(t) colour over the floor.
-OBJECT_COST_ALPHA: float = 0.55
-#: Fill colour of objects of an unknown kind.
-DEFAULT_OBJECT_COLOR: RGB = (150, 150, 150)
+
+#: The default frame size (width, height) in pixels of every view: the env's renders, videos and
+#: the top-down renderer.
+FRAME_SIZE: tuple[int, int] = (640, 480)
 
 _DEFAULT_ROBOT_RADIUS = 0.24
-_RGB_ITEM = np.dtype((np.void, 3))
-
-
-# ----------------------------------------------------------------------------------------------
-# Geometry helpers (scenario dict -> polygons)
-# ----------------------------------------------------------------------------------------------
-
-
-def _polygon(points: Any) -> np.ndarray:
-    """``points`` (a polygon of the validated scenario) as an ``(N, 2)`` float array."""
-    return np.asarray(points, dtype=np.float64).reshape(-1, 2)
-
-
-def wall_polygon(wall: Mapping[str, Any]) -> np.ndarray:
-    """A wall's world-frame footprint, ``(N, 2)`` vertices in metres (the core's ``polygon``).
-
-    Args:
-        wall: A wall entry of the validated scenario dict (``scenarios.load``).
-    """
-    return _polygon(wall["polygon"])
-
-
-def object_polygon(obj: Mapping[str, Any]) -> np.ndarray:
-    """An object's world-frame footprint, ``(N, 2)`` vertices in metres (the core's ``footprint``).
-
-    Args:
-        obj: An object entry of the validated scenario dict.
-    """
-    return _polygon(obj["footprint"])
-
-
-def interaction_polygon(obj: Mapping[str, Any]) -> np.ndarray | None:
-    """An object's interaction-space polygon (the core's ``interaction.polygon``), or None without one.
-
-    Args:
-        obj: An object entry of the validated scenario dict.
-    """
-    inter = obj.get("interaction")
-    return None if not inter else _polygon(inter["polygon"])
-
-
-def scene_bounds(scenario: Mapping[str, Any]) -> tuple[float, float, float, float]:
-    """The scene bounds ``(xmin, ymin, xmax, ymax)`` in metres (``scene.bounds`` of the validated scenario)."""
-    xmin, ymin, xmax, ymax = (float(v) for v in scenario["scene"]["bounds"])
-    return xmin, ymin, xmax, ymax
-
-
-# ----------------------------------------------------------------------------------------------
-# Rasterisation primitives (all in pixel coordinates, operating in place on an (H, W, 3) image)
-# ----------------------------------------------------------------------------------------------
-
-
-def _pixels(colors: np.ndarray) -> np.ndarray:
-    """View a C-contiguous ``(..., 3)`` uint8 array as a flat array of 3-byte RGB items.
-
-    Gathering and scattering whole pixels through this view is about twice as fast as indexing the
-    ``(..., 3)`` array. The result is a view when ``colors`` is already contiguous uint8, so writes
-    to it land in ``colors``.
-    """
-    return np.ascontiguousarray(colors, dtype=np.uint8).view(_RGB_ITEM).reshape(-1)
-
-
-def _pixel_view(img: np.ndarray) -> np.ndarray:
-    """Writable flat view of an ``(H, W, 3)`` uint8 image as 3-byte RGB items (see :func:`_pixels`).
-
-    Raises:
-        ValueError: If ``img`` is not a C-contiguous uint8 image (a copy would silently drop writes).
-
-    """
-    if img.dtype != np.uint8 or not img.flags.c_contiguous or not img.flags.writeable:
-        raise ValueError("drawing needs a writable C-contiguous uint8 image")
-    return img.view(_RGB_ITEM).reshape(-1)
-
-
-def _polygon_mask(poly_px: np.ndarray, height: int, width: int) -> tuple[slice, slice, np.ndarray] | None:
-    """Even-odd point-in-polygon test over the pixel centres of the polygon's bounding box.
-
-    Returns the row slice, column slice and boolean mask of that box, or None if it is empty.
-    """
-    c0 = max(math.floor(poly_px[:, 0].min()), 0)
-    c1 = min(math.ceil(poly_px[:, 0].max()) + 1, width)
-    r0 = max(math.floor(poly_px[:, 1].min()), 0)
-    r1 = min(math.ceil(poly_px[:, 1].max()) + 1, height)
-    if c0 >= c1 or r0 >= r1:
-        return None
-    xs = (np.arange(c0, c1, dtype=np.float64) + 0.5)[None, :]
-    ys = (np.arange(r0, r1, dtype=np.float64) + 0.5)[:, None]
-    inside = np.zeros((r1 - r0, c1 - c0), dtype=bool)
-    nxt = np.roll(poly_px, -1, axis=0)
-    for (xi, yi), (xj, yj) in zip(poly_px, nxt, strict=True):
-        if yi == yj:
-            continue  # a horizontal edge never crosses a horizontal scanline
-        crosses = (yi > ys) != (yj > ys)
-        x_int = xi + (xj - xi) * (ys - yi) / (yj - yi)
-        inside ^= crosses & (xs < x_int)
-    return slice(r0, r1), slice(c0, c1), inside
-
-
-def _clip_segments(
-    p0: np.ndarray, p1: np.ndarray, height: int, width: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Liang-Barsky clipping of segments to a box slightly larger than the image.
-
-    Returns the clipped start points, end points and the indices of the kept segments.
-    """
-    lo_x, hi_x, lo_y, hi_y = -1.0, width + 1.0, -1.0, height + 1.0
-    d = p1 - p0
-    t0 = np.zeros(len(p0))
-    t1 = np.ones(len(p0))
-    keep = np.all(np.isfinite(p0), axis=1) & np.all(np.isfinite(p1), axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for p, q in (
-            (-d[:, 0], p0[:, 0] - lo_x),
-            (d[:, 0], hi_x - p0[:, 0]),
-            (-d[:, 1], p0[:, 1] - lo_y),
-            (d[:, 1], hi_y - p0[:, 1]),
-        ):
-            r = q / p
-            keep &= ~((p == 0.0) & (q < 0.0))
-            t0 = np.where(p < 0.0, np.maximum(t0, r), t0)
-            t1 = np.where(p > 0.0, np.minimum(t1, r), t1)
-    keep &= t0 <= t1
-    idx = np.nonzero(keep)[0]
-    d = d[idx]
-    return p0[idx] + t0[idx, None] * d, p0[idx] + t1[idx, None] * d, idx
-
-
-def _segment_pixels(
-    p0: np.ndarray, p1: np.ndarray, height: int, width: int
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Vectorised DDA over many segments.
-
-    Returns ``(rows, cols, seg, order)``: integer pixel coordinates of every sample, the index of the
-    (input) segment each sample belongs to, and the running sample index along the concatenation of
-    all segments (used for dash patterns). Samples outside the image are dropped.
-    """
-    empty = np.zeros(0, dtype=np.intp)
-    if len(p0) == 0:
-        return empty, empty, empty, empty
-    size = np.array([width, height], dtype=np.float64)
-    # fast path: every endpoint on the image (NaN fails the comparisons and takes the slow path)
-    if bool(np.all((p0 >= 0.0) & (p0 < size) & (p1 >= 0.0) & (p1 < size))):
-        q0, q1, idx = p0, p1, None
-    else:
-        q0, q1, idx = _clip_segments(p0, p1, height, width)
-        if len(idx) == 0:
-            return empty, empty, empty, empty
-    d = q1 - q0
-    steps = np.ceil(np.abs(d).max(axis=1)).astype(np.intp)
-    counts = steps + 1
-    seg = np.repeat(np.arange(len(q0)), counts)
-    order = np.arange(len(seg))
-    t = (order - (np.cumsum(counts) - counts)[seg]) / np.maximum(steps, 1)[seg]
-    pts = q0[seg] + t[:, None] * d[seg]
-    cols = np.floor(pts[:, 0]).astype(np.intp)
-    rows = np.floor(pts[:, 1]).astype(np.intp)
-    if idx is None:
-        return rows, cols, seg, order
-    ok = (cols >= 0) & (cols < width) & (rows >= 0) & (rows < height)
-    return rows[ok], cols[ok], idx[seg[ok]], order[ok]
-
-
-def _nearest_people(people: np.ndarray, robots: np.ndarray, k: int) -> np.ndarray:
-    """The rows of `people` among the `k` nearest to some robot (all of them without robots)."""
-    finite = np.all(np.isfinite(people[:, :2]), axis=1)
-    if len(robots) == 0 or int(finite.sum()) <= k:
-        return people
-    d = np.linalg.norm(people[None, :, :2] - robots[:, None, :2], axis=2)
-    d[:, ~finite] = np.inf
-    keep = np.zeros(len(people), dtype=bool)
-    keep[np.argsort(d, axis=1, kind="stable")[:, :k].ravel()] = True
-    return people[keep & finite]
-
-
-def _draw_segments(
-    img: np.ndarray,
-    p0: np.ndarray,
-    p1: np.ndarray,
-    colors: np.ndarray,
-    *,
-    thickness: int = 1,
-    dashed: np.ndarray | None = None,
-    dash: int = 4,
-) -> None:
-    """Draw segments ``p0[i] -> p1[i]`` (pixel coordinates) in ``colors[i]`` (``(N, 3)`` uint8).
-
-    Lines are ``thickness`` pixels wide (a square brush). Segments flagged in the boolean ``dashed``
-    array are drawn ``dash`` pixels on, ``dash`` pixels off, the pattern running continuously along
-    consecutive segments.
-    """
-    height, width = img.shape[:2]
-    rows, cols, seg, order = _segment_pixels(p0, p1, height, width)
-    if dashed is not None and bool(np.any(dashed)):
-        on = ~dashed[seg] | ((order // dash) % 2 == 0)
-        rows, cols, seg = rows[on], cols[on], seg[on]
-    if thickness > 1:
-        offs = np.arange(thickness) - (thickness - 1) // 2
-        rows = np.clip(rows, -offs[0], height - 1 - offs[-1])  # keep the brush on the image
-        cols = np.clip(cols, -offs[0], width - 1 - offs[-1])
-        brush = (offs[:, None] * width + offs[None, :]).ravel()
-        flat = ((rows * width + cols)[:, None] + brush).ravel()
-        seg = np.repeat(seg, len(brush))
-    else:
-        flat = rows * width + cols
-    _pixel_view(img)[flat] = _pixels(colors)[seg]
-
-
-def _draw_discs(
-    img: np.ndarray,
-    centres: np.ndarray,
-    radii: np.ndarray,
-    fill: np.ndarray,
-    outline: np.ndarray,
-    *,
-    outline_width: float = 1.0,
-) -> None:
-    """Draw filled discs with an outline ring, all at once over a shared bounding-box stencil.
-
-    ``centres`` is ``(N, 2)`` pixel coordinates, ``radii`` ``(N,)`` pixels, ``fill`` and ``outline``
-    ``(N, 3)`` uint8. A pixel belongs to a disc when its centre is within the radius. Later discs are
-    drawn over earlier ones.
-    """
-    height, width = img.shape[:2]
-    ok = np.all(np.isfinite(centres), axis=1) & np.isfinite(radii)
-    if not np.all(ok):
-        centres, radii, fill, outline = centres[ok], radii[ok], fill[ok], outline[ok]
-    n = len(centres)
-    if n == 0:
-        return
-    radii = np.clip(radii, 1.0, float(max(height, width)))
-    k = math.ceil(float(radii.max())) + 1
-    off = np.arange(-k, k + 1)
-    cols = np.floor(centres[:, 0]).astype(np.intp)[:, None] + off  # (N, S)
-    rows = np.floor(centres[:, 1]).astype(np.intp)[:, None] + off
-    dc2 = (cols + 0.5 - centres[:, 0, None]) ** 2
-    dr2 = (rows + 0.5 - centres[:, 1, None]) ** 2
-    dc2[(cols < 0) | (cols >= width)] = np.inf  # off-image pixels are never inside
-    dr2[(rows < 0) | (rows >= height)] = np.inf
-    d2 = dr2[:, :, None] + dc2[:, None, :]  # (N, S, S)
-    inside = d2 <= (radii * radii)[:, None, None]
-    inner = np.maximum(radii - outline_width, 0.0)
-    disc = np.arange(n)[:, None, None]
-    colour_index = np.where(d2 > (inner * inner)[:, None, None], disc + n, disc)
-    flat = rows[:, :, None] * width + cols[:, None, :]
-    table = _pixels(np.concatenate([fill, outline]))
-    _pixel_view(img)[flat[inside]] = table[colour_index[inside]]
-
-
-def _blend_discs(img: np.ndarray, centres: np.ndarray, radii: np.ndarray, color: RGB, alpha: float) -> None:
-    """Alpha-blend ``color`` over the union of discs (a pixel covered twice is blended once).
-
-    ``centres`` is ``(N, 2)`` pixel coordinates and ``radii`` ``(N,)`` pixels; a pixel belongs to a
-    disc when its centre is within the radius.
-    """
-    height, width = img.shape[:2]
-    ok = np.all(np.isfinite(centres), axis=1) & np.isfinite(radii) & (radii > 0.0)
-    centres, radii = centres[ok], np.minimum(radii[ok], float(max(height, width)))
-    if len(centres) == 0:
-        return
-    k = math.ceil(float(radii.max())) + 1
-    off = np.arange(-k, k + 1)
-    cols = np.floor(centres[:, 0]).astype(np.intp)[:, None] + off
-    rows = np.floor(centres[:, 1]).astype(np.intp)[:, None] + off
-    dc2 = (cols + 0.5 - centres[:, 0, None]) ** 2
-    dr2 = (rows + 0.5 - centres[:, 1, None]) ** 2
-    dc2[(cols < 0) | (cols >= width)] = np.inf
-    dr2[(rows < 0) | (rows >= height)] = np.inf
-    inside = (dr2[:, :, None] + dc2[:, None, :]) <= (radii * radii)[:, None, None]
-    flat = np.unique((rows[:, :, None] * width + cols[:, None, :])[inside])
-    pix = img.reshape(-1, 3)
-    blended = pix[flat].astype(np.float32) * (1.0 - alpha) + np.asarray(color, np.float32) * alpha
-    pix[flat] = np.rint(blended).astype(np.uint8)
-
-
-def _ring_segments(centres: np.ndarray, radius: float, segments: int) -> tuple[np.ndarray, np.ndarray]:
-    """Start and end points of ``segments``-gon approximations of circles (world frame, metres)."""
-    ang = np.linspace(0.0, 2.0 * math.pi, segments + 1)
-    ring = np.stack([np.cos(ang), np.sin(ang)], axis=1) * radius  # (S + 1, 2)
-    pts = centres[:, None, :2] + ring[None, :, :]  # (N, S + 1, 2)
-    return pts[:, :-1].reshape(-1, 2), pts[:, 1:].reshape(-1, 2)
-
-
-# ----------------------------------------------------------------------------------------------
-# Renderer
-# ----------------------------------------------------------------------------------------------
 
 
 class TopDownRenderer:
@@ -420,7 +90,9 @@ class TopDownRenderer:
 
     """
 
-    def __init__(self, scenario: Mapping[str, Any], width: int = 640, height: int = 480, margin: float = 0.5) -> None:
+    def __init__(
+        self, scenario: Mapping[str, Any], width: int = FRAME_SIZE[0], height: int = FRAME_SIZE[1], margin: float = 0.5
+    ) -> None:
         """Precompute the transform and rasterise the static background.
 
         Args:
@@ -454,7 +126,7 @@ class TopDownRenderer:
             dtype=np.float64,
         )
         self._palette = np.array(ROBOT_PALETTE, dtype=np.uint8)
-        self._trail_palette = np.array([_mix(c, (255, 255, 255), 0.5) for c in ROBOT_PALETTE], dtype=np.uint8)
+        self._trail_palette = np.array([mix(c, (255, 255, 255), 0.5) for c in ROBOT_PALETTE], dtype=np.uint8)
         self._stencils: dict[float, tuple[np.ndarray, np.ndarray]] = {}
         self._background = self._rasterise_background(scenario)
         self._background.flags.writeable = False
@@ -516,7 +188,7 @@ class TopDownRenderer:
 
     def _fill_polygon(self, img: np.ndarray, poly: np.ndarray, color: RGB, alpha: float = 1.0) -> None:
         """Fill a world-frame polygon into ``img`` (optionally alpha-blended)."""
-        res = _polygon_mask(self.world_to_pixel(poly), self.height, self.width)
+        res = polygon_mask(self.world_to_pixel(poly), self.height, self.width)
         if res is None:
             return
         rs, cs, mask = res
@@ -531,7 +203,7 @@ class TopDownRenderer:
         """Draw the closed outline of a world-frame polygon into ``img``."""
         px = self.world_to_pixel(poly)
         p1 = np.roll(px, -1, axis=0)
-        _draw_segments(img, px, p1, np.tile(np.asarray(color, np.uint8), (len(px), 1)))
+        draw_segments(img, px, p1, np.tile(np.asarray(color, np.uint8), (len(px), 1)))
 
     def _rasterise_background(self, scenario: Mapping[str, Any]) -> np.ndarray:
         """Rasterise floor, interaction spaces, objects and walls into a new image.
@@ -553,7 +225,7 @@ class TopDownRenderer:
             space = interaction_polygon(obj)
             if space is not None:
                 self._fill_polygon(img, space, INTERACTION_COLOR, INTERACTION_ALPHA)
-                res = _polygon_mask(self.world_to_pixel(space), self.height, self.width)
+                res = polygon_mask(self.world_to_pixel(space), self.height, self.width)
                 if res is not None:
                     label[res[0], res[1]][res[2]] = len(names)
                 names.append(str(obj.get("name", len(names))))
@@ -562,9 +234,9 @@ class TopDownRenderer:
             poly = object_polygon(obj)
             color = OBJECT_COLORS.get(str(obj.get("kind")), DEFAULT_OBJECT_COLOR)
             if not obj.get("solid", True):
-                color = _mix(color, FLOOR_COLOR, 0.5)  # non-solid objects are drawn faded
+                color = mix(color, FLOOR_COLOR, 0.5)  # non-solid objects are drawn faded
             self._fill_polygon(img, poly, color)
-            self._outline_polygon(img, poly, _mix(color, (0, 0, 0), 0.45))
+            self._outline_polygon(img, poly, mix(color, (0, 0, 0), 0.45))
         for wall in scenario.get("walls", []):
             self._fill_polygon(img, wall_polygon(wall), WALL_COLOR)
         label[np.any(img != tinted, axis=2)] = -1  # covered by an object, its outline or a wall
@@ -625,8 +297,8 @@ class TopDownRenderer:
             ValueError: If an input has the wrong shape.
 
         """
-        robots_a = _rows(robots, 3, "robots")
-        people_a = _rows(people, 4, "people")
+        robots_a = rows(robots, 3, "robots")
+        people_a = rows(people, 4, "people")
         frame = self._background.copy()
         if object_costs is not None:
             self._draw_object_costs(frame, object_costs)
@@ -635,20 +307,20 @@ class TopDownRenderer:
             outlines = self._draw_groups(frame, people_a, groups)
 
         if zones is not None and len(people_a):
-            self._draw_zone_rings(frame, _nearest_people(people_a, robots_a, ZONE_NEAREST), zones)
+            self._draw_zone_rings(frame, nearest_people(people_a, robots_a, ZONE_NEAREST), zones)
 
         overlay = [
             self._polyline_batch(trails, self._trail_palette, dashed=False),
             self._polyline_batch(paths, self._palette, dashed=True),
         ]
         if goals is not None:
-            overlay.append(self._cross_batch(_rows(goals, 2, "goals")))
+            overlay.append(self._cross_batch(rows(goals, 2, "goals")))
         if outlines is not None:
             overlay.append(outlines)
         overlay = [b for b in overlay if len(b[0])]
         if overlay:
             p0, p1, colors, dashed = (np.concatenate(parts) for parts in zip(*overlay, strict=True))
-            _draw_segments(frame, p0, p1, colors, thickness=2, dashed=dashed)
+            draw_segments(frame, p0, p1, colors, thickness=2, dashed=dashed)
         if len(people_a):
             n = len(people_a)
             self._draw_bodies(
@@ -688,7 +360,7 @@ class TopDownRenderer:
             a = OBJECT_COST_ALPHA
             colours = self._space_floor * (1.0 - a) + lut[self._space_label] * a
             self._space_cache = (values, np.rint(colours).astype(np.uint8))
-        _pixel_view(frame)[self._space_pixels] = _pixels(self._space_cache[1])
+        pixel_view(frame)[self._space_pixels] = pixels(self._space_cache[1])
 
     def _draw_groups(
         self, frame: np.ndarray, people: np.ndarray, groups: Sequence[Sequence[int]]
@@ -710,10 +382,10 @@ class TopDownRenderer:
         if not centres:
             return empty
         cpx = self.world_to_pixel(np.asarray(centres))
-        _blend_discs(frame, cpx, np.asarray(ospace) * self.scale, GROUP_COLOR, OSPACE_ALPHA)
+        blend_discs(frame, cpx, np.asarray(ospace) * self.scale, GROUP_COLOR, OSPACE_ALPHA)
         starts, ends = [], []
         for c, r in zip(centres, outline, strict=True):
-            a, b = _ring_segments(c[None, :], r, 40)
+            a, b = ring_segments(c[None, :], r, 40)
             starts.append(a)
             ends.append(b)
         p0 = self.world_to_pixel(np.concatenate(starts))
@@ -729,13 +401,13 @@ class TopDownRenderer:
         centres = self.world_to_pixel(ok[:, :2])
         rows0 = np.floor(centres[:, 1]).astype(np.intp)
         cols0 = np.floor(centres[:, 0]).astype(np.intp)
-        view = _pixel_view(frame)
+        view = pixel_view(frame)
         for k, r in enumerate(radii):
             dr, dc = self._ring_stencil(float(r) * self.scale)
             rows = rows0[:, None] + dr[None, :]
             cols = cols0[:, None] + dc[None, :]
             inside = (rows >= 0) & (rows < self.height) & (cols >= 0) & (cols < self.width)
-            view[(rows * self.width + cols)[inside]] = _pixels(np.asarray(ZONE_COLORS[k % len(ZONE_COLORS)]))[0]
+            view[(rows * self.width + cols)[inside]] = pixels(np.asarray(ZONE_COLORS[k % len(ZONE_COLORS)]))[0]
 
     def _ring_stencil(self, radius_px: float) -> tuple[np.ndarray, np.ndarray]:
         """Row and column offsets of the pixels whose centres lie within half a pixel of a circle."""
@@ -762,12 +434,12 @@ class TopDownRenderer:
         """Draw discs with a heading tick from 0.25 r to 0.9 r along the facing direction."""
         centres = self.world_to_pixel(poses[:, :2])
         radii_px = np.maximum(radii_m * self.scale, 2.0)
-        _draw_discs(frame, centres, radii_px, fill, outline)
+        draw_discs(frame, centres, radii_px, fill, outline)
         direction = np.stack([np.cos(poses[:, 2]), -np.sin(poses[:, 2])], axis=1)  # row axis points down
         p0 = centres + direction * (0.25 * radii_px)[:, None]
         p1 = centres + direction * (0.9 * radii_px)[:, None]
         thickness = 2 if float(np.nanmax(radii_px)) >= 6.0 else 1
-        _draw_segments(frame, p0, p1, tick, thickness=thickness)
+        draw_segments(frame, p0, p1, tick, thickness=thickness)
 
     def _polyline_batch(
         self, lines: Sequence[np.ndarray | None] | None, palette: np.ndarray, *, dashed: bool
@@ -797,21 +469,3 @@ class TopDownRenderer:
         p0 = np.concatenate([c + np.array([-h, -h]), c + np.array([-h, h])])
         p1 = np.concatenate([c + np.array([h, h]), c + np.array([h, -h])])
         return p0, p1, np.concatenate([cols, cols]), np.zeros(len(p0), dtype=bool)
-
-
-def _mix(a: Sequence[int], b: Sequence[int], t: float) -> RGB:
-    """Linear mix of two RGB colours: ``(1 - t) * a + t * b``, rounded."""
-    r, g, bl = (round((1.0 - t) * x + t * y) for x, y in zip(a, b, strict=True))
-    return (r, g, bl)
-
-
-def _rows(arr: Any, ncols: int, name: str) -> np.ndarray:
-    """Coerce ``arr`` to a float ``(N, ncols)`` array (an empty input gives ``(0, ncols)``)."""
-    a = np.asarray(arr if arr is not None else [], dtype=np.float64)
-    if a.size == 0:
-        return np.zeros((0, ncols), dtype=np.float64)
-    if a.ndim == 1 and a.shape[0] == ncols:
-        a = a[None, :]
-    if a.ndim != 2 or a.shape[1] != ncols:
-        raise input_error(name, f"shape (N, {ncols})", f"shape {a.shape}")
-    return a

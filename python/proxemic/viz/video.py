@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from proxemic.errors import input_error, require_extra
+from proxemic.viz.topdown import FRAME_SIZE
 
 if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
@@ -94,8 +95,8 @@ def write_video(
         The path written.
 
     Raises:
-        InputError: A non-positive fps, a path that is a directory, no frames, or a frame of the
-            wrong shape, dtype or size.
+        InputError: A non-positive fps, a path that is a directory or cannot be written (named
+            ``out``), no frames, or a frame of the wrong shape, dtype or size.
         ImportError: imageio or imageio-ffmpeg is not installed.
     """
     if not (fps > 0 and np.isfinite(fps)):
@@ -104,7 +105,13 @@ def write_video(
         raise input_error("out", "the path of an .mp4 file to write", f"{os.fspath(path)!r}, a directory")
     iio = _imageio()
     out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
+    try:  # an unwritable path is the caller's `out`, said before ffmpeg starts (it would say Broken pipe)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.open("wb").close()
+    except OSError as e:
+        raise input_error(
+            "out", "the path of an .mp4 file that can be written", f"{os.fspath(path)!r} ({e.strerror or e})"
+        ) from e
     bar = None
     if progress:
         from tqdm import tqdm
@@ -187,8 +194,8 @@ def record_episode(
     view: str = "topdown",
     fps: float | None = None,
     max_steps: int | None = None,
-    width: int = 640,
-    height: int = 480,
+    width: int = FRAME_SIZE[0],
+    height: int = FRAME_SIZE[1],
     overlays: Iterable[str] = ("path",),
     progress: bool = False,
     metrics: dict[str, Any] | None = None,

@@ -7,8 +7,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use proxemic_core::map::{Bounds, DistanceField, GridSpec, OccupancyGrid, StaticGeometry, scan};
+use proxemic_core::map::{CostGrid, INSCRIBED};
 use proxemic_core::math::Vec2;
-use proxemic_core::plan::{CostGrid, INSCRIBED, PathPlanner, SearchMode, nearest_passable, smooth_path};
+use proxemic_core::plan::{PathPlanner, SearchMode, nearest_passable, smooth_path};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;

@@ -8,11 +8,12 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use proxemic_core::groups::{DensityParams, GroupMethod, PersonState, detect};
+use proxemic_core::map::CostGrid;
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use proxemic_core::math::Vec2;
 use proxemic_core::perception::{SocialConfig, perceive};
-use proxemic_core::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable};
+use proxemic_core::plan::{PathPlanner, SearchMode, nearest_passable};
 use proxemic_core::proxemics::DensityZones;
 use proxemic_core::scenario::Scenario;
 use proxemic_core::socialmap::{DensityLayer, SocialMap};

@@ -1,5 +1,11 @@
 //! A mutation fuzzer for the scenario parser and the world builder: no input may make
-//! [`Scenario::from_toml_str`], [`World::new`] or [`World::reset`] panic.
+//! [`Scenario::from_toml_str`], [`World::new`], [`World::reset`], [`World::step`] or
+//! [`World::episode_metrics`] panic, nor make an episode's record break one of its invariants
+//! ([`proxemic_core::metrics::invariants`]: a [`CoreError::Invariant`] is a finding too).
+//!
+//! Three kinds of input, in turn: scenario files (TOML), the names of generated scenes
+//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T`), and the CSV
+//! track files of `[[replay]]` tables (written to a temporary folder beside a scenario naming them).
 //!
 //! `cargo fuzz` needs a nightly toolchain, which cannot be installed here, so this is a
 //! structure-aware mutation fuzzer on the stable toolchain: it starts from the bundled scenario
@@ -7,7 +13,8 @@
 //! replaced by interesting values — zero, negatives, NaN, infinities, huge and tiny magnitudes —,
 //! array elements dropped or added, lines deleted, duplicated or swapped, kind and behaviour names
 //! swapped, strings replaced, bytes inserted, the text truncated). Each mutant is parsed, and if it
-//! validates, its world is built and reset, all under `catch_unwind`. A panic is a finding: the
+//! validates, its world is built, reset and stepped a few control steps (the robots moved
+//! kinematically by their commands) and its records made, all under `catch_unwind`. A panic is a finding: the
 //! input is written to `fuzz-findings/` and the run exits with code 1. Errors are expected and
 //! fine: they are what validation is for.
 //!
@@ -21,10 +28,14 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use proxemic_core::CoreError;
 use proxemic_core::scenario::Scenario;
+use proxemic_core::scenario::generate::{self, francis2023};
 use proxemic_core::world::World;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng as StdRng;
+
+mod common;
 
 /// Values a number may be replaced with.
 const NUMBERS: &[&str] = &[
@@ -113,6 +124,25 @@ const NAMES: &[&str] = &[
     "museum.toml",
     "../../../etc/passwd",
 ];
+
+/// Scene names the name mutants start from.
+const SCENE_NAMES: &[&str] = &[
+    "generated/0",
+    "generated/3?robots=2&max_time=60",
+    "generated/7?rooms=2&people_per_room=4&objects_per_room=1",
+    "francis2023/frontal_approach",
+    "francis2023/crossing_90?seed=2&max_time=30",
+    "francis2023/pedestrian_obstruction?seed=5",
+];
+
+/// A track file the CSV mutants start from (three people crossing a 12 m x 8 m hall).
+const TRACKS: &str = "t,id,x,y\n0.0,a,1.0,4.0\n0.0,b,11.0,4.2\n0.4,a,1.5,4.0\n0.4,b,10.5,4.2\n0.8,a,2.0,4.0\n\
+                      0.8,b,10.0,4.1\n1.2,b,9.5,4.0\n2.0,c,6.0,1.0\n2.4,c,6.0,1.5\n2.8,c,6.0,2.0\n";
+
+/// The scenario around the track files (its `replay.file` is `tracks.csv` beside it).
+const REPLAY_SCENE: &str = "[scene]\nname = \"fuzz_replay\"\nbounds = [0, 0, 12, 8]\n[[robot]]\nstart = [0.5, 4, 0]\n\
+                            goal = [11.5, 4]\n[[replay]]\nfile = \"tracks.csv\"\nreact_radius = 1.5\n\
+                            [episode]\nmax_time = 10\n";
 
 fn corpus(root: &Path) -> Vec<String> {
     let mut out = vec![
@@ -264,27 +294,82 @@ fn corrupt_bytes(text: &str, rng: &mut StdRng) -> String {
     String::from_utf8_lossy(&bytes).into_owned()
 }
 
-/// Parses, builds and resets one input; `Err` carries the panic message.
-fn exercise(text: &str) -> Result<bool, String> {
-    catch_unwind(AssertUnwindSafe(|| {
-        let Ok(scenario) = Scenario::from_toml_str(text, "fuzz.toml") else {
-            return false;
+/// Control steps each built world is stepped before its records are made.
+const STEPS: usize = 12;
+
+/// What one input is.
+enum Input<'a> {
+    /// A scenario file's text.
+    Toml(&'a str),
+    /// A generated or Francis et al. 2023 scene's name.
+    Name(&'a str),
+    /// A replay track file's text (beside [`REPLAY_SCENE`] in `dir`).
+    Tracks(&'a str, &'a Path),
+}
+
+/// Builds, resets and steps the world of `scenario`, then makes its records; `Err` carries an
+/// invariant's error (a finding).
+fn run_world(scenario: Scenario) -> Result<(), String> {
+    let Ok(mut world) = World::new(scenario) else {
+        return Ok(());
+    };
+    let stride = world.layout().stride;
+    let n = world.num_robots();
+    let mut out = vec![0.0; n * stride];
+    let mut people = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
+    if world.reset(7, &mut out, &mut people).is_err() {
+        return Ok(());
+    }
+    let mut state = vec![0.0; 6 * n];
+    let contacts = vec![0u8; n];
+    let actions = vec![f64::NAN; 3 * n];
+    let dt = world.scenario().control_dt();
+    for _ in 0..STEPS {
+        if world.command(&actions, &mut out).is_err() {
+            break;
+        }
+        common::kinematics(&world, &out, &mut state, dt);
+        if world.step(&state, &contacts, &mut out, &mut people).is_err() {
+            break;
+        }
+    }
+    match world.episode_metrics() {
+        Err(e @ CoreError::Invariant { .. }) => Err(format!("invariant broken: {e}")),
+        _ => Ok(()),
+    }
+}
+
+/// Parses, builds, resets and steps one input; `Ok(true)` when it validated, `Err` carries the
+/// panic message or the broken invariant.
+fn exercise(input: &Input) -> Result<bool, String> {
+    let run = catch_unwind(AssertUnwindSafe(|| -> Result<bool, String> {
+        let scenario = match input {
+            Input::Toml(text) => Scenario::from_toml_str(text, "fuzz.toml"),
+            Input::Name(name) if name.starts_with(francis2023::PREFIX) => {
+                francis2023::generate(name).map(|g| g.scenario)
+            }
+            Input::Name(name) => generate::parse_spec(name)
+                .and_then(|(seed, p)| generate::generate(seed, &p))
+                .map(|g| g.scenario),
+            Input::Tracks(text, dir) => {
+                let _ = std::fs::write(dir.join("tracks.csv"), text);
+                let source = dir.join("fuzz.toml");
+                Scenario::from_toml_str(REPLAY_SCENE, &source.display().to_string())
+            }
         };
-        let Ok(mut world) = World::new(scenario) else {
-            return true;
+        let Ok(scenario) = scenario else {
+            return Ok(false);
         };
-        let stride = world.layout().stride;
-        let mut out = vec![0.0; world.num_robots() * stride];
-        let mut people = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
-        let _ = world.reset(7, &mut out, &mut people);
-        true
-    }))
-    .map_err(|e| {
-        e.downcast_ref::<String>()
+        run_world(scenario).map(|()| true)
+    }));
+    run.map_err(|e| {
+        let msg = e
+            .downcast_ref::<String>()
             .cloned()
             .or_else(|| e.downcast_ref::<&str>().map(|s| (*s).to_string()))
-            .unwrap_or_else(|| "a panic".to_string())
-    })
+            .unwrap_or_else(|| "a panic".to_string());
+        format!("panic {msg:?}")
+    })?
 }
 
 fn main() {
@@ -303,21 +388,41 @@ fn main() {
     // Quiet the default panic hook: findings are reported once, below.
     std::panic::set_hook(Box::new(|_| {}));
     let mut rng = StdRng::seed_from_u64(seed);
+    let tmp = std::env::temp_dir().join(format!("proxemic-fuzz-{}", std::process::id()));
+    let _ = std::fs::create_dir_all(&tmp);
     let deadline = Instant::now() + Duration::from_secs(seconds);
     let (mut runs, mut valid) = (0u64, 0u64);
+    let mut kinds = [0u64; 3];
     let start = Instant::now();
     while Instant::now() < deadline {
-        let base = &seeds[rng.random_range(0..seeds.len())];
-        let input = mutate(base, &mut rng);
+        // Scenario files most of the time; names and track files one input in five each.
+        let kind = match rng.random_range(0..5) {
+            0 => 1,
+            1 => 2,
+            _ => 0,
+        };
+        let text = match kind {
+            1 => mutate(SCENE_NAMES[rng.random_range(0..SCENE_NAMES.len())], &mut rng).replace('\n', "&"),
+            2 => mutate(TRACKS, &mut rng),
+            _ => mutate(&seeds[rng.random_range(0..seeds.len())], &mut rng),
+        };
+        let input = match kind {
+            1 => Input::Name(&text),
+            2 => Input::Tracks(&text, &tmp),
+            _ => Input::Toml(&text),
+        };
         runs += 1;
+        kinds[kind] += 1;
         match exercise(&input) {
             Ok(ok) => valid += u64::from(ok),
             Err(msg) => {
                 let dir = Path::new("fuzz-findings");
                 let _ = std::fs::create_dir_all(dir);
-                let path = dir.join(format!("panic-{seed}-{runs}.toml"));
-                let _ = std::fs::write(&path, &input);
-                eprintln!("FINDING after {runs} inputs: panic {msg:?}; input written to {}", path.display());
+                let ext = ["toml", "name.txt", "csv"][kind];
+                let path = dir.join(format!("finding-{seed}-{runs}.{ext}"));
+                let _ = std::fs::write(&path, &text);
+                eprintln!("FINDING after {runs} inputs: {msg}; input written to {}", path.display());
+                let _ = std::fs::remove_dir_all(&tmp);
                 std::process::exit(1);
             }
         }
@@ -325,8 +430,13 @@ fn main() {
             eprintln!("{runs} inputs ({valid} built) in {:.0} s", start.elapsed().as_secs_f64());
         }
     }
+    let _ = std::fs::remove_dir_all(&tmp);
     println!(
-        "fuzz_scenario: {runs} inputs ({valid} valid and built) in {:.0} s, seed {seed}: no panic",
+        "fuzz_scenario: {runs} inputs ({} scenario files, {} scene names, {} replay track files; {valid} valid, \
+         built and stepped) in {:.0} s, seed {seed}: no panic, no broken invariant",
+        kinds[0],
+        kinds[1],
+        kinds[2],
         start.elapsed().as_secs_f64()
     );
 }

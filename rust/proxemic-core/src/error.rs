@@ -42,6 +42,17 @@ pub enum CoreError {
         /// What happened.
         message: String,
     },
+    /// An episode's record broke one of its invariants ([`crate::metrics::invariants`]): a bug in
+    /// proxemic, reported instead of a record whose numbers contradict each other.
+    #[error("{episode}: invariant {invariant} broken: {detail} (a bug in proxemic: please report it)")]
+    Invariant {
+        /// The episode (scene, seed, robot).
+        episode: String,
+        /// The invariant's name ([`crate::metrics::invariants::INVARIANTS`]).
+        invariant: String,
+        /// What the record says that breaks it.
+        detail: String,
+    },
 }
 
 impl CoreError {

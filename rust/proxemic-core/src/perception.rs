@@ -437,12 +437,12 @@ mod tests {
 
     /// A wall at x = 10 (two cells thick, the grid's resolution 0.1 m) with a doorway at
     /// y 4 - 5.5: zones stop at it on both map paths.
-    fn wall_with_doorway(grid: &mut crate::plan::CostGrid) {
+    fn wall_with_doorway(grid: &mut crate::map::CostGrid) {
         for iy in 0..grid.spec.height {
             if !(40..55).contains(&iy) {
                 for ix in 100..102 {
                     let i = grid.spec.index(ix, iy);
-                    grid.cost[i] = crate::plan::LETHAL;
+                    grid.cost[i] = crate::map::LETHAL;
                 }
             }
         }
@@ -450,9 +450,9 @@ mod tests {
 
     #[test]
     fn the_row_sweep_equals_the_per_cell_evaluation() {
+        use crate::map::CostGrid;
         use crate::map::geometry::Bounds;
         use crate::map::grid::GridSpec;
-        use crate::plan::CostGrid;
         use crate::socialmap::SocialMap;
         let cfg = SocialConfig::default();
         let people: Vec<PersonState> = (0..12)
@@ -480,9 +480,9 @@ mod tests {
 
     #[test]
     fn counted_incremental_updates_equal_a_rebuild() {
+        use crate::map::CostGrid;
         use crate::map::geometry::Bounds;
         use crate::map::grid::GridSpec;
-        use crate::plan::CostGrid;
         use crate::socialmap::SocialMap;
         let cfg = SocialConfig::default();
         let spec =

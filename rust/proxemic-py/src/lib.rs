@@ -42,6 +42,9 @@ fn to_py_err(py: Python<'_>, e: CoreError) -> PyErr {
         CoreError::Planning { file, field, message } => {
             ("PlanningError", Some(file.clone()), field.clone(), None, Some(message.clone()))
         }
+        CoreError::Invariant { episode, invariant, detail } => {
+            ("InvariantError", Some(episode.clone()), invariant.clone(), None, Some(detail.clone()))
+        }
     };
     let message = e.to_string();
     let build = || -> PyResult<PyErr> {
@@ -77,6 +80,30 @@ fn internal_error(py: Python<'_>) -> PyErr {
 
 fn input_err(py: Python<'_>, field: &str, expected: String, found: String) -> PyErr {
     to_py_err(py, CoreError::input(field, expected, found))
+}
+
+/// A robot index argument: a negative or too large Python int is an `InputError` naming `robot`
+/// and what arrived (pyo3 alone raises `OverflowError`); a non-int keeps pyo3's `TypeError`.
+fn robot_index(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
+    obj.extract::<usize>().map_err(|e| {
+        if obj.is_instance_of::<pyo3::types::PyInt>() {
+            input_err(obj.py(), "robot", "a robot index, an integer >= 0".into(), obj.to_string())
+        } else {
+            e
+        }
+    })
+}
+
+/// A seed argument: a negative Python int or one of 2**64 or more is an `InputError` naming
+/// `seed` and what arrived (pyo3 alone raises `OverflowError`).
+fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
+    obj.extract::<u64>().map_err(|e| {
+        if obj.is_instance_of::<pyo3::types::PyInt>() {
+            input_err(obj.py(), "seed", "an integer in [0, 2**64)".into(), obj.to_string())
+        } else {
+            e
+        }
+    })
 }
 
 /// `obj` as a one-dimensional numpy array of `T`, or an `InputError` naming `field` that says
@@ -200,7 +227,12 @@ impl PyScenario {
     /// instead of its file goal. Raises `ScenarioError`; a goal inside a wall or object is
     /// rejected when a `World` is built.
     #[pyo3(signature = (goal, robot = 0))]
-    fn with_goal(&self, py: Python<'_>, goal: [f64; 2], robot: usize) -> PyResult<Self> {
+    fn with_goal(
+        &self,
+        py: Python<'_>,
+        goal: [f64; 2],
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Self> {
         let inner = enter_core(py, || self.inner.with_goal(robot, goal))?;
         Ok(PyScenario { inner })
     }
@@ -442,7 +474,7 @@ impl PyWorld {
     fn reset(
         &mut self,
         py: Python<'_>,
-        seed: u64,
+        #[pyo3(from_py_with = seed_arg)] seed: u64,
         out: &Bound<'_, PyAny>,
         people_out: &Bound<'_, PyAny>,
     ) -> PyResult<()> {
@@ -526,21 +558,33 @@ impl PyWorld {
 
     /// The plain A* path from robot `robot`'s episode start to its goal (Daza et al. 2021's
     /// reference path of `l_ratio`, `smooth_rad2` and `smooth_rad`), as a (K, 2) float64 array.
-    fn astar_path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn astar_path<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, CoreWorld::astar_path)?)
     }
 
     /// Robot `robot`'s poses x, y, theta (m, m, rad, world frame) at every control instant of
     /// the episode so far, the start first, as a (T + 1, 3) float64 array (what its metrics are
     /// computed from; steps after its episode ended are not recorded).
-    fn trajectory<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn trajectory<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let poses = self.of_robot(py, robot, CoreWorld::trajectory)?;
         let flat: Vec<f64> = poses.iter().flatten().copied().collect();
         PyArray1::from_vec(py, flat).reshape([poses.len(), 3])
     }
 
     /// The global path robot `robot` is following, as a (K, 2) float64 array.
-    fn path<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn path<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         points_to_array(py, self.of_robot(py, robot, CoreWorld::path)?)
     }
 
@@ -551,7 +595,7 @@ impl PyWorld {
     fn plan<'py>(
         &mut self,
         py: Python<'py>,
-        robot: usize,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
         start: (f64, f64),
         goal: (f64, f64),
         social: bool,
@@ -578,7 +622,7 @@ impl PyWorld {
     fn social_layers<'py>(
         &mut self,
         py: Python<'py>,
-        robot: usize,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
         time_of_day: Option<f64>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let robot = self.robot(py, robot)?;
@@ -662,7 +706,7 @@ impl PyWorld {
     }
 
     /// How many times robot `robot`'s social path was (re-)planned this episode.
-    fn replans(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+    fn replans(&self, py: Python<'_>, #[pyo3(from_py_with = robot_index)] robot: usize) -> PyResult<usize> {
         let robot = self.robot(py, robot)?;
         Ok(self.inner.replans(robot))
     }
@@ -670,7 +714,11 @@ impl PyWorld {
     /// How many social searches ran for robot `robot` this episode: its first plan, its
     /// triggered re-plans and its refreshes, whether the new path was kept or not (0 for a robot
     /// that is not on a social planner). At least :meth:`replans`.
-    fn social_searches(&self, py: Python<'_>, robot: usize) -> PyResult<usize> {
+    fn social_searches(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<usize> {
         let robot = self.robot(py, robot)?;
         Ok(self.inner.social_searches(robot))
     }
@@ -694,7 +742,11 @@ impl PyWorld {
 
     /// Robot `robot`'s inflated cost grid as ((H, W) uint8 array, (origin_x, origin_y,
     /// resolution)); row 0 is the lowest y. 254 marks static obstacles, 253 the inflation.
-    fn cost_grid<'py>(&self, py: Python<'py>, robot: usize) -> PyResult<Bound<'py, PyTuple>> {
+    fn cost_grid<'py>(
+        &self,
+        py: Python<'py>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Bound<'py, PyTuple>> {
         let g = self.of_robot(py, robot, CoreWorld::cost_grid)?;
         let arr = PyArray1::from_slice(py, &g.cost).reshape([g.spec.height, g.spec.width])?;
         let meta = (g.spec.origin.x, g.spec.origin.y, g.spec.resolution);
@@ -702,7 +754,11 @@ impl PyWorld {
     }
 
     /// Geodesic shortest collision-free distance from robot `robot`'s nominal start to its goal (m).
-    fn geodesic_start_distance(&self, py: Python<'_>, robot: usize) -> PyResult<f64> {
+    fn geodesic_start_distance(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<f64> {
         let robot = self.robot(py, robot)?;
         self.inner.geodesic_start_distance(robot).ok_or_else(|| internal_error(py))
     }

@@ -30,8 +30,8 @@
 
 use serde::Serialize;
 
+use crate::map::{CostGrid, LETHAL};
 use crate::math::Vec2;
-use crate::plan::{CostGrid, LETHAL};
 
 /// Default of [`ProgressParams::distance`] (m).
 pub const DEFAULT_DISTANCE: f64 = 0.5;

@@ -23,8 +23,8 @@
 //!   of the corridor's half-width plus one grid cell, so the new path's corridor clears them),
 //!   then waits again, re-planning every `wait` seconds while blocked.
 
+use crate::map::{CostGrid, INSCRIBED};
 use crate::math::Vec2;
-use crate::plan::{CostGrid, INSCRIBED};
 
 /// Parameters of the stop-and-wait rule.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -74,6 +74,20 @@ pub(crate) struct StepContact<'a> {
     pub radii: &'a [f64],
     /// Whether the physics reported a person contact over the step.
     pub physics_person: bool,
+    /// Whether each person is in the scene at the start and at the end of the step (empty:
+    /// everyone is). A person absent at either instant (a replayed person appearing, leaving or
+    /// parked) is neither swept past nor touched: their jump is not a motion.
+    pub present_before: &'a [bool],
+    /// As `present_before`, at the end of the step.
+    pub present_after: &'a [bool],
+}
+
+impl StepContact<'_> {
+    /// Whether person `i` is in the scene over the whole step.
+    pub(crate) fn here(&self, i: usize) -> bool {
+        self.present_before.get(i).copied().unwrap_or(true)
+            && self.present_after.get(i).copied().unwrap_or(true)
+    }
 }
 
 /// The touch of every person over one step, into `out` (cleared first; one entry per person).
@@ -83,6 +97,10 @@ pub(crate) fn classify_step(s: &StepContact, out: &mut Vec<Touch>) {
     let gaps = |i: usize| (s.after[i] - s.p1).norm() - s.robot_radius - s.radii[i];
     let mut any = false;
     for i in 0..np {
+        if !s.here(i) {
+            out.push(Touch::None);
+            continue;
+        }
         let swept = swept_gap(s.p0, s.p1, s.before[i], s.after[i], s.robot_radius, s.radii[i]) < 0.0;
         let touching = swept || (s.physics_person && gaps(i) <= PHYSICS_CONTACT_GAP);
         any |= touching;
@@ -90,7 +108,7 @@ pub(crate) fn classify_step(s: &StepContact, out: &mut Vec<Touch>) {
     }
     if s.physics_person && !any {
         // The physics touched someone the discs do not show: the nearest person.
-        let nearest = (0..np).map(|i| (gaps(i), i)).min_by(|a, b| a.0.total_cmp(&b.0));
+        let nearest = (0..np).filter(|&i| s.here(i)).map(|i| (gaps(i), i)).min_by(|a, b| a.0.total_cmp(&b.0));
         if let Some((_, i)) = nearest {
             out[i] = fault(s, i);
         }
@@ -140,6 +158,8 @@ pub(crate) fn touches(s: &Samples, traj: &Trajectory, people: &PeopleTracks, con
             after: &people.positions[(k + 1) * np..(k + 2) * np],
             radii: people.radii,
             physics_person: bits & CONTACT_PERSON != 0,
+            present_before: people.present.get(k * np..(k + 1) * np).unwrap_or(&[]),
+            present_after: people.present.get((k + 1) * np..(k + 2) * np).unwrap_or(&[]),
         };
         classify_step(&step, &mut row);
         all.extend_from_slice(&row);
@@ -221,6 +241,7 @@ mod tests {
                 success_radius: 0.1,
                 astar_path: vec![Vec2::zeros(), Vec2::new(3.0, 0.0)],
                 geodesic_length: 3.0,
+                episode: "test".into(),
             };
             let mut log = SceneLog::new(vec![0.2; people.len()], vec![]);
             log.push(&snapshot(people));
@@ -312,6 +333,36 @@ mod tests {
         let r = run.eval();
         assert_eq!(counts(&r), (0, 2, 0));
         assert_eq!(r.outcome, Outcome::Running);
+    }
+
+    #[test]
+    fn a_person_appearing_across_the_robot_touches_nobody() {
+        // A replayed person parked at (50, 0), ahead of the robot, appears at (-2, 0) behind it
+        // while the robot drives toward the parking spot at 1 m/s: their jump sweeps across the
+        // robot (and would be the robot's fault), but a jump is no motion. Neither the
+        // recorder nor the evaluator counts it (the records of issue 43 said outcome = success
+        // with collisions_robot_fault = 1), and the record is made (its invariants hold).
+        let mut run = Run::new(&[Vec2::new(50.0, 0.0)]);
+        let snap = |p: &[Vec2], here: bool| -> (Vec<Vec2>, bool) { (p.to_vec(), here) };
+        let steps = [snap(&[Vec2::new(50.0, 0.0)], false), snap(&[Vec2::new(-2.0, 0.0)], true)];
+        // Instant 0 was logged by Run::new with everyone present: restart the log with the
+        // person absent.
+        run.log = SceneLog::new(vec![0.2], vec![]);
+        let absent = [false];
+        let mut push = |log: &mut SceneLog, p: &[Vec2], present: &[bool]| {
+            let mut sn = snapshot(p);
+            sn.present = present;
+            log.push(&sn);
+        };
+        push(&mut run.log, &steps[0].0, &absent);
+        for (k, (p, here)) in steps.iter().enumerate() {
+            push(&mut run.log, p, &[*here]);
+            let x = 0.1 * (k + 1) as f64;
+            assert_eq!(run.rec.record(&run.log, [x, 0.0, 0.0], 0, false), Outcome::Running);
+        }
+        let r = run.eval();
+        assert_eq!(counts(&r), (0, 0, 0));
+        assert!(!r.metrics.collisions.hc && !r.metrics.collisions.collision);
     }
 
     #[test]

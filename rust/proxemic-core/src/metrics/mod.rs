@@ -69,6 +69,7 @@ pub mod fault;
 pub mod groups;
 mod input;
 mod interactions;
+pub mod invariants;
 pub mod motion;
 pub mod objects;
 pub mod papers;
@@ -215,6 +216,7 @@ pub fn evaluate(
             people.count,
             traj.dt,
             people.positions,
+            people.present,
             ctx.robot_free.as_ref(),
         ),
         collisions,

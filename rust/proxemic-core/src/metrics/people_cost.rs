@@ -60,12 +60,16 @@ pub struct PeopleCostMetrics {
 }
 
 /// The cost of the episode's first `n` instants (`n >= 1`) with the people's `real` centres
-/// (row-major, at least `n * np`) against the robot-free run `free`, control period `dt`.
+/// (row-major, at least `n * np`) against the robot-free run `free`, control period `dt`. Only
+/// the instants at which a person is `present` (row-major like `real`; empty: always) count in
+/// their distances: a replayed person's parked positions before they appear and after they leave
+/// are no part of their way.
 pub(crate) fn evaluate(
     n: usize,
     np: usize,
     dt: f64,
     real: &[Vec2],
+    present: &[bool],
     free: Option<&RobotFreeTracks>,
 ) -> PeopleCostMetrics {
     let Some(free) = free else { return PeopleCostMetrics::default() };
@@ -77,7 +81,9 @@ pub(crate) fn evaluate(
     let no_events: Vec<usize> = Vec::new();
     let (mut delay, mut extra, mut dev) = (Vec::new(), Vec::new(), Vec::new());
     for i in 0..np {
-        let track = |pos: &[Vec2]| -> Vec<Vec2> { (0..n).map(|t| pos[t * np + i]).collect() };
+        let here = |t: usize| present.get(t * np + i).copied().unwrap_or(true);
+        let track =
+            |pos: &[Vec2]| -> Vec<Vec2> { (0..n).filter(|&t| here(t)).map(|t| pos[t * np + i]).collect() };
         let cf = free.stages.get(i).unwrap_or(&no_events);
         let re = free.real_stages.get(i).unwrap_or(&no_events);
         // Delay: the robot-free run's stage changes within the episode.
@@ -95,10 +101,14 @@ pub(crate) fn evaluate(
         delay.push(d);
         // Extra distance to the last stage change both runs made.
         let (a, b) = (track(real), track(free.positions));
-        let walked = |pts: &[Vec2], upto: usize| -> f64 {
-            pts[..=upto].windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+        // The distance walked to instant `upto`, over the steps with the person there at both ends.
+        let walked = |pos: &[Vec2], upto: usize| -> f64 {
+            (0..upto)
+                .filter(|&t| here(t) && here(t + 1))
+                .map(|t| (pos[(t + 1) * np + i] - pos[t * np + i]).norm())
+                .sum()
         };
-        extra.push(common.map_or(0.0, |(r, c)| (walked(&a, r) - walked(&b, c)).max(0.0)));
+        extra.push(common.map_or(0.0, |(r, c)| (walked(real, r) - walked(free.positions, c)).max(0.0)));
         // Path deviation from the robot-free path.
         dev.push(if a == b { 0.0 } else { deviation(&a, &b) });
     }

@@ -69,6 +69,8 @@ pub struct RecorderSetup {
     pub astar_path: Vec<Vec2>,
     /// Geodesic start-goal length (m); `f64::INFINITY` when unreachable.
     pub geodesic_length: f64,
+    /// The episode, as an invariant's error names it (e.g. `museum, seed 3, robot 0`).
+    pub episode: String,
 }
 
 /// What the world looks like at one control instant (apart from the robots).
@@ -245,30 +247,10 @@ impl EpisodeRecorder {
         let rr = self.setup.robot_radius;
         // A log that does not hold both instants (a caller's error) has no people to sweep past;
         // `evaluate` reports the mismatch.
-        // Absent people (replayed people coming or going) are neither swept past nor touched: they
-        // count as far away for this step.
+        // Absent people (replayed people coming or going) are neither swept past nor touched
+        // (`classify_step` leaves them out, as the evaluator does).
         let (swept, robot_fault) = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
             (Some(before), Some(after)) => {
-                let (was, is) =
-                    (log.present_at(prev_t).unwrap_or(&[]), log.present_at(prev_t + 1).unwrap_or(&[]));
-                let here =
-                    |i: usize| was.get(i).copied().unwrap_or(true) && is.get(i).copied().unwrap_or(true);
-                let far = Vec2::new(1e9, 1e9);
-                let (kept_before, kept_after): (Vec<Vec2>, Vec<Vec2>);
-                let (before, after) = if (0..before.len()).all(here) {
-                    (before, after)
-                } else {
-                    kept_before =
-                        before.iter().enumerate().map(|(i, &a)| if here(i) { a } else { far }).collect();
-                    kept_after =
-                        after.iter().enumerate().map(|(i, &b)| if here(i) { b } else { far }).collect();
-                    (&kept_before[..], &kept_after[..])
-                };
-                let swept = before
-                    .iter()
-                    .zip(after)
-                    .zip(&log.people_radii)
-                    .any(|((&a, &b), &r)| swept_gap(p0, p1, a, b, rr, r) < 0.0);
                 let step = StepContact {
                     p0,
                     p1,
@@ -278,7 +260,12 @@ impl EpisodeRecorder {
                     after,
                     radii: &log.people_radii,
                     physics_person: contacts & CONTACT_PERSON != 0,
+                    present_before: log.present_at(prev_t).unwrap_or(&[]),
+                    present_after: log.present_at(prev_t + 1).unwrap_or(&[]),
                 };
+                let swept = (0..before.len())
+                    .filter(|&i| step.here(i))
+                    .any(|i| swept_gap(p0, p1, before[i], after[i], rr, log.people_radii[i]) < 0.0);
                 classify_step(&step, &mut self.touches);
                 (swept, self.touches.contains(&Touch::RobotFault))
             }
@@ -327,7 +314,8 @@ impl EpisodeRecorder {
     /// # Errors
     /// [`crate::error::CoreError::Input`] when `log` holds fewer instants than the recording,
     /// and from [`evaluate`] when a recorded value is not finite or the zones are not
-    /// non-decreasing.
+    /// non-decreasing; [`crate::error::CoreError::Invariant`] when the record breaks one of its
+    /// invariants ([`super::invariants`]: a bug).
     pub fn evaluate(
         &self,
         log: &SceneLog,
@@ -380,7 +368,7 @@ impl EpisodeRecorder {
         };
         let metrics = evaluate(&traj, &people, &groups, &objects, &ctx)?;
         let astar_length = s.astar_path.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-        Ok(EpisodeReport {
+        let report = EpisodeReport {
             outcome: self.outcome,
             duration: self.steps() as f64 * s.dt,
             astar_length,
@@ -388,7 +376,15 @@ impl EpisodeRecorder {
             min_robot_gap: self.min_robot_gap.is_finite().then_some(self.min_robot_gap),
             metrics,
             recovery: super::RecoveryMetrics::default(),
-        })
+        };
+        super::invariants::check(&report, &traj, &people, &groups, &objects, &ctx).map_err(|v| {
+            crate::error::CoreError::Invariant {
+                episode: s.episode.clone(),
+                invariant: v.invariant.to_string(),
+                detail: v.detail,
+            }
+        })?;
+        Ok(report)
     }
 }
 
@@ -405,6 +401,7 @@ mod tests {
             success_radius: 0.3,
             astar_path: vec![Vec2::zeros(), Vec2::new(3.0, 0.0), Vec2::new(3.0, 4.0)],
             geodesic_length: 7.0,
+            episode: "test".into(),
         }
     }
 

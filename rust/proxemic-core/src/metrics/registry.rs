@@ -3,9 +3,15 @@
 //!
 //! It is the one source of truth for what a metric means: the Python bindings expose it
 //! (`proxemic._core.metric_registry()`), and from it come the metric tables of `docs/metrics.md`,
-//! the `metrics.json` column descriptions that `proxemic eval` writes beside its records, and the
-//! plot and summary labels with their units. A test checks that the registry and the serialised
+//! the `metrics.json` column descriptions that `proxemic eval` writes beside its records, the
+//! plot and summary labels with their units, and what the evaluation summarises and shows: each
+//! metric's summary (rate or mean, and its digits), its panel of the metrics plot, whether it is a
+//! headline column and how verdicts compare it. A test checks that the registry and the serialised
 //! report have the same keys.
+//!
+//! The file is over 800 lines by design, the one exception to the core's file size: it is a data
+//! table, one entry per metric in the report's key order (definitions, formulas and sources), and
+//! splitting it would split that one ordered list; the code around the table is about 110 lines.
 
 use serde::Serialize;
 
@@ -61,6 +67,53 @@ pub struct MetricInfo {
     pub formula: &'static str,
     /// Where it comes from (paper, benchmark); `""` for the project's own.
     pub source: &'static str,
+    /// How `proxemic eval` summarises it over episodes, if it does.
+    pub summary: Option<Summary>,
+    /// Digits after the decimal point of a summarised mean (its value and interval); rates are
+    /// shown as whole percentages. Default 2.
+    pub decimals: u8,
+    /// The panel of the evaluation's metrics plot (`metrics.png`) showing it, if any.
+    pub panel: Option<Panel>,
+    /// Whether it is a column of the evaluation's headline table (terminal and `summary.md`).
+    pub headline: bool,
+    /// How the evaluation's verdicts compare two planners on it, if they do.
+    pub verdict: Option<Verdict>,
+}
+
+/// How `proxemic eval` summarises a metric over a planner's episodes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Summary {
+    /// A 0/1 flag per episode, summarised as the share of episodes with a 95% Wilson interval.
+    Rate,
+    /// A number per episode, summarised as the mean of the defined values with a 95% Student t
+    /// interval (clipped to the metric's bounds).
+    Mean,
+}
+
+/// The panels of the evaluation's metrics plot, in its rows' order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Panel {
+    /// Episode outcomes (rates).
+    Outcome,
+    /// Time, length and efficiency.
+    Efficiency,
+    /// Distances to people, zone time shares and interaction crossings.
+    Social,
+    /// The source papers' own metrics (Daza 2021's L_ratio and Smooth; Calderita et al.'s CHC and
+    /// object-space time).
+    Papers,
+}
+
+/// How a verdict says the ratio of two planners' means of a metric.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// As a factor (`1.20x time to goal`).
+    Times,
+    /// As a relative change (`55% less personal-zone time`).
+    Share,
 }
 
 #[allow(clippy::too_many_arguments, reason = "one argument per column of the reference, in its order")]
@@ -87,6 +140,11 @@ const fn m(
         definition,
         formula,
         source,
+        summary: None,
+        decimals: 2,
+        panel: None,
+        headline: false,
+        verdict: None,
     }
 }
 
@@ -94,7 +152,36 @@ const fn per(info: MetricInfo, per: Per) -> MetricInfo {
     MetricInfo { per, ..info }
 }
 
+impl MetricInfo {
+    /// Summarised as a rate (a 0/1 flag per episode).
+    const fn rate(self) -> Self {
+        MetricInfo { summary: Some(Summary::Rate), ..self }
+    }
+
+    /// Summarised as a mean shown with `decimals` digits after the point.
+    const fn mean(self, decimals: u8) -> Self {
+        MetricInfo { summary: Some(Summary::Mean), decimals, ..self }
+    }
+
+    /// Shown on `panel` of the metrics plot.
+    const fn panel(self, panel: Panel) -> Self {
+        MetricInfo { panel: Some(panel), ..self }
+    }
+
+    /// A column of the headline table.
+    const fn headline(self) -> Self {
+        MetricInfo { headline: true, ..self }
+    }
+
+    /// Compared in the verdicts, said as `verdict`.
+    const fn verdict(self, verdict: Verdict) -> Self {
+        MetricInfo { verdict: Some(verdict), ..self }
+    }
+}
+
 use Better::{Higher, Lower, Neither};
+use Panel::{Efficiency, Outcome, Papers, Social};
+use Verdict::{Share, Times};
 
 const OUTCOME: &str = "Outcome and collisions";
 const EFFICIENCY: &str = "Efficiency";
@@ -143,7 +230,10 @@ pub const METRICS: &[MetricInfo] = &[
          into a stopped robot) do not fail it.",
         "",
         "Francis et al. 2023 (S)",
-    ),
+    )
+    .rate()
+    .panel(Outcome)
+    .headline(),
     m(
         "collision",
         OUTCOME,
@@ -155,7 +245,9 @@ pub const METRICS: &[MetricInfo] = &[
          person by the robot's fault (`collisions_robot_fault`).",
         "",
         "Francis et al. 2023 (C)",
-    ),
+    )
+    .rate()
+    .headline(),
     m(
         "timeout",
         OUTCOME,
@@ -166,7 +258,9 @@ pub const METRICS: &[MetricInfo] = &[
         "Neither success nor collision.",
         "",
         "Francis et al. 2023 (TO)",
-    ),
+    )
+    .rate()
+    .panel(Outcome),
     m(
         "hc_count",
         OUTCOME,
@@ -190,7 +284,9 @@ pub const METRICS: &[MetricInfo] = &[
         "Some step had a person collision.",
         "`hc_count > 0`",
         "Francis et al. 2023 (HC)",
-    ),
+    )
+    .rate()
+    .panel(Outcome),
     m(
         "wc_count",
         OUTCOME,
@@ -212,7 +308,9 @@ pub const METRICS: &[MetricInfo] = &[
         "Some step had a contact with walls or furniture.",
         "`wc_count > 0`",
         "Francis et al. 2023 (WC)",
-    ),
+    )
+    .rate()
+    .panel(Outcome),
     m(
         "ac_count",
         OUTCOME,
@@ -260,7 +358,11 @@ pub const METRICS: &[MetricInfo] = &[
         "First instant within the success radius, in seconds; `None` without success.",
         "",
         "CrowdNav \"navigation time\"",
-    ),
+    )
+    .mean(1)
+    .panel(Efficiency)
+    .headline()
+    .verdict(Times),
     m(
         "path_length",
         EFFICIENCY,
@@ -271,7 +373,10 @@ pub const METRICS: &[MetricInfo] = &[
         "Length of the executed path.",
         "`Σ_t |p_t+1 − p_t|`",
         "Francis et al. 2023 (PL)",
-    ),
+    )
+    .mean(1)
+    .panel(Efficiency)
+    .verdict(Times),
     m(
         "d_t",
         EFFICIENCY,
@@ -317,7 +422,10 @@ pub const METRICS: &[MetricInfo] = &[
          is not finite or ≈ 0.",
         "`path_length / ℓ*`",
         "SocNavBench (with a geodesic `ℓ*` because of walls)",
-    ),
+    )
+    .mean(2)
+    .panel(Efficiency)
+    .headline(),
     m(
         "spl",
         EFFICIENCY,
@@ -328,7 +436,9 @@ pub const METRICS: &[MetricInfo] = &[
         "Success weighted by path length: 0 on failure, 1 for a success along the geodesic.",
         "`S · ℓ* / max(PL, ℓ*)`",
         "Anderson et al. 2018",
-    ),
+    )
+    .mean(2)
+    .panel(Efficiency),
     m(
         "failure_to_progress",
         EFFICIENCY,
@@ -374,7 +484,10 @@ pub const METRICS: &[MetricInfo] = &[
         "The A* length over the executed path length (≤ 1 typically; success only, else `None`).",
         "`D_A* / D_SN`",
         "Daza et al. 2021, eq. 1",
-    ),
+    )
+    .mean(2)
+    .panel(Papers)
+    .verdict(Times),
     // Motion quality
     m(
         "vel_min",
@@ -486,7 +599,9 @@ pub const METRICS: &[MetricInfo] = &[
          tuning cost (eq. 18).",
         "`Σ_t |wrap(θ_t+1 − θ_t)|`",
         "Pérez-Higueras et al. 2018; HuNavSim; Calderita et al.",
-    ),
+    )
+    .mean(1)
+    .panel(Papers),
     m(
         "chc_motion",
         MOTION,
@@ -537,7 +652,9 @@ pub const METRICS: &[MetricInfo] = &[
          0 for `astar` by construction.",
         "`√smooth_rad2`",
         "Daza et al. 2021, eq. 2 and Table 2",
-    ),
+    )
+    .mean(3)
+    .panel(Papers),
     m(
         "smooth_k",
         MOTION,
@@ -560,7 +677,9 @@ pub const METRICS: &[MetricInfo] = &[
         "Smallest centre distance to a person; `None` without people.",
         "`min_t,i d_i,t`",
         "SocNavGym; HuNavSim",
-    ),
+    )
+    .mean(2)
+    .panel(Social),
     m(
         "gap_person_min",
         PEOPLE,
@@ -644,7 +763,9 @@ pub const METRICS: &[MetricInfo] = &[
          Calderita et al.'s Ψ(intimate).",
         "`100 · #{t : min_i d_i,t < r_intimate} / (T + 1)`",
         "Hall 1966; HuNavSim; Calderita et al.",
-    ),
+    )
+    .mean(1)
+    .panel(Social),
     m(
         "psi_personal",
         PEOPLE,
@@ -656,7 +777,11 @@ pub const METRICS: &[MetricInfo] = &[
          Ψ(personal).",
         "`100 · #{t : r_intimate ≤ min_i d_i,t < r_personal} / (T + 1)`",
         "Hall 1966; HuNavSim; Calderita et al.",
-    ),
+    )
+    .mean(1)
+    .panel(Social)
+    .headline()
+    .verdict(Share),
     m(
         "psi_social",
         PEOPLE,
@@ -736,7 +861,10 @@ pub const METRICS: &[MetricInfo] = &[
         "Share of instants with the robot centre inside some o-space circle.",
         "",
         "Kendon's F-formations; Sousa et al. 2022",
-    ),
+    )
+    .mean(1)
+    .panel(Social)
+    .verdict(Share),
     m("ospace_time", GROUPS, "o-space time", "s", Lower, POS, "Those instants times `dt`.", "", ""),
     m(
         "ospace_entries",
@@ -760,7 +888,11 @@ pub const METRICS: &[MetricInfo] = &[
          person ↔ attended object) present at instant `t`.",
         "",
         "Daza et al. 2021 §4.3; Sousa et al. 2022",
-    ),
+    )
+    .mean(1)
+    .panel(Social)
+    .headline()
+    .verdict(Share),
     m(
         "interaction_crossings_person_person",
         GROUPS,
@@ -826,7 +958,9 @@ pub const METRICS: &[MetricInfo] = &[
          the idle TV space).",
         "",
         "Calderita et al., Tables 1–2",
-    ),
+    )
+    .mean(1)
+    .panel(Papers),
     m(
         "psi_objects_active",
         OBJECTS,
@@ -838,7 +972,11 @@ pub const METRICS: &[MetricInfo] = &[
          space bothers nobody); never more than `psi_objects_any`.",
         "",
         "ours",
-    ),
+    )
+    .mean(1)
+    .panel(Papers)
+    .headline()
+    .verdict(Share),
     // Time to collision and social force (with the people)
     m(
         "ttc_min",
@@ -946,7 +1084,7 @@ pub const METRICS: &[MetricInfo] = &[
         "(instant, person) pairs at which the robot's social force on the person (the force of \
          `social_force_on_people`) is above 2.0 m/s². robot-sf takes the total social force of its \
          pedestrian simulator on the person; we take the robot's own, so that it measures the \
-         robot's effect (README: choices).",
+         robot's effect (docs: choices.md).",
         "pairs `(t, i)` with `|F_R→i,t| > 2.0 m/s²`",
         "robot-sf (SNQI)",
     ),
@@ -974,7 +1112,8 @@ pub const METRICS: &[MetricInfo] = &[
          above 0.05 m/s in some step of the run. Such a contact ends the episode and fails success.",
         "`v_R · (p_i − p_R)/|p_i − p_R| > 0.05 m/s`",
         "SEAN 2.0 (robot on person collision); HuNavSim",
-    ),
+    )
+    .mean(2),
     m(
         "collisions_person_fault",
         OUTCOME,
@@ -987,7 +1126,8 @@ pub const METRICS: &[MetricInfo] = &[
          in `hc_count` but not a collision: it neither ends the episode nor fails success.",
         "",
         "SEAN 2.0 (person on robot collision); HuNavSim",
-    ),
+    )
+    .mean(2),
     m(
         "collisions_static",
         OUTCOME,
@@ -999,7 +1139,8 @@ pub const METRICS: &[MetricInfo] = &[
          counted once each).",
         "",
         "SEAN 2.0 (static obstacle collision)",
-    ),
+    )
+    .mean(2),
     // The robot's cost to people (counterfactual: rust/proxemic-core/src/metrics/people_cost.rs)
     m(
         "ped_delay_s_mean",
@@ -1015,7 +1156,8 @@ pub const METRICS: &[MetricInfo] = &[
          person whose robot-free run makes none (standing, talking). `None` without people.",
         "`mean_i max(0, max_k (r_ik − c_ik) dt)`",
         "ours (a robot-free replay; after Katyal et al. 2022's pedestrian velocity)",
-    ),
+    )
+    .mean(2),
     m(
         "ped_delay_s_max",
         PEOPLE,
@@ -1026,7 +1168,8 @@ pub const METRICS: &[MetricInfo] = &[
         "The largest person's delay (see `ped_delay_s_mean`).",
         "`max_i max(0, max_k (r_ik − c_ik) dt)`",
         "ours",
-    ),
+    )
+    .mean(2),
     m(
         "ped_extra_distance_m_mean",
         PEOPLE,
@@ -1038,7 +1181,8 @@ pub const METRICS: &[MetricInfo] = &[
          and its robot-free replay made (episode minus robot-free, floored at 0; 0 without one).",
         "`mean_i max(0, L_i(0..r_ik*) − L^free_i(0..c_ik*))`",
         "ours",
-    ),
+    )
+    .mean(2),
     m(
         "ped_extra_distance_m_max",
         PEOPLE,
@@ -1062,7 +1206,8 @@ pub const METRICS: &[MetricInfo] = &[
          robot-free positions over the episode); 0 when the two tracks are identical.",
         "`mean_i max_t dist(p_i(t), path^free_i)`",
         "ours",
-    ),
+    )
+    .mean(2),
     m(
         "ped_path_deviation_m_max",
         PEOPLE,
@@ -1088,7 +1233,8 @@ pub const METRICS: &[MetricInfo] = &[
          blocking it. 0 when the built-in planner does not run or its monitor is off.",
         "",
         "ours",
-    ),
+    )
+    .mean(2),
     m(
         "monitor_stalled_time",
         RECOVERY,
@@ -1101,7 +1247,8 @@ pub const METRICS: &[MetricInfo] = &[
          episode's end). Unlike `stalled_time`, it counts a robot that moves without getting closer.",
         "",
         "ours",
-    ),
+    )
+    .mean(2),
 ];
 
 /// The sections of the reference, in order.
@@ -1171,6 +1318,22 @@ mod tests {
             if let (Some(lo), Some(hi)) = (a.low, a.high) {
                 assert!(lo < hi, "{}", a.key);
             }
+        }
+    }
+
+    #[test]
+    fn what_the_evaluation_shows_is_summarised_per_episode() {
+        for a in METRICS {
+            let shown = a.panel.is_some() || a.headline || a.verdict.is_some();
+            assert!(!shown || a.summary.is_some(), "{}: shown but not summarised", a.key);
+            assert!(a.summary.is_none() || a.per == Per::Episode, "{}: a list summarised", a.key);
+            if a.summary == Some(Summary::Rate) {
+                assert_eq!(a.unit, "bool", "{}: a rate of a value that is not a flag", a.key);
+            }
+            if a.verdict.is_some() {
+                assert_eq!(a.summary, Some(Summary::Mean), "{}: a verdict on a rate", a.key);
+            }
+            assert!(a.decimals <= 6, "{}", a.key);
         }
     }
 }

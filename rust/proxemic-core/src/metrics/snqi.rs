@@ -10,7 +10,7 @@
 //! 2.0 m/s². robot-sf's force is the total social-force of its pedestrian simulator on the
 //! person; ours is the robot's own social force on the person (`social_force_on_people`, the
 //! Helbing-style force with A = 2.1 m/s², B = 0.3 m, λ = 0.5), so that the exposure measures the
-//! robot's effect and not the crowd's own pushing (README: choices).
+//! robot's effect and not the crowd's own pushing (docs: choices.md).
 
 use serde::Serialize;
 
@@ -51,7 +51,7 @@ pub(crate) fn evaluate(
     let mut exceed = 0usize;
     for t in 0..s.n {
         let mut closest = f64::INFINITY;
-        for i in 0..np {
+        for i in (0..np).filter(|&i| people.is_present(t, i)) {
             let q: Vec2 = people.positions[t * np + i];
             closest = closest.min((q - s.pos[t]).norm() - rr - people.radii[i]);
             exceed += usize::from(force(t, i) > SNQI_FORCE_THRESHOLD);

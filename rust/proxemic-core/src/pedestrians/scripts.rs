@@ -10,10 +10,11 @@
 //! that does not exist, is a [`CoreError::Scenario`] naming the person's field.
 
 use crate::error::{CoreError, Result};
+use crate::map::CostGrid;
 use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::math::Vec2;
-use crate::plan::{CostGrid, PathPlanner, SearchMode, nearest_passable, smooth_path};
+use crate::plan::{PathPlanner, SearchMode, nearest_passable, smooth_path};
 use crate::scenario::{Behaviour, InteractionShape, Object, Person, Scenario};
 
 /// Extra clearance of planned paths beyond the person's radius (metres).

@@ -1,4 +1,5 @@
-//! The cost grid and the one 8-connected A* of `docs/algorithms.md` §5 (plain, cost-aware, Dijkstra).
+//! The one 8-connected A* of `docs/algorithms.md` §5 (plain, cost-aware, Dijkstra) on a
+//! [`CostGrid`].
 //!
 //! Conventions:
 //! - cell costs are `u8`: 0 free, 1..=252 graded cost, [`INSCRIBED`] (253) and [`LETHAL`] (254)
@@ -15,75 +16,10 @@
 //!   cell is already closed (a bitset) is skipped, and the entries of closed cells are dropped
 //!   when their bucket is taken into the heap (most stale entries never reach the heap).
 
-use crate::map::grid::{DistanceField, GridSpec};
+use crate::map::cost_grid::{CostGrid, INSCRIBED, LETHAL, MAX_PASSABLE};
+use crate::map::grid::GridSpec;
 use crate::math::Vec2;
-
-/// Cost of a cell occupied by static geometry (impassable).
-pub const LETHAL: u8 = 254;
-/// Cost of a cell where the robot's centre would put its footprint into geometry (impassable).
-/// Every cost `>= INSCRIBED` is impassable.
-pub const INSCRIBED: u8 = 253;
-/// Largest passable cost; costs are scaled by `1 / MAX_PASSABLE` in edge weights.
-const MAX_PASSABLE: f64 = 252.0;
-
-/// A grid of traversal costs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct CostGrid {
-    /// The grid frame.
-    pub spec: GridSpec,
-    /// One cost per cell, row-major (`spec.index`): 0 free, 1..=252 graded, >= 253 impassable.
-    pub cost: Vec<u8>,
-}
-
-impl CostGrid {
-    /// Inflates a distance field for a disc robot of `radius` metres.
-    ///
-    /// Rule (with `d` the field value, `res` the resolution, `h = res * sqrt(2) / 2` the cell's
-    /// half-diagonal):
-    /// - `d == 0` (occupied) gives [`LETHAL`];
-    /// - `d < radius + h` gives [`INSCRIBED`];
-    /// - otherwise 0.
-    ///
-    /// Why this is safe: the geometry lies inside occupied cells (the rasterisation is
-    /// conservative). If the nearest occupied cell centre is `d` away from a cell centre, every
-    /// point of every occupied square is at least `d - h` away, so a passable cell (`d >= radius +
-    /// h`) is one where a disc of `radius` centred on the cell centre cannot overlap the geometry.
-    /// The guarantee covers geometry inside the grid only: the grid must cover the geometry (or at
-    /// least everything within `radius` of the cells the robot may use). A NaN or negative `radius`
-    /// is treated as 0.
-    pub fn inflated(df: &DistanceField, radius: f64) -> Self {
-        let radius = radius.max(0.0); // f64::max ignores NaN
-        let half_diag = df.spec.resolution * std::f64::consts::SQRT_2 * 0.5;
-        let limit = radius + half_diag;
-        let cost = df
-            .metres
-            .iter()
-            .map(|&d| {
-                if d <= 0.0 {
-                    LETHAL
-                } else if d < limit {
-                    INSCRIBED
-                } else {
-                    0
-                }
-            })
-            .collect();
-        Self { spec: df.spec, cost }
-    }
-
-    /// True if `(ix, iy)` is inside the grid and its cost is below [`INSCRIBED`].
-    #[inline]
-    pub fn passable(&self, ix: usize, iy: usize) -> bool {
-        self.spec.contains_cell(ix, iy)
-            && self.cost.get(self.spec.index(ix, iy)).is_some_and(|&c| c < INSCRIBED)
-    }
-
-    /// The cost of `(ix, iy)`, or `None` outside the grid.
-    #[inline]
-    pub fn cost_at(&self, ix: usize, iy: usize) -> Option<u8> {
-        if self.spec.contains_cell(ix, iy) { self.cost.get(self.spec.index(ix, iy)).copied() } else { None }
-    }
-}
+use crate::plan::open_list::{IDX_BITS, OpenList, open_entry, open_index};
 
 /// How [`PathPlanner::plan`] weighs cost and guides the search.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,220 +55,6 @@ pub struct GridPath {
     pub cost: f64,
     /// Number of cells expanded (popped and closed) by the search.
     pub expansions: usize,
-}
-
-/// Bits of a cell index in an open-list key ([`crate::map::grid::MAX_CELLS`] < 2^27).
-const IDX_BITS: u32 = 27;
-
-/// An open-list entry packed into one `u128` so that the smallest key pops first:
-/// - bits 127..64: `f` as the bit pattern of a non-negative finite `f64` (ordered like `f`);
-/// - bits 63..27: the complement of the top 37 bits of `g` (sign, exponent and 25 mantissa bits),
-///   so that among equal `f` the larger `g` pops first (`g` compared to ~3e-8 relative precision);
-/// - bits 26..0: the cell index, so remaining ties go to the smaller index.
-type Open = u128;
-
-#[inline]
-fn open_entry(f: f64, g: f64, idx: u32) -> Open {
-    let g_key = (!g.to_bits()) >> IDX_BITS;
-    (u128::from(f.to_bits()) << 64) | (u128::from(g_key) << IDX_BITS) | u128::from(idx)
-}
-
-/// The cell index stored in an open-list key.
-#[inline]
-fn open_index(e: Open) -> usize {
-    (e as u64 & ((1u64 << IDX_BITS) - 1)) as usize
-}
-
-/// Buckets in the open list's ring (a power of two).
-const RING: usize = 1024;
-/// Entries a bucket's buffer may keep between searches (16 bytes each).
-const BUCKET_KEEP: usize = 64;
-/// Buckets spanned by the largest possible step in `f` between a popped entry and one it pushes;
-/// half the ring, so rounding can never wrap an entry onto a bucket still in use.
-const REACH: f64 = 512.0;
-
-/// The open list: a ring of [`RING`] buckets on `f` with an exact 4-ary min-heap for the current
-/// bucket.
-///
-/// The bucket width is `max_step / REACH`, with `max_step` a bound on how much `f` can grow from
-/// a popped entry to an entry it pushes (the largest move cost plus the largest change of the
-/// heuristic over one move), so every pending entry lies less than `REACH + 2` buckets ahead of
-/// the current one and the ring never wraps onto itself: its few buckets stay in cache, and a
-/// push beyond the current bucket is an O(1) append. When the heap runs dry the next non-empty
-/// bucket is heapified. With a consistent heuristic the popped `f` never decreases, and an entry
-/// that lands in (or, by rounding, below) the current bucket goes straight into the heap, so pops
-/// come out in exactly the order of the keys — the same order as one global heap.
-#[derive(Debug)]
-struct OpenList {
-    heap: Vec<Open>,
-    buckets: Vec<Vec<Open>>,
-    /// Current bucket number (not reduced modulo the ring).
-    cur: usize,
-    /// Entries waiting in future buckets.
-    pending: usize,
-    /// 1 / bucket width (per metre).
-    inv_width: f64,
-    /// Farthest any push landed ahead of the current bucket since the last reset (tests check it
-    /// stays below `REACH + 2`).
-    #[cfg(test)]
-    max_ahead: usize,
-}
-
-impl Default for OpenList {
-    fn default() -> Self {
-        Self {
-            heap: Vec::new(),
-            buckets: vec![Vec::new(); RING],
-            cur: 0,
-            pending: 0,
-            inv_width: 1.0,
-            #[cfg(test)]
-            max_ahead: 0,
-        }
-    }
-}
-
-impl OpenList {
-    /// Empties the list for a search whose `f` grows by at most `max_step` (metres, finite and
-    /// `> 0`) per push and whose first entry has key `f0`.
-    fn reset(&mut self, max_step: f64, f0: f64) {
-        self.heap.clear();
-        for b in &mut self.buckets {
-            // A bucket keeps a small buffer across searches; a large one is released, or over
-            // many searches every bucket of the ring would come to hold the largest load any
-            // bucket ever had (the process grew by about 90 MB over 6000 museum plans).
-            if b.capacity() > BUCKET_KEEP {
-                *b = Vec::new();
-            } else {
-                b.clear();
-            }
-        }
-        self.pending = 0;
-        self.inv_width = REACH / max_step;
-        self.cur = self.bucket(f0);
-        #[cfg(test)]
-        {
-            self.max_ahead = 0;
-        }
-    }
-
-    /// The bucket number of `f` (finite and `>= 0`; the float-to-int cast saturates, and is to
-    /// `i64`, which x86-64 converts to in one instruction: a bucket number stays far below 2^63).
-    #[inline]
-    fn bucket(&self, f: f64) -> usize {
-        (f * self.inv_width) as i64 as usize
-    }
-
-    #[inline(always)]
-    fn push(&mut self, e: Open, f: f64) {
-        let b = self.bucket(f);
-        if b <= self.cur {
-            self.heap_push(e);
-        } else {
-            debug_assert!(b - self.cur < RING, "f step beyond the ring: {} buckets", b - self.cur);
-            #[cfg(test)]
-            {
-                self.max_ahead = self.max_ahead.max(b - self.cur);
-            }
-            self.buckets[b % RING].push(e);
-            self.pending += 1;
-        }
-    }
-
-    /// Pops the least entry. When the heap runs dry and the next bucket is taken in, its entries
-    /// whose cell is `closed` are dropped (stale: popped, they would be skipped), which leaves the
-    /// sequence of entries that are not skipped unchanged.
-    #[inline]
-    fn pop(&mut self, closed: impl Fn(usize) -> bool) -> Option<Open> {
-        loop {
-            if let Some(e) = self.heap_pop() {
-                return Some(e);
-            }
-            if self.pending == 0 {
-                return None;
-            }
-            // Advance to the next non-empty bucket (one exists within the ring) and heapify it
-            // (the heap is empty).
-            self.cur += 1;
-            while self.buckets[self.cur % RING].is_empty() {
-                self.cur += 1;
-            }
-            // Copied, not swapped: a swap moved the heap's grown buffer into a bucket at every
-            // refill, so over many searches each of the RING buckets came to hold a buffer as
-            // large as the biggest heap (about 90 MB after 6000 museum plans, growing on). Each
-            // buffer now stays with its own Vec, bounded by the most that Vec ever held.
-            let bucket = &mut self.buckets[self.cur % RING];
-            self.pending -= bucket.len();
-            self.heap.extend(bucket.iter().filter(|&&e| !closed(open_index(e))));
-            bucket.clear();
-            let n = self.heap.len();
-            for i in (0..n.div_ceil(4)).rev() {
-                let e = self.heap[i];
-                self.sift_down(i, e);
-            }
-        }
-    }
-
-    #[inline]
-    fn heap_push(&mut self, e: Open) {
-        let mut i = self.heap.len();
-        self.heap.push(e);
-        while i > 0 {
-            let p = (i - 1) / 4;
-            if e < self.heap[p] {
-                self.heap[i] = self.heap[p];
-                i = p;
-            } else {
-                break;
-            }
-        }
-        self.heap[i] = e;
-    }
-
-    #[inline]
-    fn heap_pop(&mut self) -> Option<Open> {
-        let last = self.heap.pop()?;
-        if self.heap.is_empty() {
-            return Some(last);
-        }
-        let top = self.heap[0];
-        self.sift_down(0, last);
-        Some(top)
-    }
-
-    /// Places `e` at slot `i` and sifts it down.
-    #[inline]
-    fn sift_down(&mut self, mut i: usize, e: Open) {
-        let n = self.heap.len();
-        loop {
-            let c = 4 * i + 1;
-            if c >= n {
-                break;
-            }
-            let (mut m, mut best) = (c, self.heap[c]);
-            if let Some(&[x1, x2, x3]) = self.heap.get(c + 1..c + 4) {
-                // All four children (the common case): the least of two pairs' least.
-                let (m1, b1) = if x1 < best { (c + 1, x1) } else { (c, best) };
-                let (m2, b2) = if x3 < x2 { (c + 3, x3) } else { (c + 2, x2) };
-                (m, best) = if b2 < b1 { (m2, b2) } else { (m1, b1) };
-            } else {
-                for j in c + 1..n {
-                    let x = self.heap[j];
-                    if x < best {
-                        best = x;
-                        m = j;
-                    }
-                }
-            }
-            if best < e {
-                self.heap[i] = best;
-                i = m;
-            } else {
-                break;
-            }
-        }
-        self.heap[i] = e;
-    }
 }
 
 /// Octile distance in cells between `(ax, ay)` and `(bx, by)` (coordinates below 2^32).
@@ -652,6 +374,7 @@ pub fn snap_to_passable(grid: &CostGrid, p: Vec2) -> Option<(usize, usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::plan::open_list::{BUCKET_KEEP, REACH, RING};
     use proptest::prelude::*;
 
     const S2: f64 = std::f64::consts::SQRT_2;
@@ -835,23 +558,6 @@ mod tests {
     }
 
     #[test]
-    fn inflation_rule() {
-        use crate::map::grid::{DistanceField, OccupancyGrid};
-        let spec = GridSpec { origin: Vec2::zeros(), resolution: 0.1, width: 20, height: 1 };
-        let mut occ = OccupancyGrid { spec, cells: vec![0; 20] };
-        occ.cells[0] = 1;
-        let df = DistanceField::from_occupancy(&occ);
-        let cg = CostGrid::inflated(&df, 0.3);
-        // limit = 0.3 + 0.0707: cells at 0.1..=0.3 are inscribed, 0.4 and beyond free.
-        assert_eq!(cg.cost[0], LETHAL);
-        assert_eq!(&cg.cost[1..4], &[INSCRIBED; 3]);
-        assert!(cg.cost[4..].iter().all(|&c| c == 0));
-        assert!(!cg.passable(0, 0) && cg.passable(4, 0) && !cg.passable(20, 0));
-        let nan = CostGrid::inflated(&df, f64::NAN);
-        assert_eq!(&nan.cost[..2], &[LETHAL, 0]);
-    }
-
-    #[test]
     fn nearest_passable_cases() {
         let mut g = grid(7, 7);
         for y in 1..6 {
@@ -919,64 +625,6 @@ mod tests {
         // over ten times the grid after a few hundred plans.
         let bound = RING * BUCKET_KEEP + 300 * 200;
         assert!(retained(&pl) <= bound, "open-list buffers hold {} entries (bound {bound})", retained(&pl));
-    }
-
-    #[test]
-    fn open_list_pops_in_key_order() {
-        use rand::{Rng, SeedableRng};
-        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
-        let mut ol = OpenList::default();
-        for round in 0..3 {
-            ol.reset(3.0, 0.0);
-            let mut all = Vec::new();
-            let mut floor = 0.0f64;
-            // Interleave pushes (never below the last popped f, except by a rounding-sized amount)
-            // and pops, like a search does.
-            let mut popped = Vec::new();
-            for step in 0..2000 {
-                if step % 3 != 2 {
-                    let f = floor + rng.random_range(0.0..3.0) - 1e-12;
-                    let f = f.max(0.0);
-                    let g = rng.random_range(0.0..f.max(1e-3));
-                    let e = open_entry(f, g, rng.random_range(0..1000));
-                    all.push(e);
-                    ol.push(e, f);
-                } else if let Some(e) = ol.pop(|_| false) {
-                    floor = f64::from_bits((e >> 64) as u64);
-                    popped.push(e);
-                }
-            }
-            while let Some(e) = ol.pop(|_| false) {
-                popped.push(e);
-            }
-            assert_eq!(popped.len(), all.len(), "round {round}");
-            // Every pop was the minimum of what was in the queue at the time: popped keys ascend
-            // except where a smaller key was pushed after a larger one was popped (the -1e-12).
-            for w in popped.windows(2) {
-                let (a, b) = (f64::from_bits((w[0] >> 64) as u64), f64::from_bits((w[1] >> 64) as u64));
-                assert!(b >= a - 1e-9, "{a} then {b}");
-            }
-        }
-        // Pure ordering: push everything first (all within one step of f = 0), pop all: exactly
-        // sorted.
-        ol.reset(11.0, 0.0);
-        let mut keys: Vec<Open> = (0..500u32)
-            .map(|i| {
-                let f = f64::from(i % 37) * 0.3;
-                let g = f64::from(i % 7) * 0.01;
-                open_entry(f, g, i)
-            })
-            .collect();
-        for &k in &keys {
-            ol.push(k, f64::from_bits((k >> 64) as u64));
-        }
-        keys.sort_unstable();
-        let out: Vec<Open> = std::iter::from_fn(|| ol.pop(|_| false)).collect();
-        assert_eq!(out, keys);
-        // Larger g first among equal f, then smaller index.
-        assert!(open_entry(1.0, 0.6, 9) < open_entry(1.0, 0.5, 1));
-        assert!(open_entry(1.0, 0.5, 1) < open_entry(1.0, 0.5, 2));
-        assert!(open_entry(0.9, 0.0, 9) < open_entry(1.0, 0.9, 0));
     }
 
     /// The search of [`PathPlanner::plan`] written the plain way (a `BinaryHeap` of the same keys,
@@ -1121,37 +769,6 @@ mod tests {
                 // Determinism: the same query on a fresh planner gives an identical path.
                 let again = PathPlanner::new().plan(&g, start, goal, SearchMode::weighted(weight));
                 prop_assert_eq!(Some(a), again);
-            }
-        }
-
-        #[test]
-        fn inflated_passable_cells_are_collision_free(seed in any::<u64>(), radius in 0.0f64..0.6, res in 0.05f64..0.3) {
-            use crate::map::geometry::{Bounds, StaticGeometry};
-            use crate::map::grid::{DistanceField, OccupancyGrid};
-            use rand::{Rng, SeedableRng};
-            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-            // The grid covers all the geometry (geometry outside the grid is not represented).
-            let bounds = Bounds { min: Vec2::new(-2.5, -2.5), max: Vec2::new(8.5, 6.5) };
-            let mut polys = Vec::new();
-            for _ in 0..rng.random_range(1..6) {
-                // Rotated rectangles, some thin.
-                let c = Vec2::new(rng.random_range(-0.5..6.5), rng.random_range(-0.5..4.5));
-                let (hx, hy) = (rng.random_range(0.01..1.5), rng.random_range(0.01..0.8));
-                let th: f64 = rng.random_range(0.0..3.2);
-                let corners = [(-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy)];
-                polys.push(corners.iter().map(|&(x, y)| c + crate::math::rotate(Vec2::new(x, y), th)).collect());
-            }
-            let geom = StaticGeometry::new(polys, bounds).expect("valid");
-            let spec = GridSpec::covering(bounds, res).expect("valid");
-            let df = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geom, spec));
-            let cg = CostGrid::inflated(&df, radius);
-            for iy in 0..spec.height {
-                for ix in 0..spec.width {
-                    if cg.passable(ix, iy) {
-                        let d = geom.distance(spec.center(ix, iy));
-                        prop_assert!(d >= radius, "cell ({}, {}) at {:?} clearance {} < {} spec {:?} polys {:?}", ix, iy, spec.center(ix, iy), d, radius, spec, geom.polygons());
-                    }
-                }
             }
         }
 

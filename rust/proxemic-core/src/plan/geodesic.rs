@@ -7,9 +7,9 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
+use crate::map::CostGrid;
 use crate::map::grid::GridSpec;
 use crate::math::Vec2;
-use crate::plan::CostGrid;
 
 /// Distance (metres) from every passable cell centre to the goal cell centre along 8-connected
 /// grid paths; `f64::INFINITY` for impassable or unreachable cells.
@@ -157,7 +157,7 @@ mod tests {
         // wall at x = 5 from y = 0 to 8 (gap at the top)
         for y in 0..9 {
             let i = g.spec.index(5, y);
-            g.cost[i] = crate::plan::LETHAL;
+            g.cost[i] = crate::map::LETHAL;
         }
         let f = GoalField::compute(&g, (0, 0));
         let behind = f.cell_distance(g.spec.center(9, 0));

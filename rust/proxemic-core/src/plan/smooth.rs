@@ -16,8 +16,9 @@
 //! cost of a grid path's cell-centre polyline equals [`crate::plan::GridPath::cost`] up to rounding.
 
 use crate::map::grid::GridSpec;
+use crate::map::{CostGrid, INSCRIBED};
 use crate::math::Vec2;
-use crate::plan::astar::{CostGrid, GridPath, INSCRIBED};
+use crate::plan::astar::GridPath;
 
 /// Relative slack allowed when comparing a shortcut's cost with the path it replaces, so that
 /// collinear runs are merged despite rounding.
@@ -192,7 +193,8 @@ pub fn path_cost(grid: &CostGrid, waypoints: &[Vec2], weight: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plan::astar::{LETHAL, PathPlanner, SearchMode};
+    use crate::map::LETHAL;
+    use crate::plan::astar::{PathPlanner, SearchMode};
     use proptest::prelude::*;
 
     fn grid(w: usize, h: usize, res: f64) -> CostGrid {

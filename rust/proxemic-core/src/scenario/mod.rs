@@ -27,7 +27,8 @@
 //!   unique names, times of day) shared by the others;
 //! - `schema.rs`: the JSON Schema of the file format ([`json_schema`], from the raw types), the
 //!   scenario reference of the docs and `proxemic schema`;
-//! - `model.rs`: the validated types ([`Scenario`] and its parts) and their accessors;
+//! - `model/`: the validated types ([`Scenario`] and its parts) and their accessors (`people.rs`
+//!   the people's, `robot.rs` the robots');
 //! - `overrides.rs`: the `with_*` builders, copies of a scenario with one setting replaced;
 //! - `generate/`: generated scenes (a seeded floor plan, furniture, people and robots written as a
 //!   scenario file), and robot tasks sampled free and reachable in any scenario.

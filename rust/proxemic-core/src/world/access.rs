@@ -3,11 +3,11 @@
 
 use super::{Layout, World};
 use crate::error::{CoreError, Result};
+use crate::map::CostGrid;
 use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
 use crate::metrics::{EpisodeReport, MetricParams, RecoveryMetrics};
 use crate::pedestrians::Crowd;
-use crate::plan::CostGrid;
 use crate::scenario::Scenario;
 
 use super::planners::plan_path;

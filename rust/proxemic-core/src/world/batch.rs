@@ -48,6 +48,9 @@ fn in_world(k: usize, e: CoreError) -> CoreError {
         CoreError::Planning { file, field, message } => {
             CoreError::Planning { file, field: format!("worlds[{k}].{field}"), message }
         }
+        CoreError::Invariant { episode, invariant, detail } => {
+            CoreError::Invariant { episode: format!("worlds[{k}]: {episode}"), invariant, detail }
+        }
     }
 }
 

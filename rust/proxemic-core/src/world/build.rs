@@ -10,6 +10,7 @@ use crate::control::Limits;
 use crate::control::mode_switch::SocialControlParams;
 use crate::control::orca::{ObstacleSet, Orca, OrcaParams};
 use crate::error::{CoreError, Result};
+use crate::map::CostGrid;
 use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar::Scanner;
@@ -19,7 +20,7 @@ use crate::pedestrians::scripts::plan_scripts;
 use crate::pedestrians::{Crowd, SocialForceParams};
 use crate::plan::geodesic::GoalField;
 use crate::plan::social::SocialPlanning;
-use crate::plan::{CostGrid, PathPlanner, snap_to_passable};
+use crate::plan::{PathPlanner, snap_to_passable};
 use crate::scenario::{Behaviour, Scenario};
 
 /// Free space (m) kept between a robot's start area and the people who start walking near it:
@@ -83,6 +84,7 @@ impl World {
             planner,
             layout,
             rng: ChaCha8Rng::seed_from_u64(0),
+            seed: 0,
             steps: 0,
             started: false,
             scratch_people: Vec::new(),

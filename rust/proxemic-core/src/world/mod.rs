@@ -49,6 +49,7 @@ use crate::control::progress::ProgressMonitor;
 use crate::control::stop_and_wait::StopAndWait;
 use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
 use crate::error::{CoreError, Result};
+use crate::map::CostGrid;
 use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::map::lidar::Scanner;
@@ -58,9 +59,9 @@ use crate::metrics::{
 };
 use crate::pedestrians::scripts::Script;
 use crate::pedestrians::{Crowd, GuideState, RobotFree, SocialForceParams};
+use crate::plan::PathPlanner;
 use crate::plan::geodesic::GoalField;
 use crate::plan::social::{SocialPath, SocialPlanning};
-use crate::plan::{CostGrid, PathPlanner};
 use crate::scenario::{PlannerKind, Scenario};
 
 pub use build::START_CLEARANCE;
@@ -164,6 +165,8 @@ pub struct World {
     planner: PathPlanner,
     layout: Layout,
     rng: ChaCha8Rng,
+    /// The seed of the running episode (names it in an invariant's error).
+    seed: u64,
     steps: usize,
     started: bool,
     scratch_people: Vec<(f64, usize)>,
@@ -244,6 +247,7 @@ impl World {
     pub fn reset(&mut self, seed: u64, out: &mut [f64], people_out: &mut [f64]) -> Result<()> {
         self.check_out(out, people_out)?;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
+        self.seed = seed;
         let clear = self.start_areas();
         self.crowd = Crowd::spawn_scripted(
             &self.scenario.persons,
@@ -326,6 +330,7 @@ impl World {
             success_radius: self.scenario.episode.success_radius,
             astar_path,
             geodesic_length,
+            episode: format!("{}, seed {}, robot {i}", self.scenario.scene.name, self.seed),
         };
         let recorder = match recorder {
             Some(mut r) => {

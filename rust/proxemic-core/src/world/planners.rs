@@ -10,10 +10,11 @@ use crate::control::orca_crowd::{OrcaPeople, OrcaRobot, orca_among_people};
 use crate::control::{FollowerParams, PathFollower, heading_rate, world_to_body};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
+use crate::map::CostGrid;
 use crate::math::Vec2;
 use crate::metrics::Outcome;
 use crate::plan::social::{PeopleModel, SocialPlanning, Trigger};
-use crate::plan::{CostGrid, PathPlanner, SearchMode, smooth_path, snap_to_passable};
+use crate::plan::{PathPlanner, SearchMode, smooth_path, snap_to_passable};
 use crate::scenario::PlannerKind;
 
 /// Social planners check their path every this many control steps...

@@ -144,8 +144,8 @@ pub fn generate(seed: u64, p: &GenParams) -> Result<Generated> {
 /// The cells of the robot's shortest way on its inflated grid from `start` to `goal` (steepest
 /// descent of the geodesic distance to the goal), as cell centres.
 fn shortest_way(s: &Scenario, start: Vec2, goal: Vec2) -> Result<Vec<Vec2>> {
+    use crate::map::CostGrid;
     use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
-    use crate::plan::CostGrid;
     use crate::plan::geodesic::GoalField;
     let b = s.scene.bounds;
     let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };

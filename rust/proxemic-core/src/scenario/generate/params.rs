@@ -201,10 +201,15 @@ pub fn parse_spec(spec: &str) -> Result<(u64, GenParams)> {
         .map_err(|_| perr(spec, "seed", "a non-negative integer seed", format!("{seed_text:?}")))?;
     let mut params = GenParams::default();
     if let Some(q) = query {
+        let mut seen: Vec<&str> = Vec::new();
         for pair in q.split('&').filter(|p| !p.is_empty()) {
             let (k, v) = pair
                 .split_once('=')
                 .ok_or_else(|| perr(spec, "<spec>", "key=value pairs after '?'", format!("{pair:?}")))?;
+            if seen.contains(&k) {
+                return Err(perr(spec, k, "each parameter at most once", format!("{k:?} twice")));
+            }
+            seen.push(k);
             params.set(spec, k, v)?;
         }
     }

@@ -8,10 +8,10 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::error::{CoreError, Result};
 use crate::geom::contains_point_polygon;
+use crate::map::CostGrid;
 use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::math::Vec2;
-use crate::plan::CostGrid;
 use crate::plan::geodesic::GoalField;
 use crate::scenario::model::{Behaviour, Scenario};
 use crate::world::START_CLEARANCE;

@@ -110,10 +110,15 @@ pub fn parse_spec(spec: &str) -> Result<Spec> {
         return Err(perr(spec, "archetype", format!("one of {ARCHETYPES:?}"), format!("{name:?}")));
     }
     let mut out = Spec { archetype: name.to_string(), seed: 0, max_time: None };
+    let mut seen: Vec<&str> = Vec::new();
     for pair in query.unwrap_or("").split('&').filter(|p| !p.is_empty()) {
         let (k, v) = pair
             .split_once('=')
             .ok_or_else(|| perr(spec, "<spec>", "key=value pairs after '?'", format!("{pair:?}")))?;
+        if seen.contains(&k) {
+            return Err(perr(spec, k, "each parameter at most once", format!("{k:?} twice")));
+        }
+        seen.push(k);
         match k {
             "seed" => {
                 out.seed = v

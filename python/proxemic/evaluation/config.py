@@ -1,0 +1,61 @@
+"""What an evaluation runs (:class:`EvalConfig`) and what one episode yields (:class:`EpisodeResult`)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from proxemic.policy import PolicyRef
+
+#: The non-social baselines, the default planners of ``proxemic eval`` (without ``--policy``) and of
+#: :func:`evaluate`: plain A* blind to people, plain A* followed with ORCA (people do not
+#: reciprocate), plain A* that stops for whoever is in its way and re-plans around them after 2 s.
+BASELINE_PLANNERS: tuple[str, ...] = ("astar", "astar_orca", "astar_stop")
+
+
+@dataclass(frozen=True)
+class EvalConfig:
+    """What to evaluate and where to write it.
+
+    `policies` are user policies (:class:`proxemic.policy.PolicyRef`) evaluated beside the
+    built-in `planners`, on the same seeds; both are "planners" in the records' ``planner`` column.
+    With ``out=None`` nothing is written.
+    """
+
+    scenario: str
+    planners: Sequence[str]
+    episodes: int = 20
+    seed: int = 0
+    out: Path | None = Path("out/eval")
+    workers: int = 2
+    backend: str = "process"
+    ray_address: str | None = None
+    keep_trajectories: int = 5
+    """Episodes per planner whose trajectories are kept for the trajectory plot."""
+    policies: Sequence[PolicyRef] = ()
+
+    @property
+    def labels(self) -> list[str]:
+        """The label of every evaluated policy and planner, in task order."""
+        return [p.name for p in self.policies] + list(self.planners)
+
+    def tasks(self) -> list[tuple[str, str | PolicyRef, int]]:
+        """(scenario, planner or policy, seed) of every episode, policies then planners, planner-major."""
+        who: list[str | PolicyRef] = [*self.policies, *self.planners]
+        return [(self.scenario, p, self.seed + k) for p in who for k in range(self.episodes)]
+
+
+@dataclass
+class EpisodeResult:
+    """One episode's record and, optionally, its trajectories."""
+
+    record: dict[str, Any]
+    robot: np.ndarray | None = field(default=None, repr=False)
+    people: np.ndarray | None = field(default=None, repr=False)
+    path: np.ndarray | None = field(default=None, repr=False)
+    others: list[EpisodeResult] = field(default_factory=list, repr=False)
+    """On a multi-robot scene, the other robots' records of the same episode (robot 1, 2, ...)."""

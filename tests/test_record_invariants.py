@@ -1,0 +1,137 @@
+"""Every episode record satisfies its invariants (the core checks them where the record is made and
+raises :class:`proxemic.InvariantError` naming the episode and the invariant; see
+``rust/proxemic-core/src/metrics/invariants.rs``): over every registered env, generated scenes, every
+Francis et al. 2023 archetype, recorded crowds replayed (hotel and univ, people reacting within
+0 m and 1.5 m) and every built-in planner, with short episodes and a few seeds each.
+
+``python tests/test_record_invariants.py`` runs the same episodes with more seeds and windows and
+prints how many records broke which invariant (the count the issue asked for)."""
+
+from __future__ import annotations
+
+import csv
+import sys
+from collections import Counter
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+from proxemic import _core
+from proxemic.env import ProxemicEnv
+from proxemic.errors import InvariantError
+from proxemic.francis2023 import ARCHETYPES, scenario_name
+from proxemic.registration import ENV_IDS
+
+ROOT = Path(__file__).resolve().parent.parent
+CROWDS = ROOT.parent / "shared" / "data" / "recorded_crowds"
+if not CROWDS.is_dir():  # worktrees sit one level deeper than the repository's checkout
+    CROWDS = Path("/work/shared/data/recorded_crowds")
+
+#: Control steps per episode at most (short episodes; the record is checked whether it ended or not).
+STEPS = 60
+
+
+def run(env: ProxemicEnv, seed: int, steps: int = STEPS) -> list[dict]:
+    """Runs one episode of `env` with its built-in planner for at most `steps` steps, returns its records.
+
+    Raises:
+        InvariantError: a record broke an invariant.
+    """
+    _obs, info = env.reset(seed=seed)
+    for _ in range(steps):
+        _obs, _r, terminated, truncated, info = env.step(info["planner_action"])
+        if terminated or truncated:
+            break
+    return [dict(m) for m in env.unwrapped.world.episode_metrics()]
+
+
+def replay_scene(tmp: Path, name: str, t0: float, react_radius: float, window: float = 60.0) -> Path:
+    """A scene around the recording `name` (hotel, univ ...) from `t0` for `window` seconds, the robot
+    crossing it from one side to the other, everyone reacting within `react_radius` (m)."""
+    src = CROWDS / f"{name}.csv"
+    with src.open() as f:
+        rows = list(csv.DictReader(f))
+    xs = [float(r["x"]) for r in rows]
+    ys = [float(r["y"]) for r in rows]
+    x0, x1, y0, y1 = min(xs) - 1, max(xs) + 1, min(ys) - 1, max(ys) + 1
+    ym = (y0 + y1) / 2
+    path = tmp / f"{name}_{t0:g}_{react_radius:g}.toml"
+    path.write_text(
+        f'[scene]\nname = "{name}"\nbounds = [{x0}, {y0}, {x1}, {y1}]\n\n'
+        f"[[robot]]\nstart = [{x0 + 0.5}, {ym}, 0]\ngoal = [{x1 - 0.5}, {ym}]\n\n"
+        f'[[replay]]\nfile = "{src}"\nt0 = {t0}\nreact_radius = {react_radius}\n\n'
+        f"[episode]\nmax_time = {window}\n"
+    )
+    return path
+
+
+def cases(
+    tmp: Path, seeds: int = 2, windows: int = 1, replays: bool = True
+) -> Iterator[tuple[str, str | Path, str | None, int, int]]:
+    """(family, scene, planner or None for the scene's own, seed, steps) of every checked episode:
+    without `replays`, every scene family but the recorded crowds; with it, only those."""
+    if replays:
+        for name in ("hotel", "univ"):
+            for w in range(windows):
+                for react in (0.0, 1.5):
+                    scene = replay_scene(tmp, name, 60.0 * w, react)
+                    yield f"replay {name}", scene, "social", w, 600
+        return
+    for env_id, scene in ENV_IDS.items():
+        for seed in range(seeds):
+            yield env_id, scene, None, seed, STEPS
+    for seed in range(seeds):
+        yield "generated", f"generated/{seed}", None, seed, STEPS
+    for k, archetype in enumerate(ARCHETYPES):
+        yield "francis2023", scenario_name(archetype, k), None, k, STEPS
+    for k, planner in enumerate(_core.PLANNERS):
+        yield "planner", "museum" if k % 2 else f"generated/{k}", planner, k, STEPS
+
+
+def check_all(tmp: Path, replays: bool) -> int:
+    """Runs the episodes of :func:`cases`, fails on the first broken record; returns the records checked."""
+    checked = 0
+    for family, scene, planner, seed, steps in cases(tmp, replays=replays):
+        env = ProxemicEnv(scenario=scene, planner=planner)
+        try:
+            checked += len(run(env, seed, steps))
+        except InvariantError as e:
+            pytest.fail(f"{family} {scene} planner {planner} seed {seed}: {e}")
+        finally:
+            env.close()
+    return checked
+
+
+def test_records_of_every_scene_family_and_planner(tmp_path):
+    assert check_all(tmp_path, replays=False) > 0
+
+
+def test_records_of_replayed_crowds(tmp_path):
+    if not (CROWDS / "hotel.csv").is_file() or not (CROWDS / "univ.csv").is_file():
+        pytest.skip(f"replays not checked: the recorded crowds (hotel.csv, univ.csv) are not in {CROWDS}")
+    assert check_all(tmp_path, replays=True) > 0
+
+
+def census(seeds: int, windows: int) -> Counter[str]:
+    """Runs :func:`cases` and counts the broken records by family and invariant (printing each)."""
+    import tempfile
+
+    broken: Counter[str] = Counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        every = [*cases(Path(tmp), seeds, windows, replays=False), *cases(Path(tmp), seeds, windows, replays=True)]
+        for family, scene, planner, seed, steps in every:
+            env = ProxemicEnv(scenario=scene, planner=planner)
+            try:
+                run(env, seed, steps)
+            except InvariantError as e:
+                broken[f"{family}: {e.field}"] += 1
+                print(f"{family} {Path(str(scene)).name} seed {seed}: {e}", flush=True)
+            finally:
+                env.close()
+    return broken
+
+
+if __name__ == "__main__":
+    counts = census(int(sys.argv[1]) if len(sys.argv) > 1 else 4, int(sys.argv[2]) if len(sys.argv) > 2 else 4)
+    print(dict(counts) or "no broken record")
