@@ -483,8 +483,8 @@ def cmd_crowd_fit(args: argparse.Namespace) -> int:
     from proxemic import crowdcard
 
     best, history = crowdcard.calibrate(args.recordings, rounds=args.rounds)
-    final = history[-1] if history else None
-    print(json.dumps({"fitted": best, "evaluations": len(history), "final": final}, indent=2))
+    fitted = min(history, key=lambda h: float(h["objective"]))
+    print(json.dumps({"fitted": best, "evaluations": len(history), "at_fit": fitted}, indent=2))
     if args.out:
         Path(args.out).write_text(json.dumps({"fitted": best, "history": history}, indent=2) + "\n")
     return 0

@@ -101,7 +101,16 @@ fn spawn(persons: &[Person]) -> Crowd {
 fn moussaid_known_answers() {
     // Moussaid et al. 2009's interaction force with A = 4.5, the worked example of the social
     // force model in `docs/algorithms.md`.
-    let p = SocialForceParams { cutoff: 10.0, ..SocialForceParams::default() };
+    // The published parameters (the defaults are calibrated on recordings).
+    let p = SocialForceParams {
+        cutoff: 10.0,
+        strength: 4.5,
+        gamma: 0.35,
+        lambda: 2.0,
+        n: 2.0,
+        n_prime: 3.0,
+        ..SocialForceParams::default()
+    };
     let f =
         interaction_force(Vec2::zeros(), Vec2::new(1.3, 0.0), Vec2::new(2.0, 0.0), Vec2::new(-1.3, 0.0), &p);
     assert!((f.x + 1.7904).abs() < 1e-4, "{f:?}");

@@ -300,10 +300,10 @@ impl Recording {
                 let i = present.iter().position(|&q| q == k).unwrap_or(0);
                 let (p, v) = (walkers[i].0, walkers[i].1);
                 let (mut ade, mut ade_cv, mut fde, mut fde_cv) = (0.0, 0.0, 0.0, 0.0);
-                for s in 0..predict {
+                for (s, q) in predicted[i].iter().enumerate() {
                     let truth = pos(k, f + 1 + s as i64);
                     let cv = p + v * (sample_dt * (s + 1) as f64);
-                    fde = (predicted[i][s] - truth).norm();
+                    fde = (q - truth).norm();
                     fde_cv = (cv - truth).norm();
                     ade += fde;
                     ade_cv += fde_cv;
