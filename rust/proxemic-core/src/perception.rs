@@ -14,10 +14,12 @@
 //!
 //! Individuals implement [`SpaceFunction`], so the social map can rasterise them.
 
+use serde::Serialize;
+
 use crate::error::Result;
 use crate::groups::{
-    DetectorMemory, FeatureAggregate, GroupMethod, Groups, JoinParams, PersonState, RobotDisc, detect_with,
-    group_as_individual, robot_joins_interaction,
+    Accuracy, DetectorMemory, FeatureAggregate, GroupMethod, Groups, JoinParams, MATCH_THRESHOLD,
+    PersonState, RobotDisc, detect_with, detection_accuracy, group_as_individual, robot_joins_interaction,
 };
 use crate::math::Vec2;
 use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, Placed, Pose, SideInfluences, adapt};
@@ -207,6 +209,68 @@ pub struct Perception {
     pub robot_joins: Vec<Option<usize>>,
     /// The individuals of the social map, one per detected group.
     pub individuals: Vec<Individual>,
+}
+
+/// A [`Perception`] as reported to users, beside the scenario's ground truth
+/// ([`crate::world::World::perception_report`]): plain values, in the order of these fields.
+#[derive(Clone, Debug, Serialize)]
+pub struct PerceptionReport {
+    /// Detected group index per person.
+    pub labels: Vec<usize>,
+    /// Members (person indices) of each detected group.
+    pub groups: Vec<Vec<usize>>,
+    /// For each robot, the index of the group it joined, if any.
+    pub robot_joins: Vec<Option<usize>>,
+    /// The individuals of the social map, one per detected group.
+    pub individuals: Vec<IndividualReport>,
+    /// The scenario's group id per person (`None` for a person alone).
+    pub truth: Vec<Option<u32>>,
+    /// The detection scored against `truth` with GCFF's tolerant threshold
+    /// ([`crate::groups::MATCH_THRESHOLD`]); `None` when it cannot be scored.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<Accuracy>,
+}
+
+/// One [`Individual`] as reported to users.
+#[derive(Clone, Debug, Serialize)]
+pub struct IndividualReport {
+    /// Centre (x, y in metres, world frame).
+    pub centre: (f64, f64),
+    /// Orientation (radians).
+    pub heading: f64,
+    /// Gaussian sigmas (metres): front, rear, right, left.
+    pub sides: (f64, f64, f64, f64),
+    /// Person indices of the members.
+    pub members: Vec<usize>,
+    /// Robot indices that joined the interaction.
+    pub robots: Vec<usize>,
+}
+
+impl PerceptionReport {
+    /// The report of `perception` against the ground truth `truth` (one entry per person).
+    pub fn new(perception: &Perception, truth: Vec<Option<u32>>) -> Self {
+        let labels = perception.groups.labels.clone();
+        let accuracy = detection_accuracy(&labels, &truth, MATCH_THRESHOLD).ok();
+        let individuals = perception
+            .individuals
+            .iter()
+            .map(|ind| IndividualReport {
+                centre: (ind.centre.x, ind.centre.y),
+                heading: ind.heading,
+                sides: (ind.sides.front, ind.sides.rear, ind.sides.right, ind.sides.left),
+                members: ind.members.clone(),
+                robots: ind.robots.clone(),
+            })
+            .collect();
+        PerceptionReport {
+            labels,
+            groups: perception.groups.members.clone(),
+            robot_joins: perception.robot_joins.clone(),
+            individuals,
+            truth,
+            accuracy,
+        }
+    }
 }
 
 /// Builds the social map's individuals from the people's states and feature vectors (one vector

@@ -16,8 +16,8 @@ fn start_time_builder_matches_the_edited_file() {
     let nine_five = parse_time_of_day("09:05").expect("a time");
     let built = base.with_start_time(nine_five).expect("a time in the day");
     assert_eq!(built.scene.start_time, nine_five);
-    assert_ne!(base.to_json(), built.to_json());
-    assert_eq!(built.to_json(), from_file.to_json());
+    assert_ne!(base.to_json().expect("json"), built.to_json().expect("json"));
+    assert_eq!(built.to_json().expect("json"), from_file.to_json().expect("json"));
 }
 
 #[test]

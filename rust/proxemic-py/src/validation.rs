@@ -8,7 +8,8 @@ use pyo3::types::PyDict;
 use proxemic_core::pedestrians::validation::Recording as CoreRecording;
 use proxemic_core::pedestrians::{SocialForceParams, rimea};
 
-use crate::{enter_core, input_err, points_to_array};
+use crate::conversions::points_to_array;
+use crate::errors::{enter_core, input_err};
 
 /// The default social force parameters with `overrides` (name -> value) applied; an unknown
 /// name or a bad value raises `InputError` naming it.

@@ -12,12 +12,19 @@
 //! a side the corresponding ratio is 1 when the other side is also empty and 0 otherwise; `f1` is
 //! 0 when `P + R = 0`.
 
+use serde::Serialize;
+
 use super::Groups;
 use crate::error::{CoreError, Result};
 use crate::math::Real;
 
+/// GCFF's tolerant match threshold `T = 2/3` (Setti et al. 2015): a detected group matches a
+/// true one holding at least 2/3 of its members, with at most 1/3 outsiders. The threshold of
+/// [`crate::world::World::perception_report`]'s scores.
+pub const MATCH_THRESHOLD: Real = 2.0 / 3.0;
+
 /// Precision, recall and F1 of a group detection, each in [0, 1].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Accuracy {
     /// Matched detected groups over detected groups.
     pub precision: Real,

@@ -33,7 +33,7 @@ pub mod robots;
 #[cfg(test)]
 mod tests;
 
-pub use accuracy::{Accuracy, detection_accuracy};
+pub use accuracy::{Accuracy, MATCH_THRESHOLD, detection_accuracy};
 pub use delaunay::DelaunayParams;
 pub use density::DensityParams;
 pub use fformation::FFormationParams;

@@ -53,6 +53,51 @@ impl Checker<'_> {
     }
 }
 
+/// Whether `t` is a time of day in seconds after midnight: finite and in `[0, 86400)`.
+pub fn is_time_of_day(t: f64) -> bool {
+    t.is_finite() && (0.0..crate::chronemics::DAY).contains(&t)
+}
+
+/// `t` if it is a time of day in seconds after midnight ([`is_time_of_day`]), else an input
+/// error naming `time_of_day` (a NaN would give NaN costs).
+pub fn check_time_of_day(t: f64) -> Result<f64> {
+    if is_time_of_day(t) {
+        Ok(t)
+    } else {
+        Err(CoreError::input("time_of_day", "seconds after midnight in [0, 86400)", t.to_string()))
+    }
+}
+
+/// A time of day as a caller writes it: text (`"HH:MM"`, `"HH:MM:SS"`) or seconds after midnight.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TimeOfDay {
+    /// `"HH:MM"` or `"HH:MM:SS"` ([`parse_time_of_day`]).
+    Text(String),
+    /// Seconds after midnight, in `[0, 86400)`.
+    Seconds(f64),
+}
+
+impl TimeOfDay {
+    /// Seconds after midnight in `[0, 86400)`, or an input error naming `time_of_day`.
+    pub fn seconds(&self) -> Result<f64> {
+        let t = match self {
+            TimeOfDay::Text(s) => parse_time_of_day(s),
+            TimeOfDay::Seconds(x) => Some(*x).filter(|&x| is_time_of_day(x)),
+        };
+        t.ok_or_else(|| {
+            let found = match self {
+                TimeOfDay::Text(s) => format!("{s:?}"),
+                TimeOfDay::Seconds(x) => x.to_string(),
+            };
+            CoreError::input(
+                "time_of_day",
+                "\"HH:MM\", \"HH:MM:SS\" or seconds after midnight in [0, 86400)",
+                found,
+            )
+        })
+    }
+}
+
 /// Parses `HH:MM` or `HH:MM:SS` into seconds after midnight.
 pub fn parse_time_of_day(s: &str) -> Option<f64> {
     let parts: Vec<&str> = s.trim().split(':').collect();

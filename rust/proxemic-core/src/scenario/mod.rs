@@ -46,7 +46,7 @@ mod tests;
 
 pub use build::people::ROBOT_GUIDE;
 pub use build::replay::read_track_file;
-pub use check::parse_time_of_day;
+pub use check::{TimeOfDay, check_time_of_day, is_time_of_day, parse_time_of_day};
 pub use load::{APPENDABLE, MAX_EXTENDS};
 pub use model::{
     ActivitySpec, AgendaSpec, Approach, Behaviour, CIRCLE_VERTICES, EbandGains, Episode, Interaction,

@@ -1,8 +1,8 @@
 //! The `with_*` builders: copies of a validated scenario with one setting replaced (planner,
 //! robots, elastic-band gains, goal), checked like the file values.
 
-use super::check::{Checker, err};
-use super::model::{PlannerKind, Scenario};
+use super::check::{Checker, err, is_time_of_day};
+use super::model::{EbandGains, PlannerKind, Scenario};
 use crate::error::Result;
 
 /// Most robots [`Scenario::with_robots`] makes when it samples extra ones.
@@ -96,17 +96,14 @@ impl Scenario {
         Ok(s)
     }
 
-    /// A copy with every robot's elastic-band gains replaced where `Some` (each a number in
-    /// `[0, EbandGains::MAX]`; errors name the field `eband.<gain>`).
-    pub fn with_eband_gains(
-        &self,
-        contraction: Option<f64>,
-        repulsion: Option<f64>,
-        social: Option<f64>,
-    ) -> Result<Self> {
+    /// A copy with every robot's elastic-band gains replaced by `gains` (name, value): each name
+    /// one of [`EbandGains::NAMES`], each value a number in `[0, EbandGains::MAX]`. Errors name
+    /// the field `eband.<gain>` (an unknown name first, then a value out of range).
+    pub fn with_eband_gains(&self, gains: &[(&str, f64)]) -> Result<Self> {
+        let values = EbandGains::by_name(&self.source, "eband", gains)?;
         let mut s = self.clone();
         for r in &mut s.robots {
-            r.eband = r.eband.merged(&self.source, "eband", contraction, repulsion, social)?;
+            r.eband = r.eband.merged(&self.source, "eband", values)?;
         }
         Ok(s)
     }
@@ -117,7 +114,7 @@ impl Scenario {
     /// their value, including a conversation's `start` and `end` written as times of day (they
     /// were converted with the file's start time). Errors name the field `scene.start_time`.
     pub fn with_start_time(&self, time: f64) -> Result<Self> {
-        if !(time.is_finite() && (0.0..86400.0).contains(&time)) {
+        if !is_time_of_day(time) {
             return Err(err(
                 &self.source,
                 "scene.start_time",

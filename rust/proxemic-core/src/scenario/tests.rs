@@ -272,14 +272,23 @@ fn eband_gains_from_the_file_and_by_override_are_checked() {
     let text = MINIMAL.replace("goal = [9, 4]", "goal = [9, 4]\neband = { kc = 1.0 }");
     assert!(scenario_err(&text).1.starts_with("robot[0].eband"));
 
-    let t = s.with_eband_gains(Some(3.0), None, Some(0.0)).expect("valid gains");
+    let t = s.with_eband_gains(&[("contraction_gain", 3.0), ("social_gain", 0.0)]).expect("valid gains");
     assert_eq!(t.robots[0].eband.contraction_gain, 3.0);
     assert_eq!(t.robots[0].eband.repulsion_gain, 0.5);
     assert_eq!(t.robots[0].eband.params().social_gain, 0.0);
-    match s.with_eband_gains(None, Some(f64::NAN), None) {
+    match s.with_eband_gains(&[("repulsion_gain", f64::NAN)]) {
         Err(CoreError::Scenario { field, found, .. }) => {
             assert_eq!(field, "eband.repulsion_gain");
             assert_eq!(found, "NaN");
+        }
+        other => panic!("expected a scenario error, got {other:?}"),
+    }
+    // An unknown name is named (the first in lexicographic order), before any value is checked.
+    match s.with_eband_gains(&[("spring", 1.0), ("repulsion_gain", -1.0), ("kc", 1.0)]) {
+        Err(CoreError::Scenario { field, expected, found, .. }) => {
+            assert_eq!(field, "eband.kc");
+            assert!(expected.contains("social_gain"), "{expected}");
+            assert_eq!(found, "\"kc\"");
         }
         other => panic!("expected a scenario error, got {other:?}"),
     }
@@ -308,7 +317,7 @@ fn no_robot_is_an_error() {
 #[test]
 fn json_round_trip_has_polygons() {
     let s = parse(MINIMAL).expect("valid");
-    let v: serde_json::Value = serde_json::from_str(&s.to_json()).expect("json");
+    let v: serde_json::Value = serde_json::from_str(&s.to_json().expect("json")).expect("json");
     assert_eq!(v["walls"][0]["polygon"].as_array().map(|a| a.len()), Some(4));
     assert_eq!(v["objects"][0]["interaction"]["shape"], "trapezoid");
     assert_eq!(v["robots"][0]["planner"], "astar");

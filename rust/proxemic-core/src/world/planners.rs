@@ -13,6 +13,7 @@ use crate::groups::RobotDisc;
 use crate::map::CostGrid;
 use crate::math::Vec2;
 use crate::metrics::Outcome;
+use crate::perception::PerceptionReport;
 use crate::plan::social::{PeopleModel, SocialPlanning, Trigger};
 use crate::plan::{PathPlanner, SearchMode, smooth_path, snap_to_passable};
 use crate::scenario::PlannerKind;
@@ -70,6 +71,17 @@ impl World {
     pub fn perceive(&mut self) -> Result<()> {
         let discs = self.robot_discs();
         self.social.perceive(&self.crowd, &discs)
+    }
+
+    /// Perceives the people now and reports it beside the scenario's group ids (the ground
+    /// truth), with the detection's GCFF-style accuracy.
+    pub fn perception_report(&mut self) -> Result<PerceptionReport> {
+        self.perceive()?;
+        let truth = self.scenario.persons.iter().map(|p| p.group).collect();
+        let perception = self.social.perception().ok_or_else(|| {
+            CoreError::input("perception", "a perception after perceive()", "none (a bug of the core)")
+        })?;
+        Ok(PerceptionReport::new(perception, truth))
     }
 
     /// The social model, maps and planner.

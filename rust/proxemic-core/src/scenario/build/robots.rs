@@ -94,9 +94,7 @@ fn build_robot(
         eband: EbandGains::default().merged(
             file,
             &format!("{f}.eband"),
-            r.eband.contraction_gain,
-            r.eband.repulsion_gain,
-            r.eband.social_gain,
+            [r.eband.contraction_gain, r.eband.repulsion_gain, r.eband.social_gain],
         )?,
         waypoints: r.waypoints.clone(),
         dwell: r.dwell,

@@ -26,7 +26,7 @@ fn generated_scenes_are_valid_and_round_trip() {
         std::fs::write(&path, &g.toml).expect("write");
         let back = Scenario::from_file(&path).expect("reload");
         let json = |s: &Scenario| {
-            let mut v: serde_json::Value = serde_json::from_str(&s.to_json()).expect("parse");
+            let mut v: serde_json::Value = serde_json::from_str(&s.to_json().expect("json")).expect("parse");
             v.as_object_mut().map(|o| o.remove("source"));
             v
         };

@@ -424,8 +424,11 @@ impl Scenario {
     }
 
     /// JSON of the validated scenario (defaults filled in, world polygons computed).
-    pub fn to_json(&self) -> String {
-        serde_json::to_string(self).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    ///
+    /// # Errors
+    /// serde_json's error if the scenario cannot be serialised (a bug: every field is plain data).
+    pub fn to_json(&self) -> serde_json::Result<String> {
+        serde_json::to_string(self)
     }
 
     /// Seconds per control step.

@@ -4,7 +4,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::scenario::check::Checker;
+use crate::scenario::check::{Checker, err};
 
 /// Built-in planners a robot can run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
@@ -180,22 +180,49 @@ impl EbandGains {
         }
     }
 
-    /// These gains with each `Some` value replaced, checked (errors name `{field}.<gain>`).
+    /// The gains' names, in the order of the fields: the keys of a robot's `eband` table and the
+    /// names [`crate::scenario::Scenario::with_eband_gains`] accepts.
+    pub const NAMES: [&'static str; 3] = ["contraction_gain", "repulsion_gain", "social_gain"];
+
+    /// `gains` (name, value) as one optional value per gain, in the order of [`Self::NAMES`]
+    /// (a name given twice keeps its last value). Errors name `{field}.<name>` for a name not in
+    /// [`Self::NAMES`] (the first such name in lexicographic order).
+    pub(in crate::scenario) fn by_name(
+        file: &str,
+        field: &str,
+        gains: &[(&str, f64)],
+    ) -> Result<[Option<f64>; 3]> {
+        let mut unknown: Vec<&str> = gains.iter().map(|g| g.0).filter(|n| !Self::NAMES.contains(n)).collect();
+        unknown.sort_unstable();
+        if let Some(name) = unknown.first() {
+            return Err(err(
+                file,
+                format!("{field}.{name}"),
+                format!("an elastic-band gain among {:?}", Self::NAMES),
+                format!("{name:?}"),
+            ));
+        }
+        let mut values = [None; 3];
+        for (name, v) in gains {
+            if let Some(k) = Self::NAMES.iter().position(|n| n == name) {
+                values[k] = Some(*v);
+            }
+        }
+        Ok(values)
+    }
+
+    /// These gains with each `Some` value (in the order of [`Self::NAMES`]) replaced, checked
+    /// against `[0, MAX]` (errors name `{field}.<gain>`).
     pub(in crate::scenario) fn merged(
         &self,
         file: &str,
         field: &str,
-        contraction: Option<f64>,
-        repulsion: Option<f64>,
-        social: Option<f64>,
+        values: [Option<f64>; 3],
     ) -> Result<Self> {
         let ck = Checker { file };
         let mut g = *self;
-        for (name, new, slot) in [
-            ("contraction_gain", contraction, &mut g.contraction_gain),
-            ("repulsion_gain", repulsion, &mut g.repulsion_gain),
-            ("social_gain", social, &mut g.social_gain),
-        ] {
+        let slots = [&mut g.contraction_gain, &mut g.repulsion_gain, &mut g.social_gain];
+        for ((name, new), slot) in Self::NAMES.iter().zip(values).zip(slots) {
             if let Some(v) = new {
                 ck.range(&format!("{field}.{name}"), v, 0.0, Self::MAX, false)?;
                 *slot = v;

@@ -1,0 +1,185 @@
+//! `Scenario`: a validated scenario and its overrides; generated scenes; times of day.
+
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use proxemic_core::CoreError;
+use proxemic_core::scenario::{Scenario as CoreScenario, TimeOfDay as CoreTimeOfDay};
+
+use crate::conversions::{TimeOfDay, robot_index, to_json_text};
+use crate::errors::{enter_core, input_err};
+
+/// A validated scenario (parsed once, from a TOML file or string).
+#[pyclass(module = "proxemic._core", name = "Scenario", frozen)]
+pub(crate) struct PyScenario {
+    pub(crate) inner: CoreScenario,
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Reads and validates a scenario file. Raises `ScenarioError` naming the file and field.
+    #[staticmethod]
+    fn from_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Self> {
+        let inner = enter_core(py, || CoreScenario::from_file(&path))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// Parses and validates scenario TOML text; `source` names it in error messages.
+    #[staticmethod]
+    #[pyo3(signature = (text, source = "<string>"))]
+    fn from_toml(py: Python<'_>, text: &str, source: &str) -> PyResult<Self> {
+        let text = text.to_string();
+        let source = source.to_string();
+        let inner = enter_core(py, move || CoreScenario::from_toml_str(&text, &source))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy whose robots all use the built-in planner `name` (see `PLANNERS`).
+    fn with_planner(&self, py: Python<'_>, name: &str) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_planner(name))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy whose robot `index` uses the built-in planner `name` (see `PLANNERS`).
+    fn with_robot_planner(&self, py: Python<'_>, index: usize, name: &str) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_robot_planner(index, name))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy with only the first `n` robots (1 <= n <= the file's `[[robot]]` entries).
+    /// Raises `ScenarioError` naming `robots` for any other count, negative ones included.
+    fn with_robots(&self, py: Python<'_>, n: i64) -> PyResult<Self> {
+        let inner = enter_core(py, || match usize::try_from(n) {
+            Ok(k) => self.inner.with_robots(k),
+            // The core's error for a count below 1, saying what arrived.
+            Err(_) => self.inner.with_robots(0).map_err(|e| match e {
+                CoreError::Scenario { file, field, expected, .. } => {
+                    CoreError::Scenario { file, field, expected, found: n.to_string() }
+                }
+                other => other,
+            }),
+        })?;
+        Ok(PyScenario { inner })
+    }
+
+    /// Number of robots.
+    #[getter]
+    fn num_robots(&self) -> usize {
+        self.inner.robots.len()
+    }
+
+    /// A copy whose robots' elastic-band gains (dimensionless, each in [0, 100]; used by the
+    /// `eband` planner) are replaced by the keyword arguments, each named after a gain of
+    /// `EBAND_GAINS`. Raises `ScenarioError` naming the gain (`eband.<gain>`) for an unknown
+    /// name or a value out of range, `InputError` naming it for a value that is not a number.
+    #[pyo3(signature = (**gains))]
+    fn with_eband_gains(&self, py: Python<'_>, gains: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let mut named: Vec<(String, f64)> = Vec::new();
+        for (key, value) in gains.into_iter().flat_map(|d| d.iter()) {
+            let name = key.str()?.to_string();
+            let v = value.extract::<f64>().map_err(|_| {
+                let found = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+                input_err(py, &format!("eband.{name}"), "a number".into(), found)
+            })?;
+            named.push((name, v));
+        }
+        let pairs: Vec<(&str, f64)> = named.iter().map(|(n, v)| (n.as_str(), *v)).collect();
+        let inner = enter_core(py, || self.inner.with_eband_gains(&pairs))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy whose robot `robot` goes to `goal` (x, y in metres, inside the scene's bounds)
+    /// instead of its file goal. Raises `ScenarioError`; a goal inside a wall or object is
+    /// rejected when a `World` is built.
+    #[pyo3(signature = (goal, robot = 0))]
+    fn with_goal(
+        &self,
+        py: Python<'_>,
+        goal: [f64; 2],
+        #[pyo3(from_py_with = robot_index)] robot: usize,
+    ) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_goal(robot, goal))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// A copy whose episode starts at `time` of day (`"HH:MM"`, `"HH:MM:SS"` or seconds after
+    /// midnight in [0, 86400)) instead of the file's `scene.start_time`: the agenda's activities
+    /// fall at another point of the episode; times the scenario holds as seconds into the
+    /// episode keep their value (a conversation's `start` and `end`, even written as times of
+    /// day in the file). Raises `InputError` naming `time_of_day` for a malformed time.
+    fn with_start_time(&self, py: Python<'_>, time: TimeOfDay) -> PyResult<Self> {
+        let time = CoreTimeOfDay::from(time);
+        let inner = enter_core(py, || self.inner.with_start_time(time.seconds()?))?;
+        Ok(PyScenario { inner })
+    }
+
+    /// The validated scenario as JSON (defaults filled in, world polygons computed).
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        to_json_text(py, "the scenario", &self.inner)
+    }
+
+    /// Scene name.
+    #[getter]
+    fn name(&self) -> String {
+        self.inner.scene.name.clone()
+    }
+
+    /// Where the scenario was read from.
+    #[getter]
+    fn source(&self) -> String {
+        self.inner.source.clone()
+    }
+
+    /// Control period (s).
+    #[getter]
+    fn control_dt(&self) -> f64 {
+        self.inner.control_dt()
+    }
+
+    /// Physics steps per control step.
+    #[getter]
+    fn frame_skip(&self) -> usize {
+        self.inner.frame_skip()
+    }
+
+    /// Maximum control steps per episode.
+    #[getter]
+    fn max_steps(&self) -> usize {
+        self.inner.max_steps()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scenario(name={:?}, source={:?}, robots={}, people={})",
+            self.inner.scene.name,
+            self.inner.source,
+            self.inner.robots.len(),
+            self.inner.persons.len()
+        )
+    }
+}
+
+/// Seconds after midnight of `value` (`"HH:MM"`, `"HH:MM:SS"` or a number of seconds in
+/// [0, 86400)), parsed as scenario files are. Raises `InputError` naming `time_of_day`.
+#[pyfunction]
+pub(crate) fn parse_time_of_day(py: Python<'_>, value: TimeOfDay) -> PyResult<f64> {
+    let value = CoreTimeOfDay::from(value);
+    enter_core(py, || value.seconds())
+}
+
+/// A generated scene from its spec `generated/<seed>[?key=value&...]` or
+/// `francis2023/<archetype>[?seed=N&max_time=T]`: the validated scenario and its scenario file
+/// text. Raises `ScenarioError` naming the seed, archetype or parameter that is wrong.
+#[pyfunction]
+pub(crate) fn generate(py: Python<'_>, spec: &str) -> PyResult<(PyScenario, String)> {
+    let spec = spec.to_string();
+    let g = enter_core(py, move || proxemic_core::scenario::generate::generate_spec(&spec))?;
+    Ok((PyScenario { inner: g.scenario }, g.toml))
+}
+
+/// The JSON Schema of a scenario file (draft 2020-12), as JSON text: every table and field with
+/// its type, default and description (the scenario reference of the docs; `proxemic schema`).
+#[pyfunction]
+pub(crate) fn scenario_schema(py: Python<'_>) -> PyResult<String> {
+    to_json_text(py, "the scenario schema", &proxemic_core::scenario::json_schema())
+}

@@ -1,0 +1,41 @@
+"""Lists and rules that have one source: a copy that reappears elsewhere fails here.
+
+Each test names the one source and searches the places a copy used to live (or could live).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+BINDING = ROOT / "rust" / "proxemic-py" / "src"
+
+
+def _rust_files(folder: Path) -> list[Path]:
+    return sorted(folder.rglob("*.rs"))
+
+
+def test_the_binding_holds_no_rules_of_the_core():
+    """Gain names, time-of-day ranges and the group-match threshold are the core's (binding: none)."""
+    copies = []
+    patterns = {
+        "an elastic-band gain name (EbandGains::NAMES)": r"\"(contraction|repulsion|social)_gain\"",
+        "the day's length (scenario::is_time_of_day)": r"86_?400\.0",
+        "the group-match threshold (groups::MATCH_THRESHOLD)": r"2\.0\s*/\s*3\.0",
+    }
+    for path in _rust_files(BINDING):
+        text = path.read_text()
+        for what, pattern in patterns.items():
+            copies += [f"{path.relative_to(ROOT)}: {what}" for _ in re.finditer(pattern, text)]
+    assert copies == []
+
+
+def test_no_error_is_returned_as_data():
+    """A serialisation failure raises (the binding's ``to_py``/``to_json_text``), never ``{"error": ...}``."""
+    found = [
+        str(p.relative_to(ROOT))
+        for p in _rust_files(ROOT / "rust")
+        if re.search(r"\\\"error\\\"", p.read_text()) and "target" not in p.parts
+    ]
+    assert found == []
