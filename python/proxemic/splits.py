@@ -33,7 +33,7 @@ What was tuned on which split (every entry below was looked at on the tuning spl
   generated scenes (``encounters=1``, ``density=2.5``) were chosen on tuning seeds 0-29.
 - the people's reactions to robots (``ReactionParams`` in ``proxemic-core``'s
   ``pedestrians/react.rs``, issue 40: keep-out and hard gaps, speed gain, the standing people's
-  shift) and the parked-robot spots of ``rust/proxemic-core/tests/issue_40_parked_robot.rs``:
+  shift) and the parked-robot spots of ``rust/proxemic-core/tests/parked_robot.rs``:
   chosen on museum, care-center and ``generated/0`` episode seeds 0-9 (that test's ignored
   ``parked_robot_figures_on_the_tuning_split``); the test asserts on episode seeds 1000-1009 and
   ``generated/10000``.

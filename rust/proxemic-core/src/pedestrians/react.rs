@@ -31,7 +31,7 @@ use crate::scenario::{Behaviour, Reaction};
 
 /// Parameters of the people's reactions to robots (metres, seconds, m/s). The distances are
 /// Hall's zones (intimate 0.45 m, personal 1.2 m) as body gaps; the values were chosen on the
-/// tuning split (`docs/people.md`, `tests/issue_40_parked_robot.rs`).
+/// tuning split (`docs/people.md`, `tests/parked_robot.rs`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReactionParams {
     /// Reactions are computed only for people whose centre is within this distance of a
