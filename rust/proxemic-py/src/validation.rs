@@ -11,6 +11,10 @@ use proxemic_core::pedestrians::{SocialForceParams, rimea};
 use crate::conversions::points_to_array;
 use crate::errors::{enter_core, input_err};
 
+/// One re-enacted person: its positions (k, 2) at the track's sample times, and its arrival time
+/// (s) or None.
+type Reenacted<'py> = (Bound<'py, PyArray2<f64>>, Option<f64>);
+
 /// The default social force parameters with `overrides` (name -> value) applied; an unknown
 /// name or a bad value raises `InputError` naming it.
 fn params_of(py: Python<'_>, overrides: Option<&Bound<'_, PyDict>>) -> PyResult<SocialForceParams> {
@@ -92,7 +96,7 @@ impl PyRecording {
         subjects: Vec<usize>,
         params: Option<&Bound<'py, PyDict>>,
         overtime: f64,
-    ) -> PyResult<Vec<(Bound<'py, PyArray2<f64>>, Option<f64>)>> {
+    ) -> PyResult<Vec<Reenacted<'py>>> {
         let p = params_of(py, params)?;
         let rec = &self.inner;
         let runs = enter_core(py, move || {

@@ -408,7 +408,12 @@ mod tests {
         assert!(Recording::new(vec![vec![[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]], 0.2).is_err());
         assert!(Recording::new(vec![vec![[0.0, 0.0, 0.0], [0.4, f64::NAN, 0.0]]], 0.2).is_err());
         let mut p = SocialForceParams::default();
-        assert!(p.set("strenght", 1.0).unwrap_err().to_string().contains("social_force.strenght"));
+        assert!(
+            p.set("strenght", 1.0)
+                .expect_err("a misspelt name is refused")
+                .to_string()
+                .contains("social_force.strenght")
+        );
         assert!(p.set("tau", 0.0).is_err());
         assert!(p.set("dt", 1.5).is_err());
         p.set("strength", 2.5).expect("valid");
