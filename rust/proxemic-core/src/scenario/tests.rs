@@ -695,10 +695,13 @@ fn reactions_come_from_the_person_its_group_or_the_scene_and_bad_ones_are_named(
         .replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 10, 8]\nreaction = \"cautious\"")
         .replace("speed = 1.2", "speed = 1.2\ngroup = 7")
         .replace("pose = [3, 3, 0]", "pose = [3, 3, 0]\nreaction = \"curious\"")
-        + "\n[[person]]\nbehaviour = \"standing\"\npose = [6, 3, 0]\n\n[[person]]\nbehaviour = \"standing\"\npose = [3, 6, 0]\naware = false\n\n[[group]]\nid = 7\nreaction = \"yield\"\n";
+        + "\n[[person]]\nbehaviour = \"standing\"\npose = [6, 3, 0]\n\n[[person]]\nbehaviour = \"standing\"\npose = [3, 6, 0]\naware = false\n\n[[person]]\nroute = [[1, 1.5], [8, 1.5], [8, 6.5]]\nspeed = 1.2\ngroup = 7\n\n[[group]]\nid = 7\nreaction = \"yield\"\n";
     let s = parse(&text).expect("valid");
     let got: Vec<Reaction> = s.persons.iter().map(|p| p.reaction).collect();
-    assert_eq!(got, [Reaction::Yield, Reaction::Curious, Reaction::Cautious, Reaction::Ignore]);
+    assert_eq!(
+        got,
+        [Reaction::Yield, Reaction::Curious, Reaction::Cautious, Reaction::Ignore, Reaction::Yield]
+    );
     assert_eq!(parse(MINIMAL).expect("valid").persons[1].reaction, Reaction::Aware);
 
     let bad = MINIMAL.replace("pose = [3, 3, 0]", "pose = [3, 3, 0]\nreaction = \"shy\"");
