@@ -19,7 +19,7 @@ PAGE = ROOT / "docs" / "recorded-crowds.md"
 
 
 def _blocks() -> list[str]:
-    return re.findall(r"```python\n(.*?)```", PAGE.read_text(), flags=re.S)
+    return re.findall(r"```python[^\n]*\n(.*?)```", PAGE.read_text(), flags=re.S)
 
 
 def test_the_docs_example_runs(monkeypatch, capsys):
