@@ -173,8 +173,10 @@ def test_vector_env_reset_mask_and_seed_lists():
 def test_vector_env_bad_input_is_a_clear_error():
     from proxemic.errors import InputError, NeedsResetError
 
-    with pytest.raises(InputError, match="num_envs: expected an integer of at least 1"):
+    with pytest.raises(InputError, match="num_envs: expected an integer from 1 to 1024, got 0"):
         proxemic.vector_env("museum", num_envs=0)
+    with pytest.raises(InputError, match="num_envs: expected an integer from 1 to 1024, got 5000"):
+        proxemic.vector_env("museum", num_envs=5000)
     with pytest.raises(InputError, match="threads: expected an integer of at least 1"):
         proxemic.vector_env("museum", num_envs=2, threads=0)
     envs = proxemic.vector_env("daza2021_path1", num_envs=2)
