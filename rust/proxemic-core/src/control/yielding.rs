@@ -305,8 +305,7 @@ pub fn plan(
 ) -> YieldOutcome {
     let stop = YieldOutcome { velocity: Vec2::zeros(), stopped: true };
     let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
-    if !(finite(robot.pos) && finite(robot.vel) && finite(reference))
-        || !robot.radius.is_finite()
+    if !(finite(robot.pos) && finite(robot.vel) && finite(reference) && robot.radius.is_finite())
         || robot.radius < 0.0
         || !(limits.max_speed.is_finite() && limits.max_speed >= 0.0)
         || !(limits.max_accel.is_finite() && limits.max_accel > 0.0)
