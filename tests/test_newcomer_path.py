@@ -74,7 +74,7 @@ def test_demo_runs_test_split_seeds_draws_every_episode_and_says_what_figures_me
     assert drawn == {"trajectories_astar.png": 2, "trajectories_social.png": 2}
     assert "Drawn: every episode" in out
     assert "What the figures mean" in out and "path length ratio (x geodesic)" in out
-    assert "not ended by a collision" in out and "personal-zone time (%)" in out
+    assert "not ended by a collision" in out and "personal-zone time, centres (%)" in out
 
 
 def test_demo_path_length_ratio_leaves_out_collided_episodes():

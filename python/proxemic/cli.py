@@ -50,7 +50,16 @@ DEMO_FIGURE_NOTES: dict[str, str] = {
     "time_to_goal": "mean over the episodes that reached the goal, 95% Student t interval",
     "path_length_ratio": "mean over the episodes not ended by a collision (a collision cuts the path short; "
     "summary.md averages every episode)",
+    "psi_intimate": "a person's centre to the robot's centre, against the scene's Hall radii (bodies of 0.3 m "
+    "and 0.22 m radius reach 0.45 m between centres only by overlapping)",
     "psi_personal": "a person's centre to the robot's centre, against the scene's Hall radii",
+    "intimate_gap_time": "body edge to body edge, the reading of the claims",
+    "intimate_gap_entries_robot_caused": "body gaps; the robot moving toward the person above 0.05 m/s, the "
+    "rule of robot-at-fault contacts",
+    "intimate_gap_entries_person_caused": "body gaps; the person came to a robot stopped or moving away",
+    "personal_gap_time_robot_caused": "body gaps, seconds of visits the robot made (or joined by moving toward "
+    "the person)",
+    "personal_gap_time_person_caused": "body gaps, seconds of visits the person made to a robot stopped or moving away",
     "interaction_crossings": "mean per episode",
     "psi_objects_active": "the robot's centre inside the space",
     "snqi": "robot-sf's composite score (higher is better), normalised on the plain astar episodes",

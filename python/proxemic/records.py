@@ -67,6 +67,18 @@ class EpisodeMetrics(TypedDict):
     psi_personal: float | None
     psi_social: float | None
     psi_public: float | None
+    intimate_gap_time: float
+    intimate_gap_time_robot_caused: float
+    intimate_gap_time_person_caused: float
+    intimate_gap_entries: int
+    intimate_gap_entries_robot_caused: int
+    intimate_gap_entries_person_caused: int
+    personal_gap_time: float
+    personal_gap_time_robot_caused: float
+    personal_gap_time_person_caused: float
+    personal_gap_entries: int
+    personal_gap_entries_robot_caused: int
+    personal_gap_entries_person_caused: int
     group_psi_intimate: float | None
     group_psi_personal: float | None
     group_psi_social: float | None

@@ -123,8 +123,10 @@ def policy_robot_note(cfg: EvalConfig) -> str:
 def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
     """The headline table with units and 95% intervals.
 
-    Success, collisions, time to goal, path length ratio, personal-zone time, o-space crossings
-    and active object-space time (:data:`HEADLINE`).
+    Success, collisions, time to goal, path length ratio, intimate- and personal-zone time on
+    centre distances, intimate-zone time on body gaps with the robot-caused and person-caused
+    intimate entries and personal-zone seconds, o-space crossings and active object-space time
+    (:data:`HEADLINE`).
     """
     return _table(rows, HEADLINE)
 

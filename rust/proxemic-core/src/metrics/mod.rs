@@ -13,6 +13,9 @@
 //!   (items 9-13);
 //! - [`proximity`]: distances to people, discomfort, compliance, Hall zones (items 15-18), then
 //!   time to collision, clearance and social force (items 20-22);
+//! - [`approach`]: who approached whom, the intimate- and personal-zone time and entries (body
+//!   gaps) split into robot-caused and person-caused by [`fault`]'s rule (its keys follow
+//!   [`proximity`]'s zone shares in the report);
 //! - [`groups`]: o-spaces and interaction crossings (item 19);
 //! - [`objects`]: the objects' interaction spaces (Calderita et al.'s Ψ per object);
 //! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
@@ -63,6 +66,7 @@
 //!   [`STILL_SPEED`]) inside an object's interaction space to the object's centre (a visitor
 //!   looking at a painting, a senior watching the TV).
 
+pub mod approach;
 pub mod collisions;
 pub mod efficiency;
 pub mod fault;
@@ -86,6 +90,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::math::Vec2;
+pub use approach::ApproachMetrics;
 pub use collisions::CollisionMetrics;
 pub use efficiency::EfficiencyMetrics;
 pub use fault::FaultMetrics;
@@ -129,6 +134,9 @@ pub struct FullMetrics {
     /// Proximity to people.
     #[serde(flatten)]
     pub proximity: ProximityMetrics,
+    /// Who approached whom: zone time and entries (body gaps), robot-caused and person-caused.
+    #[serde(flatten)]
+    pub approach: ApproachMetrics,
     /// Groups and interactions.
     #[serde(flatten)]
     pub groups: GroupMetrics,
@@ -211,6 +219,7 @@ pub fn evaluate(
             proximity::force_on_person(&s, traj, people, &ctx.params, t, i)
         }),
         fault: fault::evaluate(s.steps, people.count, &touches, ctx.collision_steps),
+        approach: approach::evaluate(&s, traj, people, ctx),
         people_cost: people_cost::evaluate(
             s.n,
             people.count,

@@ -193,6 +193,10 @@ const STATIC: &str = "Static geometry";
 const SNQI: &str = "SNQI inputs";
 const RECOVERY: &str = "Progress monitor";
 
+/// The sources of the who-approached-whom zone metrics.
+const SRC_APPROACH: &str =
+    "Hall 1966 (zones); SEAN 2.0, HuNavSim (robot- and person-caused); ours (body gaps, per step)";
+
 const NONE: (Option<f64>, Option<f64>) = (None, None);
 const POS: (Option<f64>, Option<f64>) = (Some(0.0), None);
 const FLAG: (Option<f64>, Option<f64>) = (Some(0.0), Some(1.0));
@@ -755,21 +759,24 @@ pub const METRICS: &[MetricInfo] = &[
     m(
         "psi_intimate",
         PEOPLE,
-        "intimate-zone time",
+        "intimate-zone time, centres",
         "%",
         Lower,
         PCT,
         "Share of instants whose closest person (centre distance) is in the intimate zone: \
-         Calderita et al.'s Ψ(intimate).",
+         Calderita et al.'s Ψ(intimate). Read on centres, 0.45 m is reached only by bodies that \
+         overlap (robot 0.3 m and person 0.22 m radii): `intimate_gap_time` reads the zone on body \
+         gaps.",
         "`100 · #{t : min_i d_i,t < r_intimate} / (T + 1)`",
         "Hall 1966; HuNavSim; Calderita et al.",
     )
     .mean(1)
-    .panel(Social),
+    .panel(Social)
+    .headline(),
     m(
         "psi_personal",
         PEOPLE,
-        "personal-zone time",
+        "personal-zone time, centres",
         "%",
         Lower,
         PCT,
@@ -804,6 +811,172 @@ pub const METRICS: &[MetricInfo] = &[
         "`100 · #{t : min_i d_i,t ≥ r_social} / (T + 1)`",
         "Hall 1966; HuNavSim; Calderita et al.",
     ),
+    // Who approached whom (rust/proxemic-core/src/metrics/approach.rs; the fault rule of fault.rs)
+    m(
+        "intimate_gap_time",
+        PEOPLE,
+        "intimate-zone time, body gaps",
+        "s",
+        Lower,
+        POS,
+        "Seconds with the closest present person's body gap (surface to surface) in the intimate \
+         zone, counted per step at the step's end; 0 without people. The reading of the claims \
+         (`tests/test_social_vs_astar.py`), beside `psi_intimate`'s centre reading.",
+        "`dt · #{k < T : min_i s_i,k+1 < r_intimate}`",
+        SRC_APPROACH,
+    )
+    .mean(2)
+    .panel(Social)
+    .headline(),
+    m(
+        "intimate_gap_time_robot_caused",
+        PEOPLE,
+        "intimate-zone time, body gaps, robot-caused",
+        "s",
+        Lower,
+        POS,
+        "The part of `intimate_gap_time` in steps over which the robot moved toward that closest \
+         person: its velocity along the direction robot → person above 0.05 m/s (the rule of \
+         `collisions_robot_fault`).",
+        "steps of `intimate_gap_time` with `v_R,k · (q_i,k − p_k)/|q_i,k − p_k| > 0.05 m/s`, times `dt`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "intimate_gap_time_person_caused",
+        PEOPLE,
+        "intimate-zone time, body gaps, person-caused",
+        "s",
+        Neither,
+        POS,
+        "The rest of `intimate_gap_time`: the robot stopped, moving away or passing slower than \
+         0.05 m/s toward the person.",
+        "`intimate_gap_time − intimate_gap_time_robot_caused`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "intimate_gap_entries",
+        PEOPLE,
+        "intimate-zone entries, body gaps",
+        "count",
+        Lower,
+        POS,
+        "Entries into a person's intimate zone: steps over which a present person's body gap falls \
+         below the intimate radius from at or above it, counted per person.",
+        "`#{(k, i) : s_i,k ≥ r_intimate > s_i,k+1}`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "intimate_gap_entries_robot_caused",
+        PEOPLE,
+        "intimate-zone entries, robot-caused",
+        "count",
+        Lower,
+        POS,
+        "The entries of `intimate_gap_entries` made while the robot moved toward the person above \
+         0.05 m/s over the step of the entry.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2)
+    .headline(),
+    m(
+        "intimate_gap_entries_person_caused",
+        PEOPLE,
+        "intimate-zone entries, person-caused",
+        "count",
+        Neither,
+        POS,
+        "The other entries of `intimate_gap_entries`: the person came to a robot stopped, moving \
+         away or slower than 0.05 m/s toward them.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2)
+    .headline(),
+    m(
+        "personal_gap_time",
+        PEOPLE,
+        "personal-zone time, body gaps",
+        "s",
+        Lower,
+        POS,
+        "Seconds with the closest present person's body gap in the personal zone (at or above the \
+         intimate radius, below the personal one), per step like `intimate_gap_time`.",
+        "`dt · #{k < T : r_intimate ≤ min_i s_i,k+1 < r_personal}`",
+        SRC_APPROACH,
+    )
+    .mean(1)
+    .panel(Social),
+    m(
+        "personal_gap_time_robot_caused",
+        PEOPLE,
+        "personal-zone time, body gaps, robot-caused",
+        "s",
+        Lower,
+        POS,
+        "The part of `personal_gap_time` in steps over which the robot moved toward that closest \
+         person above 0.05 m/s.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(1)
+    .headline(),
+    m(
+        "personal_gap_time_person_caused",
+        PEOPLE,
+        "personal-zone time, body gaps, person-caused",
+        "s",
+        Neither,
+        POS,
+        "The rest of `personal_gap_time`: the person came to a robot stopped, moving away or \
+         slower than 0.05 m/s toward them.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(1)
+    .headline(),
+    m(
+        "personal_gap_entries",
+        PEOPLE,
+        "personal-zone entries, body gaps",
+        "count",
+        Lower,
+        POS,
+        "Entries into a person's personal zone: steps over which a present person's body gap falls \
+         below the personal radius from at or above it, per person (straight into the intimate \
+         zone included).",
+        "`#{(k, i) : s_i,k ≥ r_personal > s_i,k+1}`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "personal_gap_entries_robot_caused",
+        PEOPLE,
+        "personal-zone entries, robot-caused",
+        "count",
+        Lower,
+        POS,
+        "The entries of `personal_gap_entries` made while the robot moved toward the person above \
+         0.05 m/s.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "personal_gap_entries_person_caused",
+        PEOPLE,
+        "personal-zone entries, person-caused",
+        "count",
+        Neither,
+        POS,
+        "The other entries of `personal_gap_entries`: the person came to the robot.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2),
     // Groups and interactions
     m(
         "group_psi_intimate",
