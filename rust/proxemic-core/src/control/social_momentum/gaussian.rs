@@ -193,6 +193,7 @@ impl GaussianSpace {
 mod tests {
     use super::super::*;
     use super::*;
+    use crate::control::clamp_norm;
     use crate::groups::PersonState;
     use crate::perception::{SocialConfig, perceive};
     use crate::socialmap::SocialCosts;
