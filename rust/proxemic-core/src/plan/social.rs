@@ -28,7 +28,7 @@ use crate::groups::{DensityParams, DetectorMemory, GroupMethod, PersonState, Rob
 use crate::map::CostGrid;
 use crate::math::Vec2;
 use crate::pedestrians::Crowd;
-use crate::perception::{Individual, Perception, SocialConfig, perceive_with};
+use crate::perception::{Individual, Perception, ProxemicsConfig, perceive_with};
 use crate::plan::{PathPlanner, SearchMode, smooth_path};
 use crate::proxemics::DensityZones;
 use crate::scenario::Scenario;
@@ -85,7 +85,7 @@ pub struct SocialPath {
 
 /// State of the social planner for all robots of a world.
 pub struct SocialPlanning {
-    cfg: SocialConfig,
+    cfg: ProxemicsConfig,
     agenda: Agenda,
     object_names: Vec<String>,
     object_polygons: Vec<Vec<Vec2>>,
@@ -114,7 +114,7 @@ impl SocialPlanning {
     /// radius (m): the map widens the objects' interaction spaces by it, so the robot's body
     /// keeps out of a space whose edge its path follows.
     pub fn new(scenario: &Scenario, grids: &[(&CostGrid, f64)]) -> Result<Self> {
-        let cfg = scenario.social_config();
+        let cfg = scenario.proxemics_config();
         let agenda = scenario.agenda()?;
         let mut object_names = Vec::new();
         let mut object_polygons = Vec::new();
@@ -162,7 +162,7 @@ impl SocialPlanning {
     }
 
     /// The social model.
-    pub fn config(&self) -> &SocialConfig {
+    pub fn config(&self) -> &ProxemicsConfig {
         &self.cfg
     }
 

@@ -195,7 +195,7 @@ mod tests {
     use super::*;
     use crate::control::clamp_norm;
     use crate::groups::PersonState;
-    use crate::perception::{SocialConfig, perceive};
+    use crate::perception::{ProxemicsConfig, perceive};
     use crate::socialmap::SocialCosts;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
@@ -301,7 +301,7 @@ mod tests {
 
     #[test]
     fn the_zone_distance_is_the_social_maps_for_an_individual_and_for_a_group() {
-        let cfg = SocialConfig::default();
+        let cfg = ProxemicsConfig::default();
         let people = [
             PersonState::standing(v(0.0, 0.0), 0.0),
             PersonState::standing(v(1.2, 0.0), PI),

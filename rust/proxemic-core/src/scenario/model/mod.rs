@@ -364,7 +364,7 @@ impl Scenario {
     }
 
     /// The social model described by `[proxemics]`.
-    pub fn social_config(&self) -> crate::perception::SocialConfig {
+    pub fn proxemics_config(&self) -> crate::perception::ProxemicsConfig {
         use crate::groups::{DelaunayParams, DensityParams, FFormationParams, FeatureAggregate, GroupMethod};
         use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, SideInfluences};
         use crate::socialmap::{CostMode, SocialCosts};
@@ -401,7 +401,7 @@ impl Scenario {
             _ => FeatureAggregate::Mean,
         };
         let [fi, ri, rti, li] = p.influence.clone();
-        crate::perception::SocialConfig {
+        crate::perception::ProxemicsConfig {
             zones,
             space,
             features: p.features.clone(),
