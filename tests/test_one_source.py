@@ -39,3 +39,17 @@ def test_no_error_is_returned_as_data():
         if re.search(r"\\\"error\\\"", p.read_text()) and "target" not in p.parts
     ]
     assert found == []
+
+
+def test_the_elastic_band_defaults_are_written_once():
+    """``EbandParams::default`` holds every default; ``from_calderita_gains`` and the scenario's
+    gains start from it instead of repeating the values."""
+    defaults = ["influence_distance: 1.0", "min_bubble: 0.05", "max_bubble: 0.5", "overlap: 0.7", "max_bubbles: 4096"]
+    counts = {d: 0 for d in defaults}
+    for path in _rust_files(ROOT / "rust"):
+        if "target" in path.parts or path.name == "tests.rs":
+            continue
+        text = path.read_text()
+        for d in defaults:
+            counts[d] += text.count(d)
+    assert counts == {d: 1 for d in defaults}, counts

@@ -100,35 +100,15 @@ pub struct EbandParams {
     pub max_bubbles: usize,
 }
 
-impl Default for EbandParams {
-    fn default() -> Self {
-        let kc = EbandParams::from_calderita_gains(120.0, 60.0);
-        EbandParams {
-            contraction_gain: kc.contraction_gain,
-            repulsion_gain: kc.repulsion_gain,
-            social_gain: kc.social_gain,
-            influence_distance: 1.0,
-            min_bubble: 0.05,
-            max_bubble: 0.5,
-            overlap: 0.7,
-            max_step_fraction: 0.5,
-            gradient_step: 0.1,
-            max_iterations: 10,
-            tolerance: 1e-3,
-            max_insert_depth: 8,
-            max_bubbles: 4096,
-        }
-    }
-}
+/// Calderita et al.'s optimal band gains `(kc, kr)` (seed 003, §5.4; units not given): the
+/// defaults keep their ratio ([`EbandParams::from_calderita_gains`]).
+pub const CALDERITA_GAINS: (f64, f64) = (120.0, 60.0);
 
-impl EbandParams {
-    /// Maps Calderita's gains (`kc`, `kr` in their unstated units; the paper's optimum is 120 and
-    /// 60) to this unit-free form by keeping their ratio: `contraction_gain = 1`,
-    /// `repulsion_gain = social_gain = kr / kc`. The other fields keep their defaults' values
-    /// (see the module docs). A `kc` that is not finite and positive, or a `kr` that is not
-    /// finite and `>= 0`, gives the ratio 0.5.
-    pub fn from_calderita_gains(kc: f64, kr: f64) -> Self {
-        let ratio = if kc.is_finite() && kc > 0.0 && kr.is_finite() && kr >= 0.0 { kr / kc } else { 0.5 };
+impl Default for EbandParams {
+    /// Every default is written here once: the gains are Calderita's optimum by their ratio
+    /// ([`CALDERITA_GAINS`]: 1.0 and 0.5), the rest as documented on each field.
+    fn default() -> Self {
+        let ratio = CALDERITA_GAINS.1 / CALDERITA_GAINS.0;
         EbandParams {
             contraction_gain: 1.0,
             repulsion_gain: ratio,
@@ -144,6 +124,23 @@ impl EbandParams {
             max_insert_depth: 8,
             max_bubbles: 4096,
         }
+    }
+}
+
+impl EbandParams {
+    /// Maps Calderita's gains (`kc`, `kr` in their unstated units; the paper's optimum is
+    /// [`CALDERITA_GAINS`], 120 and 60) to this unit-free form by keeping their ratio:
+    /// `contraction_gain = 1`, `repulsion_gain = social_gain = kr / kc`. The other fields keep
+    /// their defaults (see the module docs). A `kc` that is not finite and positive, or a `kr`
+    /// that is not finite and `>= 0`, gives the default ratio (0.5).
+    pub fn from_calderita_gains(kc: f64, kr: f64) -> Self {
+        let defaults = EbandParams::default();
+        let ratio = if kc.is_finite() && kc > 0.0 && kr.is_finite() && kr >= 0.0 {
+            kr / kc
+        } else {
+            defaults.repulsion_gain
+        };
+        EbandParams { contraction_gain: 1.0, repulsion_gain: ratio, social_gain: ratio, ..defaults }
     }
 
     fn validate(&self) -> Result<()> {
