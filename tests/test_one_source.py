@@ -41,6 +41,22 @@ def test_no_error_is_returned_as_data():
     assert found == []
 
 
+def test_code_cites_the_metrics_page_by_section():
+    """``docs/metrics.md`` is generated from the registry and has no numbered items: code cites its
+    sections (a family, or a metric's key) by name."""
+    pattern = re.compile(
+        r"metrics\.md`? items? \d+|items? \d+(-\d+)?( and \d+-\d+)? of\s+(//[/!]\s*)?`docs/metrics\.md"
+    )
+    found = [
+        f"{path.relative_to(ROOT)}: {m.group(0)}"
+        for folder in ("rust", "python")
+        for path in sorted((ROOT / folder).rglob("*"))
+        if path.suffix in (".rs", ".py") and "target" not in path.parts
+        for m in pattern.finditer(path.read_text())
+    ]
+    assert found == [], found
+
+
 def test_the_elastic_band_defaults_are_written_once():
     """``EbandParams::default`` holds every default; ``from_calderita_gains`` and the scenario's
     gains start from it instead of repeating the values."""
