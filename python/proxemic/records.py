@@ -171,6 +171,8 @@ class Individual(TypedDict):
     heading: float
     sides: tuple[float, float, float, float]
     """Gaussian sigmas (m): front, rear, right, left."""
+    zone_scale: float
+    """The length (m) that turns sqrt(2 q) into a zone distance (``_core.zone_distances``)."""
     members: list[int]
     """Person indices."""
     robots: list[int]

@@ -240,6 +240,9 @@ pub struct IndividualReport {
     pub heading: f64,
     /// Gaussian sigmas (metres): front, rear, right, left.
     pub sides: (f64, f64, f64, f64),
+    /// The length (metres) that turns `sqrt(2 q)` into a zone distance
+    /// ([`crate::proxemics::zone_distance`]).
+    pub zone_scale: f64,
     /// Person indices of the members.
     pub members: Vec<usize>,
     /// Robot indices that joined the interaction.
@@ -258,6 +261,7 @@ impl PerceptionReport {
                 centre: (ind.centre.x, ind.centre.y),
                 heading: ind.heading,
                 sides: (ind.sides.front, ind.sides.rear, ind.sides.right, ind.sides.left),
+                zone_scale: ind.zone_scale,
                 members: ind.members.clone(),
                 robots: ind.robots.clone(),
             })
@@ -415,9 +419,9 @@ mod tests {
         assert_eq!(ind.sides, cfg.base_sides());
         // Kirby: sideways the zone distance equals the Euclidean distance; in front it is shorter
         // (the zone extends farther), behind longer.
-        let side = SocialCosts::zone_distance(ind, Vec2::new(0.0, 1.0));
-        let front = SocialCosts::zone_distance(ind, Vec2::new(1.0, 0.0));
-        let rear = SocialCosts::zone_distance(ind, Vec2::new(-1.0, 0.0));
+        let side = ind.zone_distance(Vec2::new(0.0, 1.0));
+        let front = ind.zone_distance(Vec2::new(1.0, 0.0));
+        let rear = ind.zone_distance(Vec2::new(-1.0, 0.0));
         assert!((side - 1.0).abs() < 1e-12);
         assert!(front < 1.0 && rear > 1.0);
     }
@@ -433,7 +437,7 @@ mod tests {
         assert_eq!(g.members, vec![0, 1]);
         assert!((g.centre - Vec2::new(0.6, 0.0)).norm() < 1e-9);
         // the midpoint between them is deep inside the group's space (intimate: forbidden)
-        assert!(SocialCosts::zone_distance(g, Vec2::new(0.6, 0.0)) < cfg.zones.intimate);
+        assert!(g.zone_distance(Vec2::new(0.6, 0.0)) < cfg.zones.intimate);
     }
 
     #[test]
@@ -472,7 +476,7 @@ mod tests {
         assert_eq!(p.robot_joins, vec![Some(0)]);
         assert_eq!(p.individuals[0].robots, vec![0]);
         // the interaction covers the space between the person and the robot
-        assert!(SocialCosts::zone_distance(&p.individuals[0], Vec2::new(0.45, 0.0)) < cfg.zones.intimate);
+        assert!(p.individuals[0].zone_distance(Vec2::new(0.45, 0.0)) < cfg.zones.intimate);
         // a moving robot does not join
         let moving = RobotDisc { vel: Vec2::new(0.5, 0.0), ..robot };
         assert_eq!(perceive(&cfg, &people, &[vec![]], &[moving]).expect("valid").robot_joins, vec![None]);

@@ -312,14 +312,29 @@ impl Placed {
     /// The exponent `q >= 0` with `value = exp(-q)` at `point` (NaN for NaN inputs).
     #[inline]
     pub fn exponent(&self, point: Vec2) -> f64 {
-        let (dx, dy) = (point.x - self.x, point.y - self.y);
-        // Sousa 2022 eq. 5.
-        let d_sag = self.cos * dx + self.sin * dy;
-        let d_fro = self.sin * dx - self.cos * dy;
-        // Sousa 2022 eq. 8 by half planes (see the type's docs).
-        let ks = if d_sag >= 0.0 { self.front } else { self.rear };
-        let kf = if d_fro >= 0.0 { self.right } else { self.left };
+        let (d_sag, d_fro) = self.axes(Vec2::new(point.x - self.x, point.y - self.y));
+        let (ks, kf) = self.side_coefficients(d_sag, d_fro);
         ks * d_sag * d_sag + kf * d_fro * d_fro
+    }
+
+    /// `(d_sag, d_fro)` of the offset `d` (m) from the centre: its components along the facing
+    /// direction and to the person's right (Sousa 2022 eq. 5). Linear in `d`.
+    #[inline]
+    pub fn axes(&self, d: Vec2) -> (f64, f64) {
+        (self.cos * d.x + self.sin * d.y, self.sin * d.x - self.cos * d.y)
+    }
+
+    /// `(k_s, k_f)`, the `1 / (2 sigma^2)` (1/m^2) of the sides whose half planes hold the axis
+    /// offsets `(d_sag, d_fro)`: Sousa 2022 eq. 8 by half planes (see the type's docs).
+    #[inline]
+    pub fn side_coefficients(&self, d_sag: f64, d_fro: f64) -> (f64, f64) {
+        (if d_sag >= 0.0 { self.front } else { self.rear }, if d_fro >= 0.0 { self.right } else { self.left })
+    }
+
+    /// The zone distance (m) of `point` for the zone scale `zone_scale` (m): see [`zone_distance`].
+    #[inline]
+    pub fn zone_distance(&self, point: Vec2, zone_scale: f64) -> f64 {
+        zone_distance(self.exponent(point), zone_scale)
     }
 
     /// The value at `point` (metres, world frame), in [0, 1]; 0 where undefined (NaN inputs).
@@ -347,6 +362,52 @@ impl From<Asymmetric> for PersonalSpace {
     fn from(a: Asymmetric) -> Self {
         PersonalSpace::Asymmetric(a)
     }
+}
+
+/// The *zone distance* (m) of a point whose personal-space exponent is `q` (value `exp(-q)`):
+/// `zone_scale * sqrt(2 q)`, the distance that Hall's zone radii are compared with. For a
+/// symmetric Gaussian of standard deviation `zone_scale` it is the Euclidean distance to the
+/// centre; an asymmetric function stretches it where it is wider (Sousa et al. 2022 eq. 5: with
+/// 1 m sigmas, `sqrt((d_sag / sigma_s)^2 + (d_fro / sigma_f)^2)` times the base sigma). The one
+/// definition: the social map's zones ([`crate::socialmap::SpaceFunction::zone_distance`]),
+/// Social Momentum's Gaussian agents and the binding's `zone_distances` use it.
+#[inline]
+pub fn zone_distance(q: f64, zone_scale: f64) -> f64 {
+    zone_scale * (2.0 * q).max(0.0).sqrt()
+}
+
+/// The zone distances (m, [`zone_distance`]) of `points` (m, world frame) in the fully asymmetric
+/// Gaussian (Sousa 2022 eq. 5-8) of an individual centred at `centre` (m) facing `heading` (rad),
+/// with per-side sigmas `sides` (m) and zone scale `zone_scale` (m; the base function's, e.g.
+/// 1 m for the `sousa2022` space): one value per point. Errors with [`CoreError::Input`] naming
+/// `centre`, `heading`, the side, `zone_scale` or `points[k]` for a value that is not finite
+/// (or, for the sigmas and the scale, not > 0).
+pub fn zone_distances(
+    centre: Vec2,
+    heading: f64,
+    sides: Asymmetric,
+    zone_scale: f64,
+    points: &[Vec2],
+) -> Result<Vec<f64>> {
+    if !(centre.x.is_finite() && centre.y.is_finite()) {
+        return Err(CoreError::input("centre", "a point of finite numbers (m)", format!("{centre:?}")));
+    }
+    if !heading.is_finite() {
+        return Err(CoreError::input("heading", "a finite angle (rad)", heading.to_string()));
+    }
+    sides.validate()?;
+    if !(zone_scale.is_finite() && zone_scale > 0.0) {
+        return Err(CoreError::input("zone_scale", "a finite length > 0 (m)", zone_scale.to_string()));
+    }
+    if let Some((k, p)) = points.iter().enumerate().find(|(_, p)| !(p.x.is_finite() && p.y.is_finite())) {
+        return Err(CoreError::input(
+            format!("points[{k}]"),
+            "a point of finite numbers (m)",
+            format!("{p:?}"),
+        ));
+    }
+    let placed = PersonalSpace::Asymmetric(sides).at(Pose::new(centre.x, centre.y, heading));
+    Ok(points.iter().map(|&p| placed.zone_distance(p, zone_scale)).collect())
 }
 
 /// Wraps an angle into [-pi, pi), the range of Sousa 2022 eq. 8.
