@@ -137,6 +137,8 @@ class MetricInfo(TypedDict):
     """Where it comes from (empty for the project's own)."""
     summary: Literal["rate", "mean"] | None
     """How ``proxemic eval`` summarises it over episodes (None: it does not)."""
+    over_successes: bool
+    """Whether a summarised mean is over the successful episodes only."""
     decimals: int
     """Digits after the decimal point of a summarised mean (rates are whole percentages)."""
     panel: Literal["outcome", "efficiency", "social", "papers"] | None
