@@ -358,7 +358,6 @@ pub fn perceive_with(
 mod tests {
     use super::*;
     use crate::groups::DelaunayParams;
-    use crate::socialmap::SocialCosts;
 
     fn standing(x: f64, y: f64, th: f64) -> PersonState {
         PersonState::standing(Vec2::new(x, y), th)
