@@ -155,3 +155,14 @@ def test_no_tracker_numbers_in_the_package():
     files += [p for crate in sorted((ROOT / "rust").glob("*/src")) for p in sorted(crate.rglob("*.rs"))]
     found = [f"{p.relative_to(ROOT)}: {m.group(0)}" for p in files for m in pattern.finditer(p.read_text())]
     assert not found, found
+
+
+def test_rust_suites_are_named_after_behaviours():
+    """An integration suite named after a tracker number (``issue_<n>_<symptom>.rs``) is a small
+    regression test; a suite of behaviours is named after them."""
+    long = [
+        f"{p.relative_to(ROOT)}: {len(p.read_text().splitlines())} lines"
+        for p in sorted((ROOT / "rust").glob("*/tests/issue_*.rs"))
+        if len(p.read_text().splitlines()) > 100
+    ]
+    assert not long, long
