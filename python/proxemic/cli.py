@@ -17,7 +17,7 @@ import numpy as np
 
 from proxemic import scenarios, splits
 from proxemic.errors import ProxemicError
-from proxemic.evaluation import BASELINE_PLANNERS
+from proxemic.evaluation import BASELINE_PLANNERS, EvalResult
 from proxemic.viz.topdown import FRAME_SIZE
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
@@ -81,9 +81,24 @@ def demo_legend(split: str, episodes: int) -> str:
     return "\n".join(lines)
 
 
+def _print_results(result: EvalResult, note: str = "") -> None:
+    """An evaluation's results in the terminal: the headline table, `note` if any, SNQI, verdicts."""
+    from proxemic.evaluation import headline_text
+
+    print(headline_text(result.summary))
+    if note:
+        print()
+        print(textwrap.fill(note, 100))
+    print()
+    print(textwrap.fill(result.snqi_line, 100))
+    for v in result.verdicts:
+        print()
+        print(v)
+
+
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on test-split seeds, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation
+    from proxemic.evaluation import EvalConfig, run_evaluation
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -110,12 +125,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
             f"({time.perf_counter() - t0:.1f} s; all metrics in {scene_out}/summary.md)"
         )
         print()
-        print(headline_text(result.summary))
-        print()
-        print(textwrap.fill(result.snqi_line, 100))
-        for v in result.verdicts:
-            print()
-            print(v)
+        _print_results(result)
         print()
         print(
             textwrap.fill(
@@ -202,7 +212,7 @@ def _eval_suite(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, headline_text, policy_robot_note, robots_note, run_evaluation
+    from proxemic.evaluation import EvalConfig, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
     args.out = str(_fresh_out(Path("out/eval")) if args.out is None else Path(args.out))
@@ -242,15 +252,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     result = run_evaluation(cfg)
     print()
-    print(headline_text(result.summary))
-    if note := robots_note(result.summary) or policy_robot_note(cfg):
-        print()
-        print(textwrap.fill(note, 100))
-    print()
-    print(textwrap.fill(result.snqi_line, 100))
-    for v in result.verdicts:
-        print()
-        print(v)
+    _print_results(result, robots_note(result.summary) or policy_robot_note(cfg))
     print()
     print(
         f"{len(cfg.tasks())} episodes in {time.perf_counter() - t0:.1f} s; wrote {cfg.out}/episodes.csv, "
