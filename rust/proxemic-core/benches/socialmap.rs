@@ -16,7 +16,7 @@ use proxemic_core::perception::{ProxemicsConfig, perceive};
 use proxemic_core::plan::{PathPlanner, SearchMode, nearest_passable};
 use proxemic_core::proxemics::DensityZones;
 use proxemic_core::scenario::Scenario;
-use proxemic_core::socialmap::{DensityLayer, SocialMap};
+use proxemic_core::social_cost_map::{DensityLayer, SocialMap};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

@@ -23,7 +23,7 @@ use crate::groups::{
 };
 use crate::math::Vec2;
 use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, Placed, Pose, SideInfluences, adapt};
-use crate::socialmap::{CostMode, SocialCosts, SpaceFunction};
+use crate::social_cost_map::{CostMode, SocialCosts, SpaceFunction};
 
 /// The social model of a scenario (its `[proxemics]` table, validated).
 #[derive(Clone, Debug)]
@@ -520,7 +520,7 @@ mod tests {
         use crate::map::CostGrid;
         use crate::map::geometry::Bounds;
         use crate::map::grid::GridSpec;
-        use crate::socialmap::SocialMap;
+        use crate::social_cost_map::SocialMap;
         let cfg = ProxemicsConfig::default();
         let people: Vec<PersonState> = (0..12)
             .map(|k| {
@@ -550,7 +550,7 @@ mod tests {
         use crate::map::CostGrid;
         use crate::map::geometry::Bounds;
         use crate::map::grid::GridSpec;
-        use crate::socialmap::SocialMap;
+        use crate::social_cost_map::SocialMap;
         let cfg = ProxemicsConfig::default();
         let spec =
             GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(24.0, 16.0) }, 0.1).expect("grid");

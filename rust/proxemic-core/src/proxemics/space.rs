@@ -369,7 +369,7 @@ impl From<Asymmetric> for PersonalSpace {
 /// symmetric Gaussian of standard deviation `zone_scale` it is the Euclidean distance to the
 /// centre; an asymmetric function stretches it where it is wider (Sousa et al. 2022 eq. 5: with
 /// 1 m sigmas, `sqrt((d_sag / sigma_s)^2 + (d_fro / sigma_f)^2)` times the base sigma). The one
-/// definition: the social map's zones ([`crate::socialmap::SpaceFunction::zone_distance`]),
+/// definition: the social map's zones ([`crate::social_cost_map::SpaceFunction::zone_distance`]),
 /// Social Momentum's Gaussian agents and the binding's `zone_distances` use it.
 #[inline]
 pub fn zone_distance(q: f64, zone_scale: f64) -> f64 {

@@ -14,7 +14,7 @@
 //!   centre to a *zone distance* below [`GaussianSpace::keep_out`] `+ safety_margin`, where the
 //!   zone distance of a point is `zone_scale * sqrt(2 q)` with `exp(-q)` the Gaussian's value
 //!   there (the distance the social map compares with Hall's radii, see
-//!   [`crate::socialmap::SpaceFunction`]). The momentum and efficiency terms are unchanged (they
+//!   [`crate::social_cost_map::SpaceFunction`]). The momentum and efficiency terms are unchanged (they
 //!   use the individual's centre and velocity); no cost term is added (Daza 2021 has none).
 //! - **The level.** `keep_out` is the caller's. The `sousa2022` planner passes Hall's personal
 //!   radius (Daza 2021: 1 m; Sousa 2022 §4.5: Daza's method is used "for avoiding the personal
@@ -38,7 +38,7 @@ use crate::error::{CoreError, Result};
 use crate::math::Vec2;
 use crate::perception::Individual;
 use crate::proxemics::{Asymmetric, PersonalSpace, Placed, Pose};
-use crate::socialmap::SpaceFunction;
+use crate::social_cost_map::SpaceFunction;
 
 /// How an agent's keep-out region is shaped in the collision filter of
 /// [`super::social_momentum_shaped`].

@@ -367,7 +367,7 @@ impl Scenario {
     pub fn proxemics_config(&self) -> crate::perception::ProxemicsConfig {
         use crate::groups::{DelaunayParams, DensityParams, FFormationParams, FeatureAggregate, GroupMethod};
         use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, SideInfluences};
-        use crate::socialmap::{CostMode, SocialCosts};
+        use crate::social_cost_map::{CostMode, SocialCosts};
         let p = &self.proxemics;
         let [front, rear, right, left] = p.sigmas;
         let space = match p.space.as_str() {
