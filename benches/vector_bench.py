@@ -25,7 +25,7 @@ import gymnasium as gym
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v0"
+ENV_ID = "proxemic/Museum-v1"
 TRIALS = 3
 
 

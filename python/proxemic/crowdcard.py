@@ -154,7 +154,8 @@ def _straight(track: np.ndarray) -> tuple[np.ndarray, float]:
     dist = float(np.hypot(*way))
     along = np.minimum(speed * (t - t[0]), dist)
     unit = way / dist if dist > 1e-12 else np.zeros(2)
-    return xy[0] + along[:, None] * unit, float(t[0] + dist / speed)
+    # A track that never moves is at its goal from the start.
+    return xy[0] + along[:, None] * unit, float(t[0] + dist / speed) if speed > 0 else float(t[0])
 
 
 def _speeds(path: np.ndarray) -> np.ndarray:

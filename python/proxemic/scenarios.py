@@ -45,7 +45,7 @@ def suggest(name: str, choices: Sequence[str]) -> str:
 
 
 def resolve(scenario: str | Path) -> Path:
-    """Path of a scenario given by bundled name (``"museum"``), env id (``"proxemic/Museum-v0"``) or file path.
+    """Path of a scenario given by bundled name (``"museum"``), env id (``"proxemic/Museum-v1"``) or file path.
 
     Raises:
         ScenarioError: A path (a name ending in ``.toml`` or with a folder) to no file: "file
@@ -76,7 +76,7 @@ def resolve(scenario: str | Path) -> Path:
     hint = suggest(text, [*names, *ENV_IDS])
     raise UnknownNameError(
         f"unknown scenario {text!r}{hint}: expected a bundled name ({', '.join(names)}), "
-        "an env id (proxemic/Museum-v0, see `proxemic scenes`) or a path to a .toml file",
+        "an env id (proxemic/Museum-v1, see `proxemic scenes`) or a path to a .toml file",
         field="scenario",
         expected=f"one of {names}, an env id or an existing .toml file",
         found=text,
@@ -106,11 +106,12 @@ FRANCIS2023_PREFIX = "francis2023/"
 GENERATE_PARAMS: tuple[str, ...] = tuple(_core.GENERATE_PARAMS)
 
 
-def generated_name(seed: int, **params: float) -> str:
+def generated_name(seed: int, **params: float | str) -> str:
     """The scenario name ``generated/<seed>?key=value&...`` of a generated scene.
 
     Raises:
-        InputError: `seed` not a non-negative integer, a parameter value not a number.
+        InputError: `seed` not a non-negative integer, a parameter value not a number (for
+            ``reaction``, not a string; an unknown name is the core's ScenarioError).
         UnknownNameError: a parameter name not in ``GENERATE_PARAMS``.
     """
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -124,6 +125,11 @@ def generated_name(seed: int, **params: float) -> str:
                 expected=f"one of {list(GENERATE_PARAMS)}",
                 found=key,
             )
+        if key == "reaction":
+            if not isinstance(value, str):
+                raise input_error(key, "a reaction name (ignore, aware, yield, curious, cautious)", value)
+            pairs.append(f"{key}={value}")
+            continue
         pairs.append(
             f"{key}={_number(value, key):g}"
             if key not in ("robots", "objects_per_room", "encounters")
@@ -133,7 +139,7 @@ def generated_name(seed: int, **params: float) -> str:
     return f"{GENERATED_PREFIX}{int(seed)}{query}"
 
 
-def generate(seed: int, **params: float) -> _core.Scenario:
+def generate(seed: int, **params: float | str) -> _core.Scenario:
     """A generated scene (a seeded floor plan with furniture, people and robots) as a scenario.
 
     Same seed and parameters, same scene. Parameters (defaults and ranges in ``docs/generated.md`` and the
@@ -141,8 +147,9 @@ def generate(seed: int, **params: float) -> _core.Scenario:
     ``corridor_width`` (m, 3, [2.4, 6]), ``door_width`` (m, 1.8, [1.4, 3]), ``density`` (people per
     100 m^2, 1.5, [0, 6]), ``group_share`` (0.3), ``walker_share`` (0.4), ``seated_share`` (0.2),
     ``objects_per_room`` (3, [0, 8]), ``robots`` (1, [1, 8]), ``max_time`` (s, 180, [30, 3600]),
-    ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way).
-    The same scene is ``gym.make("proxemic/Generated-v0", scenario=generated_name(seed, ...))``.
+    ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way),
+    ``reaction`` (the people's reaction to robots, default ``aware``; ``docs/people.md``).
+    The same scene is ``gym.make("proxemic/Generated-v1", scenario=generated_name(seed, ...))``.
 
     Raises:
         ScenarioError: a parameter out of its range, naming it.
@@ -153,7 +160,7 @@ def generate(seed: int, **params: float) -> _core.Scenario:
     return core
 
 
-def generate_toml(seed: int, **params: float) -> str:
+def generate_toml(seed: int, **params: float | str) -> str:
     """The scenario file text of :func:`generate`'s scene (loads back as the same scenario)."""
     return _core.generate(generated_name(seed, **params))[1]
 
@@ -171,7 +178,7 @@ def load(
     :class:`~proxemic.errors.ScenarioError` naming it, as it would in the file.
 
     Args:
-        scenario: Bundled name, env id (``"proxemic/Museum-v0"``) or path of a scenario file, or an
+        scenario: Bundled name, env id (``"proxemic/Museum-v1"``) or path of a scenario file, or an
 
 
         scenario: Bundled name or path of a scenario file, a generated scene's name

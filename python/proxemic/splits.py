@@ -31,6 +31,12 @@ What was tuned on which split (every entry below was looked at on the tuning spl
   were checked for validity (the scene builds a world) on generated seeds of the tuning split
   only (``TUNING_SCENE_SEEDS``; the Rust tests use seeds 0-49), and the parameters of the claims'
   generated scenes (``encounters=1``, ``density=2.5``) were chosen on tuning seeds 0-29.
+- the people's reactions to robots (``ReactionParams`` in ``proxemic-core``'s
+  ``pedestrians/react.rs``: keep-out and hard gaps, speed gain, the standing people's
+  shift) and the parked-robot spots of ``rust/proxemic-core/tests/parked_robot.rs``:
+  chosen on museum, care-center and ``generated/0`` episode seeds 0-9 (that test's ignored
+  ``parked_robot_figures_on_the_tuning_split``); the test asserts on episode seeds 1000-1009 and
+  ``generated/10000``.
 
 Nothing was tuned on ``TEST_EPISODE_SEEDS`` or ``TEST_SCENE_SEEDS``. A change made after looking at
 a test-split result must move the seeds it was made on into the tuning split and draw new test

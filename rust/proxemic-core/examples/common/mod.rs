@@ -5,7 +5,7 @@
 
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::math::Vec2;
-use proxemic_core::scenario::{Behaviour, Person};
+use proxemic_core::scenario::{Behaviour, Person, Reaction};
 use proxemic_core::world::World;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -54,7 +54,7 @@ pub fn walkers(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
                 radius: 0.2,
                 height: 1.7,
                 group: if k % 10 < 2 { Some((k / 10) as u32) } else { None },
-                aware: true,
+                reaction: Reaction::Aware,
                 features: vec![],
                 ..Person::default()
             }

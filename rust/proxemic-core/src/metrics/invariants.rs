@@ -8,8 +8,9 @@
 //!   one of the three is true, `time_to_goal` is given exactly with success, each `hc`/`wc`/`ac`
 //!   flag is its count above zero, and a collision has a cause (a robot-fault person contact, a
 //!   wall or a robot contact);
-//! - `robot_fault_ends_episode`: at most one robot-at-fault person contact event, which fails
-//!   success, ends the episode (it is in the last recorded step) and coincides with a body gap at
+//! - `robot_fault_ends_episode`: robot-at-fault person contact events only in the last recorded
+//!   step (one per person touched then: a robot can touch two people at once), which fail
+//!   success, end the episode and coincide with a body gap at
 //!   or below zero on the swept relative motion of a person present over that step, or with the
 //!   physics' person contact;
 //! - `absent_people_never_count`: a person who is not in the scene (a replayed person before
@@ -134,11 +135,11 @@ fn robot_fault_ends_episode(
     if faults == 0 {
         return Ok(());
     }
-    if faults > 1 || c.success || !c.collision {
+    if c.success || !c.collision {
         return fail(
             name,
             format!(
-                "collisions_robot_fault = {faults} with success = {}, collision = {} (one robot-fault \
+                "collisions_robot_fault = {faults} with success = {}, collision = {} (a robot-fault \
                  contact ends the episode and fails success)",
                 c.success, c.collision
             ),
@@ -154,6 +155,16 @@ fn robot_fault_ends_episode(
         return fail(
             name,
             format!("the robot-fault contact is at step {k} but the episode went on to step {}", s.steps - 1),
+        );
+    }
+    // Several people touched in that same last step are one contact event each.
+    let touched = all[k * np..(k + 1) * np].iter().filter(|&&t| t == Touch::RobotFault).count();
+    if faults > touched {
+        return fail(
+            name,
+            format!(
+                "collisions_robot_fault = {faults} but {touched} people are touched by the robot's fault in its last step"
+            ),
         );
     }
     let physics = ctx.collision_steps.get(k).is_some_and(|b| b & CONTACT_PERSON != 0);

@@ -5,7 +5,7 @@
 //! crowd cloned right after the spawn and stepped with the same control period is the episode's
 //! crowd without the robots. The robots stay the *guides* of their tours: followers of a robot's
 //! tour still walk the trail the robot walked (the guide states are recorded per step), only the
-//! robots' bodies are gone (no force on aware people, no yielding). It is stepped lazily, when
+//! robots' bodies are gone (no force on people, no keep-out, no reactions). It is stepped lazily, when
 //! the metrics are asked for, over the steps recorded since the last call, so an episode's
 //! counterfactual costs one crowd stepping without robots, at most once per step.
 

@@ -4,10 +4,11 @@
 
 use super::force::interaction_term;
 use super::scripts::Script;
-use super::{SocialForceParams, TRAIL_SPACING, TURN_RATE, YIELD_GAP, interaction_force};
+use super::{ReactionParams, SocialForceParams, TRAIL_SPACING, TURN_RATE, interaction_force};
 use crate::map::geometry::StaticGeometry;
 use crate::map::grid::DistanceField;
 use crate::math::{Vec2, wrap_angle};
+use crate::scenario::Reaction;
 
 /// The scripted crowd, as a structure of arrays.
 #[derive(Clone, Debug, Default)]
@@ -36,7 +37,13 @@ pub struct Crowd {
     /// Walkers: whether they dwell at each waypoint (empty: at every one).
     pub(super) stops: Vec<Vec<bool>>,
     pub(super) walker: Vec<bool>,
-    pub(super) aware: Vec<bool>,
+    /// Each person's reaction to robots, how far it may shift aside when standing (m), where it
+    /// stood before shifting, and its curiosity left (s); see [`super::react`].
+    pub(super) reaction: Vec<Reaction>,
+    pub(super) shift: Vec<f64>,
+    pub(super) anchor: Vec<Option<Vec2>>,
+    pub(super) curious_left: Vec<f64>,
+    pub(super) react_params: ReactionParams,
     pub(super) params: SocialForceParams,
     pub(super) scratch: Vec<Vec2>,
     /// Each person's script, and its program state: task, waypoint within a walk, time in the
@@ -178,8 +185,8 @@ impl Crowd {
     }
 
     /// Advances every person by `dt` seconds (in whole steps of `params.dt`, the last one
-    /// shortened). `robots` holds each robot's (centre, radius, velocity); aware people react to
-    /// them. `geometry` is the static world.
+    /// shortened). `robots` holds each robot's (centre, radius, velocity); people react to them
+    /// by their [`Reaction`] ([`super::react`]). `geometry` is the static world.
     pub fn step(
         &mut self,
         dt: f64,
@@ -207,6 +214,9 @@ impl Crowd {
         // 1. Scripts: waypoints, dwelling, programs (from the snapshot, in index order).
         for i in 0..n {
             self.plan_step(i, h, robots);
+            if !robots.is_empty() {
+                self.react(i, h, robots);
+            }
         }
         self.time += h;
         // 2. Forces from the snapshot (Jacobi).
@@ -218,7 +228,7 @@ impl Crowd {
     }
 
     /// The force on every moving person from the snapshot (into `scratch`): driving, other
-    /// people, robots (aware people), walls and furniture, walking group.
+    /// people, robots (all but `ignore` people), walls and furniture, walking group.
     fn sum_forces(&mut self, robots: &[(Vec2, f64, Vec2)], field: &DistanceField) {
         let n = self.len();
         let p = self.params;
@@ -263,7 +273,7 @@ impl Crowd {
                     f += Vec2::zeros();
                 }
             }
-            if self.aware[i] {
+            if self.reaction[i] != Reaction::Ignore {
                 for &(c, _, v) in robots {
                     f += interaction_force(pi, vi, c, v, &p);
                 }
@@ -284,7 +294,7 @@ impl Crowd {
     }
 
     /// Moves every person by `h` seconds of its force (speed capped), cancelling steps into the
-    /// static geometry or too near a robot (aware people), and turns it.
+    /// static geometry or too near a robot (all but `ignore` people), and turns it.
     fn integrate(
         &mut self,
         h: f64,
@@ -319,14 +329,15 @@ impl Crowd {
             // necessarily within 0.5 r of its boundary first.
             let near_static = field.at(next) < r + field.spec.resolution;
             let blocked_static = near_static && geometry.boundary_distance_within(next, 0.5 * r) < 0.5 * r;
-            // An aware person never steps to within YIELD_GAP of a robot's body, nor closer to a
-            // robot it is already that near (it may step away).
+            // A reacting person never steps to within its hard gap of a robot's body, nor closer
+            // to a robot it is already that near (it may step away).
             let here = self.pos[i];
-            let blocked_robot = self.aware[i]
-                && robots.iter().any(|&(c, rr, _)| {
+            let blocked_robot = self.react_params.hard(self.reaction[i]).is_some_and(|hard| {
+                robots.iter().any(|&(c, rr, _)| {
                     let gap_next = (next - c).norm() - r - rr;
-                    gap_next < YIELD_GAP && gap_next < (here - c).norm() - r - rr
-                });
+                    gap_next < hard && gap_next < (here - c).norm() - r - rr
+                })
+            });
             if blocked_static || blocked_robot {
                 self.vel[i] = Vec2::zeros();
             } else {

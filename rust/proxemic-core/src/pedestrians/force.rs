@@ -5,7 +5,9 @@
 use super::{Crowd, PASS_ON_RIGHT};
 use crate::math::{Vec2, wrap_angle};
 
-/// Parameters of the social force model (defaults from the sources named in the module doc).
+/// Parameters of the social force model (defaults from the sources named in the module doc; the
+/// interaction's strength, range and angular widths calibrated on the UCY recordings, see
+/// `docs/people-validation.md`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SocialForceParams {
     /// Integration step (s); default 0.1, the control period (control periods are split into
@@ -15,17 +17,23 @@ pub struct SocialForceParams {
     /// determinism) still holds and a person costs half as much, which keeps the whole per-step
     /// Rust call under a tenth of an env step on the museum; set 0.05 for finer dynamics.
     pub dt: f64,
-    /// Relaxation time of the driving force (s); default 0.5 (Helbing & Molnar 1995).
+    /// Relaxation time of the driving force (s); default 0.5 (Helbing & Molnar 1995; the UCY
+    /// calibration keeps it).
     pub tau: f64,
-    /// Interaction strength A (m/s^2); default 4.5 (Moussaid et al. 2009).
+    /// Interaction strength A (m/s^2); default 2.0, calibrated on the UCY recordings
+    /// (`proxemic crowd-fit`, `docs/people-validation.md`; Moussaid et al. 2009 published 4.5).
     pub strength: f64,
-    /// Weight of the relative velocity in the interaction direction, lambda; default 2.0.
+    /// Weight of the relative velocity in the interaction direction, lambda (the anisotropy);
+    /// default 2.0 (Moussaid et al. 2009; the UCY calibration keeps it).
     pub lambda: f64,
-    /// Range factor gamma of the interaction (B = gamma |D|); default 0.35.
+    /// Range factor gamma of the interaction (B = gamma |D|); default 0.27, calibrated on the
+    /// UCY recordings (Moussaid et al. 2009: 0.35).
     pub gamma: f64,
-    /// Angular width n of the lateral term; default 2.0.
+    /// Angular width n of the lateral term; default 2.0 (Moussaid et al. 2009; the UCY
+    /// calibration keeps it).
     pub n: f64,
-    /// Angular width n' of the deceleration term; default 3.0.
+    /// Angular width n' of the deceleration term; default 4.5, calibrated on the UCY recordings
+    /// (Moussaid et al. 2009: 3.0).
     pub n_prime: f64,
     /// Neighbours farther than this are ignored (m); default 4.0 (their force is below 1e-4).
     pub cutoff: f64,
@@ -52,11 +60,11 @@ impl Default for SocialForceParams {
         SocialForceParams {
             dt: 0.1,
             tau: 0.5,
-            strength: 4.5,
+            strength: 2.0,
             lambda: 2.0,
-            gamma: 0.35,
+            gamma: 0.27,
             n: 2.0,
-            n_prime: 3.0,
+            n_prime: 4.5,
             cutoff: 4.0,
             wall_strength: 10.0,
             wall_range: 0.2,

@@ -5,7 +5,7 @@
 //! ([`SocialForceParams::dt`], 0.1 s by default) in a Jacobi (snapshot) update so that the result does not
 //! depend on the order of the people:
 //! - **driving force** toward the current waypoint, `(v0 e - v) / tau` (Helbing & Molnar 1995);
-//! - **interaction with other people** (and with the robots, for *aware* people) after
+//! - **interaction with other people** (and with the robots, for people who do not `ignore` them) after
 //!   Moussaid et al. 2009: an exponential repulsion along the interaction direction
 //!   `t = D / |D|`, `D = lambda (v_i - v_j) + e_ij`, and a lateral term that makes people pass
 //!   each other; at exact symmetry the lateral term takes the project's passing convention
@@ -24,9 +24,11 @@
 //! part in an activity, gathered at a tour stop) they stand still like standing people, turned
 //! toward what they attend to.
 //!
-//! Standing people stay where they are (other people and the robot go around them). Aware
-//! people additionally never step to within [`YIELD_GAP`] of a robot's body: such a step is
-//! cancelled and they wait.
+//! Standing people stay where they are (other people and the robot go around them), but turn
+//! toward a robot inside their intimate zone and shift aside within what their behaviour allows.
+//! How each person sees the robots is its [`Reaction`](crate::scenario::Reaction) (`react.rs`,
+//! [`ReactionParams`]): `ignore` (the robot is invisible), `aware` (the default), `yield`,
+//! `curious`, `cautious`; all but `ignore` never step to within a hard gap of a robot's body.
 //!
 //! Recorded people (`[[replay]]` tracks) follow their tracks exactly, present only between their
 //! first and last samples, and walk with the same forces once a robot comes near
@@ -35,7 +37,8 @@
 //! Every random draw (initial route phase, speed jitter) comes from the episode's seeded
 //!
 //! The files: `force.rs` (the parameters, the interaction and group forces), `crowd.rs` (the
-//! crowd's arrays and the substep: plan, forces, integration), `spawn.rs` (a new episode's
+//! crowd's arrays and the substep: plan, forces, integration), `react.rs` (the reactions to
+//! robots), `spawn.rs` (a new episode's
 //! crowd), `steer.rs` (each script's motion for a substep), `follow.rs` (followers of a robot's
 //! tour), `replay.rs` (recorded people), `scripts.rs` (the scripts, planned once when the world is built),
 //! `counterfactual.rs` (the episode's people replayed without the robots, for the robot's cost to
@@ -46,6 +49,7 @@ mod counterfactual;
 mod crowd;
 mod follow;
 mod force;
+mod react;
 pub mod replay;
 pub mod rimea;
 pub mod scripts;
@@ -59,10 +63,8 @@ pub use counterfactual::{RobotFree, Stages};
 pub use crowd::{Crowd, GuideState};
 pub use follow::{FOLLOW_GAP, GATHER_REACH, ROBOT_SPACE, SLOT_REACHED, TRAIL_REACHED, TRAIL_SPACING};
 pub use force::{SocialForceParams, interaction_force};
+pub use react::ReactionParams;
 pub use spawn::SPAWN_TRIES;
-
-/// Surface gap (metres) below which an aware person does not step toward a robot.
-pub const YIELD_GAP: f64 = 0.1;
 
 /// Maximum rate at which people turn their body toward their walking direction (rad/s).
 pub const TURN_RATE: f64 = 4.0;

@@ -3,6 +3,7 @@
 
 use rand::Rng;
 
+use super::react::shift_allowed;
 use super::replay::{parked_at, track_at};
 use super::scripts::{Face, Script, Task, Until};
 use super::{Crowd, SocialForceParams};
@@ -81,7 +82,8 @@ impl Crowd {
             c.dwell.push(p.dwell);
             c.stops.push(if walker { p.stops.clone() } else { Vec::new() });
             c.walker.push(walker);
-            c.aware.push(p.aware);
+            c.reaction.push(p.reaction);
+            c.shift.push(shift_allowed(p.behaviour));
         }
         let mut ids: Vec<u32> = c.group.iter().flatten().copied().collect();
         ids.sort_unstable();
@@ -89,6 +91,8 @@ impl Crowd {
         c.group_slot = vec![None; c.len()];
         let n = c.len();
         c.moving = vec![false; n];
+        c.anchor = vec![None; n];
+        c.curious_left = vec![c.react_params.curious_time; n];
         c.desired = vec![Vec2::zeros(); n];
         c.face_want = vec![None; n];
         for id in ids {

@@ -50,8 +50,8 @@ pub use check::{TimeOfDay, check_time_of_day, is_time_of_day, parse_time_of_day}
 pub use load::{APPENDABLE, MAX_EXTENDS};
 pub use model::{
     ActivitySpec, AgendaSpec, Approach, Behaviour, CIRCLE_VERTICES, EbandGains, Episode, Interaction,
-    InteractionShape, Object, ObjectKind, Person, PlannerKind, Proxemics, Randomize, RewardWeights, Robot,
-    SEAT_SPACING, SPEED_PRESETS, Scenario, Scene, Sensors, Wall,
+    InteractionShape, Object, ObjectKind, Person, PlannerKind, Proxemics, Randomize, Reaction, RewardWeights,
+    Robot, SEAT_SPACING, SPEED_PRESETS, Scenario, Scene, Sensors, Wall,
 };
 pub use overrides::{EXTRA_ROBOTS_SEED, MAX_ROBOTS};
 pub use schema::json_schema;

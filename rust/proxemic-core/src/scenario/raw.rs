@@ -4,7 +4,7 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Deserializer};
 
-use super::model::{Behaviour, ObjectKind, PlannerKind, Randomize, RewardWeights, Sensors};
+use super::model::{Behaviour, ObjectKind, PlannerKind, Randomize, Reaction, RewardWeights, Sensors};
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -23,6 +23,9 @@ pub(super) struct RawScenario {
     /// Scripted people (`[[person]]`).
     #[serde(default)]
     pub(super) person: Vec<RawPerson>,
+    /// Settings per group of people (`[[group]]`): their reaction to robots.
+    #[serde(default)]
+    pub(super) group: Vec<RawGroup>,
     /// Robots (`[[robot]]`), at least one.
     #[serde(default)]
     pub(super) robot: Vec<RawRobot>,
@@ -283,6 +286,20 @@ pub(super) struct RawScene {
     /// One-paragraph description.
     #[serde(default)]
     pub(super) description: String,
+    /// The people's default reaction to robots (`ignore`, `aware`, `yield`, `curious`,
+    /// `cautious`; default `aware`; see `docs/people.md`).
+    #[serde(default)]
+    pub(super) reaction: Reaction,
+}
+
+#[derive(Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+/// Settings of the people sharing a group id (`[[group]]`).
+pub(super) struct RawGroup {
+    /// The group id (as in `person.group`).
+    pub(super) id: u32,
+    /// The reaction to robots of the group's members without their own `reaction`.
+    pub(super) reaction: Reaction,
 }
 
 #[derive(Deserialize, JsonSchema)]
@@ -438,9 +455,13 @@ pub(super) struct RawPerson {
     pub(super) height: f64,
     /// Ground-truth group id (conversations share one).
     pub(super) group: Option<u32>,
-    /// Whether the person sees the robots and yields to them.
+    /// Older spelling: `aware = false` is `reaction = "ignore"` (`true`, the default, leaves the
+    /// reaction to `reaction`, the group's or the scene's).
     #[serde(default = "d_true")]
     pub(super) aware: bool,
+    /// How the person reacts to robots: `ignore`, `aware`, `yield`, `curious` or `cautious`
+    /// (default: its group's, else the scene's; see `docs/people.md`).
+    pub(super) reaction: Option<Reaction>,
     /// Socialization feature values in (0, 1], one per `proxemics.features` name.
     #[serde(default)]
     pub(super) features: Vec<f64>,

@@ -688,3 +688,39 @@ fn the_json_schema_covers_every_table_and_refuses_unknown_fields() {
     assert_eq!(wall["properties"]["to"]["maxItems"], serde_json::json!(2));
     assert_eq!(schema["$defs"]["RawScene"]["properties"]["control_hz"]["default"], serde_json::json!(10.0));
 }
+
+#[test]
+fn reactions_come_from_the_person_its_group_or_the_scene_and_bad_ones_are_named() {
+    let text = MINIMAL
+        .replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 10, 8]\nreaction = \"cautious\"")
+        .replace("speed = 1.2", "speed = 1.2\ngroup = 7")
+        .replace("pose = [3, 3, 0]", "pose = [3, 3, 0]\nreaction = \"curious\"")
+        + "\n[[person]]\nbehaviour = \"standing\"\npose = [6, 3, 0]\n\n[[person]]\nbehaviour = \"standing\"\npose = [3, 6, 0]\naware = false\n\n[[person]]\nroute = [[1, 1.5], [8, 1.5], [8, 6.5]]\nspeed = 1.2\ngroup = 7\n\n[[group]]\nid = 7\nreaction = \"yield\"\n";
+    let s = parse(&text).expect("valid");
+    let got: Vec<Reaction> = s.persons.iter().map(|p| p.reaction).collect();
+    assert_eq!(
+        got,
+        [Reaction::Yield, Reaction::Curious, Reaction::Cautious, Reaction::Ignore, Reaction::Yield]
+    );
+    assert_eq!(parse(MINIMAL).expect("valid").persons[1].reaction, Reaction::Aware);
+
+    let bad = MINIMAL.replace("pose = [3, 3, 0]", "pose = [3, 3, 0]\nreaction = \"shy\"");
+    let (file, field, expected, found) = scenario_err(&bad);
+    assert_eq!(file, "test.toml");
+    assert!(field.starts_with("person[1].reaction"), "{field}");
+    assert!(expected.contains("ignore") && expected.contains("cautious"), "{expected}");
+    assert!(found.contains("shy"), "{found}");
+
+    let bad = MINIMAL.replace("bounds = [0, 0, 10, 8]", "bounds = [0, 0, 10, 8]\nreaction = 3");
+    let (_, field, _, _) = scenario_err(&bad);
+    assert!(field.starts_with("scene.reaction"), "{field}");
+
+    let bad = MINIMAL.to_string() + "\n[[group]]\nid = 9\nreaction = \"yield\"\n";
+    let (_, field, expected, found) = scenario_err(&bad);
+    assert_eq!((field.as_str(), found.as_str()), ("group[0].id", "9"), "{expected}");
+
+    let bad = MINIMAL.replace("pose = [3, 3, 0]", "pose = [3, 3, 0]\naware = false\nreaction = \"yield\"");
+    let (_, field, _, found) = scenario_err(&bad);
+    assert_eq!(field, "person[1].reaction");
+    assert!(found.contains("yield"), "{found}");
+}

@@ -33,6 +33,7 @@ pub(super) fn build(raw: RawScenario, file: &str) -> Result<Scenario> {
     let replayed =
         replay::build_replays(&ck, &raw.replay, file, b, &proxemics::default_features(&proxemics.features))?;
     persons.extend(replayed);
+    people::assign_reactions(&ck, &raw.person, &raw.group, raw.scene.reaction, &mut persons)?;
     let (agenda, activities) = objects::build_agenda(&ck, &raw.agenda, &raw.activity, &objects)?;
 
     let robots = robots::build_robots(&ck, &raw.robot, &persons, &proxemics, b)?;

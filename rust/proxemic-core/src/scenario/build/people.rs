@@ -3,8 +3,10 @@
 
 use crate::error::Result;
 use crate::scenario::check::{Checker, check_unique, err, parse_time_of_day};
-use crate::scenario::model::{Behaviour, Object, ObjectKind, Person, Robot, SEAT_SPACING, SPEED_PRESETS};
-use crate::scenario::raw::{RawPerson, d_person_speed};
+use crate::scenario::model::{
+    Behaviour, Object, ObjectKind, Person, Reaction, Robot, SEAT_SPACING, SPEED_PRESETS,
+};
+use crate::scenario::raw::{RawGroup, RawPerson, d_person_speed};
 
 /// Which per-behaviour fields a person may carry; any other one set is an error.
 fn behaviour_fields(b: Behaviour) -> &'static [&'static str] {
@@ -136,7 +138,6 @@ fn build_person(
         radius: p.radius,
         height: p.height,
         group: p.group,
-        aware: p.aware,
         gather_radius: p.gather_radius,
         lead: p.lead_minutes * 60.0,
         ..Person::default()
@@ -477,6 +478,59 @@ fn link_people(ck: &Checker<'_>, raw: &[RawPerson], persons: &mut [Person]) -> R
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// Sets every person's reaction to robots: its own `reaction` (or `aware = false`, the older
+/// spelling of `ignore`), else its group's (`[[group]]`), else the scene's `default`. Recorded
+/// people (after the `[[person]]` ones) take the scene's. Errors name `group[i].id` (an id no
+/// person has, or a repeated one) and `person[i].reaction` (`aware = false` with another
+/// reaction).
+pub(super) fn assign_reactions(
+    ck: &Checker,
+    raw: &[RawPerson],
+    groups: &[RawGroup],
+    default: Reaction,
+    persons: &mut [Person],
+) -> Result<()> {
+    for (k, g) in groups.iter().enumerate() {
+        if !raw.iter().any(|p| p.group == Some(g.id)) {
+            return Err(err(
+                ck.file,
+                format!("group[{k}].id"),
+                "the group id of some person",
+                g.id.to_string(),
+            ));
+        }
+        if groups[..k].iter().any(|h| h.id == g.id) {
+            return Err(err(
+                ck.file,
+                format!("group[{k}].id"),
+                "a group id not listed before",
+                g.id.to_string(),
+            ));
+        }
+    }
+    for (i, person) in persons.iter_mut().enumerate() {
+        let Some(p) = raw.get(i) else {
+            person.reaction = default;
+            continue;
+        };
+        let group = || groups.iter().find(|g| Some(g.id) == p.group).map(|g| g.reaction);
+        person.reaction = match (p.aware, p.reaction) {
+            (false, Some(r)) if r != Reaction::Ignore => {
+                return Err(err(
+                    ck.file,
+                    format!("person[{i}].reaction"),
+                    "\"ignore\" or no reaction with aware = false (its older spelling)",
+                    format!("{:?}", r.name()),
+                ));
+            }
+            (false, _) => Reaction::Ignore,
+            (true, Some(r)) => r,
+            (true, None) => group().unwrap_or(default),
+        };
     }
     Ok(())
 }

@@ -248,7 +248,6 @@ fn replay_person(
         behaviour: Behaviour::Replay,
         pose: [a[1], a[2], (b[2] - a[2]).atan2(b[1] - a[1])],
         radius: r.radius,
-        aware: true,
         features: features.to_vec(),
         track: samples,
         react_radius: r.react_radius,

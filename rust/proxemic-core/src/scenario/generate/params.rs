@@ -1,6 +1,7 @@
 //! The generator's parameters: defaults, ranges, and the `generated/<seed>?key=value&...` spec.
 
 use crate::error::{CoreError, Result};
+use crate::scenario::model::Reaction;
 
 /// Parameters of a generated scene. Every value has a default and a checked range
 /// ([`GenParams::check`]); an out-of-range or unknown value is a [`CoreError::Scenario`] naming
@@ -36,6 +37,9 @@ pub struct GenParams {
     /// 0: an encounter a social planner has room to go round and plain A* walks into (as the
     /// museum's gallery talk). Placed where the way has room for it, else left out.
     pub encounters: usize,
+    /// The people's reaction to robots (the scene's `reaction`): `ignore`, `aware`, `yield`,
+    /// `curious` or `cautious`; default `aware`.
+    pub reaction: Reaction,
 }
 
 impl Default for GenParams {
@@ -53,6 +57,7 @@ impl Default for GenParams {
             robots: 1,
             max_time: 180.0,
             encounters: 0,
+            reaction: Reaction::Aware,
         }
     }
 }
@@ -61,7 +66,7 @@ impl Default for GenParams {
 pub(super) const MIN_ROOM_DEPTH: f64 = 3.5;
 
 /// The parameter names a spec or `proxemic.generate` accepts.
-pub const PARAM_NAMES: [&str; 12] = [
+pub const PARAM_NAMES: [&str; 13] = [
     "width",
     "height",
     "corridor_width",
@@ -74,6 +79,7 @@ pub const PARAM_NAMES: [&str; 12] = [
     "robots",
     "max_time",
     "encounters",
+    "reaction",
 ];
 
 fn perr(source: &str, field: &str, expected: impl Into<String>, found: impl Into<String>) -> CoreError {
@@ -87,7 +93,7 @@ fn perr(source: &str, field: &str, expected: impl Into<String>, found: impl Into
 
 impl GenParams {
     /// Sets parameter `key` from its text `value` (a number; an integer for `objects_per_room`
-    /// and `robots`). Errors name `key` (unknown names list [`PARAM_NAMES`]); `source` names the
+    /// and `robots`; a name of [`Reaction::NAMES`] for `reaction`). Errors name `key` (unknown names list [`PARAM_NAMES`]); `source` names the
     /// spec in the error.
     pub fn set(&mut self, source: &str, key: &str, value: &str) -> Result<()> {
         let number = || -> Result<f64> {
@@ -117,6 +123,11 @@ impl GenParams {
             "robots" => self.robots = integer()?,
             "max_time" => self.max_time = number()?,
             "encounters" => self.encounters = integer()?,
+            "reaction" => {
+                self.reaction = Reaction::parse(value.trim()).ok_or_else(|| {
+                    perr(source, key, format!("one of {:?}", Reaction::NAMES), format!("{value:?}"))
+                })?;
+            }
             _ => {
                 return Err(perr(
                     source,

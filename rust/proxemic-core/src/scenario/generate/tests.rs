@@ -149,3 +149,23 @@ fn encounter_scenes_of_the_test_split_build() {
         generate(seed, &p).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
     }
 }
+
+#[test]
+fn the_reaction_parameter_sets_every_person_s_and_a_bad_one_is_named() {
+    let g = generate_spec("generated/3?reaction=yield").expect("generated");
+    assert!(!g.scenario.persons.is_empty());
+    assert!(g.scenario.persons.iter().all(|p| p.reaction == crate::scenario::Reaction::Yield));
+    assert!(g.toml.contains("reaction = \"yield\""), "the file says it");
+    let (_, p) = parse_spec("generated/3?reaction=yield").expect("spec");
+    assert_eq!(spec(3, &p), "generated/3?reaction=yield");
+    let d = generate(3, &GenParams::default()).expect("generated");
+    assert!(d.scenario.persons.iter().all(|p| p.reaction == crate::scenario::Reaction::Aware));
+    match parse_spec("generated/3?reaction=shy") {
+        Err(crate::error::CoreError::Scenario { field, expected, found, .. }) => {
+            assert_eq!(field, "reaction");
+            assert!(expected.contains("cautious"), "{expected}");
+            assert!(found.contains("shy"), "{found}");
+        }
+        other => panic!("expected a scenario error, got {other:?}"),
+    }
+}

@@ -5,7 +5,7 @@
 mod people;
 mod robot;
 
-pub use people::{Behaviour, Person, SEAT_SPACING, SPEED_PRESETS};
+pub use people::{Behaviour, Person, Reaction, SEAT_SPACING, SPEED_PRESETS};
 pub use robot::{Approach, EbandGains, PlannerKind, Robot};
 
 use schemars::JsonSchema;

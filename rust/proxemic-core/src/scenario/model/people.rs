@@ -15,6 +15,49 @@ pub const SPEED_PRESETS: [(&str, f64); 4] = [("fast", 1.6), ("normal", 1.3), ("s
 /// Seat spacing along a bench or sofa (metres): one person per 0.6 m of its width.
 pub const SEAT_SPACING: f64 = 0.6;
 
+/// How a person reacts to robots (`person.reaction`, `[[group]]`'s `reaction`, `scene.reaction`;
+/// the person's own value wins, then its group's, then the scene's, default `aware`). The
+/// parameters of each are [`crate::pedestrians::ReactionParams`] (`docs/people.md`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Reaction {
+    /// The robot is invisible (CrowdNav's default): no force, no keep-out; the person walks
+    /// through its space, and a contact is then the person's doing.
+    Ignore,
+    /// The robot is a body with a personal space, avoided like a person of its size: the social
+    /// force of a person plus a keep-out around its body that grows with the robot's speed.
+    #[default]
+    Aware,
+    /// Like `aware`, and steps aside (or waits, if there is no room) to let a moving robot pass.
+    Yield,
+    /// Approaches a robot it notices to about 1 m and follows it for a while, then goes on.
+    Curious,
+    /// Keeps a larger distance than `aware` and slows down near a robot.
+    Cautious,
+}
+
+impl Reaction {
+    /// The names accepted in scenario files and generator specs.
+    pub const NAMES: [&'static str; 5] = ["ignore", "aware", "yield", "curious", "cautious"];
+
+    /// Parses a name of [`Reaction::NAMES`].
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "ignore" => Some(Reaction::Ignore),
+            "aware" => Some(Reaction::Aware),
+            "yield" => Some(Reaction::Yield),
+            "curious" => Some(Reaction::Curious),
+            "cautious" => Some(Reaction::Cautious),
+            _ => None,
+        }
+    }
+
+    /// The name of the reaction (as in [`Reaction::NAMES`]).
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+}
+
 /// Scripted pedestrian behaviours (`person.behaviour`). Every moving person walks with the
 /// social force model of [`crate::pedestrians`]; paths between places are planned on the static
 /// map, so only walker and guide routes must be free of walls themselves.
@@ -92,8 +135,8 @@ pub struct Person {
     pub height: f64,
     /// Ground-truth group id, if the person belongs to a group.
     pub group: Option<u32>,
-    /// Whether the person sees the robots and yields to them (default true).
-    pub aware: bool,
+    /// How the person reacts to robots (default [`Reaction::Aware`]).
+    pub reaction: Reaction,
     /// Socialization feature values in (0, 1], one per `proxemics.features` name.
     pub features: Vec<f64>,
     /// Visitors: indices of the objects visited, in order.
@@ -143,7 +186,7 @@ impl Default for Person {
             radius: d_person_radius(),
             height: d_person_height(),
             group: None,
-            aware: true,
+            reaction: Reaction::Aware,
             features: Vec::new(),
             exhibits: Vec::new(),
             home: None,
