@@ -152,5 +152,17 @@ def test_no_tracker_numbers_in_the_package():
     """Package code and docstrings say what was done in plain words, not which issue asked for it."""
     pattern = re.compile(r"\bissues? #?\d+|\bissue_\d+", re.IGNORECASE)
     files = [p for p in sorted(PACKAGE.rglob("*")) if p.suffix in (".py", ".pyi", ".toml")]
+    files += [p for crate in sorted((ROOT / "rust").glob("*/src")) for p in sorted(crate.rglob("*.rs"))]
     found = [f"{p.relative_to(ROOT)}: {m.group(0)}" for p in files for m in pattern.finditer(p.read_text())]
     assert not found, found
+
+
+def test_rust_suites_are_named_after_behaviours():
+    """An integration suite named after a tracker number (``issue_<n>_<symptom>.rs``) is a small
+    regression test; a suite of behaviours is named after them."""
+    long = [
+        f"{p.relative_to(ROOT)}: {len(p.read_text().splitlines())} lines"
+        for p in sorted((ROOT / "rust").glob("*/tests/issue_*.rs"))
+        if len(p.read_text().splitlines()) > 100
+    ]
+    assert not long, long

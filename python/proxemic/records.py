@@ -149,6 +149,8 @@ class MetricInfo(TypedDict):
     """Where it comes from (empty for the project's own)."""
     summary: Literal["rate", "mean"] | None
     """How ``proxemic eval`` summarises it over episodes (None: it does not)."""
+    over_successes: bool
+    """Whether a summarised mean is over the successful episodes only."""
     decimals: int
     """Digits after the decimal point of a summarised mean (rates are whole percentages)."""
     panel: Literal["outcome", "efficiency", "social", "papers"] | None
@@ -183,6 +185,8 @@ class Individual(TypedDict):
     heading: float
     sides: tuple[float, float, float, float]
     """Gaussian sigmas (m): front, rear, right, left."""
+    zone_scale: float
+    """The length (m) that turns sqrt(2 q) into a zone distance (``_core.zone_distances``)."""
     members: list[int]
     """Person indices."""
     robots: list[int]

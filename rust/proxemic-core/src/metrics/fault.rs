@@ -353,7 +353,7 @@ mod tests {
         // A replayed person parked at (50, 0), ahead of the robot, appears at (-2, 0) behind it
         // while the robot drives toward the parking spot at 1 m/s: their jump sweeps across the
         // robot (and would be the robot's fault), but a jump is no motion. Neither the
-        // recorder nor the evaluator counts it (the records of issue 43 said outcome = success
+        // recorder nor the evaluator counts it (the replayed records once said outcome = success
         // with collisions_robot_fault = 1), and the record is made (its invariants hold).
         let mut run = Run::new(&[Vec2::new(50.0, 0.0)]);
         let snap = |p: &[Vec2], here: bool| -> (Vec<Vec2>, bool) { (p.to_vec(), here) };

@@ -69,6 +69,9 @@ pub struct MetricInfo {
     pub source: &'static str,
     /// How `proxemic eval` summarises it over episodes, if it does.
     pub summary: Option<Summary>,
+    /// Whether a summarised mean is taken over the successful episodes only (a value measured on
+    /// an episode that a collision or the time limit cut short is left out of it).
+    pub over_successes: bool,
     /// Digits after the decimal point of a summarised mean (its value and interval); rates are
     /// shown as whole percentages. Default 2.
     pub decimals: u8,
@@ -141,6 +144,7 @@ const fn m(
         formula,
         source,
         summary: None,
+        over_successes: false,
         decimals: 2,
         panel: None,
         headline: false,
@@ -161,6 +165,11 @@ impl MetricInfo {
     /// Summarised as a mean shown with `decimals` digits after the point.
     const fn mean(self, decimals: u8) -> Self {
         MetricInfo { summary: Some(Summary::Mean), decimals, ..self }
+    }
+
+    /// Its summarised mean taken over the successful episodes only.
+    const fn over_successes(self) -> Self {
+        MetricInfo { over_successes: true, ..self }
     }
 
     /// Shown on `panel` of the metrics plot.
@@ -423,11 +432,13 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         POS,
         "Executed path length over the geodesic length (≥ 1 up to grid effects); `None` when `ℓ*` \
-         is not finite or ≈ 0.",
+         is not finite or ≈ 0. `proxemic eval` averages it over the successful episodes only: a \
+         collision or the time limit cuts the path short, which would make the ratio look better.",
         "`path_length / ℓ*`",
         "SocNavBench (with a geodesic `ℓ*` because of walls)",
     )
     .mean(2)
+    .over_successes()
     .panel(Efficiency)
     .headline(),
     m(

@@ -692,8 +692,9 @@ fn serializes_one_key_per_metric_in_the_record_order() {
     assert_eq!(keys, expected);
 }
 
-#[test]
-fn deterministic() {
+/// The metrics of one episode, as the serialised record (every value to the last bit: ryu's
+/// shortest round-trip form).
+fn passing_record() -> String {
     let (robot, pos, vel, head) = passing_person();
     let people = PeopleTracks {
         positions: &pos,
@@ -704,7 +705,23 @@ fn deterministic() {
         present: &[],
     };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
-    assert_eq!(run(&t, &people, &ctx(9.0)), run(&t, &people, &ctx(9.0)));
+    serde_json::to_string(&run(&t, &people, &ctx(9.0))).expect("serialisable")
+}
+
+/// The same episode evaluated on several threads at once gives this thread's record bit for bit:
+/// no state shared between evaluations, no thread-dependent order of a reduction (the vector
+/// envs and `step_worlds` evaluate episodes on worker threads).
+#[test]
+fn the_same_episode_gives_the_same_record_on_every_thread() {
+    let here = passing_record();
+    let there: Vec<String> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..4).map(|_| s.spawn(passing_record)).collect();
+        handles.into_iter().map(|h| h.join().expect("no panic")).collect()
+    });
+    assert!(here.contains("\"dist_person_min\":"), "{here}");
+    for record in there {
+        assert_eq!(record, here);
+    }
 }
 
 fn special(v: f64, pick: u8) -> f64 {

@@ -7,7 +7,7 @@ use rand_chacha::ChaCha8Rng;
 use super::planners::plan_path;
 use super::{GroundTruth, InflatedGrid, Layout, RobotStatic, World};
 use crate::control::Limits;
-use crate::control::mode_switch::SocialControlParams;
+use crate::control::mode_switch::ModeSwitchParams;
 use crate::control::orca::{ObstacleSet, Orca, OrcaParams};
 use crate::error::{CoreError, Result};
 use crate::map::CostGrid;
@@ -70,7 +70,7 @@ impl World {
         let obstacles = ObstacleSet::from_geometry(&geometry)?;
         let orca = Orca::new(OrcaParams::default())?;
         let mut world = World {
-            control: SocialControlParams::default(),
+            control: ModeSwitchParams::default(),
             orca,
             obstacles,
             geometry,

@@ -364,10 +364,10 @@ impl Scenario {
     }
 
     /// The social model described by `[proxemics]`.
-    pub fn social_config(&self) -> crate::perception::SocialConfig {
+    pub fn proxemics_config(&self) -> crate::perception::ProxemicsConfig {
         use crate::groups::{DelaunayParams, DensityParams, FFormationParams, FeatureAggregate, GroupMethod};
         use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, SideInfluences};
-        use crate::socialmap::{CostMode, SocialCosts};
+        use crate::social_cost_map::{CostMode, SocialCosts};
         let p = &self.proxemics;
         let [front, rear, right, left] = p.sigmas;
         let space = match p.space.as_str() {
@@ -401,7 +401,7 @@ impl Scenario {
             _ => FeatureAggregate::Mean,
         };
         let [fi, ri, rti, li] = p.influence.clone();
-        crate::perception::SocialConfig {
+        crate::perception::ProxemicsConfig {
             zones,
             space,
             features: p.features.clone(),

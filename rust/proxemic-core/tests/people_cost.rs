@@ -1,4 +1,4 @@
-//! Issue 23, the robot's cost to people by counterfactual: a robot standing in a corridor too
+//! The robot's cost to people by counterfactual: a robot standing in a corridor too
 //! narrow to pass delays the person walking it; a robot far from everyone costs nobody anything,
 //! exactly (the robot-free replay is the episode's own crowd, bit for bit). The robots are
 //! simulated kinematically (their commands integrated exactly; no MuJoCo).

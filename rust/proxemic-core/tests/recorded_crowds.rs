@@ -1,4 +1,4 @@
-//! Recorded crowds (issue 23, item 5): `[[replay]]` tracks become people who are where the file
+//! Recorded crowds: `[[replay]]` tracks become people who are where the file
 //! says (linear interpolation at the control instants), appear at their first sample and leave
 //! after their last (absent people count in no observation or metric), react to a robot within
 //! `react_radius`, and bad files are refused naming the file, the line and the column.
