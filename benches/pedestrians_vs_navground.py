@@ -25,73 +25,25 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import statistics
 import subprocess
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from orca_vs_navground import build_example, ensure_navground
+from orca_vs_navground import build_example, ensure_navground, navground_cross
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Timed person-steps per repetition: ours and HL (C++), navground's Python social force.
 PERSON_STEPS = {"ours": 100_000, "HL": 40_000, "SocialForce": 2_000}
 
-# Runs one navground repetition and prints one JSON line (executed by the venv's interpreter).
-NAVGROUND_WORKER = r'''
-import json, math, statistics, sys, time
-from navground import sim
-n, steps, seed, behavior = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
-side = math.sqrt(n * 864.0 / 29.0)
-scenario = sim.load_scenario(f"""
-type: Cross
-side: {side}
-agent_margin: 0.1
-target_margin: 0.5
-tolerance: 0.5
-groups:
-  - type: person
-    number: {n}
-    radius: 0.2
-    control_period: 0.0
-    kinematics:
-      type: Omni
-      max_speed: 1.5
-      max_angular_speed: 3.0
-    behavior:
-      type: {behavior}
-      optimal_speed: 1.2
-      horizon: 5.0
-      safety_margin: 0.1
-    state_estimation:
-      type: Bounded
-      range: 5.0
-""")
-world = scenario.make_world(seed=seed)
-world.run(20, 0.1)
-c0, t0 = time.thread_time_ns(), time.perf_counter_ns()
-world.run(steps, 0.1)
-t1, c1 = time.perf_counter_ns(), time.thread_time_ns()
-nn = statistics.mean(len(getattr(a.behavior.environment_state, "neighbors", [])) for a in world.agents)
-print(json.dumps(dict(wall=(t1 - t0) / (steps * n) / 1e3, cpu=(c1 - c0) / (steps * n) / 1e3, neighbors=nn,
-                      behavior=type(world.agents[0].behavior).__name__)))
-'''
-
 
 def run_navground(py: Path, n: int, behavior: str, seed: int) -> dict[str, float]:
-    """One navground repetition of `behavior`."""
+    """One navground repetition of `behavior`: radius 0.2 m, optimal speed 1.2 m/s, the museum's
+    density (side sqrt(N 864 / 29) m)."""
     steps = max(3, PERSON_STEPS[behavior] // n)
-    out = subprocess.run(
-        [str(py), "-c", NAVGROUND_WORKER, str(n), str(steps), str(seed), behavior],
-        capture_output=True,
-        text=True,
-        check=True,
-    )
-    row = json.loads(out.stdout.strip().splitlines()[-1])
-    expected = f"{behavior}Behavior"
-    if row["behavior"] != expected:
-        raise RuntimeError(f"navground ran {row['behavior']}, expected {expected}")
-    return row
+    return navground_cross(py, n, steps, seed, behavior, math.sqrt(n * 864.0 / 29.0), 0.2, 1.2)
 
 
 def run_ours(binary: Path, n: int, seed: int) -> dict[str, float]:
