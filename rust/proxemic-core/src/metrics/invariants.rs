@@ -557,14 +557,6 @@ mod tests {
         assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path", "zone time above the duration");
         let mut b = r;
         b.duration = 2.0;
-        let poses: Vec<[f64; 3]> = (0..=10).map(|k| [0.1 * f64::from(k), 0.0, 0.0]).collect();
-        let traj = Trajectory {
-            dt: 0.1,
-            robot: &poses,
-            robot_radius: 0.25,
-            goal: Vec2::new(1.0, 0.0),
-            success_radius: 0.05,
-        };
         assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path");
     }
 

@@ -16,6 +16,8 @@ use super::raw::{
     d_success, d_time, d_true,
 };
 use crate::error::Result;
+use crate::map::geometry::{Bounds, StaticGeometry};
+use crate::math::Vec2;
 
 /// Number of vertices used to approximate a circle as a polygon.
 pub const CIRCLE_VERTICES: usize = 24;
@@ -451,5 +453,21 @@ impl Scenario {
         let walls = self.walls.iter().map(|w| w.polygon.clone());
         let objects = self.objects.iter().filter(|o| o.solid).map(|o| o.footprint.clone());
         walls.chain(objects).collect()
+    }
+
+    /// The static geometry of [`Scenario::static_polygons`] within the scene's bounds (its
+    /// [`StaticGeometry::bounds`]), as the world collides, rasterises and plans with it.
+    ///
+    /// # Errors
+    /// [`crate::CoreError::Input`] as [`StaticGeometry::new`] (a degenerate polygon, bad bounds).
+    pub fn static_geometry(&self) -> Result<StaticGeometry> {
+        let b = self.scene.bounds;
+        let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
+        let polygons = self
+            .static_polygons()
+            .into_iter()
+            .map(|poly| poly.into_iter().map(|q| Vec2::new(q[0], q[1])).collect())
+            .collect();
+        StaticGeometry::new(polygons, bounds)
     }
 }
