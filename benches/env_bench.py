@@ -75,8 +75,8 @@ SOCIAL_STEPS = 600
 REPLAY_EVERY = 4
 #: What a kept period's replay starts from: MuJoCo's full integration state.
 INTEGRATION = int(mujoco.mjtState.mjSTATE_INTEGRATION)
-#: Env steps per second a learning policy's single env keeps (issue 19: at least the 8k steps/s
-#: the first wave measured).
+#: Env steps per second a learning policy's single env keeps (at least the 8k steps/s the
+#: first wave measured).
 POLICY_TARGET = 8000
 FRAMES = 20
 

@@ -23,8 +23,8 @@ used). Three settings:
   This row is reported beside the turning one (what a rollout pays, contacts included); the
   target is checked on the turning row, as before.
 
-The target (32,000 agent-steps/s with 11 robots: issue 6 asked for 30,000 among 40 people, and
-issue 19 asks to keep the 32,000 the first wave measured; this scene has 56 people) is checked
+The target (32,000 agent-steps/s with 11 robots: the first wave asked for 30,000 among 40 people
+and measured 32,000, which is kept; this scene has 56 people) is checked
 on the policies-only setting: what a learning policy pays for the env; with built-in planners
 their own cost (in ``core``) comes on top. Only ``env.step`` is timed (the
 policies and ``env.reset`` are not), as thread CPU time over several interleaved trials (the
@@ -72,7 +72,7 @@ from proxemic.sim import timer_off
 
 TRIALS = 5
 STEPS = 200
-TARGET = 32_000  # agent-steps/s with 11 robots driven by policies (issue 19 keeps issue 6's 32k figure)
+TARGET = 32_000  # agent-steps/s with 11 robots driven by policies (the figure the first wave measured)
 
 
 TURN = np.array([0.0, 0.0, 0.5], np.float32)

@@ -1,4 +1,4 @@
-"""The crowd card (issue 40, parts 2 and 3): RiMEA known answers, the card end to end, and the
+"""The crowd card: RiMEA known answers, the card end to end, and the
 calibrated model's targets on the ETH recordings (never fitted on)."""
 
 from __future__ import annotations
