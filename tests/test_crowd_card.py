@@ -159,7 +159,6 @@ FAILING: dict[tuple[str, str], str] = {
     ("eth", "encounters_within_2x_recorded"): "eth: 0.469 close encounters per person, the recording 0.000",
     ("eth", "nearest_neighbour_median_within_10pct"): "eth: nearest-neighbour median 1.497 m vs 1.114 (ratio 1.344)",
     ("hotel", "closed_loop_ade_below_straight_line"): "hotel: closed-loop ADE 0.287 m vs the line's 0.284",
-    ("hotel", "speed_median_within_10pct"): "hotel: walking-speed median 0.569 m/s vs 0.626 (ratio 0.908)",
 }
 
 
