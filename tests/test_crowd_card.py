@@ -1,5 +1,5 @@
-"""The crowd card: RiMEA known answers, the card end to end, and the
-calibrated model's targets on the ETH recordings (never fitted on)."""
+"""The crowd card: RiMEA known answers, the card end to end, the calibrated model's targets on the
+ETH recordings (never fitted on), and its speed and spacing on every recording."""
 
 from __future__ import annotations
 
