@@ -1,14 +1,19 @@
-//! Shared by the speed examples, the pedestrian criterion bench and the batch-step test (included
-//! there by path): the crowd world they time, the robots' kinematics without MuJoCo, and the
-//! thread-CPU clock and median they report with.
+//! Shared by the speed examples and the pedestrian criterion bench (included there by path): the
+//! crowd world they time, the robots' kinematics without MuJoCo (the integration tests' own,
+//! `tests/common/kinematics.rs`, included by path), and the thread-CPU clock and median they
+//! report with.
 #![allow(dead_code)] // each includer uses its part
 
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::math::Vec2;
 use proxemic_core::scenario::{Behaviour, Person, Reaction};
-use proxemic_core::world::World;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+
+#[path = "../../tests/common/kinematics.rs"]
+mod kinematics;
+#[allow(unused_imports)] // the examples that drive robots use it
+pub use kinematics::kinematics;
 
 /// Square metres per person in the first museum (864 m^2, 29 people): the crowd's density.
 pub const AREA_PER_PERSON: f64 = 864.0 / 29.0;
@@ -78,27 +83,5 @@ pub fn median(mut v: Vec<f64>) -> f64 {
         v[m]
     } else {
         0.5 * (v[m - 1] + v[m])
-    }
-}
-
-/// Integrates each robot's command (robot frame, from `out`, the world's output rows) over one
-/// control period of `dt` seconds into `state` (x, y, yaw, vx, vy, wz per robot): the robots
-/// simulated kinematically, no MuJoCo, no contacts.
-pub fn kinematics(world: &World, out: &[f64], state: &mut [f64], dt: f64) {
-    let lay = world.layout();
-    for i in 0..world.num_robots() {
-        let row = &out[i * lay.stride..(i + 1) * lay.stride];
-        let pose = &row[lay.pose.offset..lay.pose.offset + 3];
-        let c = &row[lay.command.offset..lay.command.offset + 3];
-        let (s, co) = pose[2].sin_cos();
-        let (vx, vy) = (co * c[0] - s * c[1], s * c[0] + co * c[1]);
-        state[6 * i..6 * i + 6].copy_from_slice(&[
-            pose[0] + vx * dt,
-            pose[1] + vy * dt,
-            pose[2] + c[2] * dt,
-            vx,
-            vy,
-            c[2],
-        ]);
     }
 }

@@ -6,11 +6,13 @@
 //! the `metrics.json` column descriptions that `proxemic eval` writes beside its records, the
 //! plot and summary labels with their units, and what the evaluation summarises and shows: each
 //! metric's summary (rate or mean, and its digits), its panel of the metrics plot, whether it is a
-//! headline column and how verdicts compare it. A test checks that the registry and the serialised
-//! report have the same keys.
+//! headline column and how verdicts compare it. The serialised report lists its keys in this
+//! table's order ([`super::EpisodeReport`]'s `Serialize`); tests check that the registry and the
+//! serialised report have the same keys in the same order.
 //!
 //! The file is over 800 lines by design, the one exception to the core's file size: it is a data
-//! table, one entry per metric in the report's key order (definitions, formulas and sources), and
+//! table, one entry per metric in the order of the reference and of the records (definitions,
+//! formulas and sources), and
 //! splitting it would split that one ordered list; the code around the table is about 110 lines.
 
 use serde::Serialize;
@@ -1449,8 +1451,8 @@ mod tests {
     use super::*;
     use crate::metrics::{EpisodeReport, Groups, ObjectSpaces, Outcome, PeopleTracks, Trajectory, evaluate};
 
-    #[test]
-    fn every_reported_key_is_in_the_registry_and_back() {
+    /// The report of a 4 m straight run to the goal without people.
+    fn report() -> EpisodeReport {
         let robot: Vec<[f64; 3]> = (0..=4).map(|x| [x as f64, 0.0, 0.0]).collect();
         let traj = Trajectory {
             dt: 0.1,
@@ -1471,7 +1473,7 @@ mod tests {
         };
         let metrics = evaluate(&traj, &PeopleTracks::none(), &Groups::none(), &ObjectSpaces::none(), &ctx)
             .expect("valid input");
-        let report = EpisodeReport {
+        EpisodeReport {
             outcome: Outcome::Success,
             duration: 0.4,
             astar_length: 4.0,
@@ -1479,7 +1481,12 @@ mod tests {
             min_robot_gap: None,
             metrics,
             recovery: crate::metrics::RecoveryMetrics::default(),
-        };
+        }
+    }
+
+    #[test]
+    fn every_reported_key_is_in_the_registry_and_back() {
+        let report = report();
         let value = serde_json::to_value(&report).expect("serialisable");
         let keys: Vec<&str> = value.as_object().expect("an object").keys().map(String::as_str).collect();
         let missing: Vec<&str> = keys.iter().copied().filter(|k| metric_info(k).is_none()).collect();
@@ -1491,6 +1498,23 @@ mod tests {
             let is_list = value[info.key].is_array();
             assert_eq!(is_list, info.per != Per::Episode, "{}", info.key);
         }
+    }
+
+    /// The record's columns in the order Python receives them (the JSON text's order, which
+    /// `json.loads` keeps; the binding's dicts are built in the same order) are the registry's
+    /// keys in the registry's order: no column that is not a metric, no metric left out.
+    #[test]
+    fn the_report_lists_the_registry_keys_in_the_registry_order() {
+        let text = serde_json::to_string(&report()).expect("serialisable");
+        // Every other quoted token is a string; a key is one followed by a colon.
+        let parts: Vec<&str> = text.split('"').collect();
+        let keys: Vec<&str> = (1..parts.len())
+            .step_by(2)
+            .filter(|&i| parts[i + 1].starts_with(':'))
+            .map(|i| parts[i])
+            .collect();
+        let registry: Vec<&str> = METRICS.iter().map(|m| m.key).collect();
+        assert_eq!(keys, registry);
     }
 
     #[test]
