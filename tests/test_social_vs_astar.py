@@ -519,6 +519,90 @@ def test_yield_claim_full(scene: str, claim: str) -> None:
     YIELD_CLAIMS[claim](records(scene, _seeds(scene, True)))
 
 
+#: Scene seeds per Francis archetype for the yielding claim (a prefix of the test split's scene
+#: seeds in ``make test``, all of them in ``make test-full``); each archetype's scene of that seed is
+#: run with the same episode seed.
+CI_FRANCIS_SEEDS = splits.TEST_SCENE_SEEDS[:10]
+FULL_FRANCIS_SEEDS = splits.TEST_SCENE_SEEDS
+
+
+def _run_francis(archetype: str, seed: int) -> Records:
+    """``social`` and ``astar_orca`` on the scene of `archetype` drawn with `seed`, every robot."""
+    from proxemic import francis2023
+
+    cfg = EvalConfig(
+        scenario=francis2023.scenario_name(archetype, seed=seed),
+        planners=[SOCIAL, ASTAR_ORCA],
+        episodes=1,
+        seed=seed,
+        workers=1,
+        out=None,
+    )
+    out: Records = {SOCIAL: [], ASTAR_ORCA: []}
+    for res in iter_results(cfg):
+        out[res.record["planner"]].append(res.record)
+    return out
+
+
+_FRANCIS: dict[tuple[int, ...], dict[str, Records]] = {}
+
+
+def francis_records(seeds: tuple[int, ...]) -> dict[str, Records]:
+    """Every archetype's episodes on `seeds`, by archetype, run once per test session (2 processes)."""
+    if seeds not in _FRANCIS:
+        import multiprocessing as mp
+
+        from proxemic import francis2023
+
+        jobs = [(a, s) for a in francis2023.ARCHETYPES for s in seeds]
+        with mp.get_context("fork").Pool(2) as pool:
+            parts = pool.starmap(_run_francis, jobs)
+        by: dict[str, Records] = {a: {SOCIAL: [], ASTAR_ORCA: []} for a in francis2023.ARCHETYPES}
+        for (a, _), part in zip(jobs, parts, strict=True):
+            for planner, recs in part.items():
+                by[a][planner].extend(recs)
+        _FRANCIS[seeds] = by
+    return _FRANCIS[seeds]
+
+
+#: archetype -> the measured figure, for Francis archetypes where social's success or timeouts
+#: miss the yielding claim (CI seeds).
+KNOWN_FRANCIS_FAILURES: dict[str, str] = {
+    "narrow_hallway": "social succeeds in 90% (astar_orca 100%), times out in 10% (seeds 10000-10009)",
+    "dense_crowd": "social succeeds in 80% (astar_orca 100%), times out in 20% (seeds 10000-10009)",
+}
+#: The same on the whole test split.
+KNOWN_FULL_FRANCIS_FAILURES: dict[str, str] = {
+    "narrow_hallway": "social succeeds in 80% (astar_orca 90%), times out in 20% (60 seeds)",
+    "dense_crowd": "social succeeds in 65% (astar_orca 98.3%), times out in 35% (60 seeds)",
+}
+
+
+def _francis_cases(full: bool) -> list[Any]:
+    from proxemic import francis2023
+
+    known = KNOWN_FULL_FRANCIS_FAILURES if full else KNOWN_FRANCIS_FAILURES
+    out = []
+    for a in francis2023.ARCHETYPES:
+        m = [pytest.mark.full] if full else []
+        if reason := known.get(a):
+            m.append(pytest.mark.xfail(strict=True, reason=reason))
+        out.append(pytest.param(a, marks=m, id=a))
+    return out
+
+
+@pytest.mark.parametrize("archetype", _francis_cases(full=False))
+def test_yield_success_in_every_francis_archetype_ci(archetype: str) -> None:
+    """In every Francis archetype social succeeds at least as often as astar_orca, with at most 2%
+    timeouts: a narrow hallway is passed by stepping aside or waiting, not by timing out."""
+    YIELD_CLAIMS["success_and_timeouts"](francis_records(CI_FRANCIS_SEEDS)[archetype])
+
+
+@pytest.mark.parametrize("archetype", _francis_cases(full=True))
+def test_yield_success_in_every_francis_archetype_full(archetype: str) -> None:
+    YIELD_CLAIMS["success_and_timeouts"](francis_records(FULL_FRANCIS_SEEDS)[archetype])
+
+
 def _exercised_cases() -> list[Any]:
     out = []
     for baseline, not_exercised in ((ASTAR, NOT_EXERCISED), (ASTAR_ORCA, NOT_EXERCISED_VS_ORCA)):
