@@ -1,4 +1,4 @@
-//! Issue 40: the robot as seen by people. A robot parked (zero command, no planner) in a
+//! The robot as seen by people. A robot parked (zero command, no planner) in a
 //! corridor, with at least 1.5 m of free floor beside its body, is given room by people with the
 //! default reaction (`aware`): per spot, at most 2 of 10 episodes with anyone inside its intimate
 //! zone (body gap < 0.45 m), and the median closest body gap of the people who pass within 2 m is

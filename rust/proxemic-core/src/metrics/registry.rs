@@ -1140,8 +1140,8 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         PCT,
         "Share of instants inside at least one object space, active or not: Calderita et al.'s \
-         Ψ(Objects) as their Tables 1–2 count it (their non-social 34.98% is the robot crossing \
-         the idle TV space).",
+         Ψ(Objects) as their Tables 1–2 count it (their Table 1 Path 1, the social path, scores \
+         34.98% by crossing the idle TV space).",
         "",
         "Calderita et al., Tables 1–2",
     )
