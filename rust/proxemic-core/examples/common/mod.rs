@@ -1,14 +1,16 @@
-//! Shared by the speed examples and the pedestrian criterion bench (included there by path): the
-//! crowd world they time, the robots' kinematics without MuJoCo (the integration tests' own,
-//! `tests/common/kinematics.rs`, included by path), and the thread-CPU clock and median they
-//! report with.
+//! Shared by the speed examples and the pedestrian and ORCA criterion benches (included there by
+//! path): the crowd world and the ORCA crossing they time, the robots' kinematics without MuJoCo
+//! (the integration tests' own, `tests/common/kinematics.rs`, included by path), and the timer,
+//! thread-CPU clock and median they report with.
 #![allow(dead_code)] // each includer uses its part
 
+use proxemic_core::control::orca::OrcaAgent;
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::math::Vec2;
 use proxemic_core::scenario::{Behaviour, Person, Reaction};
-use rand::Rng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
 
 #[path = "../../tests/common/kinematics.rs"]
 mod kinematics;
@@ -65,6 +67,57 @@ pub fn walkers(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
             }
         })
         .collect()
+}
+
+/// navground's `Cross` scenario at 4 m^2 per agent: `n` agents of `radius` (m) placed at random
+/// (seeded by `seed`) without overlap, 0.1 m apart at least, in a square of side `2 sqrt(n)` m
+/// centred on the origin, at rest, reciprocal, at most `max_speed` (m/s); agent `k` shuttles
+/// between the mid-points of two opposite sides (four groups: +x, -x, +y, -y), its two targets
+/// returned beside it.
+pub fn cross_agents(n: usize, seed: u64, radius: f64, max_speed: f64) -> (Vec<OrcaAgent>, Vec<[Vec2; 2]>) {
+    let h = (n as f64).sqrt();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut pos: Vec<Vec2> = Vec::with_capacity(n);
+    while pos.len() < n {
+        let p = Vec2::new(rng.random_range(-h..h), rng.random_range(-h..h));
+        if pos.iter().all(|q| (p - q).norm() >= 2.0 * radius + 0.1) {
+            pos.push(p);
+        }
+    }
+    let targets = (0..n)
+        .map(|k| match k % 4 {
+            0 => [Vec2::new(h, 0.0), Vec2::new(-h, 0.0)],
+            1 => [Vec2::new(-h, 0.0), Vec2::new(h, 0.0)],
+            2 => [Vec2::new(0.0, h), Vec2::new(0.0, -h)],
+            _ => [Vec2::new(0.0, -h), Vec2::new(0.0, h)],
+        })
+        .collect();
+    let agents = pos
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| OrcaAgent {
+            pos: p,
+            vel: Vec2::zeros(),
+            pref_vel: Vec2::zeros(),
+            radius,
+            max_speed,
+            reciprocal: true,
+            id: k as u64,
+        })
+        .collect();
+    (agents, targets)
+}
+
+/// Runs `f` once and returns its wall time and this thread's CPU time per unit of `units`
+/// (microseconds); the CPU time is `None` where the thread clock is unavailable.
+pub fn time_per(units: usize, f: impl FnOnce()) -> (f64, Option<f64>) {
+    let c0 = thread_cpu_ns();
+    let t0 = Instant::now();
+    f();
+    let el = t0.elapsed().as_secs_f64();
+    let c1 = thread_cpu_ns();
+    let per = units as f64;
+    (el / per * 1e6, c0.zip(c1).map(|(a, b)| (b - a) as f64 / per * 1e-3))
 }
 
 /// Nanoseconds this thread has spent on a CPU (Linux `schedstat`), if available.
