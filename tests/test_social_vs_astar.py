@@ -49,7 +49,6 @@ generated scenes); ``make test-full`` (marker ``full``) runs the whole test spli
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -59,6 +58,7 @@ import pytest
 
 from proxemic import scenarios, splits
 from proxemic.evaluation import EvalConfig, iter_results, paired_ratio
+from test_record_invariants import CROWDS, replay_scene
 
 SOCIAL, ASTAR, ASTAR_ORCA = "social", "astar", "astar_orca"
 #: The baselines the claims compare social with; every planner run on each seed.
@@ -603,32 +603,11 @@ def test_yield_success_in_every_francis_archetype_full(archetype: str) -> None:
 #: The recorded crowds (``../shared/data/recorded_crowds``, never bundled, never tuned on) replayed
 #: with everyone reacting within 1.5 m of a robot: each recording from each start time, for
 #: ``REPLAY_WINDOW`` seconds, the robot crossing the recording's area through its middle from west
-#: to east (``make test-full``).
-CROWDS = Path(__file__).resolve().parents[2] / "shared" / "data" / "recorded_crowds"
-if not CROWDS.is_dir():
-    CROWDS = Path("/work/shared/data/recorded_crowds")
+#: to east (``test_record_invariants.replay_scene``; ``make test-full``).
 RECORDINGS = ("eth", "hotel", "univ", "zara1", "zara2")
 REPLAY_T0 = (0.0, 60.0, 120.0)
 REPLAY_WINDOW = 90.0
 REPLAY_REACT = 1.5
-
-
-def replay_scene(folder: Path, name: str, t0: float) -> Path:
-    """The scenario file of recording `name` from `t0`: bounds 1 m round every sample, the robot
-    from 0.5 m inside the west edge to 0.5 m inside the east edge, at mid height."""
-    with (CROWDS / f"{name}.csv").open() as f:
-        rows = list(csv.DictReader(f))
-    xs, ys = [float(r["x"]) for r in rows], [float(r["y"]) for r in rows]
-    x0, x1, y0, y1 = min(xs) - 1, max(xs) + 1, min(ys) - 1, max(ys) + 1
-    ym = (y0 + y1) / 2
-    path = folder / f"replay_{name}_{t0:g}.toml"
-    path.write_text(
-        f'[scene]\nname = "replay_{name}"\nbounds = [{x0}, {y0}, {x1}, {y1}]\n\n'
-        f"[[robot]]\nstart = [{x0 + 0.5}, {ym}, 0]\ngoal = [{x1 - 0.5}, {ym}]\n\n"
-        f'[[replay]]\nfile = "{CROWDS / f"{name}.csv"}"\nt0 = {t0}\nreact_radius = {REPLAY_REACT}\n\n'
-        f"[episode]\nmax_time = {REPLAY_WINDOW}\n"
-    )
-    return path
 
 
 _REPLAYS: list[Records] = []
@@ -641,7 +620,7 @@ def replay_records() -> Records:
         import tempfile
 
         folder = Path(tempfile.mkdtemp(prefix="proxemic-replays-"))
-        names = [str(replay_scene(folder, n, t0)) for n in RECORDINGS for t0 in REPLAY_T0]
+        names = [str(replay_scene(folder, n, t0, REPLAY_REACT, REPLAY_WINDOW)) for n in RECORDINGS for t0 in REPLAY_T0]
         with mp.get_context("fork").Pool(2) as pool:
             parts = pool.starmap(_episodes, [(n, 0, (SOCIAL, ASTAR_ORCA)) for n in names])
         _REPLAYS.append({p: [r for part in parts for r in part[p]] for p in (SOCIAL, ASTAR_ORCA)})
