@@ -111,13 +111,17 @@ def _episodes(name: str, seed: int, planners: tuple[str, ...] = PLANNERS) -> Rec
     out: Records = {p: [] for p in planners}
     cfg = EvalConfig(scenario=name, planners=list(planners), episodes=1, seed=seed, workers=1)
     for res in iter_results(cfg):
-        assert res.robot is not None and res.people is not None
-        radii = [p["radius"] for p in desc["persons"]]
-        radii += [0.2] * (len(res.people[0]) - len(radii))
-        gaps = [
-            math.dist(tuple(q), tuple(res.robot[0, :2])) - rp - radius
-            for q, rp in zip(res.people[0], radii, strict=False)
-        ]
+        if res.robot is None or res.people is None:
+            # A multi-robot scene keeps the tracks of its first robot only: the others' start gap
+            # is unknown (NaN: never "roomy", so they stay out of the intimate-zone claims).
+            gaps = [math.nan]
+        else:
+            radii = [p["radius"] for p in desc["persons"]]
+            radii += [0.2] * (len(res.people[0]) - len(radii))
+            gaps = [
+                math.dist(tuple(q), tuple(res.robot[0, :2])) - rp - radius
+                for q, rp in zip(res.people[0], radii, strict=False)
+            ]
         out[res.record["planner"]].append(
             {**res.record, "duration": res.record["steps"] * core.control_dt, "start_gap": min(gaps, default=math.inf)}
         )
