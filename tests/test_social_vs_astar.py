@@ -134,7 +134,7 @@ def _run(scene: str, seeds: tuple[int, ...]) -> Records:
     out: Records = {p: [] for p in PLANNERS}
     for seed in seeds:
         name = f"generated/{seed}{GENERATED_QUERY}" if scene == GENERATED else scene
-        for planner, recs in _episodes(name, seed).items():
+        for planner, recs in _episodes(name, seed, PLANNERS).items():  # the module's list now (a tuner may set it)
             out[planner].extend(recs)
     return out
 
