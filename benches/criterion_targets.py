@@ -1,4 +1,4 @@
-"""Checks the criterion benches of the core against the speed targets (issue 19).
+"""Checks the criterion benches of the core against their speed targets.
 
 ``make bench`` runs the criterion benches first (``cargo bench``); this script then reads the
 median of every targeted bench from criterion's output (``target/criterion/<id>/new/estimates.json``,

@@ -22,7 +22,7 @@ trials:
 The growth from 50 to 1000 people is printed as a ratio per person. Target (reliability issue):
 1000 people build in at most 2 s; the bench exits non-zero when it is missed.
 
-Ten thousand people (issue 43): the 1000-person hall and a hall of 10,000 people at the same
+Ten thousand people: the 1000-person hall and a hall of 10,000 people at the same
 density (:func:`hall_size`, 316 x 190 m), each built and stepped in a fresh process (its peak RSS
 is the process's): build (``ProxemicEnv`` and the first ``reset``), the median env step over
 :data:`BIG_STEPS` steps with plain A* and with ``social`` driving, the peak RSS, and the growth
@@ -64,7 +64,7 @@ BUILD_TARGET_S = 2.0
 #: The issue's target for an env step of the largest crowd with the ``social`` planner (microseconds).
 STEP_TARGET_US = 2000.0
 WIDTH, HEIGHT = 100.0, 60.0
-#: The ten-thousand-person rows: sizes, steps per run, targets (issue 43).
+#: The ten-thousand-person rows: sizes, steps per run, targets.
 BIG_SIZES = (1000, 10000)
 BIG_STEPS = 100
 BIG_BUILD_TARGET_S = 5.0

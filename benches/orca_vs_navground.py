@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import statistics
 import subprocess
@@ -34,12 +35,14 @@ VENV = Path(os.environ.get("NAVGROUND_VENV", "/tmp/navground-venv"))
 NAVGROUND = "navground[all]==0.7.0"
 ROOT = Path(__file__).resolve().parent.parent
 
-# Runs one navground repetition and prints one JSON line (executed by the venv's interpreter).
+# Runs one navground repetition of its `Cross` scenario and prints one JSON line (executed by the
+# venv's interpreter). Arguments: N, timed steps, seed, behaviour, side (m), radius (m), optimal
+# speed (m/s).
 NAVGROUND_WORKER = r'''
 import json, math, statistics, sys, time
 from navground import sim
-n, steps, seed = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
-side = 2.0 * math.sqrt(n)
+n, steps, seed, behavior = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
+side, radius, speed = float(sys.argv[5]), float(sys.argv[6]), float(sys.argv[7])
 scenario = sim.load_scenario(f"""
 type: Cross
 side: {side}
@@ -49,15 +52,15 @@ tolerance: 0.5
 groups:
   - type: person
     number: {n}
-    radius: 0.25
+    radius: {radius}
     control_period: 0.0
     kinematics:
       type: Omni
       max_speed: 1.5
       max_angular_speed: 3.0
     behavior:
-      type: ORCA
-      optimal_speed: 1.0
+      type: {behavior}
+      optimal_speed: {speed}
       horizon: 5.0
       safety_margin: 0.1
     state_estimation:
@@ -72,8 +75,23 @@ t1, c1 = time.perf_counter_ns(), time.thread_time_ns()
 b = world.agents[0].behavior
 nn = statistics.mean(len(getattr(a.behavior.environment_state, "neighbors", [])) for a in world.agents)
 print(json.dumps(dict(wall=(t1 - t0) / (steps * n) / 1e3, cpu=(c1 - c0) / (steps * n) / 1e3, neighbors=nn,
-                      time_horizon=b.time_horizon, max_neighbors=b.max_number_of_neighbors)))
+                      behavior=type(b).__name__, time_horizon=getattr(b, "time_horizon", None),
+                      max_neighbors=getattr(b, "max_number_of_neighbors", None))))
 '''
+
+
+def navground_cross(
+    py: Path, n: int, steps: int, seed: int, behavior: str, side: float, radius: float, speed: float
+) -> dict[str, float]:
+    """One repetition of navground's `Cross` (:data:`NAVGROUND_WORKER`) with `behavior`; checks
+    that navground ran that behaviour."""
+    args = [str(n), str(steps), str(seed), behavior, repr(side), repr(radius), repr(speed)]
+    out = subprocess.run([str(py), "-c", NAVGROUND_WORKER, *args], capture_output=True, text=True, check=True)
+    row = json.loads(out.stdout.strip().splitlines()[-1])
+    expected = f"{behavior}Behavior"
+    if row["behavior"] != expected:
+        raise RuntimeError(f"navground ran {row['behavior']}, expected {expected}")
+    return row
 
 
 def ensure_navground() -> Path:
@@ -100,11 +118,8 @@ def build_example(name: str) -> Path:
 
 
 def run_navground(py: Path, n: int, steps: int, seed: int) -> dict[str, float]:
-    """One navground repetition."""
-    out = subprocess.run(
-        [str(py), "-c", NAVGROUND_WORKER, str(n), str(steps), str(seed)], capture_output=True, text=True, check=True
-    )
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    """One navground repetition: ORCA, radius 0.25 m, optimal speed 1.0 m/s, side 2 sqrt(N) m."""
+    return navground_cross(py, n, steps, seed, "ORCA", 2.0 * math.sqrt(n), 0.25, 1.0)
 
 
 def run_ours(binary: Path, n: int, steps: int, seed: int) -> dict[str, float]:

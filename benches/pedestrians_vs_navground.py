@@ -18,84 +18,70 @@ most 2 microseconds per person-step.
 navground runs in its own virtual env, created on first use (see ``orca_vs_navground.py``).
 
 Run: ``python benches/pedestrians_vs_navground.py [N ...] [--reps R]`` (defaults: N = 50 200 1000,
-R = 3). ``CARGO_TARGET_DIR`` is honoured.
+R = 3). ``CARGO_TARGET_DIR`` is honoured for ours.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import statistics
 import subprocess
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from orca_vs_navground import build_example, ensure_navground
+from orca_vs_navground import build_example, ensure_navground, navground_cross
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Timed person-steps per repetition: ours and HL (C++), navground's Python social force.
 PERSON_STEPS = {"ours": 100_000, "HL": 40_000, "SocialForce": 2_000}
-
-# Runs one navground repetition and prints one JSON line (executed by the venv's interpreter).
-NAVGROUND_WORKER = r'''
-import json, math, statistics, sys, time
-from navground import sim
-n, steps, seed, behavior = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
-side = math.sqrt(n * 864.0 / 29.0)
-scenario = sim.load_scenario(f"""
-type: Cross
-side: {side}
-agent_margin: 0.1
-target_margin: 0.5
-tolerance: 0.5
-groups:
-  - type: person
-    number: {n}
-    radius: 0.2
-    control_period: 0.0
-    kinematics:
-      type: Omni
-      max_speed: 1.5
-      max_angular_speed: 3.0
-    behavior:
-      type: {behavior}
-      optimal_speed: 1.2
-      horizon: 5.0
-      safety_margin: 0.1
-    state_estimation:
-      type: Bounded
-      range: 5.0
-""")
-world = scenario.make_world(seed=seed)
-world.run(20, 0.1)
-c0, t0 = time.thread_time_ns(), time.perf_counter_ns()
-world.run(steps, 0.1)
-t1, c1 = time.perf_counter_ns(), time.thread_time_ns()
-nn = statistics.mean(len(getattr(a.behavior.environment_state, "neighbors", [])) for a in world.agents)
-print(json.dumps(dict(wall=(t1 - t0) / (steps * n) / 1e3, cpu=(c1 - c0) / (steps * n) / 1e3, neighbors=nn,
-                      behavior=type(world.agents[0].behavior).__name__)))
-'''
+#: The commit whose pedestrian model is the speed baseline (before the people saw the robot).
+BASELINE_REV = "138f713"
+#: Crowd sizes at which ours must stay within ``KEPT_RATIO`` of the baseline (CPU time).
+KEPT_AT = (50, 1000)
+KEPT_RATIO = 1.25
 
 
 def run_navground(py: Path, n: int, behavior: str, seed: int) -> dict[str, float]:
-    """One navground repetition of `behavior`."""
+    """One navground repetition of `behavior`: radius 0.2 m, optimal speed 1.2 m/s, the museum's
+    density (side sqrt(N 864 / 29) m)."""
     steps = max(3, PERSON_STEPS[behavior] // n)
-    out = subprocess.run(
-        [str(py), "-c", NAVGROUND_WORKER, str(n), str(steps), str(seed), behavior],
-        capture_output=True,
-        text=True,
+    return navground_cross(py, n, steps, seed, behavior, math.sqrt(n * 864.0 / 29.0), 0.2, 1.2)
+
+
+def build_baseline(rev: str = BASELINE_REV) -> Path:
+    """Builds the example ``pedestrian_crowd`` as it was at ``rev`` and returns the binary's path.
+
+    Raises ``RuntimeError`` naming the commit when this clone's history does not hold it.
+    """
+    where = ROOT / "target" / "bench-baseline" / rev
+    binary = where / "target" / "release" / "examples" / "pedestrian_crowd"
+    src = where / "src"
+    if not (src / "Cargo.toml").exists():
+        got = subprocess.run(["git", "-C", str(ROOT), "archive", rev], capture_output=True)
+        if got.returncode != 0:
+            raise RuntimeError(
+                f"the speed baseline {rev} is not in this clone's git history ({got.stderr.decode().strip()}); "
+                "clone with full history to measure the people's speed against it"
+            )
+        src.mkdir(parents=True, exist_ok=True)
+        subprocess.run(["tar", "-x", "-C", str(src)], input=got.stdout, check=True)
+    env = {**os.environ, "CARGO_TARGET_DIR": str(where / "target")}
+    print(f"building the speed baseline ({rev}) in {where} ...", flush=True)
+    subprocess.run(
+        ["cargo", "build", "--release", "-q", "-p", "proxemic-core", "--example", "pedestrian_crowd"],
+        cwd=src,
+        env=env,
         check=True,
     )
-    row = json.loads(out.stdout.strip().splitlines()[-1])
-    expected = f"{behavior}Behavior"
-    if row["behavior"] != expected:
-        raise RuntimeError(f"navground ran {row['behavior']}, expected {expected}")
-    return row
+    return binary
 
 
 def run_ours(binary: Path, n: int, seed: int) -> dict[str, float]:
-    """One repetition of ours."""
+    """One repetition of ours (or of the baseline's build of the same example)."""
     steps = max(5, PERSON_STEPS["ours"] // n)
     out = subprocess.run([str(binary), str(n), str(steps), "1", str(seed)], capture_output=True, text=True, check=True)
     row = json.loads(out.stdout.strip().splitlines()[-1])
@@ -110,11 +96,17 @@ def main() -> int:
     a = p.parse_args()
     py = ensure_navground()
     binary = build_example("pedestrian_crowd")
+    try:
+        baseline = build_baseline()
+    except RuntimeError as e:
+        print(f"pedestrians_vs_navground: {e}", file=sys.stderr)
+        return 1
     rows = []
     for n in a.ns:
-        res: dict[str, list[dict[str, float]]] = {"ours": [], "HL": [], "SocialForce": []}
+        res: dict[str, list[dict[str, float]]] = {"ours": [], "baseline": [], "HL": [], "SocialForce": []}
         for seed in range(a.reps):
             res["ours"].append(run_ours(binary, n, seed))
+            res["baseline"].append(run_ours(baseline, n, seed))
             res["HL"].append(run_navground(py, n, "HL", seed))
             res["SocialForce"].append(run_navground(py, n, "SocialForce", seed))
         row: dict[str, float] = {"n": n, "reps": a.reps}
@@ -145,7 +137,22 @@ def main() -> int:
             )
     over = [int(r["n"]) for r in rows if r["ours_cpu_us"] > 2.0]
     print("target (ours at most 2 us per person-step, CPU time):", f"MISSED at N = {over}" if over else "met")
-    return 1 if over else 0
+
+    print()
+    print(f"The people's speed kept: ours against the same example at {BASELINE_REV} (same run, same seeds)")
+    head = f"{'N':>5} | {'clock':>5} | {'ours':>7} | {BASELINE_REV:>9} | {'ours / ' + BASELINE_REV:>15}"
+    print(head)
+    print("-" * len(head))
+    for r in rows:
+        for clock in ("cpu", "wall"):
+            ours, base = r[f"ours_{clock}_us"], r[f"baseline_{clock}_us"]
+            print(f"{int(r['n']):>5} | {clock:>5} | {ours:>7.3f} | {base:>9.3f} | {ours / base:>15.2f}")
+    measured = {int(r["n"]): r["ours_cpu_us"] / r["baseline_cpu_us"] for r in rows}
+    missing = [n for n in KEPT_AT if n not in measured]
+    slow = [n for n in KEPT_AT if n in measured and measured[n] > KEPT_RATIO]
+    verdict = "met" if not (slow or missing) else f"MISSED at N = {slow}" if slow else f"NOT MEASURED at N = {missing}"
+    print(f"target (ours at most {KEPT_RATIO} x {BASELINE_REV} at N = {list(KEPT_AT)}, CPU time):", verdict)
+    return 1 if over or slow or missing else 0
 
 
 if __name__ == "__main__":

@@ -31,8 +31,13 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def claims_module() -> ModuleType:
-    """``tests/test_social_vs_astar.py``, loaded as a module (its readings and runner)."""
+    """``tests/test_social_vs_astar.py``, loaded as a module (its readings and runner).
+
+    The tests folder goes on ``sys.path`` as pytest puts it (the module imports a sibling test module).
+    """
     path = ROOT / "tests" / "test_social_vs_astar.py"
+    if str(path.parent) not in sys.path:
+        sys.path.insert(0, str(path.parent))
     spec = importlib.util.spec_from_file_location("claims", path)
     assert spec is not None and spec.loader is not None
     mod = importlib.util.module_from_spec(spec)

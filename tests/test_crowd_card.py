@@ -1,5 +1,5 @@
-"""The crowd card (issue 40, parts 2 and 3): RiMEA known answers, the card end to end, and the
-calibrated model's targets on the ETH recordings (never fitted on)."""
+"""The crowd card: RiMEA known answers, the card end to end, the calibrated model's targets on the
+ETH recordings (never fitted on), and its speed and spacing on every recording."""
 
 from __future__ import annotations
 
@@ -99,7 +99,7 @@ def test_card_on_a_recorded_crowd_window(tmp_path: Path) -> None:
 
 
 @cache
-def _eth(scene: str) -> dict[str, Any]:
+def _card(scene: str) -> dict[str, Any]:
     s = crowdcard.load(DATA / f"{scene}.csv")
     c = crowdcard.card(s, rimea_result={})
     c.pop("_samples")
@@ -107,7 +107,7 @@ def _eth(scene: str) -> dict[str, Any]:
 
 
 def _figures(scene: str) -> dict[str, float]:
-    c = _eth(scene)
+    c = _card(scene)
     cl, ol, d = c["closed_loop"], c["open_loop"], c["distributions"]
     return {
         "ade": cl["proxemic"]["ade_m"],
@@ -159,7 +159,6 @@ FAILING: dict[tuple[str, str], str] = {
     ("eth", "encounters_within_2x_recorded"): "eth: 0.469 close encounters per person, the recording 0.000",
     ("eth", "nearest_neighbour_median_within_10pct"): "eth: nearest-neighbour median 1.497 m vs 1.114 (ratio 1.344)",
     ("hotel", "closed_loop_ade_below_straight_line"): "hotel: closed-loop ADE 0.287 m vs the line's 0.284",
-    ("hotel", "speed_median_within_10pct"): "hotel: walking-speed median 0.569 m/s vs 0.626 (ratio 0.908)",
 }
 
 
@@ -177,6 +176,38 @@ def _cases() -> list[Any]:
 
 @pytest.mark.parametrize(("scene", "target"), _cases())
 def test_calibrated_model_on_eth(scene: str, target: str) -> None:
+    ok, figure = _target(target, _figures(scene))
+    assert ok, f"{scene}: {target}: {figure}"
+
+
+#: The speed and spacing targets hold for every recording, the UCY ones the model was fitted on
+#: too (their figures in docs/people-validation.md's cards).
+UCY = ("univ", "zara1", "zara2")
+SPACING = ("speed_median_within_10pct", "nearest_neighbour_median_within_10pct")
+FAILING_UCY: dict[tuple[str, str], str] = {
+    ("univ", "speed_median_within_10pct"): "univ: walking-speed median 0.434 m/s vs 0.504 (ratio 0.861)",
+    ("univ", "nearest_neighbour_median_within_10pct"): "univ: nearest-neighbour median 1.013 m vs 0.626 (ratio 1.618)",
+    ("zara1", "nearest_neighbour_median_within_10pct"): "zara1: nearest-neighbour median 1.178 m vs 0.903 (ratio "
+    "1.305)",
+    ("zara2", "speed_median_within_10pct"): "zara2: walking-speed median 0.896 m/s vs 1.000 (ratio 0.895)",
+    ("zara2", "nearest_neighbour_median_within_10pct"): "zara2: nearest-neighbour median 1.248 m vs 0.752 (ratio "
+    "1.659)",
+}
+
+
+def _ucy_cases() -> list[Any]:
+    out = []
+    for scene in UCY:
+        for t in SPACING:
+            marks = [needs_data, pytest.mark.full]
+            if why := FAILING_UCY.get((scene, t)):
+                marks.append(pytest.mark.xfail(strict=True, reason=why))
+            out.append(pytest.param(scene, t, marks=marks, id=f"{scene}-{t}"))
+    return out
+
+
+@pytest.mark.parametrize(("scene", "target"), _ucy_cases())
+def test_speed_and_spacing_on_the_fitted_recordings(scene: str, target: str) -> None:
     ok, figure = _target(target, _figures(scene))
     assert ok, f"{scene}: {target}: {figure}"
 

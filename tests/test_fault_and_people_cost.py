@@ -1,4 +1,4 @@
-"""Issue 23: who hit whom (contact events by fault) and the robot's cost to people (robot-free replay).
+"""Who hit whom (contact events by fault) and the robot's cost to people (robot-free replay).
 
 End-to-end env episodes with MuJoCo contacts: a person walking into a parked robot is the
 person's fault and does not end the episode; a robot driving into a standing person is the

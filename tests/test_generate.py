@@ -124,7 +124,7 @@ def test_the_docs_parameter_table_is_the_cores() -> None:
 
 
 def test_the_reaction_parameter_is_a_name_documented_with_its_values() -> None:
-    """``reaction`` (issue 40) takes the names of docs/generated.md's row; others are errors."""
+    """``reaction`` takes the names of docs/generated.md's row; others are errors."""
     import re
     from pathlib import Path
 

@@ -74,18 +74,25 @@ def test_demo_runs_test_split_seeds_draws_every_episode_and_says_what_figures_me
     assert drawn == {"trajectories_astar.png": 2, "trajectories_social.png": 2}
     assert "Drawn: every episode" in out
     assert "What the figures mean" in out and "path length ratio (x geodesic)" in out
-    assert "not ended by a collision" in out and "personal-zone time (%)" in out
+    assert "mean over the successful episodes" in out and "personal-zone time, centres (%)" in out
 
 
-def test_demo_path_length_ratio_leaves_out_collided_episodes():
+def test_the_path_length_ratio_is_averaged_over_successful_episodes():
+    # A collision or the time limit cuts the path short (here to 0.4 and 0.6 of the geodesic):
+    # summary.md, the headline and the demo average L_ratio over the successes only.
+    from proxemic import reference
     from proxemic.evaluation import summarise
 
     records = [
-        {"planner": "astar", "outcome": "collision", "collision": True, "path_length_ratio": 0.4},
-        {"planner": "astar", "outcome": "success", "collision": False, "path_length_ratio": 1.2},
+        {"planner": "astar", "outcome": "collision", "success": False, "collision": True, "path_length_ratio": 0.4},
+        {"planner": "astar", "outcome": "timeout", "success": False, "collision": False, "path_length_ratio": 0.6},
+        {"planner": "astar", "outcome": "success", "success": True, "collision": False, "path_length_ratio": 1.2},
+        {"planner": "astar", "outcome": "success", "success": True, "collision": False, "path_length_ratio": 1.4},
     ]
-    (row,) = summarise(cli._without_collided_path_ratio(records))
-    assert row["path_length_ratio"] == 1.2 and row["path_length_ratio_n"] == 1
+    (row,) = summarise(records)
+    assert row["path_length_ratio"] == pytest.approx(1.3) and row["path_length_ratio_n"] == 2
+    (info,) = [m for m in reference.metric_registry() if m["key"] == "path_length_ratio"]
+    assert info["over_successes"] and "successful episodes only" in info["definition"]
 
 
 def test_demo_defaults_to_the_test_split():

@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 
 import proxemic
-from proxemic import ScenarioError
+from proxemic import ScenarioError, _core
 from proxemic.cli import main
 from proxemic.env import ProxemicEnv
-from proxemic.records import Perception
-from proxemic.reproduce import SOUSA_PERSONAL_RADIUS, sousa_zone_distance
+from proxemic.records import Individual, Perception
+from proxemic.reproduce import SOUSA_PERSONAL_RADIUS
 from proxemic.splits import TEST_EPISODE_SEEDS
 
 PAPER_PLANNERS = ("daza2021", "sousa2022")
@@ -174,6 +174,14 @@ def test_daza_paths_4_and_5_give_the_robot_in_a_group_a_zone_and_keep_out_of_it(
     assert info["metrics"]["ospace_pct"] == 0.0
 
 
+def _core_zone_distance(ind: Individual, points: np.ndarray) -> np.ndarray:
+    """The zone distances of ``points`` in ``ind``'s Gaussian, by the core's definition (the one
+    the planners use), not a copy of it."""
+    pts = np.ascontiguousarray(points[:, :2], dtype=np.float64)
+    (x, y), (front, rear, right, left) = ind["centre"], ind["sides"]
+    return _core.zone_distances((x, y), ind["heading"], (front, rear, right, left), ind["zone_scale"], pts)
+
+
 def _fig16_group(planner: str) -> tuple[list[list[int]], float, float, str]:
     """Sousa Fig. 16 on ``planner``: the detected groups, the robot's least centre distance to
     triangles 3 + 4's o-space edge (m), its least zone distance in their Gaussian, the outcome."""
@@ -186,7 +194,7 @@ def _fig16_group(planner: str) -> tuple[list[list[int]], float, float, str]:
     ospace = float(np.linalg.norm(members - centre, axis=1).mean())
     traj = np.asarray(env.world.trajectory(0))[:, :2]
     gap = float(np.linalg.norm(traj - centre, axis=1).min()) - ospace
-    zone = float(sousa_zone_distance(ind, traj).min())
+    zone = float(_core_zone_distance(ind, traj).min())
     return groups, gap, zone, info["metrics"]["outcome"]
 
 
@@ -210,7 +218,7 @@ def _least_zones(scene: str, planner: str) -> tuple[float, float, Perception]:
     traj = np.asarray(env.world.trajectory(0))[:, :2]
     least = {True: math.inf, False: math.inf}
     for ind in env.world.perception()["individuals"]:
-        zone = float(sousa_zone_distance(ind, traj).min())
+        zone = float(_core_zone_distance(ind, traj).min())
         least[len(ind["members"]) > 1] = min(least[len(ind["members"]) > 1], zone)
     return least[True], least[False], env.world.perception()
 

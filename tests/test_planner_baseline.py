@@ -60,7 +60,7 @@ def test_astar_ignores_people_and_collides_in_some_episodes():
     assert set(outcomes) <= {"success", "collision", "timeout"}
 
 
-# --- the non-social baselines that avoid collisions (issue 20) --------------------------------------
+# --- the non-social baselines that avoid collisions ------------------------------------------------
 
 #: The baselines that avoid collisions: plain A* followed with ORCA, and plain A* that stops.
 AVOIDING_BASELINES = ("astar_orca", "astar_stop")
@@ -109,7 +109,7 @@ def _shortfall_cases() -> list[object]:
 
 @pytest.mark.parametrize(("scene", "planner"), _shortfall_cases())
 def test_avoiding_baselines_succeed_about_as_often_as_social(scene: str, planner: str) -> None:
-    """Issue 20: astar_orca and astar_stop reach the goal on every bundled scene at least as often as
+    """astar_orca and astar_stop reach the goal on every bundled scene at least as often as
     social minus 5 points (same test-split seeds, every robot of a multi-robot scene scored)."""
     rec = success_records(scene)
     n = len(rec["social"])

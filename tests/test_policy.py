@@ -226,7 +226,7 @@ def test_paired_ratio_and_verdict_from_known_records():
     text = verdict(records, "a", "b")
     assert text.startswith("a vs b on 4 seeds: success 4 vs 3, collisions 0 vs 0")
     assert "over the 3 seeds both reached the goal" in text
-    assert "2.00x time to goal [2.00x, 2.00x]" in text and "75% less personal-zone time [75% less]" in text
+    assert "2.00x time to goal [2.00x, 2.00x]" in text and "75% less personal-zone time, centres [75% less]" in text
 
 
 def test_headline_has_units_and_intervals_within_bounds():

@@ -1,4 +1,4 @@
-"""The progress monitor every built-in planner runs (issue 20), checked on the test split.
+"""The progress monitor every built-in planner runs, checked on the test split.
 
 - The doorway trap (``tests/data/doorway_trap.toml``): a ward corridor with two side doorways, a
   nurse standing past them and a walker coming out of one across the robot's way. With the monitor

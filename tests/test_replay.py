@@ -22,8 +22,9 @@ def _blocks() -> list[str]:
     return re.findall(r"```python[^\n]*\n(.*?)```", PAGE.read_text(), flags=re.S)
 
 
-def test_the_docs_example_runs(monkeypatch, capsys):
-    monkeypatch.chdir(ROOT)
+def test_the_docs_example_runs(monkeypatch, capsys, tmp_path):
+    # The example writes its track file and scene into the working directory: a temporary one.
+    monkeypatch.chdir(tmp_path)
     exec(compile(_blocks()[0], str(PAGE), "exec"), {})
     out = capsys.readouterr().out.split()
     assert out[0] in {"success", "collision", "timeout"}

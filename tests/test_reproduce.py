@@ -155,7 +155,8 @@ def _objects_layer_at(scene: str | _core.Scenario, x: float, y: float) -> float:
 
 
 def test_calderita_table1_tests_differ_in_which_activities_are_on():
-    """Issue 21: Table 1's Path 1 and Path 2 came out identical (one scene, only the clock moved)."""
+    """Table 1's Path 1 and Path 2 differ in the clock and so in which activities are on (they once came
+    out identical: one scene, only the clock moved)."""
     t1, t2 = experiments("calderita")[:2]
     assert (t1.start_time, t2.start_time) == ("09:05", "10:05")
     _, d1 = scenarios.load(scene_of(t1))

@@ -6,7 +6,8 @@
   CLI help), and no Python source nor other docs page repeats one;
 - colours: one palette (``proxemic.palette``) for the top-down view, the plots and MuJoCo;
 - markdown tables: one writer (``proxemic.markdown.table``);
-- defaults: the frame size and the tuner's gain ranges are written once.
+- defaults: the frame size and the tuner's gain ranges are written once;
+- the full suites: every file with a test marked ``full`` is on ``make test-full``'s line.
 """
 
 from __future__ import annotations
@@ -148,9 +149,37 @@ def test_defaults_are_written_once():
 # -- tracker numbers ----------------------------------------------------------------------------
 
 
-def test_no_tracker_numbers_in_the_package():
-    """Package code and docstrings say what was done in plain words, not which issue asked for it."""
+def test_no_tracker_numbers_in_the_code():
+    """Code, tests, benches and docstrings say what was done in plain words, not which issue asked for
+    it (the CHANGELOG may name issues; Rust suites named ``issue_<n>_<symptom>`` are small regressions
+    and keep their number in the file name only)."""
     pattern = re.compile(r"\bissues? #?\d+|\bissue_\d+", re.IGNORECASE)
     files = [p for p in sorted(PACKAGE.rglob("*")) if p.suffix in (".py", ".pyi", ".toml")]
+    files += [p for d in ("tests", "benches", "examples") for p in sorted((ROOT / d).rglob("*.py"))]
+    files += [p for p in sorted((ROOT / "rust").rglob("*.rs")) if "target" not in p.parts]
+    files.remove(Path(__file__).resolve())
     found = [f"{p.relative_to(ROOT)}: {m.group(0)}" for p in files for m in pattern.finditer(p.read_text())]
     assert not found, found
+
+
+def test_rust_suites_are_named_after_behaviours():
+    """An integration suite named after a tracker number (``issue_<n>_<symptom>.rs``) is a small
+    regression test; a suite of behaviours is named after them."""
+    long = [
+        f"{p.relative_to(ROOT)}: {len(p.read_text().splitlines())} lines"
+        for p in sorted((ROOT / "rust").glob("*/tests/issue_*.rs"))
+        if len(p.read_text().splitlines()) > 100
+    ]
+    assert not long, long
+
+
+def test_make_test_full_runs_every_full_test():
+    """A test marked ``full`` runs only in ``make test-full``: its file must be on that target's line,
+    or the mark turns it into a test that never runs."""
+    makefile = (ROOT / "Makefile").read_text()
+    recipe = makefile.split("\ntest-full:", 1)[1].split("\n\n", 1)[0]
+    named = set(re.findall(r"tests/(test_\w+\.py)", recipe))
+    mark = "pytest.mark." + "full"  # spelled in two parts so that this file does not match itself
+    marked = {p.name for p in sorted((ROOT / "tests").glob("test_*.py")) if mark in p.read_text()}
+    assert marked, "no test is marked full: the check reads the wrong files"
+    assert marked <= named, f"marked full but not run by make test-full: {sorted(marked - named)}"

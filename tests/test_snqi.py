@@ -24,16 +24,73 @@ def _rec(planner: str, success: bool, t: float | None = None, hc: int = 0, near:
     }
 
 
-def test_canonical_weights_are_robot_sfs():
-    assert snqi.WEIGHTS == {
-        "w_success": 1.0,
-        "w_time": 0.8,
-        "w_collisions": 2.0,
-        "w_near": 1.0,
-        "w_comfort": 0.5,
-        "w_force_exceed": 1.5,
-        "w_jerk": 0.3,
-    }
+#: robot-sf's published canonical weights, in its ``WEIGHT_NAMES`` order: ``canonical_weights`` of
+#: ``recompute_snqi_weights`` in ``robot_sf/benchmark/snqi/compute.py``, repository
+#: ``ll7/robot_sf_ll7``, commit ``af4b7c2c8b04576289b529c30c1367b16f3f7c3b``.
+PUBLISHED = (
+    ("w_success", 1.0),
+    ("w_time", 0.8),
+    ("w_collisions", 2.0),
+    ("w_near", 1.0),
+    ("w_comfort", 0.5),
+    ("w_force_exceed", 1.5),
+    ("w_jerk", 0.3),
+)
+
+#: Each term alone at its full size (normalised term 1): (weight, record, sign of its effect).
+UNIT_TERMS = {
+    "w_success": ({"success": True, "time_to_goal": 0.0}, +1.0),
+    "w_time": ({}, -1.0),
+    "w_collisions": ({"hc_count": 2}, -1.0),
+    "w_near": ({"near_misses": 5}, -1.0),
+    "w_comfort": ({"comfort_exposure": 1.0}, -1.0),
+    "w_force_exceed": ({"force_exceed_events": 10}, -1.0),
+    "w_jerk": ({"jerk_avg": 3.0}, -1.0),
+}
+UNIT_STATS = {
+    "hc_count": (0.0, 2.0),
+    "near_misses": (0.0, 5.0),
+    "force_exceed_events": (0.0, 10.0),
+    "jerk_avg": (0.0, 3.0),
+}
+
+
+class _Reads(dict):  # type: ignore[type-arg]
+    """A weights mapping that notes which weights are read."""
+
+    def __init__(self, *args: object) -> None:
+        super().__init__(*args)
+        self.read: set[str] = set()
+
+    def __getitem__(self, key: str) -> float:
+        self.read.add(key)
+        return float(super().__getitem__(key))
+
+
+def test_the_weights_are_robot_sfs_published_ones_in_its_order():
+    assert list(snqi.WEIGHTS.items()) == list(PUBLISHED)
+
+
+def test_every_weight_is_a_term_of_the_score_and_every_term_has_a_weight():
+    weights = _Reads(snqi.WEIGHTS)
+    r = _rec("x", True, t=25.0, hc=1, near=3, force=5, comfort=0.2, jerk=2.0)
+    snqi.episode_snqi(r, UNIT_STATS, weights)
+    assert weights.read == set(snqi.WEIGHTS)
+    assert set(snqi.NORMALISED) < set(snqi.WEIGHTS)
+
+
+@pytest.mark.parametrize("weight", list(UNIT_TERMS))
+def test_each_weight_moves_the_score_by_its_published_value(weight: str):
+    """An episode whose only term is ``weight``'s, at full size, scores that weight (signed),
+    measured against the same episode with the weight set to zero."""
+    fields, sign = UNIT_TERMS[weight]
+    # every other term at zero: a success at once (time term 0; a failure for w_time's term), no
+    # contacts, no near misses, no exposure, no force events, no jerk
+    base = {**_rec("x", weight != "w_time", t=0.0), **fields}
+    published = dict(PUBLISHED)
+    zeroed = {**snqi.WEIGHTS, weight: 0.0}
+    effect = snqi.episode_snqi(base, UNIT_STATS) - snqi.episode_snqi(base, UNIT_STATS, zeroed)
+    assert math.isclose(effect, sign * published[weight]), (weight, effect)
 
 
 def test_normalisation_is_median_p95_clamped():

@@ -27,6 +27,11 @@ checked against ``astar_orca`` as well (test ids ``...-vs-astar_orca``): "social
 personal-zone time" means something only against a baseline that also arrives. The claims about
 social alone (intimate zone, timeouts, L_ratio) are checked once.
 
+The yielding claims (``YIELD_CLAIMS``, test ids ``test_yield_claim_*``) hold social to a polite
+person's standard against ``astar_orca``: no intimate-zone entry the robot causes, never at fault in
+a contact, at most half the baseline's robot-caused personal-zone seconds, success at least the
+baseline's with at most 2% timeouts, and the paired time to goal's 95% upper bound at most 1.3.
+
 Each paper's own planner (``daza2021``, ``sousa2022``, ``calderita``) is held to the claims its
 paper makes against the classical planner (``PAPER_CLAIMS``, test ids ``<planner>-<scene>-<claim>``),
 at the same strength and on the same episodes.
@@ -46,12 +51,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import pytest
 
 from proxemic import scenarios, splits
 from proxemic.evaluation import EvalConfig, iter_results, paired_ratio
+from test_record_invariants import CROWDS, replay_scene
 
 SOCIAL, ASTAR, ASTAR_ORCA = "social", "astar", "astar_orca"
 #: The baselines the claims compare social with; every planner run on each seed.
@@ -95,30 +102,40 @@ INTIMATE = 0.45
 Records = dict[str, list[dict[str, Any]]]
 
 
-def _run(scene: str, seeds: tuple[int, ...]) -> Records:
-    """The planners on `seeds` of `scene` (for generated scenes: scene `generated/<seed>`,
-    episode seed `seed`), in this process; each record gains ``duration`` (s) and the closest
-    person's body-edge gap at the start (``start_gap``, m)."""
-    out: Records = {p: [] for p in PLANNERS}
-    for seed in seeds:
-        name = f"generated/{seed}{GENERATED_QUERY}" if scene == GENERATED else scene
-        core, desc = scenarios.load(name)
-        radius = desc["robots"][0]["radius"]
-        cfg = EvalConfig(scenario=name, planners=list(PLANNERS), episodes=1, seed=seed, workers=1)
-        for res in iter_results(cfg):
-            assert res.robot is not None and res.people is not None
+def _episodes(name: str, seed: int, planners: tuple[str, ...] = PLANNERS) -> Records:
+    """`planners` on scenario `name` with episode seed `seed`, in this process; each record gains
+    ``duration`` (s) and the closest person's body-edge gap at the start (``start_gap``, m; people
+    the scenario file does not list, such as replayed ones, count with a 0.2 m body)."""
+    core, desc = scenarios.load(name)
+    radius = desc["robots"][0]["radius"]
+    out: Records = {p: [] for p in planners}
+    cfg = EvalConfig(scenario=name, planners=list(planners), episodes=1, seed=seed, workers=1)
+    for res in iter_results(cfg):
+        if res.robot is None or res.people is None:
+            # A multi-robot scene keeps the tracks of its first robot only: the others' start gap
+            # is unknown (NaN: never "roomy", so they stay out of the intimate-zone claims).
+            gaps = [math.nan]
+        else:
             radii = [p["radius"] for p in desc["persons"]]
+            radii += [0.2] * (len(res.people[0]) - len(radii))
             gaps = [
                 math.dist(tuple(q), tuple(res.robot[0, :2])) - rp - radius
                 for q, rp in zip(res.people[0], radii, strict=False)
             ]
-            out[res.record["planner"]].append(
-                {
-                    **res.record,
-                    "duration": res.record["steps"] * core.control_dt,
-                    "start_gap": min(gaps, default=math.inf),
-                }
-            )
+        out[res.record["planner"]].append(
+            {**res.record, "duration": res.record["steps"] * core.control_dt, "start_gap": min(gaps, default=math.inf)}
+        )
+    return out
+
+
+def _run(scene: str, seeds: tuple[int, ...]) -> Records:
+    """The planners on `seeds` of `scene` (for generated scenes: scene `generated/<seed>`,
+    episode seed `seed`), in this process (:func:`_episodes`)."""
+    out: Records = {p: [] for p in PLANNERS}
+    for seed in seeds:
+        name = f"generated/{seed}{GENERATED_QUERY}" if scene == GENERATED else scene
+        for planner, recs in _episodes(name, seed, PLANNERS).items():  # the module's list now (a tuner may set it)
+            out[planner].extend(recs)
     return out
 
 
@@ -269,22 +286,20 @@ RELATIVE = (*REDUCTIONS, "collisions", "success", "time")
 
 #: (scene set, claim) -> the measured figure, for claims that do not hold on the test split (CI sets).
 KNOWN_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 19/20 episodes (centre reading: 0/20)",
-    ("museum", "personal_seconds"): "personal-zone time: social 188.2 s vs plain A* 232.8 s (19% less, claim 50%)",
-    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 12/20 episodes (centre reading: 0/20)",
-    # Plain A* runs into a person in the corridor on seed 1015 (before the conversation on its way
-    # in the physical therapy room): 19 pairs.
-    ("care_center", "time"): "paired time to goal: social/astar 1.331 [95% CI 1.245, 1.434], 19 pairs (claim: <= 1.3)",
-    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 11/50 scenes (centre reading: 0/50)",
-    (GENERATED, "personal_seconds"): "personal-zone time: social 47.8 s vs plain A* 62.8 s (24% less, claim 50%)",
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 4/20 episodes (seeds 1000, 1008, 1016, "
+    "1018; centre reading: 0/20)",
+    ("museum", "personal_seconds"): "personal-zone time: social 34.85 s vs plain A* 65.87 s (47% less, claim 50%)",
+    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 1/20 episodes (seed 1019; centre "
+    "reading: 0/20)",
+    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 2/50 scenes (seeds 10006, 10032; centre "
+    "reading: 0/50)",
 }
 #: The same for the full test split.
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 57/60 episodes (centre reading: 0/60)",
-    ("museum", "personal_seconds"): "personal-zone time: social 570.1 s vs plain A* 668.6 s (15% less, claim 50%)",
-    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 25/60 episodes (centre reading: 0/60)",
-    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 13/60 scenes (centre reading: 0/60)",
-    (GENERATED, "personal_seconds"): "personal-zone time: social 59.0 s vs plain A* 82.8 s (29% less, claim 50%)",
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 11/60 episodes (centre reading: 0/60)",
+    ("museum", "personal_seconds"): "personal-zone time: social 90.37 s vs plain A* 176.37 s (49% less, claim 50%)",
+    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 6/60 episodes (centre reading: 0/60)",
+    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 3/60 scenes (centre reading: 0/60)",
 }
 #: (scene set, claim) -> the measured figure, for claims against ``astar_orca`` that do not hold on
 #: the test split (CI sets).
@@ -337,98 +352,40 @@ def test_claim_full(scene: str, claim: str, baseline: str) -> None:
 #: (scene set, paper planner, claim) -> the measured figure, for paper claims that do not hold on the
 #: test split (CI sets, and the whole split).
 KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
-    (
-        "museum",
-        "daza2021",
-        "intimate",
-    ): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes (centre reading: 0/20)",
-    (
-        "care_center",
-        "daza2021",
-        "intimate",
-    ): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes (centre reading: 0/20)",
-    (
-        GENERATED,
-        "daza2021",
-        "intimate",
-    ): "daza2021 within 0.45 m body edge to body edge in 28/50 scenes (centre reading: 1/50)",
-    (
-        "museum",
-        "sousa2022",
-        "personal_seconds",
-    ): "personal-zone time: sousa2022 388.9 s vs plain A* 232.8 s (67% more, claim 50% less)",
-    (
-        "care_center",
-        "sousa2022",
-        "personal_seconds",
-    ): "personal-zone time: sousa2022 135.3 s vs plain A* 150.1 s (10% less, claim 50% less)",
-    (
-        GENERATED,
-        "sousa2022",
-        "personal_seconds",
-    ): "personal-zone time: sousa2022 87.6 s vs plain A* 62.8 s (39% more, claim 50% less)",
-    (
-        "museum",
-        "calderita",
-        "personal_seconds",
-    ): "personal-zone time: calderita 200.6 s vs plain A* 232.8 s (14% less, claim 50% less)",
-    (
-        GENERATED,
-        "calderita",
-        "personal_seconds",
-    ): "personal-zone time: calderita 65.1 s vs plain A* 62.8 s (4% more, claim 50% less)",
-    (
-        GENERATED,
-        "calderita",
-        "active_object_seconds",
-    ): "active object-space time: calderita 12.0 s vs plain A* 5.6 s (more, claim 80% less)",
+    ("museum", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes (centre "
+    "reading: 0/20)",
+    ("care_center", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes "
+    "(centre reading: 0/20)",
+    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 15/50 scenes (centre "
+    "reading: 0/50)",
+    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 37.85 s vs plain A* 65.87 s (43% "
+    "less, claim 50% less)",
+    ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 63.09 s vs plain A* 110.30 s "
+    "(43% less, claim 50% less)",
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 48.88 s vs plain A* 65.31 s (25% "
+    "less, claim 50% less)",
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 139.17 s vs plain A* 65.87 s (111% "
+    "more, claim 50% less)",
+    (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 11.96 s vs plain A* "
+    "5.58 s (more, claim 80% less)",
 }
 KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
-    (
-        "museum",
-        "daza2021",
-        "intimate",
-    ): "daza2021 within 0.45 m body edge to body edge in 59/60 episodes (centre reading: 0/60)",
-    (
-        "care_center",
-        "daza2021",
-        "intimate",
-    ): "daza2021 within 0.45 m body edge to body edge in 60/60 episodes (centre reading: 0/60)",
-    (
-        GENERATED,
-        "daza2021",
-        "intimate",
-    ): "daza2021 within 0.45 m body edge to body edge in 33/60 scenes (centre reading: 1/60)",
-    (
-        "museum",
-        "sousa2022",
-        "personal_seconds",
-    ): "personal-zone time: sousa2022 982.0 s vs plain A* 668.6 s (47% more, claim 50% less)",
-    (
-        "care_center",
-        "sousa2022",
-        "personal_seconds",
-    ): "personal-zone time: sousa2022 370.0 s vs plain A* 445.5 s (17% less, claim 50% less)",
-    (
-        GENERATED,
-        "sousa2022",
-        "personal_seconds",
-    ): "personal-zone time: sousa2022 137.0 s vs plain A* 82.8 s (65% more, claim 50% less)",
-    (
-        "museum",
-        "calderita",
-        "personal_seconds",
-    ): "personal-zone time: calderita 661.6 s vs plain A* 668.6 s (1% less, claim 50% less)",
-    (
-        GENERATED,
-        "calderita",
-        "personal_seconds",
-    ): "personal-zone time: calderita 75.3 s vs plain A* 82.8 s (9% less, claim 50% less)",
-    (
-        GENERATED,
-        "calderita",
-        "active_object_seconds",
-    ): "active object-space time: calderita 16.1 s vs plain A* 5.6 s (more, claim 80% less)",
+    ("museum", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 60/60 episodes (centre "
+    "reading: 0/60)",
+    ("care_center", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 60/60 episodes "
+    "(centre reading: 0/60)",
+    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 18/60 scenes (centre "
+    "reading: 0/60)",
+    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 155.09 s vs plain A* 176.37 s (12% "
+    "less, claim 50% less)",
+    ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 197.86 s vs plain A* 337.76 s "
+    "(41% less, claim 50% less)",
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 81.41 s vs plain A* 87.92 s (7% "
+    "less, claim 50% less)",
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 494.47 s vs plain A* 176.37 s (180% "
+    "more, claim 50% less)",
+    (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 16.06 s vs plain A* "
+    "5.58 s (more, claim 80% less)",
 }
 
 
@@ -454,6 +411,248 @@ def test_paper_claim_ci(scene: str, claim: str, planner: str) -> None:
 @pytest.mark.parametrize(("scene", "claim", "planner"), _paper_cases(full=True))
 def test_paper_claim_full(scene: str, claim: str, planner: str) -> None:
     CLAIMS[claim](records(scene, _seeds(scene, True)), ASTAR, planner)
+
+
+# --- the yielding claims: social against the collision-free baseline, at their strength ----------------
+#
+# A polite robot gives way: whatever the people do, the robot itself never moves into anyone's
+# intimate zone nor into a contact, halves the personal-zone time it causes, and arrives as often
+# and nearly as fast as ``astar_orca``. "Robot-caused" is the rule of ``collisions_robot_fault``: the
+# robot's velocity toward the person above 0.05 m/s at that instant (``docs/metrics.md``, who
+# approached whom).
+
+
+def _robot_intimate(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL) -> None:
+    room = roomy(rec[subject])
+    entered = [
+        (r["seed"], int(r["intimate_gap_entries_robot_caused"]))
+        for r in room
+        if r.get("intimate_gap_entries_robot_caused")
+    ]
+    assert not entered, (
+        f"{subject} moved into someone's intimate zone (body gap < 0.45 m) in {len(entered)}/{len(room)} episodes, "
+        f"{sum(n for _, n in entered)} entries (seed, entries: {entered})"
+    )
+
+
+def _never_at_fault(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL) -> None:
+    fault = [(r["seed"], int(r["collisions_robot_fault"])) for r in rec[subject] if r.get("collisions_robot_fault")]
+    assert not fault, (
+        f"{subject} at fault in a contact in {len(fault)}/{len(rec[subject])} episodes (seed, events: {fault})"
+    )
+
+
+def _robot_personal(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL) -> None:
+    def total(p: str) -> float:
+        return sum(_count(r, "personal_gap_time_robot_caused") for r in rec[p])
+
+    ours, base = total(subject), total(baseline)
+    assert ours <= 0.5 * base, (
+        f"robot-caused personal-zone time: {subject} {ours:.2f} s vs {LABELS[baseline]} {base:.2f} s "
+        f"({1 - ours / base if base else 0:.0%} less; claim: at least 50% less)"
+    )
+
+
+def _success_at_least(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL) -> None:
+    s, a = rate(rec[subject], "success"), rate(rec[baseline], "success")
+    t = rate(rec[subject], "timeout")
+    assert s >= a and t <= 0.02, (
+        f"success: {subject} {s:.1%} vs {LABELS[baseline]} {a:.1%}, timeouts {t:.1%} "
+        "(claim: success at least the baseline's, timeouts at most 2%)"
+    )
+
+
+def _time_upper(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL) -> None:
+    s, a = _paired(rec, "time_to_goal", baseline, subject)
+    assert len(s) >= 2, f"only {len(s)} episodes both planners complete"
+    r, lo, hi = paired_ratio(s, a)
+    assert hi <= 1.3, (
+        f"paired time to goal: {subject}/{LABELS[baseline]} {r:.3f} [95% CI {lo:.3f}, {hi:.3f}], {len(s)} pairs "
+        "(claim: upper bound <= 1.3)"
+    )
+
+
+#: The yielding claims, each asserted for ``social`` against ``astar_orca`` on every scene set.
+YIELD_CLAIMS: dict[str, Callable[..., None]] = {
+    "robot_caused_intimate": _robot_intimate,
+    "never_at_fault": _never_at_fault,
+    "robot_caused_personal_seconds": _robot_personal,
+    "success_and_timeouts": _success_at_least,
+    "time_upper_bound": _time_upper,
+}
+#: (scene set, claim) -> the measured figure, for yielding claims that do not hold on the test split
+#: (CI sets).
+KNOWN_YIELD_FAILURES: dict[tuple[str, str], str] = {
+    ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 4/20 episodes, one entry each "
+    "(seeds 1000, 1008, 1016, 1018)",
+    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 384.0 s vs astar_orca "
+    "469.0 s (18% less, claim 50%)",
+    ("care_center", "robot_caused_intimate"): "social moved into an intimate zone in 1/20 episodes (seed 1019)",
+    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 145.8 s vs "
+    "astar_orca 167.9 s (13% less, claim 50%)",
+    (GENERATED, "robot_caused_intimate"): "social moved into an intimate zone in 2/50 scenes (seeds 10006, 10032)",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 127.3 s vs astar_orca "
+    "139.1 s (8% less, claim 50%)",
+}
+#: The same for the full test split.
+KNOWN_FULL_YIELD_FAILURES: dict[tuple[str, str], str] = {
+    ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 11/60 episodes, one entry each",
+    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1118.4 s vs astar_orca "
+    "1383.1 s (19% less, claim 50%)",
+    ("care_center", "robot_caused_intimate"): "social moved into an intimate zone in 6/60 episodes, one entry each",
+    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 432.8 s vs "
+    "astar_orca 468.8 s (8% less, claim 50%)",
+    (GENERATED, "robot_caused_intimate"): "social moved into an intimate zone in 3/60 scenes, one entry each",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 159.4 s vs astar_orca "
+    "184.6 s (14% less, claim 50%)",
+}
+
+
+def _yield_cases(full: bool) -> list[Any]:
+    known = KNOWN_FULL_YIELD_FAILURES if full else KNOWN_YIELD_FAILURES
+    out = []
+    for scene in SCENE_SETS:
+        for claim in YIELD_CLAIMS:
+            m = [pytest.mark.full] if full else []
+            if reason := known.get((scene, claim)):
+                m.append(pytest.mark.xfail(strict=True, reason=reason))
+            out.append(pytest.param(scene, claim, marks=m, id=f"{scene}-{claim}"))
+    return out
+
+
+@pytest.mark.parametrize(("scene", "claim"), _yield_cases(full=False))
+def test_yield_claim_ci(scene: str, claim: str) -> None:
+    """``social`` gives way: the yielding claims against ``astar_orca`` (``YIELD_CLAIMS``), CI sets."""
+    YIELD_CLAIMS[claim](records(scene, _seeds(scene, False)))
+
+
+@pytest.mark.parametrize(("scene", "claim"), _yield_cases(full=True))
+def test_yield_claim_full(scene: str, claim: str) -> None:
+    YIELD_CLAIMS[claim](records(scene, _seeds(scene, True)))
+
+
+#: Scene seeds per Francis archetype for the yielding claim (a prefix of the test split's scene
+#: seeds in ``make test``, all of them in ``make test-full``); each archetype's scene of that seed is
+#: run with the same episode seed.
+CI_FRANCIS_SEEDS = splits.TEST_SCENE_SEEDS[:10]
+FULL_FRANCIS_SEEDS = splits.TEST_SCENE_SEEDS
+
+
+def _run_francis(archetype: str, seed: int) -> Records:
+    """``social`` and ``astar_orca`` on the scene of `archetype` drawn with `seed`, every robot."""
+    from proxemic import francis2023
+
+    return _episodes(francis2023.scenario_name(archetype, seed=seed), seed, (SOCIAL, ASTAR_ORCA))
+
+
+_FRANCIS: dict[tuple[int, ...], dict[str, Records]] = {}
+
+
+def francis_records(seeds: tuple[int, ...]) -> dict[str, Records]:
+    """Every archetype's episodes on `seeds`, by archetype, run once per test session (2 processes)."""
+    if seeds not in _FRANCIS:
+        import multiprocessing as mp
+
+        from proxemic import francis2023
+
+        jobs = [(a, s) for a in francis2023.ARCHETYPES for s in seeds]
+        with mp.get_context("fork").Pool(2) as pool:
+            parts = pool.starmap(_run_francis, jobs)
+        by: dict[str, Records] = {a: {SOCIAL: [], ASTAR_ORCA: []} for a in francis2023.ARCHETYPES}
+        for (a, _), part in zip(jobs, parts, strict=True):
+            for planner, recs in part.items():
+                by[a][planner].extend(recs)
+        _FRANCIS[seeds] = by
+    return _FRANCIS[seeds]
+
+
+#: archetype -> the measured figure, for Francis archetypes where social's success or timeouts
+#: miss the yielding claim (CI seeds).
+KNOWN_FRANCIS_FAILURES: dict[str, str] = {
+    "narrow_hallway": "social succeeds in 90% (astar_orca 100%), times out in 10% (seeds 10000-10009)",
+    "dense_crowd": "social succeeds in 80% (astar_orca 100%), times out in 20% (seeds 10000-10009)",
+}
+#: The same on the whole test split.
+KNOWN_FULL_FRANCIS_FAILURES: dict[str, str] = {
+    "narrow_hallway": "social succeeds in 80% (astar_orca 90%), times out in 20% (60 seeds)",
+    "dense_crowd": "social succeeds in 65% (astar_orca 98.3%), times out in 35% (60 seeds)",
+}
+
+
+def _francis_cases(full: bool) -> list[Any]:
+    from proxemic import francis2023
+
+    known = KNOWN_FULL_FRANCIS_FAILURES if full else KNOWN_FRANCIS_FAILURES
+    out = []
+    for a in francis2023.ARCHETYPES:
+        m = [pytest.mark.full] if full else []
+        if reason := known.get(a):
+            m.append(pytest.mark.xfail(strict=True, reason=reason))
+        out.append(pytest.param(a, marks=m, id=a))
+    return out
+
+
+@pytest.mark.parametrize("archetype", _francis_cases(full=False))
+def test_yield_success_in_every_francis_archetype_ci(archetype: str) -> None:
+    """In every Francis archetype social succeeds at least as often as astar_orca, with at most 2%
+    timeouts: a narrow hallway is passed by stepping aside or waiting, not by timing out."""
+    YIELD_CLAIMS["success_and_timeouts"](francis_records(CI_FRANCIS_SEEDS)[archetype])
+
+
+@pytest.mark.parametrize("archetype", _francis_cases(full=True))
+def test_yield_success_in_every_francis_archetype_full(archetype: str) -> None:
+    YIELD_CLAIMS["success_and_timeouts"](francis_records(FULL_FRANCIS_SEEDS)[archetype])
+
+
+#: The recorded crowds (``../shared/data/recorded_crowds``, never bundled, never tuned on) replayed
+#: with everyone reacting within 1.5 m of a robot: each recording from each start time, for
+#: ``REPLAY_WINDOW`` seconds, the robot crossing the recording's area through its middle from west
+#: to east (``test_record_invariants.replay_scene``; ``make test-full``).
+RECORDINGS = ("eth", "hotel", "univ", "zara1", "zara2")
+REPLAY_T0 = (0.0, 60.0, 120.0)
+REPLAY_WINDOW = 90.0
+REPLAY_REACT = 1.5
+
+
+_REPLAYS: list[Records] = []
+
+
+def replay_records() -> Records:
+    """``social`` and ``astar_orca`` on every replay window, run once per test session (2 processes)."""
+    if not _REPLAYS:
+        import multiprocessing as mp
+        import tempfile
+
+        folder = Path(tempfile.mkdtemp(prefix="proxemic-replays-"))
+        names = [str(replay_scene(folder, n, t0, REPLAY_REACT, REPLAY_WINDOW)) for n in RECORDINGS for t0 in REPLAY_T0]
+        with mp.get_context("fork").Pool(2) as pool:
+            parts = pool.starmap(_episodes, [(n, 0, (SOCIAL, ASTAR_ORCA)) for n in names])
+        _REPLAYS.append({p: [r for part in parts for r in part[p]] for p in (SOCIAL, ASTAR_ORCA)})
+    return _REPLAYS[0]
+
+
+#: claim -> the measured figure, for yielding claims that do not hold on the replays.
+KNOWN_REPLAY_FAILURES: dict[str, str] = {
+    "robot_caused_personal_seconds": "robot-caused personal-zone time: social 101.7 s vs astar_orca 111.0 s (8% "
+    "less, claim 50%)",
+    "time_upper_bound": "paired time to goal social/astar_orca 1.196 [95% CI 1.065, 1.362] over 15 pairs",
+}
+
+
+def _replay_cases() -> list[Any]:
+    out = []
+    for claim in YIELD_CLAIMS:
+        m = [pytest.mark.full, pytest.mark.skipif(not (CROWDS / "eth.csv").is_file(), reason="no recordings here")]
+        if reason := KNOWN_REPLAY_FAILURES.get(claim):
+            m.append(pytest.mark.xfail(strict=True, reason=reason))
+        out.append(pytest.param(claim, marks=m, id=claim))
+    return out
+
+
+@pytest.mark.parametrize("claim", _replay_cases())
+def test_yield_claim_on_recorded_crowds(claim: str) -> None:
+    """The yielding claims among real pedestrians (ETH and UCY replayed, reacting within 1.5 m)."""
+    YIELD_CLAIMS[claim](replay_records())
 
 
 def _exercised_cases() -> list[Any]:
@@ -562,3 +761,43 @@ def test_paired_time_uses_only_episodes_both_complete() -> None:
     slow = {SOCIAL: [_episode(0, time_to_goal=70.0), _episode(1, time_to_goal=70.0)], ASTAR: rec[ASTAR][:2]}
     with pytest.raises(AssertionError, match=r"claim: <= 1\.3"):
         CLAIMS["time"](slow, ASTAR)
+
+
+def test_yield_claims_read_robot_caused_figures() -> None:
+    """A person walking into a parked robot is not the robot's entry; the robot's own approach is."""
+    theirs = _episode(0, gap_person_min=0.1, intimate_gap_entries_robot_caused=0, collisions_robot_fault=0)
+    YIELD_CLAIMS["robot_caused_intimate"]({SOCIAL: [theirs]})
+    YIELD_CLAIMS["never_at_fault"]({SOCIAL: [theirs]})
+    ours = _episode(1, intimate_gap_entries_robot_caused=2, collisions_robot_fault=1)
+    with pytest.raises(AssertionError, match=r"1/1 episodes, 2 entries"):
+        YIELD_CLAIMS["robot_caused_intimate"]({SOCIAL: [ours]})
+    with pytest.raises(AssertionError, match="at fault in a contact"):
+        YIELD_CLAIMS["never_at_fault"]({SOCIAL: [ours]})
+    half = {
+        SOCIAL: [_episode(0, personal_gap_time_robot_caused=5.0)],
+        ASTAR_ORCA: [_episode(0, personal_gap_time_robot_caused=10.0)],
+    }
+    YIELD_CLAIMS["robot_caused_personal_seconds"](half)
+    half[SOCIAL][0]["personal_gap_time_robot_caused"] = 5.1
+    with pytest.raises(AssertionError, match="claim: at least 50% less"):
+        YIELD_CLAIMS["robot_caused_personal_seconds"](half)
+
+
+def test_yield_success_allows_no_points_below_and_two_percent_timeouts() -> None:
+    """The general claim lets social be 5 points below; the yielding one does not."""
+    base = [_episode(i) for i in range(20)]
+    ours = [_episode(i) for i in range(19)] + [_episode(19, success=False, timeout=True)]
+    CLAIMS["success"]({SOCIAL: ours, ASTAR_ORCA: base}, ASTAR_ORCA)  # 95% vs 100%: within 5 points
+    with pytest.raises(AssertionError, match=r"timeouts 5\.0%"):
+        YIELD_CLAIMS["success_and_timeouts"]({SOCIAL: ours, ASTAR_ORCA: base})
+
+
+def test_yield_time_reads_the_upper_bound() -> None:
+    """A ratio of 1.25 whose interval reaches past 1.3 fails the yielding claim, not the general one."""
+    ours = [_episode(i, time_to_goal=t) for i, t in enumerate((40.0, 80.0, 45.0, 75.0))]
+    base = [_episode(i, time_to_goal=48.0) for i in range(4)]
+    r, _lo, hi = paired_ratio([e["time_to_goal"] for e in ours], [48.0] * 4)
+    assert r <= 1.3 < hi
+    CLAIMS["time"]({SOCIAL: ours, ASTAR_ORCA: base}, ASTAR_ORCA)
+    with pytest.raises(AssertionError, match=r"upper bound <= 1\.3"):
+        YIELD_CLAIMS["time_upper_bound"]({SOCIAL: ours, ASTAR_ORCA: base})

@@ -36,6 +36,13 @@ def step_worlds(
     threads: int | None = None,
 ) -> None: ...
 def metric_registry() -> list[MetricInfo]: ...
+def zone_distances(
+    centre: tuple[float, float],
+    heading: float,
+    sides: tuple[float, float, float, float],
+    zone_scale: float,
+    points: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
 def scenario_schema() -> str: ...
 
 GENERATE_PARAMS: list[str]

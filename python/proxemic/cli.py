@@ -17,7 +17,7 @@ import numpy as np
 
 from proxemic import scenarios, splits
 from proxemic.errors import ProxemicError
-from proxemic.evaluation import BASELINE_PLANNERS
+from proxemic.evaluation import BASELINE_PLANNERS, EvalResult
 from proxemic.viz.topdown import FRAME_SIZE
 
 #: The social-map pictures of the demo: (scenario, time of day or None for the scene's start).
@@ -48,9 +48,17 @@ DEMO_FIGURE_NOTES: dict[str, str] = {
     "success": "rate over the episodes, 95% Wilson interval",
     "collision": "rate over the episodes, 95% Wilson interval",
     "time_to_goal": "mean over the episodes that reached the goal, 95% Student t interval",
-    "path_length_ratio": "mean over the episodes not ended by a collision (a collision cuts the path short; "
-    "summary.md averages every episode)",
+    "path_length_ratio": "mean over the successful episodes (a collision or the time limit cuts the path short)",
+    "psi_intimate": "a person's centre to the robot's centre, against the scene's Hall radii (bodies of 0.3 m "
+    "and 0.22 m radius reach 0.45 m between centres only by overlapping)",
     "psi_personal": "a person's centre to the robot's centre, against the scene's Hall radii",
+    "intimate_gap_time": "body edge to body edge, the reading of the claims",
+    "intimate_gap_entries_robot_caused": "body gaps; the robot moving toward the person above 0.05 m/s, the "
+    "rule of robot-at-fault contacts",
+    "intimate_gap_entries_person_caused": "body gaps; the person came to a robot stopped or moving away",
+    "personal_gap_time_robot_caused": "body gaps, seconds of visits the robot made (or joined by moving toward "
+    "the person)",
+    "personal_gap_time_person_caused": "body gaps, seconds of visits the person made to a robot stopped or moving away",
     "interaction_crossings": "mean per episode",
     "psi_objects_active": "the robot's centre inside the space",
     "snqi": "robot-sf's composite score (higher is better), normalised on the plain astar episodes",
@@ -82,17 +90,24 @@ def demo_legend(split: str, episodes: int) -> str:
     return "\n".join(lines)
 
 
-def _without_collided_path_ratio(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
-    """The records with ``path_length_ratio`` removed from the episodes a collision ended."""
-    from proxemic.evaluation.summary import collided
+def _print_results(result: EvalResult, note: str = "") -> None:
+    """An evaluation's results in the terminal: the headline table, `note` if any, SNQI, verdicts."""
+    from proxemic.evaluation import headline_text
 
-    return [{**r, "path_length_ratio": None} if collided(r) else r for r in records]
+    print(headline_text(result.summary))
+    if note:
+        print()
+        print(textwrap.fill(note, 100))
+    print()
+    print(textwrap.fill(result.snqi_line, 100))
+    for v in result.verdicts:
+        print()
+        print(v)
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: planners compared on test-split seeds, metrics tables, trajectory and social-map plots."""
-    from proxemic.evaluation import EvalConfig, headline_text, run_evaluation, summarise
-    from proxemic.evaluation.summary import collided
+    from proxemic.evaluation import EvalConfig, run_evaluation
     from proxemic.social import SocialMap
 
     out = Path(args.out)
@@ -113,33 +128,13 @@ def cmd_demo(args: argparse.Namespace) -> int:
         )
         t0 = time.perf_counter()
         result = run_evaluation(cfg)
-        # The path length ratio of the headline over the episodes no collision cut short.
-        trimmed = {r["planner"]: r for r in summarise(_without_collided_path_ratio(result.records))}
-        rows = [
-            {**row, **{k: v for k, v in trimmed[row["planner"]].items() if k.startswith("path_length_ratio")}}
-            for row in result.summary
-        ]
-        excluded = {
-            p: sum(r["path_length_ratio"] is not None and collided(r) for r in result.records if r["planner"] == p)
-            for p in planners
-        }
         print()
         print(
             f"## {scenario}: {', '.join(planners)}, {args.episodes} episodes each, seeds {seeds[0]}-{seeds[-1]} "
             f"({time.perf_counter() - t0:.1f} s; all metrics in {scene_out}/summary.md)"
         )
         print()
-        print(headline_text(rows))
-        print()
-        print(
-            "path length ratio without the episodes a collision ended: "
-            + ", ".join(f"{p} {n} left out" for p, n in excluded.items())
-        )
-        print()
-        print(textwrap.fill(result.snqi_line, 100))
-        for v in result.verdicts:
-            print()
-            print(v)
+        _print_results(result)
         print()
         print(
             textwrap.fill(
@@ -226,7 +221,7 @@ def _eval_suite(args: argparse.Namespace) -> int:
 
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
-    from proxemic.evaluation import EvalConfig, headline_text, policy_robot_note, robots_note, run_evaluation
+    from proxemic.evaluation import EvalConfig, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
     args.out = str(_fresh_out(Path("out/eval")) if args.out is None else Path(args.out))
@@ -266,15 +261,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     result = run_evaluation(cfg)
     print()
-    print(headline_text(result.summary))
-    if note := robots_note(result.summary) or policy_robot_note(cfg):
-        print()
-        print(textwrap.fill(note, 100))
-    print()
-    print(textwrap.fill(result.snqi_line, 100))
-    for v in result.verdicts:
-        print()
-        print(v)
+    _print_results(result, robots_note(result.summary) or policy_robot_note(cfg))
     print()
     print(
         f"{len(cfg.tasks())} episodes in {time.perf_counter() - t0:.1f} s; wrote {cfg.out}/episodes.csv, "

@@ -67,6 +67,18 @@ class EpisodeMetrics(TypedDict):
     psi_personal: float | None
     psi_social: float | None
     psi_public: float | None
+    intimate_gap_time: float
+    intimate_gap_time_robot_caused: float
+    intimate_gap_time_person_caused: float
+    intimate_gap_entries: int
+    intimate_gap_entries_robot_caused: int
+    intimate_gap_entries_person_caused: int
+    personal_gap_time: float
+    personal_gap_time_robot_caused: float
+    personal_gap_time_person_caused: float
+    personal_gap_entries: int
+    personal_gap_entries_robot_caused: int
+    personal_gap_entries_person_caused: int
     group_psi_intimate: float | None
     group_psi_personal: float | None
     group_psi_social: float | None
@@ -137,6 +149,8 @@ class MetricInfo(TypedDict):
     """Where it comes from (empty for the project's own)."""
     summary: Literal["rate", "mean"] | None
     """How ``proxemic eval`` summarises it over episodes (None: it does not)."""
+    over_successes: bool
+    """Whether a summarised mean is over the successful episodes only."""
     decimals: int
     """Digits after the decimal point of a summarised mean (rates are whole percentages)."""
     panel: Literal["outcome", "efficiency", "social", "papers"] | None
@@ -171,6 +185,8 @@ class Individual(TypedDict):
     heading: float
     sides: tuple[float, float, float, float]
     """Gaussian sigmas (m): front, rear, right, left."""
+    zone_scale: float
+    """The length (m) that turns sqrt(2 q) into a zone distance (``_core.zone_distances``)."""
     members: list[int]
     """Person indices."""
     robots: list[int]

@@ -355,22 +355,18 @@ def sousa_findings(scene: str | _core.Scenario, results: dict[str, list[EpisodeR
 SOUSA_PERSONAL_RADIUS = 1.0
 
 
-def sousa_zone_distance(individual: Individual, points: np.ndarray) -> np.ndarray:
+def zone_distance(individual: Individual, points: np.ndarray) -> np.ndarray:
     """Zone distance (m) of ``points`` ((N, 2), metres) in an individual's asymmetric Gaussian.
 
-    Sousa et al. 2022 eq. 5: with the sagittal and frontal offsets ``s``, ``f`` of a point from the
-    individual's centre in its heading frame, and the Gaussian's sides (front or rear for ``s``,
-    right or left for ``f``, from the perception's ``sides``), the exponent is
-    ``q = s^2 / (2 sigma_s^2) + f^2 / (2 sigma_f^2)`` and the zone distance ``sqrt(2 q)`` times
-    the base sigma, 1 m for the ``sousa2022`` space.
+    Sousa et al. 2022 eq. 5-8 with the perception's centre, heading, sides and zone scale: the
+    core's definition (``proxemic._core.zone_distances``), the one the planners and the social map
+    use.
     """
-    d = np.asarray(points, dtype=float)[:, :2] - np.asarray(individual["centre"], dtype=float)
-    c, s = np.cos(individual["heading"]), np.sin(individual["heading"])
-    sag, fro = c * d[:, 0] + s * d[:, 1], s * d[:, 0] - c * d[:, 1]
-    front, rear, right, left = individual["sides"]
-    sa = np.where(sag >= 0.0, front, rear)
-    sf = np.where(fro >= 0.0, right, left)
-    return np.sqrt((sag / sa) ** 2 + (fro / sf) ** 2)
+    pts = np.ascontiguousarray(np.asarray(points, dtype=np.float64)[:, :2])
+    (x, y), (front, rear, right, left) = individual["centre"], individual["sides"]
+    return _core.zone_distances(
+        (x, y), individual["heading"], (front, rear, right, left), individual["zone_scale"], pts
+    )
 
 
 def _personal_space_line(
@@ -383,7 +379,7 @@ def _personal_space_line(
     """
     entered: dict[bool, list[str]] = {True: [], False: []}
     for ind in individuals:
-        least = min(float(sousa_zone_distance(ind, t).min()) for t in tracks)
+        least = min(float(zone_distance(ind, t).min()) for t in tracks)
         if least < SOUSA_PERSONAL_RADIUS:
             label = "+".join(names[i] for i in ind["members"])
             entered[len(ind["members"]) > 1].append(f"{label} ({least:.2f} m)")

@@ -1,6 +1,8 @@
 """SNQI, the Social Navigation Quality Index of the robot-sf benchmark, over an evaluation's records.
 
-Definition (robot-sf, ``robot_sf.benchmark.snqi``), per episode, higher is better::
+Definition (robot-sf, ``robot_sf.benchmark.snqi.compute``: repository ``ll7/robot_sf_ll7``, file
+``robot_sf/benchmark/snqi/compute.py``, read at commit ``af4b7c2c8b04576289b529c30c1367b16f3f7c3b``),
+per episode, higher is better::
 
     SNQI = w_success * success
            - w_time * time_norm
@@ -35,7 +37,10 @@ from typing import Any
 
 import numpy as np
 
-#: robot-sf's canonical SNQI weights (``recompute_snqi_weights(method="canonical")``).
+#: robot-sf's canonical SNQI weights, as published in ``recompute_snqi_weights`` (its
+#: ``canonical_weights``, ``method="canonical"``) of ``robot_sf/benchmark/snqi/compute.py`` in the
+#: repository ``ll7/robot_sf_ll7`` (read at commit ``af4b7c2c8b04576289b529c30c1367b16f3f7c3b``);
+#: its ``WEIGHT_NAMES`` are these keys in this order.
 WEIGHTS: dict[str, float] = {
     "w_success": 1.0,
     "w_time": 0.8,

@@ -38,6 +38,7 @@ EXTRAS: tuple[dict[str, Any], ...] = (
         "low": None,
         "high": None,
         "summary": "mean",
+        "over_successes": False,
         "decimals": 1,
         "panel": "efficiency",
         "headline": False,
@@ -50,6 +51,7 @@ EXTRAS: tuple[dict[str, Any], ...] = (
         "low": None,
         "high": snqi.WEIGHTS["w_success"],
         "summary": "mean",
+        "over_successes": False,
         "decimals": 3,
         "panel": None,
         "headline": True,
@@ -87,6 +89,8 @@ _ENTRIES = _summarised()
 RATE_METRICS: tuple[str, ...] = tuple(m["key"] for m in _ENTRIES if m["summary"] == "rate")
 #: Metrics summarised as means with Student t intervals (None values are left out).
 MEAN_METRICS: tuple[str, ...] = tuple(m["key"] for m in _ENTRIES if m["summary"] == "mean")
+#: Means taken over the successful episodes only (the registry's ``over_successes``).
+OVER_SUCCESSES: tuple[str, ...] = tuple(m["key"] for m in _ENTRIES if m["summary"] == "mean" and m["over_successes"])
 #: Label, unit, bounds and format of every summarised metric.
 METRICS: dict[str, SummaryColumn] = {m["key"]: _column(m) for m in _ENTRIES}
 #: The panels of ``metrics.png``, in rows: (title, metrics).

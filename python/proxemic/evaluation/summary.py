@@ -8,7 +8,7 @@ from typing import Any
 
 from proxemic import markdown, scenarios, snqi
 from proxemic.evaluation.config import EvalConfig
-from proxemic.evaluation.metrics import HEADLINE, MEAN_METRICS, METRICS, RATE_METRICS
+from proxemic.evaluation.metrics import HEADLINE, MEAN_METRICS, METRICS, OVER_SUCCESSES, RATE_METRICS
 from proxemic.evaluation.stats import mean_ci, wilson
 
 
@@ -25,7 +25,8 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
     """One row per planner: rates with Wilson intervals, means with t intervals.
 
     Rates ``m`` have ``m_lo``/``m_hi``; means have ``m_ci`` (half-width), ``m_n`` (episodes with
-    a value) and ``m_lo``/``m_hi``: the interval clipped to the metric's bounds (:data:`METRICS`).
+    a value) and ``m_lo``/``m_hi``: the interval clipped to the metric's bounds (:data:`METRICS`);
+    the means of :data:`OVER_SUCCESSES` (``path_length_ratio``) are over the successful episodes.
     ``collision`` is the rate of episodes with any collision. ``snqi`` is robot-sf's composite
     (:mod:`proxemic.snqi`), normalised on the plain ``astar`` episodes among `records` (all of
     them when ``astar`` did not run). ``episodes`` counts the seeds and
@@ -48,7 +49,8 @@ def summarise(records: Sequence[dict[str, Any]]) -> list[dict[str, Any]]:
             row[f"{m}_lo"] = lo
             row[f"{m}_hi"] = hi
         for m in MEAN_METRICS:
-            mean, half, n = mean_ci(r.get(m) for r in recs)
+            over = [r for r in recs if r.get("success")] if m in OVER_SUCCESSES else recs
+            mean, half, n = mean_ci(r.get(m) for r in over)
             info = METRICS[m]
             row[m] = mean
             row[f"{m}_ci"] = half
@@ -123,8 +125,10 @@ def policy_robot_note(cfg: EvalConfig) -> str:
 def headline_markdown(rows: Sequence[dict[str, Any]]) -> str:
     """The headline table with units and 95% intervals.
 
-    Success, collisions, time to goal, path length ratio, personal-zone time, o-space crossings
-    and active object-space time (:data:`HEADLINE`).
+    Success, collisions, time to goal, path length ratio, intimate- and personal-zone time on
+    centre distances, intimate-zone time on body gaps with the robot-caused and person-caused
+    intimate entries and personal-zone seconds, o-space crossings and active object-space time
+    (:data:`HEADLINE`).
     """
     return _table(rows, HEADLINE)
 

@@ -505,49 +505,33 @@ def plot_social_map(
     ox, oy, res = grid
     h, w = people_factor.shape
     extent = (ox, ox + w * res, oy, oy + h * res)
-    objects = np.ma.masked_where(object_factor <= 1.0, object_factor)
-    if objects.count():
-        im = ax.imshow(
-            objects,
+
+    def overlay(layer: np.ma.MaskedArray, cmap: str, vmin: float, vmax: float, alpha: float, zorder: float) -> Any:
+        return ax.imshow(
+            layer,
             origin="lower",
             extent=extent,
-            cmap="YlOrRd",
-            vmin=1.0,
-            vmax=4.0,
-            alpha=0.75,
-            zorder=1.5,
+            cmap=cmap,
+            vmin=vmin,
+            vmax=vmax,
+            alpha=alpha,
+            zorder=zorder,
             interpolation="nearest",
         )
+
+    objects = np.ma.masked_where(object_factor <= 1.0, object_factor)
+    if objects.count():
+        im = overlay(objects, "YlOrRd", 1.0, 4.0, 0.75, 1.5)
         cb = fig.colorbar(im, ax=ax, fraction=0.03, pad=0.01)
         cb.set_label("object space cost R(t)")
     finite = np.where(np.isfinite(people_factor), people_factor, np.nan)
     zones = np.ma.masked_where(~(people_factor > 1.0), finite)
     if zones.count():
-        ax.imshow(
-            zones,
-            origin="lower",
-            extent=extent,
-            cmap="Blues",
-            vmin=1.0,
-            vmax=5.0,
-            alpha=0.6,
-            zorder=1.6,
-            interpolation="nearest",
-        )
+        overlay(zones, "Blues", 1.0, 5.0, 0.6, 1.6)
         handles.append(Patch(facecolor=(0.4, 0.6, 0.85, 0.6), label="personal / social zones"))
     lethal = np.ma.masked_where(~np.isinf(people_factor), np.ones_like(people_factor))
     if lethal.count():
-        ax.imshow(
-            lethal,
-            origin="lower",
-            extent=extent,
-            cmap="Greys",
-            vmin=0.0,
-            vmax=1.2,
-            alpha=0.85,
-            zorder=1.7,
-            interpolation="nearest",
-        )
+        overlay(lethal, "Greys", 0.0, 1.2, 0.85, 1.7)
         handles.append(Patch(facecolor="0.2", label="intimate zone (forbidden)"))
     if people is not None and len(people):
         ax.scatter(people[:, 0], people[:, 1], s=28, color="0.15", zorder=5)

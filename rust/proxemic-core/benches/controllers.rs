@@ -19,7 +19,7 @@ use proxemic_core::control::social_momentum::{Agent, SocialMomentumParams, socia
 use proxemic_core::groups::PersonState;
 use proxemic_core::map::{Bounds, DistanceField, GridSpec, OccupancyGrid, StaticGeometry};
 use proxemic_core::math::Vec2;
-use proxemic_core::perception::{Individual, SocialConfig, perceive};
+use proxemic_core::perception::{Individual, ProxemicsConfig, perceive};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
@@ -148,7 +148,7 @@ fn benches(c: &mut Criterion) {
     // the Gaussians of the perceived individuals) are built in the timed step, as the world does
     // every step; the perception (groups) is shared by every robot and done once per step.
     let params = Daza2021Params::default();
-    let cfg = SocialConfig::default();
+    let cfg = ProxemicsConfig::default();
     let paper: Vec<PaperScene> = scenes(&geom, 50, 64, 92, 0.8)
         .into_iter()
         .map(|s| {

@@ -15,47 +15,19 @@
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use proxemic_core::control::orca::{ObstacleSet, Orca, OrcaAgent, OrcaParams};
 use proxemic_core::math::Vec2;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use std::hint::black_box;
 use std::time::Duration;
+
+#[path = "../examples/common/mod.rs"]
+mod common;
+use common::cross_agents;
 
 const RADIUS: f64 = 0.35;
 const DT: f64 = 0.1;
 
-/// Agents and their two shuttle targets.
+/// Agents and their two shuttle targets (the example `orca_agents`'s crossing).
 fn world(n: usize, seed: u64) -> (Vec<OrcaAgent>, Vec<[Vec2; 2]>) {
-    let h = (n as f64).sqrt();
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut pos: Vec<Vec2> = Vec::with_capacity(n);
-    while pos.len() < n {
-        let p = Vec2::new(rng.random_range(-h..h), rng.random_range(-h..h));
-        if pos.iter().all(|q| (p - q).norm() >= 2.0 * RADIUS + 0.1) {
-            pos.push(p);
-        }
-    }
-    let targets = (0..n)
-        .map(|k| match k % 4 {
-            0 => [Vec2::new(h, 0.0), Vec2::new(-h, 0.0)],
-            1 => [Vec2::new(-h, 0.0), Vec2::new(h, 0.0)],
-            2 => [Vec2::new(0.0, h), Vec2::new(0.0, -h)],
-            _ => [Vec2::new(0.0, -h), Vec2::new(0.0, h)],
-        })
-        .collect();
-    let agents = pos
-        .iter()
-        .enumerate()
-        .map(|(k, &p)| OrcaAgent {
-            pos: p,
-            vel: Vec2::zeros(),
-            pref_vel: Vec2::zeros(),
-            radius: RADIUS,
-            max_speed: 1.5,
-            reciprocal: true,
-            id: k as u64,
-        })
-        .collect();
-    (agents, targets)
+    cross_agents(n, seed, RADIUS, 1.5)
 }
 
 /// A snapshot of the crossing after `warmup` steps.

@@ -12,11 +12,11 @@ use proxemic_core::map::CostGrid;
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use proxemic_core::math::Vec2;
-use proxemic_core::perception::{SocialConfig, perceive};
+use proxemic_core::perception::{ProxemicsConfig, perceive};
 use proxemic_core::plan::{PathPlanner, SearchMode, nearest_passable};
 use proxemic_core::proxemics::DensityZones;
 use proxemic_core::scenario::Scenario;
-use proxemic_core::socialmap::{DensityLayer, SocialMap};
+use proxemic_core::social_cost_map::{DensityLayer, SocialMap};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -58,7 +58,7 @@ fn bench(c: &mut Criterion) {
         .map(|s| s.polygon.iter().map(|q| Vec2::new(q[0], q[1])).collect())
         .collect();
     let factors = vec![3.5; objects.len()];
-    let cfg = SocialConfig::default();
+    let cfg = ProxemicsConfig::default();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let crowd = people(50, &geom, &mut rng);
     let features = vec![Vec::new(); crowd.len()];

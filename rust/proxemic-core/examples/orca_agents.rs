@@ -18,12 +18,9 @@
 
 use proxemic_core::control::orca::{ObstacleSet, Orca, OrcaAgent, OrcaParams};
 use proxemic_core::math::Vec2;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
-use std::time::Instant;
 
 mod common;
-use common::{median, thread_cpu_ns};
+use common::{cross_agents, median, time_per};
 
 const RADIUS: f64 = 0.35;
 const MAX_SPEED: f64 = 1.5;
@@ -38,38 +35,7 @@ struct World {
 }
 
 fn make_world(n: usize, seed: u64) -> World {
-    let side = 2.0 * (n as f64).sqrt();
-    let h = side / 2.0;
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut pos: Vec<Vec2> = Vec::with_capacity(n);
-    let min_d = 2.0 * RADIUS + 0.1;
-    while pos.len() < n {
-        let p = Vec2::new(rng.random_range(-h..h), rng.random_range(-h..h));
-        if pos.iter().all(|q| (p - q).norm() >= min_d) {
-            pos.push(p);
-        }
-    }
-    let targets: Vec<[Vec2; 2]> = (0..n)
-        .map(|k| match k % 4 {
-            0 => [Vec2::new(h, 0.0), Vec2::new(-h, 0.0)],
-            1 => [Vec2::new(-h, 0.0), Vec2::new(h, 0.0)],
-            2 => [Vec2::new(0.0, h), Vec2::new(0.0, -h)],
-            _ => [Vec2::new(0.0, -h), Vec2::new(0.0, h)],
-        })
-        .collect();
-    let agents = pos
-        .iter()
-        .enumerate()
-        .map(|(k, &p)| OrcaAgent {
-            pos: p,
-            vel: Vec2::zeros(),
-            pref_vel: Vec2::zeros(),
-            radius: RADIUS,
-            max_speed: MAX_SPEED,
-            reciprocal: true,
-            id: k as u64,
-        })
-        .collect();
+    let (agents, targets) = cross_agents(n, seed, RADIUS, MAX_SPEED);
     World { agents, targets, current: vec![0; n] }
 }
 
@@ -128,20 +94,15 @@ fn main() {
             step(&mut w, &mut orca, &obstacles, &active, &mut out, k as u64);
         }
         let mut nb = 0usize;
-        let c0 = thread_cpu_ns();
-        let t0 = Instant::now();
-        for k in 0..steps {
-            step(&mut w, &mut orca, &obstacles, &active, &mut out, (WARMUP + k) as u64);
-            nb += orca.stats().neighbors;
-        }
-        let el = t0.elapsed().as_secs_f64();
-        let c1 = thread_cpu_ns();
-        let per = (steps * n) as f64;
-        wall.push(el / per * 1e6);
-        if let (Some(a), Some(b)) = (c0, c1) {
-            cpu.push((b - a) as f64 / per * 1e-3);
-        }
-        neighbors.push(nb as f64 / per);
+        let (w_us, c_us) = time_per(steps * n, || {
+            for k in 0..steps {
+                step(&mut w, &mut orca, &obstacles, &active, &mut out, (WARMUP + k) as u64);
+                nb += orca.stats().neighbors;
+            }
+        });
+        wall.push(w_us);
+        cpu.extend(c_us);
+        neighbors.push(nb as f64 / (steps * n) as f64);
         for i in 0..n {
             for j in i + 1..n {
                 if (w.agents[i].pos - w.agents[j].pos).norm() < 2.0 * RADIUS - 1e-6 {

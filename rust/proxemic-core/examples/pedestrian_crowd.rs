@@ -17,10 +17,9 @@ use proxemic_core::pedestrians::{Crowd, SocialForceParams};
 use proxemic_core::scenario::Randomize;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use std::time::Instant;
 
 mod common;
-use common::{AREA_PER_PERSON, hall, median, thread_cpu_ns, walkers};
+use common::{AREA_PER_PERSON, hall, median, time_per, walkers};
 
 const DT: f64 = 0.1;
 const WARMUP: usize = 20;
@@ -55,18 +54,13 @@ fn main() {
         for _ in 0..WARMUP {
             crowd.step(DT, &robots, &geom, &field);
         }
-        let c0 = thread_cpu_ns();
-        let t0 = Instant::now();
-        for _ in 0..steps {
-            crowd.step(DT, &robots, &geom, &field);
-        }
-        let el = t0.elapsed().as_secs_f64();
-        let c1 = thread_cpu_ns();
-        let per = (steps * n) as f64;
-        wall.push(el / per * 1e6);
-        if let (Some(a), Some(b)) = (c0, c1) {
-            cpu.push((b - a) as f64 / per * 1e-3);
-        }
+        let (w_us, c_us) = time_per(steps * n, || {
+            for _ in 0..steps {
+                crowd.step(DT, &robots, &geom, &field);
+            }
+        });
+        wall.push(w_us);
+        cpu.extend(c_us);
         speed += crowd.vel.iter().map(|v| v.norm()).sum::<f64>() / n as f64 / reps as f64;
     }
     println!(

@@ -25,7 +25,7 @@
 //! - [`map`]: static geometry, occupancy grid, distance field, 2D ray casting.
 //! - [`perception`]: from people and robots to the individuals of the social map (groups,
 //!   socialization features).
-//! - [`socialmap`]: the social cost map (layers of zones, groups and object spaces).
+//! - [`social_cost_map`]: the social cost map (layers of zones, groups and object spaces).
 //! - [`plan`]: 8-connected A* (plain and cost-aware), Dijkstra oracle, path smoothing, and the
 //!   social global planner ([`plan::social`]).
 //! - [`control`]: command limits, the path follower, the local planners and the mode switch.
@@ -48,7 +48,7 @@ pub mod perception;
 pub mod plan;
 pub mod proxemics;
 pub mod scenario;
-pub mod socialmap;
+pub mod social_cost_map;
 pub mod world;
 
 pub use error::{CoreError, Result};

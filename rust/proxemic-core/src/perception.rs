@@ -23,11 +23,11 @@ use crate::groups::{
 };
 use crate::math::Vec2;
 use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, Placed, Pose, SideInfluences, adapt};
-use crate::socialmap::{CostMode, SocialCosts, SpaceFunction};
+use crate::social_cost_map::{CostMode, SocialCosts, SpaceFunction};
 
 /// The social model of a scenario (its `[proxemics]` table, validated).
 #[derive(Clone, Debug)]
-pub struct SocialConfig {
+pub struct ProxemicsConfig {
     /// Hall's zone radii (metres, centre to centre).
     pub zones: HallZones,
     /// The base personal-space function of a person.
@@ -46,10 +46,10 @@ pub struct SocialConfig {
     pub join: JoinParams,
 }
 
-impl Default for SocialConfig {
+impl Default for ProxemicsConfig {
     fn default() -> Self {
         let zones = HallZones::EVALUATION;
-        SocialConfig {
+        ProxemicsConfig {
             zones,
             space: PersonalSpace::CALDERITA,
             features: Vec::new(),
@@ -67,7 +67,7 @@ impl Default for SocialConfig {
     }
 }
 
-impl SocialConfig {
+impl ProxemicsConfig {
     /// The base function as four per-side sigmas (front, rear, right, left).
     pub fn base_sides(&self) -> Asymmetric {
         match self.space {
@@ -118,7 +118,7 @@ impl Individual {
         sides: Asymmetric,
         members: Vec<usize>,
         robots: Vec<usize>,
-        cfg: &SocialConfig,
+        cfg: &ProxemicsConfig,
     ) -> Self {
         let placed = PersonalSpace::Asymmetric(sides).at(Pose::new(centre.x, centre.y, heading));
         let zone_scale = cfg.zone_scale();
@@ -240,6 +240,9 @@ pub struct IndividualReport {
     pub heading: f64,
     /// Gaussian sigmas (metres): front, rear, right, left.
     pub sides: (f64, f64, f64, f64),
+    /// The length (metres) that turns `sqrt(2 q)` into a zone distance
+    /// ([`crate::proxemics::zone_distance`]).
+    pub zone_scale: f64,
     /// Person indices of the members.
     pub members: Vec<usize>,
     /// Robot indices that joined the interaction.
@@ -258,6 +261,7 @@ impl PerceptionReport {
                 centre: (ind.centre.x, ind.centre.y),
                 heading: ind.heading,
                 sides: (ind.sides.front, ind.sides.rear, ind.sides.right, ind.sides.left),
+                zone_scale: ind.zone_scale,
                 members: ind.members.clone(),
                 robots: ind.robots.clone(),
             })
@@ -277,7 +281,7 @@ impl PerceptionReport {
 /// per person, with one value per configured feature; empty vectors when no features are
 /// configured) and the robots.
 pub fn perceive(
-    cfg: &SocialConfig,
+    cfg: &ProxemicsConfig,
     people: &[PersonState],
     features: &[Vec<f64>],
     robots: &[RobotDisc],
@@ -288,7 +292,7 @@ pub fn perceive(
 /// [`perceive`], with the group detector's memory of the previous call (see [`DetectorMemory`]):
 /// the same perception, faster from one control step to the next.
 pub fn perceive_with(
-    cfg: &SocialConfig,
+    cfg: &ProxemicsConfig,
     people: &[PersonState],
     features: &[Vec<f64>],
     robots: &[RobotDisc],
@@ -354,7 +358,6 @@ pub fn perceive_with(
 mod tests {
     use super::*;
     use crate::groups::DelaunayParams;
-    use crate::socialmap::SocialCosts;
 
     fn standing(x: f64, y: f64, th: f64) -> PersonState {
         PersonState::standing(Vec2::new(x, y), th)
@@ -364,7 +367,7 @@ mod tests {
     fn max_value_is_the_plain_maximum_bit_for_bit() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(23);
-        let cfg = SocialConfig::default();
+        let cfg = ProxemicsConfig::default();
         let mut skipped_somewhere = false;
         for trial in 0..40 {
             // People scattered, some in conversations (groups), some twice at the same pose.
@@ -408,23 +411,23 @@ mod tests {
 
     #[test]
     fn a_person_alone_keeps_the_base_function_and_zones_are_euclidean_sideways() {
-        let cfg = SocialConfig::default();
+        let cfg = ProxemicsConfig::default();
         let p = perceive(&cfg, &[standing(0.0, 0.0, 0.0)], &[vec![]], &[]).expect("valid");
         assert_eq!(p.individuals.len(), 1);
         let ind = &p.individuals[0];
         assert_eq!(ind.sides, cfg.base_sides());
         // Kirby: sideways the zone distance equals the Euclidean distance; in front it is shorter
         // (the zone extends farther), behind longer.
-        let side = SocialCosts::zone_distance(ind, Vec2::new(0.0, 1.0));
-        let front = SocialCosts::zone_distance(ind, Vec2::new(1.0, 0.0));
-        let rear = SocialCosts::zone_distance(ind, Vec2::new(-1.0, 0.0));
+        let side = ind.zone_distance(Vec2::new(0.0, 1.0));
+        let front = ind.zone_distance(Vec2::new(1.0, 0.0));
+        let rear = ind.zone_distance(Vec2::new(-1.0, 0.0));
         assert!((side - 1.0).abs() < 1e-12);
         assert!(front < 1.0 && rear > 1.0);
     }
 
     #[test]
     fn a_conversation_is_one_individual_covering_its_members() {
-        let cfg = SocialConfig::default();
+        let cfg = ProxemicsConfig::default();
         // two people facing each other 1.2 m apart
         let people = [standing(0.0, 0.0, 0.0), standing(1.2, 0.0, std::f64::consts::PI)];
         let p = perceive(&cfg, &people, &[vec![], vec![]], &[]).expect("valid");
@@ -433,28 +436,28 @@ mod tests {
         assert_eq!(g.members, vec![0, 1]);
         assert!((g.centre - Vec2::new(0.6, 0.0)).norm() < 1e-9);
         // the midpoint between them is deep inside the group's space (intimate: forbidden)
-        assert!(SocialCosts::zone_distance(g, Vec2::new(0.6, 0.0)) < cfg.zones.intimate);
+        assert!(g.zone_distance(Vec2::new(0.6, 0.0)) < cfg.zones.intimate);
     }
 
     #[test]
     fn no_group_detection_keeps_everybody_alone() {
-        let cfg = SocialConfig { groups: None, ..SocialConfig::default() };
+        let cfg = ProxemicsConfig { groups: None, ..ProxemicsConfig::default() };
         let people = [standing(0.0, 0.0, 0.0), standing(1.2, 0.0, std::f64::consts::PI)];
         let p = perceive(&cfg, &people, &[vec![], vec![]], &[]).expect("valid");
         assert_eq!(p.individuals.len(), 2);
-        let cfg = SocialConfig {
+        let cfg = ProxemicsConfig {
             groups: Some(GroupMethod::Delaunay(DelaunayParams::default())),
-            ..SocialConfig::default()
+            ..ProxemicsConfig::default()
         };
         assert_eq!(perceive(&cfg, &people, &[vec![], vec![]], &[]).expect("valid").individuals.len(), 1);
     }
 
     #[test]
     fn features_reshape_the_space() {
-        let cfg = SocialConfig {
+        let cfg = ProxemicsConfig {
             features: vec!["emotional_state".into()],
             influence: SideInfluences::single(0.9, 0.0, 0.5, 0.5),
-            ..SocialConfig::default()
+            ..ProxemicsConfig::default()
         };
         let angry = perceive(&cfg, &[standing(0.0, 0.0, 0.0)], &[vec![0.14]], &[]).expect("valid");
         let happy = perceive(&cfg, &[standing(0.0, 0.0, 0.0)], &[vec![0.98]], &[]).expect("valid");
@@ -465,14 +468,14 @@ mod tests {
 
     #[test]
     fn a_robot_talking_to_a_person_joins_the_interaction() {
-        let cfg = SocialConfig::default();
+        let cfg = ProxemicsConfig::default();
         let people = [standing(0.0, 0.0, 0.0)];
         let robot = RobotDisc { pos: Vec2::new(0.9, 0.0), radius: 0.24, vel: Vec2::zeros() };
         let p = perceive(&cfg, &people, &[vec![]], &[robot]).expect("valid");
         assert_eq!(p.robot_joins, vec![Some(0)]);
         assert_eq!(p.individuals[0].robots, vec![0]);
         // the interaction covers the space between the person and the robot
-        assert!(SocialCosts::zone_distance(&p.individuals[0], Vec2::new(0.45, 0.0)) < cfg.zones.intimate);
+        assert!(p.individuals[0].zone_distance(Vec2::new(0.45, 0.0)) < cfg.zones.intimate);
         // a moving robot does not join
         let moving = RobotDisc { vel: Vec2::new(0.5, 0.0), ..robot };
         assert_eq!(perceive(&cfg, &people, &[vec![]], &[moving]).expect("valid").robot_joins, vec![None]);
@@ -517,8 +520,8 @@ mod tests {
         use crate::map::CostGrid;
         use crate::map::geometry::Bounds;
         use crate::map::grid::GridSpec;
-        use crate::socialmap::SocialMap;
-        let cfg = SocialConfig::default();
+        use crate::social_cost_map::SocialMap;
+        let cfg = ProxemicsConfig::default();
         let people: Vec<PersonState> = (0..12)
             .map(|k| {
                 let k = k as f64;
@@ -547,8 +550,8 @@ mod tests {
         use crate::map::CostGrid;
         use crate::map::geometry::Bounds;
         use crate::map::grid::GridSpec;
-        use crate::socialmap::SocialMap;
-        let cfg = SocialConfig::default();
+        use crate::social_cost_map::SocialMap;
+        let cfg = ProxemicsConfig::default();
         let spec =
             GridSpec::covering(Bounds { min: Vec2::zeros(), max: Vec2::new(24.0, 16.0) }, 0.1).expect("grid");
         let mut grid = CostGrid { spec, cost: vec![0; spec.len()] };

@@ -2,19 +2,15 @@
 //! one gives; a bad world's input is refused before any world changes. The robots are simulated
 //! kinematically (their commands integrated exactly; no MuJoCo).
 
-use proxemic_core::scenario::Scenario;
 use proxemic_core::world::batch::{command_batch, step_batch};
 use proxemic_core::world::{PERSON_OUT, World};
 
-const ENVS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../python/proxemic/data/envs");
-
-#[path = "../examples/common/mod.rs"]
 mod common;
-use common::kinematics;
+use common::{env_scenario, kinematics};
 
 /// Worlds of `name` reset with `seeds`, their buffers end to end.
 fn worlds(name: &str, seeds: &[u64]) -> (Vec<World>, Vec<f64>, Vec<f64>) {
-    let s = Scenario::from_file(format!("{ENVS}/{name}.toml")).expect("valid scenario");
+    let s = env_scenario(name);
     let mut ws = Vec::new();
     let mut out = Vec::new();
     let mut people = Vec::new();
@@ -34,7 +30,7 @@ fn worlds(name: &str, seeds: &[u64]) -> (Vec<World>, Vec<f64>, Vec<f64>) {
 /// through `World::command` / `World::step`); the outputs after every step.
 fn run(name: &str, seeds: &[u64], steps: usize, threads: usize) -> Vec<(Vec<f64>, Vec<f64>)> {
     let (mut ws, mut out, mut people) = worlds(name, seeds);
-    let dt = Scenario::from_file(format!("{ENVS}/{name}.toml")).expect("valid").control_dt();
+    let dt = env_scenario(name).control_dt();
     let n = ws[0].num_robots();
     let (width, pwidth) = (out.len() / ws.len(), people.len() / ws.len());
     // World k's robot 0 driven by an action, other robots on their planners.

@@ -1,4 +1,4 @@
-//! Issue 40: the robot as seen by people. A robot parked (zero command, no planner) in a
+//! The robot as seen by people. A robot parked (zero command, no planner) in a
 //! corridor, with at least 1.5 m of free floor beside its body, is given room by people with the
 //! default reaction (`aware`): per spot, at most 2 of 10 episodes with anyone inside its intimate
 //! zone (body gap < 0.45 m), and the median closest body gap of the people who pass within 2 m is
@@ -13,9 +13,9 @@
 use proxemic_core::math::Vec2;
 use proxemic_core::scenario::generate::{GenParams, generate};
 use proxemic_core::scenario::{Reaction, Scenario};
-use proxemic_core::world::{PERSON_OUT, World};
 
-const ENVS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../python/proxemic/data/envs");
+mod common;
+use common::{Drive, env_scenario as scene, with_reaction};
 
 /// Body gap (m) below which a person is inside the robot's intimate zone (Hall's 0.45 m).
 const INTIMATE: f64 = 0.45;
@@ -45,10 +45,6 @@ impl Figures {
         let k = g.len() / 2;
         if g.len() % 2 == 1 { g[k] } else { 0.5 * (g[k - 1] + g[k]) }
     }
-}
-
-fn scene(name: &str) -> Scenario {
-    Scenario::from_file(format!("{ENVS}/{name}.toml")).expect("valid scenario")
 }
 
 /// The generator's parameters of the generated spots: more people, most of them walking, so that
@@ -92,26 +88,20 @@ fn parked(s: &Scenario, spot: [f64; 2], first_seed: u64, reaction: Option<Reacti
     s.robots[0].waypoints.clear();
     s.episode.randomize.robot_start_jitter = 0.0;
     if let Some(r) = reaction {
-        for p in &mut s.persons {
-            p.reaction = r;
-        }
+        s = with_reaction(s, r);
     }
     let rr = s.robots[0].radius;
     let steps = (s.episode.max_time / s.control_dt()).round() as usize;
-    let mut world = World::new(s).expect("world");
-    world.set_planning(&[false]).expect("planning");
-    let stride = world.layout().stride;
-    let mut out = vec![0.0; stride];
-    let mut people = vec![0.0; world.num_people() * PERSON_OUT];
-    let state = [spot[0], spot[1], 0.0, 0.0, 0.0, 0.0];
+    let mut d = Drive::new(s);
+    d.world.set_planning(&[false]).expect("planning");
     let c = Vec2::new(spot[0], spot[1]);
     let mut f = Figures { intimate_episodes: 0, passing_gaps: Vec::new(), min_gap: f64::INFINITY };
     for seed in first_seed..first_seed + EPISODES {
-        world.reset(seed, &mut out, &mut people).expect("reset");
-        let mut closest = vec![f64::INFINITY; world.num_people()];
+        d.reset(seed);
+        let mut closest = vec![f64::INFINITY; d.world.num_people()];
         for _ in 0..steps {
-            world.step(&state, &[0], &mut out, &mut people).expect("step");
-            let crowd = world.crowd();
+            d.step_free();
+            let crowd = d.world.crowd();
             for (i, q) in crowd.pos.iter().enumerate() {
                 if crowd.present[i] {
                     closest[i] = closest[i].min((q - c).norm() - crowd.radius[i] - rr);

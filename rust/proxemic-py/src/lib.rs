@@ -10,7 +10,8 @@
 //! - [`scenario`]: `Scenario`, `generate`, `parse_time_of_day`, `scenario_schema`;
 //! - [`world`]: the class `World`;
 //! - [`step`]: the two-phase control step around the Python physics, and `step_worlds`;
-//! - [`validation`]: the pedestrian model against recorded crowds and the RiMEA tests.
+//! - [`validation`]: the pedestrian model against recorded crowds and the RiMEA tests;
+//! - here: `metric_registry` and `zone_distances` (the core's zone distance).
 //!
 //! # Threading model
 //! `World.reset` and `World.step` copy nothing: they borrow the numpy buffers (read-only for
@@ -39,6 +40,40 @@ fn metric_registry(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
     conversions::to_py(py, "the metric registry", proxemic_core::metrics::METRICS)
 }
 
+/// The zone distances (m) of `points` ((N, 2) float64, metres) in the fully asymmetric Gaussian of
+/// an individual centred at `centre` facing `heading` (rad) with per-side sigmas `sides` = (front,
+/// rear, right, left) (m) and zone scale `zone_scale` (m): the core's
+/// `proxemics::zone_distances`, as an (N,) float64 array. Raises `InputError` naming the field.
+#[pyfunction]
+fn zone_distances<'py>(
+    py: Python<'py>,
+    centre: (f64, f64),
+    heading: f64,
+    sides: (f64, f64, f64, f64),
+    zone_scale: f64,
+    points: numpy::PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, numpy::PyArray1<f64>>> {
+    use numpy::PyUntypedArrayMethods;
+    let shape = points.shape();
+    if shape.len() != 2 || shape[1] != 2 {
+        return Err(errors::input_err(
+            py,
+            "points",
+            "an (N, 2) float64 array (m)".into(),
+            format!("shape {shape:?}"),
+        ));
+    }
+    let pts: Vec<proxemic_core::math::Vec2> =
+        points.as_array().rows().into_iter().map(|r| proxemic_core::math::Vec2::new(r[0], r[1])).collect();
+    let centre = proxemic_core::math::Vec2::new(centre.0, centre.1);
+    let sides =
+        proxemic_core::proxemics::Asymmetric { front: sides.0, rear: sides.1, right: sides.2, left: sides.3 };
+    let d = errors::enter_core(py, move || {
+        proxemic_core::proxemics::zone_distances(centre, heading, sides, zone_scale, &pts)
+    })?;
+    Ok(numpy::PyArray1::from_vec(py, d))
+}
+
 /// The compiled core of proxemic.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -63,6 +98,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenario::parse_time_of_day, m)?)?;
     m.add_function(wrap_pyfunction!(step::step_worlds, m)?)?;
     m.add_function(wrap_pyfunction!(metric_registry, m)?)?;
+    m.add_function(wrap_pyfunction!(zone_distances, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::scenario_schema, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::generate, m)?)?;
     validation::register(m)?;

@@ -1,14 +1,21 @@
-//! Shared by the speed examples, the pedestrian criterion bench and the batch-step test (included
-//! there by path): the crowd world they time, the robots' kinematics without MuJoCo, and the
+//! Shared by the speed examples and the pedestrian and ORCA criterion benches (included there by
+//! path): the crowd world and the ORCA crossing they time, the robots' kinematics without MuJoCo
+//! (the integration tests' own, `tests/common/kinematics.rs`, included by path), and the timer,
 //! thread-CPU clock and median they report with.
 #![allow(dead_code)] // each includer uses its part
 
+use proxemic_core::control::orca::OrcaAgent;
 use proxemic_core::map::geometry::{Bounds, StaticGeometry};
 use proxemic_core::math::Vec2;
 use proxemic_core::scenario::{Behaviour, Person, Reaction};
-use proxemic_core::world::World;
-use rand::Rng;
+use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+
+#[path = "../../tests/common/kinematics.rs"]
+mod kinematics;
+#[allow(unused_imports)] // the examples that drive robots use it
+pub use kinematics::kinematics;
 
 /// Square metres per person in the first museum (864 m^2, 29 people): the crowd's density.
 pub const AREA_PER_PERSON: f64 = 864.0 / 29.0;
@@ -62,6 +69,57 @@ pub fn walkers(n: usize, side: f64, rng: &mut ChaCha8Rng) -> Vec<Person> {
         .collect()
 }
 
+/// navground's `Cross` scenario at 4 m^2 per agent: `n` agents of `radius` (m) placed at random
+/// (seeded by `seed`) without overlap, 0.1 m apart at least, in a square of side `2 sqrt(n)` m
+/// centred on the origin, at rest, reciprocal, at most `max_speed` (m/s); agent `k` shuttles
+/// between the mid-points of two opposite sides (four groups: +x, -x, +y, -y), its two targets
+/// returned beside it.
+pub fn cross_agents(n: usize, seed: u64, radius: f64, max_speed: f64) -> (Vec<OrcaAgent>, Vec<[Vec2; 2]>) {
+    let h = (n as f64).sqrt();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut pos: Vec<Vec2> = Vec::with_capacity(n);
+    while pos.len() < n {
+        let p = Vec2::new(rng.random_range(-h..h), rng.random_range(-h..h));
+        if pos.iter().all(|q| (p - q).norm() >= 2.0 * radius + 0.1) {
+            pos.push(p);
+        }
+    }
+    let targets = (0..n)
+        .map(|k| match k % 4 {
+            0 => [Vec2::new(h, 0.0), Vec2::new(-h, 0.0)],
+            1 => [Vec2::new(-h, 0.0), Vec2::new(h, 0.0)],
+            2 => [Vec2::new(0.0, h), Vec2::new(0.0, -h)],
+            _ => [Vec2::new(0.0, -h), Vec2::new(0.0, h)],
+        })
+        .collect();
+    let agents = pos
+        .iter()
+        .enumerate()
+        .map(|(k, &p)| OrcaAgent {
+            pos: p,
+            vel: Vec2::zeros(),
+            pref_vel: Vec2::zeros(),
+            radius,
+            max_speed,
+            reciprocal: true,
+            id: k as u64,
+        })
+        .collect();
+    (agents, targets)
+}
+
+/// Runs `f` once and returns its wall time and this thread's CPU time per unit of `units`
+/// (microseconds); the CPU time is `None` where the thread clock is unavailable.
+pub fn time_per(units: usize, f: impl FnOnce()) -> (f64, Option<f64>) {
+    let c0 = thread_cpu_ns();
+    let t0 = Instant::now();
+    f();
+    let el = t0.elapsed().as_secs_f64();
+    let c1 = thread_cpu_ns();
+    let per = units as f64;
+    (el / per * 1e6, c0.zip(c1).map(|(a, b)| (b - a) as f64 / per * 1e-3))
+}
+
 /// Nanoseconds this thread has spent on a CPU (Linux `schedstat`), if available.
 pub fn thread_cpu_ns() -> Option<u64> {
     let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
@@ -78,27 +136,5 @@ pub fn median(mut v: Vec<f64>) -> f64 {
         v[m]
     } else {
         0.5 * (v[m - 1] + v[m])
-    }
-}
-
-/// Integrates each robot's command (robot frame, from `out`, the world's output rows) over one
-/// control period of `dt` seconds into `state` (x, y, yaw, vx, vy, wz per robot): the robots
-/// simulated kinematically, no MuJoCo, no contacts.
-pub fn kinematics(world: &World, out: &[f64], state: &mut [f64], dt: f64) {
-    let lay = world.layout();
-    for i in 0..world.num_robots() {
-        let row = &out[i * lay.stride..(i + 1) * lay.stride];
-        let pose = &row[lay.pose.offset..lay.pose.offset + 3];
-        let c = &row[lay.command.offset..lay.command.offset + 3];
-        let (s, co) = pose[2].sin_cos();
-        let (vx, vy) = (co * c[0] - s * c[1], s * c[0] + co * c[1]);
-        state[6 * i..6 * i + 6].copy_from_slice(&[
-            pose[0] + vx * dt,
-            pose[1] + vy * dt,
-            pose[2] + c[2] * dt,
-            vx,
-            vy,
-            c[2],
-        ]);
     }
 }

@@ -661,7 +661,7 @@ mod tests {
     #[test]
     fn sousa_agents_are_the_individuals_gaussians_a_group_as_one() {
         use crate::groups::PersonState;
-        use crate::perception::{SocialConfig, perceive};
+        use crate::perception::{ProxemicsConfig, perceive};
         use std::f64::consts::PI;
         let objects = [person(3.0, 0.6), person(3.0, -0.6), person(6.0, 3.0)];
         let states = [
@@ -669,7 +669,8 @@ mod tests {
             PersonState::standing(objects[1].pos, PI / 2.0),
             PersonState::standing(objects[2].pos, 0.0),
         ];
-        let per = perceive(&SocialConfig::default(), &states, &[vec![], vec![], vec![]], &[]).expect("valid");
+        let per =
+            perceive(&ProxemicsConfig::default(), &states, &[vec![], vec![], vec![]], &[]).expect("valid");
         let groups: Vec<Vec<usize>> = per.groups.multi().cloned().collect();
         assert_eq!(groups, vec![vec![0, 1]]);
         let p = Daza2021Params::default();

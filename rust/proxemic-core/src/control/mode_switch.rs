@@ -48,7 +48,7 @@ impl Mode {
 
 /// Parameters of the mode switch (every value documented with its default).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SocialControlParams {
+pub struct ModeSwitchParams {
     /// People within this centre distance switch to Social Momentum (m); default 3.5: with the
     /// comfort term's 3 s horizon, a person walking at the robot is seen before their personal
     /// zone is reached (3.0 left it too late in the museum's corridor).
@@ -65,9 +65,9 @@ pub struct SocialControlParams {
     pub sm: SocialMomentumParams,
 }
 
-impl Default for SocialControlParams {
+impl Default for ModeSwitchParams {
     fn default() -> Self {
-        SocialControlParams {
+        ModeSwitchParams {
             people_range: 3.5,
             robot_range: 4.0,
             cone_horizon: 3.0,
@@ -131,7 +131,7 @@ pub fn choose_mode(
     radius: f64,
     people: &[Person],
     robots: &[OtherRobot],
-    params: &SocialControlParams,
+    params: &ModeSwitchParams,
 ) -> Mode {
     let near = |q: Vec2, range: f64| (q - pos).norm() <= range;
     if people.iter().any(|p| near(p.pos, params.people_range)) {
@@ -159,7 +159,7 @@ pub fn social_momentum_step(
     geometry: Option<&StaticGeometry>,
     limits: &Limits,
     dt: f64,
-    params: &SocialControlParams,
+    params: &ModeSwitchParams,
 ) -> (Vec2, Mode) {
     let mut agents: Vec<Agent> = Vec::with_capacity(people.len() + robots.len());
     for p in people {
@@ -187,7 +187,7 @@ pub enum LocalPlanner {
     /// Algorithm 1's switch ([`choose_mode`]): Social Momentum among people, ORCA against a
     /// robot in the collision cone, else the global path (the `social` planner).
     ModeSwitch,
-    /// Social Momentum while people are within [`SocialControlParams::people_range`], else the
+    /// Social Momentum while people are within [`ModeSwitchParams::people_range`], else the
     /// global path (the `social_momentum` planner).
     SocialMomentum,
     /// ORCA every step (the `astar_orca` planner).
@@ -197,7 +197,7 @@ pub enum LocalPlanner {
 /// What `planner` does this step for a robot at `pos` moving at `vel` (m/s) whose mode was
 /// `previous`, among `people` and the other `robots`. With [`LocalPlanner::ModeSwitch`], a
 /// robot avoiding robots keeps ORCA while any robot is still within
-/// [`SocialControlParams::robot_range`] (hysteresis: leaving ORCA on a clear cone would steer
+/// [`ModeSwitchParams::robot_range`] (hysteresis: leaving ORCA on a clear cone would steer
 /// straight back into the conflict).
 #[allow(clippy::too_many_arguments)]
 pub fn select_mode(
@@ -208,7 +208,7 @@ pub fn select_mode(
     previous: Mode,
     people: &[Person],
     robots: &[OtherRobot],
-    params: &SocialControlParams,
+    params: &ModeSwitchParams,
 ) -> Mode {
     match planner {
         LocalPlanner::Orca => Mode::Orca,
@@ -248,7 +248,7 @@ mod tests {
 
     #[test]
     fn mode_switch_follows_algorithm_1() {
-        let params = SocialControlParams::default();
+        let params = ModeSwitchParams::default();
         let v = Vec2::new(0.5, 0.0);
         let person = Person {
             pos: Vec2::new(2.0, 0.5),
@@ -267,7 +267,7 @@ mod tests {
 
     #[test]
     fn mode_switch_keeps_orca_while_a_robot_is_near() {
-        let params = SocialControlParams::default();
+        let params = ModeSwitchParams::default();
         let v = Vec2::new(0.5, 0.0);
         // Moving away from a robot 2 m behind: not in the cone, but within range.
         let behind = OtherRobot { pos: Vec2::new(-2.0, 0.0), vel: Vec2::zeros(), radius: 0.24 };
@@ -287,7 +287,7 @@ mod tests {
 
     #[test]
     fn boxed_in_the_robot_waits() {
-        let params = SocialControlParams::default();
+        let params = ModeSwitchParams::default();
         let ring: Vec<Person> = (0..8)
             .map(|k| {
                 let a = k as f64 * std::f64::consts::TAU / 8.0;

@@ -1,7 +1,7 @@
 //! Static geometry, occupancy grid, distance field, cost grid and ray casting.
 //!
 //! The map is the lowest layer of the core's grids: it imports neither the planners ([`crate::plan`])
-//! nor the social cost map ([`crate::socialmap`]), which both build on it.
+//! nor the social cost map ([`crate::social_cost_map`]), which both build on it.
 //!
 //! - [`cost_grid`]: the cost grid every planner and map layer reads, and its inflation.
 //! - [`geometry`]: the world's static polygons and exact queries on them (parry2d underneath).
@@ -37,7 +37,7 @@ mod tests {
         "crate::plan",
         "crate::proxemics",
         "crate::scenario",
-        "crate::socialmap",
+        "crate::social_cost_map",
         "crate::world",
     ];
 

@@ -1,4 +1,4 @@
-//! The outcome and the collisions (items 1-4 of `docs/metrics.md`): success, collision, timeout,
+//! The outcome and the collisions (`docs/metrics.md`, Outcome and collisions): success, collision, timeout,
 //! time to goal, and the steps with a collision by kind. A step collides with a person when the
 //! physics says so or when the swept relative motion of the two discs overlaps (CrowdNav's test),
 //! with the static geometry or another robot when the physics says so. A person contact ends the
@@ -16,18 +16,18 @@ use crate::math::{EPS, Vec2};
 pub struct CollisionMetrics {
     /// Number of control steps `T` (samples minus one, 0 for an empty trajectory).
     pub steps: usize,
-    /// Success S (`docs/metrics.md` item 1): the robot centre came within `success_radius` of the goal at
+    /// Success S (`docs/metrics.md`, Outcome and collisions): the robot centre came within `success_radius` of the goal at
     /// some instant with no collision (static, robot, or a person contact that is the robot's
     /// fault) in any step ending at or before it; a person walking into the robot does not fail it.
     pub success: bool,
-    /// A collision that ends the episode (`docs/metrics.md` item 2): with walls or furniture, with
+    /// A collision that ends the episode (`docs/metrics.md`, Outcome and collisions): with walls or furniture, with
     /// another robot, or with a person by the robot's fault ([`super::fault`]).
     pub collision: bool,
-    /// Timeout TO (`docs/metrics.md` item 3): neither success nor any collision in the recording.
+    /// Timeout TO (`docs/metrics.md`, Outcome and collisions): neither success nor any collision in the recording.
     pub timeout: bool,
-    /// Time to goal (s, `docs/metrics.md` item 4): first goal instant times `dt`; `None` without success.
+    /// Time to goal (s, `docs/metrics.md`, Outcome and collisions): first goal instant times `dt`; `None` without success.
     pub time_to_goal: Option<f64>,
-    /// Steps with a collision with a person, HC (`docs/metrics.md` item 2): the physics' person bit, or a
+    /// Steps with a collision with a person, HC (`docs/metrics.md`, Outcome and collisions): the physics' person bit, or a
     /// negative surface gap anywhere on the swept relative motion over the step (both bodies
     /// moving linearly between the instants, CrowdNav's test).
     pub hc_count: usize,

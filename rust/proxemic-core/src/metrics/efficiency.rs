@@ -1,4 +1,4 @@
-//! Path efficiency (items 5-8 of `docs/metrics.md`): path length, its ratio to the geodesic
+//! Path efficiency (`docs/metrics.md`, Efficiency): path length, its ratio to the geodesic
 //! start-goal length, SPL (Anderson et al. 2018) and the failures to progress.
 
 use serde::Serialize;
@@ -9,15 +9,15 @@ use crate::math::EPS;
 /// The path efficiency metrics of an episode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct EfficiencyMetrics {
-    /// Path length PL (m, `docs/metrics.md` item 5): sum of distances between consecutive robot centres.
+    /// Path length PL (m, `docs/metrics.md`, Efficiency): sum of distances between consecutive robot centres.
     pub path_length: f64,
-    /// Path length ratio PLR = PL / `l*` (`docs/metrics.md` item 6, geodesic `l*`); `None` when `l*` is not
+    /// Path length ratio PLR = PL / `l*` (`docs/metrics.md`, Efficiency, geodesic `l*`); `None` when `l*` is not
     /// finite or below 1e-9 m.
     pub path_length_ratio: Option<f64>,
-    /// SPL = S * `l*` / max(PL, `l*`) (Anderson et al. 2018; `docs/metrics.md` item 7); 1 on success with
+    /// SPL = S * `l*` / max(PL, `l*`) (Anderson et al. 2018; `docs/metrics.md`, Efficiency); 1 on success with
     /// PL and `l*` both ~0; `None` when `l*` is not finite.
     pub spl: Option<f64>,
-    /// Failure to progress FP (`docs/metrics.md` item 8): consecutive, non-overlapping windows of
+    /// Failure to progress FP (`docs/metrics.md`, Efficiency): consecutive, non-overlapping windows of
     /// `progress_window` s in which the straight-line centre-to-goal distance decreased by less
     /// than `progress_delta` (an incomplete final window is not counted).
     pub failure_to_progress: usize,

@@ -115,8 +115,9 @@ pub(crate) fn classify_step(s: &StepContact, out: &mut Vec<Touch>) {
     }
 }
 
-/// Whose fault the contact with person `i` over the step is.
-fn fault(s: &StepContact, i: usize) -> Touch {
+/// Whose fault the contact with person `i` over the step is; the same rule says who approached
+/// whom when the robot enters a person's zone ([`super::approach`]).
+pub(crate) fn fault(s: &StepContact, i: usize) -> Touch {
     // Direction robot -> person at the start of the step (before the bodies met), else at its
     // end; with both centres coincident, any motion counts as toward.
     let dir = [s.before[i] - s.p0, s.after[i] - s.p1].into_iter().find(|d| d.norm() > EPS);
@@ -148,23 +149,35 @@ pub(crate) fn touches(s: &Samples, traj: &Trajectory, people: &PeopleTracks, con
     let mut all = Vec::with_capacity(s.steps * np);
     let mut row = Vec::with_capacity(np);
     for k in 0..s.steps {
-        let bits = contacts.get(k).copied().unwrap_or(0);
-        let step = StepContact {
-            p0: s.pos[k],
-            p1: s.pos[k + 1],
-            vel: s.vel[k],
-            robot_radius: traj.robot_radius,
-            before: &people.positions[k * np..(k + 1) * np],
-            after: &people.positions[(k + 1) * np..(k + 2) * np],
-            radii: people.radii,
-            physics_person: bits & CONTACT_PERSON != 0,
-            present_before: people.present.get(k * np..(k + 1) * np).unwrap_or(&[]),
-            present_after: people.present.get((k + 1) * np..(k + 2) * np).unwrap_or(&[]),
-        };
-        classify_step(&step, &mut row);
+        classify_step(&step_contact(s, traj, people, contacts, k), &mut row);
         all.extend_from_slice(&row);
     }
     all
+}
+
+/// Step `k` of the recording (`k < s.steps`): the robot's motion, the people before and after
+/// it, and the physics' person contact bit of `contacts`.
+pub(crate) fn step_contact<'a>(
+    s: &Samples,
+    traj: &Trajectory,
+    people: &'a PeopleTracks,
+    contacts: &[u8],
+    k: usize,
+) -> StepContact<'a> {
+    let np = people.count;
+    let bits = contacts.get(k).copied().unwrap_or(0);
+    StepContact {
+        p0: s.pos[k],
+        p1: s.pos[k + 1],
+        vel: s.vel[k],
+        robot_radius: traj.robot_radius,
+        before: &people.positions[k * np..(k + 1) * np],
+        after: &people.positions[(k + 1) * np..(k + 2) * np],
+        radii: people.radii,
+        physics_person: bits & CONTACT_PERSON != 0,
+        present_before: people.present.get(k * np..(k + 1) * np).unwrap_or(&[]),
+        present_after: people.present.get((k + 1) * np..(k + 2) * np).unwrap_or(&[]),
+    }
 }
 
 /// The contact events of the recording from its per-step `touches` ([`touches`]) and the
@@ -340,7 +353,7 @@ mod tests {
         // A replayed person parked at (50, 0), ahead of the robot, appears at (-2, 0) behind it
         // while the robot drives toward the parking spot at 1 m/s: their jump sweeps across the
         // robot (and would be the robot's fault), but a jump is no motion. Neither the
-        // recorder nor the evaluator counts it (the records of issue 43 said outcome = success
+        // recorder nor the evaluator counts it (the replayed records once said outcome = success
         // with collisions_robot_fault = 1), and the record is made (its invariants hold).
         let mut run = Run::new(&[Vec2::new(50.0, 0.0)]);
         let snap = |p: &[Vec2], here: bool| -> (Vec<Vec2>, bool) { (p.to_vec(), here) };

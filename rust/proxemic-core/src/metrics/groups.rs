@@ -1,4 +1,4 @@
-//! Groups and interactions (item 19 of `docs/metrics.md`): the share of instants per Hall zone of
+//! Groups and interactions (`docs/metrics.md`, Groups and interactions): the share of instants per Hall zone of
 //! the closest o-space centre (HuNav's IS_prox), the time inside o-spaces and the entries into
 //! them, and the crossings of interaction segments (person-person and person-object).
 
@@ -12,7 +12,7 @@ use crate::math::{EPS, Vec2};
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GroupMetrics {
     /// Percentage of instants with the robot centre's distance to the closest o-space *centre*
-    /// in `[0, zones[0])` (HuNav IS_prox; `docs/metrics.md` item 19); `None` without samples.
+    /// in `[0, zones[0])` (HuNav IS_prox; `docs/metrics.md`, Groups and interactions); `None` without samples.
     pub group_psi_intimate: Option<f64>,
     /// Same in `[zones[0], zones[1])`.
     pub group_psi_personal: Option<f64>,
@@ -21,14 +21,14 @@ pub struct GroupMetrics {
     /// Same at `>= zones[2]` or with no group present.
     pub group_psi_public: Option<f64>,
     /// Percentage of instants with the robot centre inside some o-space circle (distance to
-    /// its centre <= radius) (`docs/metrics.md` item 19); `None` without samples.
+    /// its centre <= radius) (`docs/metrics.md`, Groups and interactions); `None` without samples.
     pub ospace_pct: Option<f64>,
     /// Time with the robot centre inside some o-space (s): instants inside times `dt`.
     pub ospace_time: f64,
     /// Entries into o-spaces: instants inside some o-space after an instant inside none (the
     /// first instant counts if inside).
     pub ospace_entries: usize,
-    /// Interaction crossings (`docs/metrics.md` item 19): steps whose centre segment `[p_t, p_{t+1})`
+    /// Interaction crossings (`docs/metrics.md`, Groups and interactions): steps whose centre segment `[p_t, p_{t+1})`
     /// intersects an interaction segment present at instant `t` (half-open, so a crossing
     /// through a sample point counts once; parallel segments never cross).
     pub interaction_crossings: usize,

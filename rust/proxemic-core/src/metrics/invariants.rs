@@ -23,12 +23,13 @@
 //! - `whole_counts`: every count (units `steps`, `count`, `windows`, `events`, `instants`,
 //!   `instant-person pairs`) is a whole number;
 //! - `duration_and_path`: `duration` is `steps * dt`, `steps` the recorded poses minus one,
-//!   `path_length` the length of the recorded poses, and no time (to goal, stalled, in o-spaces)
-//!   or count of steps exceeds the episode's;
+//!   `path_length` the length of the recorded poses, and no time (to goal, stalled, in o-spaces,
+//!   in the intimate and personal zones together) or count of steps exceeds the episode's;
 //! - `columns_add_up`: the four Hall zone shares (of people, of groups) add up to 100, the two
 //!   kinds of interaction crossings to their total, each object's share of active time is at
 //!   most its share of any time, the share inside some object space is at least each object's
-//!   and at most their sum, and `dist_person_min` is the least of the per-person `d_min`.
+//!   and at most their sum, `dist_person_min` is the least of the per-person `d_min`, and the
+//!   robot-caused and person-caused zone time and entries (body gaps) add up to their totals.
 
 use super::fault::{Touch, touches};
 use super::{CONTACT_PERSON, EpisodeReport, METRICS, Outcome, collisions::swept_gap};
@@ -322,6 +323,10 @@ fn duration_and_path(r: &EpisodeReport, traj: &Trajectory) -> Result<(), Violati
         ("time_to_goal", m.collisions.time_to_goal.unwrap_or(0.0)),
         ("stalled_time", m.motion.stalled_time),
         ("ospace_time", m.groups.ospace_time),
+        (
+            "intimate_gap_time + personal_gap_time",
+            m.approach.intimate_gap_time + m.approach.personal_gap_time,
+        ),
         ("monitor_stalled_time", r.recovery.monitor_stalled_time),
     ];
     for (key, t) in times {
@@ -361,6 +366,49 @@ fn columns_add_up(m: &FullMetrics) -> Result<(), Violation> {
             }
         } else if zones.iter().any(Option::is_some) {
             return fail(name, format!("{who}_* zones are partly undefined: {zones:?}"));
+        }
+    }
+    let z = &m.approach;
+    for (key, total, robot, person) in [
+        (
+            "intimate_gap_time",
+            z.intimate_gap_time,
+            z.intimate_gap_time_robot_caused,
+            z.intimate_gap_time_person_caused,
+        ),
+        (
+            "personal_gap_time",
+            z.personal_gap_time,
+            z.personal_gap_time_robot_caused,
+            z.personal_gap_time_person_caused,
+        ),
+    ] {
+        if !close(robot + person, total) {
+            return fail(
+                name,
+                format!("{key} = {total} s but robot_caused + person_caused = {robot} + {person} s"),
+            );
+        }
+    }
+    for (key, total, robot, person) in [
+        (
+            "intimate_gap_entries",
+            z.intimate_gap_entries,
+            z.intimate_gap_entries_robot_caused,
+            z.intimate_gap_entries_person_caused,
+        ),
+        (
+            "personal_gap_entries",
+            z.personal_gap_entries,
+            z.personal_gap_entries_robot_caused,
+            z.personal_gap_entries_person_caused,
+        ),
+    ] {
+        if robot + person != total {
+            return fail(
+                name,
+                format!("{key} = {total} but robot_caused + person_caused = {robot} + {person}"),
+            );
         }
     }
     let (pp, po) = (g.interaction_crossings_person_person, g.interaction_crossings_person_object);
@@ -482,8 +530,22 @@ mod tests {
         let mut b = r.clone();
         b.metrics.groups.interaction_crossings = 1;
         assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up");
-        let mut b = r;
-        b.duration = 2.0;
+        let mut b = r.clone();
+        b.metrics.approach.intimate_gap_time_robot_caused = 0.1;
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up");
+        let mut b = r.clone();
+        b.metrics.approach.personal_gap_time = 0.3;
+        b.metrics.approach.personal_gap_time_person_caused = 0.3;
+        assert!(columns_add_up(&b.metrics).is_ok(), "time that adds up");
+        b.metrics.approach.personal_gap_entries_person_caused = 1;
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up");
+        let mut b = r.clone();
+        b.metrics.approach.intimate_gap_entries = 2;
+        b.metrics.approach.intimate_gap_entries_robot_caused = 1;
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up");
+        let mut b = r.clone();
+        b.metrics.approach.personal_gap_time = 1.1;
+        b.metrics.approach.personal_gap_time_robot_caused = 1.1;
         let poses: Vec<[f64; 3]> = (0..=10).map(|k| [0.1 * f64::from(k), 0.0, 0.0]).collect();
         let traj = Trajectory {
             dt: 0.1,
@@ -492,6 +554,9 @@ mod tests {
             goal: Vec2::new(1.0, 0.0),
             success_radius: 0.05,
         };
+        assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path", "zone time above the duration");
+        let mut b = r;
+        b.duration = 2.0;
         assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path");
     }
 

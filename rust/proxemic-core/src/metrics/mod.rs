@@ -7,13 +7,16 @@
 //! the env's termination flags and the final [`FullMetrics`] always agree. At the end,
 //! [`EpisodeRecorder::evaluate`] gives the full metric set ([`EpisodeReport`]), computed by
 //! [`evaluate`] one family at a time:
-//! - [`collisions`]: the outcome and the collisions by kind (items 1-4 of `docs/metrics.md`);
-//! - [`efficiency`]: path length, its ratio, SPL, failures to progress (items 5-8);
+//! - [`collisions`]: the outcome and the collisions by kind (`docs/metrics.md`, Outcome and collisions);
+//! - [`efficiency`]: path length, its ratio, SPL, failures to progress (Efficiency);
 //! - [`motion`]: stalled time, speed, acceleration, jerk, heading changes, path irregularity
-//!   (items 9-13);
-//! - [`proximity`]: distances to people, discomfort, compliance, Hall zones (items 15-18), then
-//!   time to collision, clearance and social force (items 20-22);
-//! - [`groups`]: o-spaces and interaction crossings (item 19);
+//!   (Motion quality);
+//! - [`proximity`]: distances to people, discomfort, compliance, Hall zones, time to
+//!   collision and social force (Distance to people), clearance (Static geometry);
+//! - [`approach`]: who approached whom, the intimate- and personal-zone time and entries (body
+//!   gaps) split into robot-caused and person-caused by [`fault`]'s rule (its keys follow
+//!   [`proximity`]'s zone shares in the report);
+//! - [`groups`]: o-spaces and interaction crossings (Groups and interactions);
 //! - [`objects`]: the objects' interaction spaces (Calderita et al.'s Ψ per object);
 //! - [`papers`]: Daza et al. 2021's `l_ratio`, `smooth_rad2`, `smooth_rad`; Calderita et al.'s
 //!   `d_t`, `tau`;
@@ -30,7 +33,7 @@
 //!
 //! Each family returns its own struct, flattened into [`FullMetrics`] (one key per metric when
 //! serialised, in the families' order above, the room-left part of [`proximity`] after
-//! [`objects`]). Not computed: STL (needs a reference time), item 14 and the learned scores of item 24.
+//! [`objects`]). Not computed: see `docs/metrics.md`, Not computed.
 //!
 //! # Conventions
 //! - The robot is sampled at the control instants `t = 0..=T` (`N = T + 1` samples, `T` steps of
@@ -63,6 +66,7 @@
 //!   [`STILL_SPEED`]) inside an object's interaction space to the object's centre (a visitor
 //!   looking at a painting, a senior watching the TV).
 
+pub mod approach;
 pub mod collisions;
 pub mod efficiency;
 pub mod fault;
@@ -86,6 +90,7 @@ use serde::Serialize;
 
 use crate::error::Result;
 use crate::math::Vec2;
+pub use approach::ApproachMetrics;
 pub use collisions::CollisionMetrics;
 pub use efficiency::EfficiencyMetrics;
 pub use fault::FaultMetrics;
@@ -129,6 +134,9 @@ pub struct FullMetrics {
     /// Proximity to people.
     #[serde(flatten)]
     pub proximity: ProximityMetrics,
+    /// Who approached whom: zone time and entries (body gaps), robot-caused and person-caused.
+    #[serde(flatten)]
+    pub approach: ApproachMetrics,
     /// Groups and interactions.
     #[serde(flatten)]
     pub groups: GroupMetrics,
@@ -211,6 +219,7 @@ pub fn evaluate(
             proximity::force_on_person(&s, traj, people, &ctx.params, t, i)
         }),
         fault: fault::evaluate(s.steps, people.count, &touches, ctx.collision_steps),
+        approach: approach::evaluate(&s, traj, people, ctx),
         people_cost: people_cost::evaluate(
             s.n,
             people.count,

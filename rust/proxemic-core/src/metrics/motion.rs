@@ -1,4 +1,4 @@
-//! Motion quality (items 9-13 of `docs/metrics.md`): stalled time, speed, acceleration and jerk
+//! Motion quality (`docs/metrics.md`, Motion quality): stalled time, speed, acceleration and jerk
 //! by finite differences, the cumulative heading change (body yaw, = Calderita et al.'s CHC; and
 //! motion direction) and the path irregularity (Guzzi et al. 2013).
 
@@ -10,23 +10,23 @@ use crate::math::{EPS, wrap_angle};
 /// The motion quality metrics of an episode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MotionMetrics {
-    /// Stalled time ST (s, `docs/metrics.md` item 9, HuNav/SEAN): `dt` times the steps with finite-difference
+    /// Stalled time ST (s, `docs/metrics.md`, Motion quality, HuNav/SEAN): `dt` times the steps with finite-difference
     /// speed < `stall_linear` and yaw rate < `stall_angular`.
     pub stalled_time: f64,
-    /// Min speed (m/s, `docs/metrics.md` item 10) of `v_t = (p_{t+1} - p_t)/dt`; `None` without a step.
+    /// Min speed (m/s, `docs/metrics.md`, Motion quality) of `v_t = (p_{t+1} - p_t)/dt`; `None` without a step.
     pub vel_min: Option<f64>,
     /// Mean speed (m/s) over the steps.
     pub vel_avg: Option<f64>,
     /// Max speed (m/s).
     pub vel_max: Option<f64>,
-    /// Min `|a_t|`, `a_t = (p_{t+1} - 2 p_t + p_{t-1})/dt²` (m/s², `docs/metrics.md` item 11); `None`
+    /// Min `|a_t|`, `a_t = (p_{t+1} - 2 p_t + p_{t-1})/dt²` (m/s², `docs/metrics.md`, Motion quality); `None`
     /// with fewer than 3 samples.
     pub acc_min: Option<f64>,
     /// Mean `|a_t|` (m/s²).
     pub acc_avg: Option<f64>,
     /// Max `|a_t|` (m/s²).
     pub acc_max: Option<f64>,
-    /// Min `|j_t|`, `j_t = (p_{t+2} - 3p_{t+1} + 3p_t - p_{t-1})/dt³` (m/s³, `docs/metrics.md` item 11);
+    /// Min `|j_t|`, `j_t = (p_{t+2} - 3p_{t+1} + 3p_t - p_{t-1})/dt³` (m/s³, `docs/metrics.md`, Motion quality);
     /// `None` with fewer than 4 samples.
     pub jerk_min: Option<f64>,
     /// Mean `|j_t|` (m/s³).
@@ -34,12 +34,12 @@ pub struct MotionMetrics {
     /// Max `|j_t|` (m/s³).
     pub jerk_max: Option<f64>,
     /// Cumulative heading change of the body yaw, `sum |wrap(theta_{t+1} - theta_t)|` (rad;
-    /// `docs/metrics.md` item 12, Pérez-Higueras 2018, HuNav; Calderita et al.'s CHC / H of eq. 18).
+    /// `docs/metrics.md`, Motion quality, Pérez-Higueras 2018, HuNav; Calderita et al.'s CHC / H of eq. 18).
     pub chc: f64,
-    /// Cumulative change of the motion direction `atan2(v_t)` (rad, `docs/metrics.md` item 12), over
+    /// Cumulative change of the motion direction `atan2(v_t)` (rad, `docs/metrics.md`, Motion quality), over
     /// consecutive steps with speed >= `v_eps` (slower steps are skipped).
     pub chc_motion: f64,
-    /// Path irregularity PI (rad/m, Guzzi et al. 2013; `docs/metrics.md` item 13):
+    /// Path irregularity PI (rad/m, Guzzi et al. 2013; `docs/metrics.md`, Motion quality):
     /// `(chc - |wrap(atan2(g - p_0) - theta_0)|) / PL`; may be negative (a holonomic robot need
     /// not turn towards the goal); `None` when PL < 1e-9 m.
     pub path_irregularity: Option<f64>,

@@ -3,8 +3,9 @@
 //! or only while its activity is on (ours), and inside at least one space under each reading
 //! (Ψ(Objects)).
 //!
-//! Calderita et al. count any time inside an object's interaction space: their Table 1 non-social
-//! Ψ(Objects) of 34.98% is the robot crossing the TV's space while no therapy uses it.
+//! Calderita et al. count any time inside an object's interaction space: their Table 1 Path 1 (the
+//! social planner's own path) scores a Ψ(Objects) of 34.98% by crossing the TV's space while no
+//! therapy uses it.
 //! `psi_objects_any` is that definition; `psi_objects_active` counts only the instants when the
 //! activity that gives the space its meaning is on (an idle TV's space bothers nobody).
 

@@ -1,4 +1,4 @@
-//! Proximity to people and room left (items 15-18 and 20-22 of `docs/metrics.md`): distances and
+//! Proximity to people and room left (`docs/metrics.md`, Distance to people and Static geometry): distances and
 //! gaps to people (with Calderita et al.'s d_min per person), discomfort, personal-space
 //! compliance and the share of instants per Hall zone (= Calderita et al.'s Ψ per zone); then,
 //! in [`ClearanceMetrics`], the time to collision with people (Francis et al.), the clearance to
@@ -9,31 +9,31 @@ use serde::Serialize;
 use super::{EvalContext, MetricParams, PeopleTracks, Samples, Trajectory, frac, min_avg_max, pct, zone_of};
 use crate::math::{EPS, Vec2};
 
-/// The proximity metrics of an episode (items 15-18).
+/// The proximity metrics of an episode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ProximityMetrics {
-    /// Min centre-to-centre distance to any person over all instants (m, `docs/metrics.md` item 15,
+    /// Min centre-to-centre distance to any person over all instants (m, `docs/metrics.md`, Distance to people,
     /// SocNavGym/HuNav); `None` without people or samples.
     pub dist_person_min: Option<f64>,
     /// Min surface gap to any person (m, CrowdNav; negative = overlap); `None` likewise.
     pub gap_person_min: Option<f64>,
-    /// CP_avg (m, HuNav; `docs/metrics.md` item 15): mean over instants of the closest person's
+    /// CP_avg (m, HuNav; `docs/metrics.md`, Distance to people): mean over instants of the closest person's
     /// centre-to-centre distance (over the instants with someone present); `None` likewise.
     pub cp_avg: Option<f64>,
     /// Calderita's d_min per person (m, centre-to-centre, min over instants); `None` entries for
     /// an empty trajectory, and for a person never present during it.
     pub d_min: Vec<Option<f64>>,
-    /// Discomfort frequency (CrowdNav; `docs/metrics.md` item 16): fraction of instants with
+    /// Discomfort frequency (CrowdNav; `docs/metrics.md`, Distance to people): fraction of instants with
     /// `0 <= min_i gap < discomfort_gap` (surface gap); 0 without people; `None` without samples.
     pub discomfort_frequency: Option<f64>,
     /// Mean of `min_i gap` (m, surface) over the discomfort instants; `None` if there are none.
     pub discomfort_gap_avg: Option<f64>,
-    /// Personal space compliance (SocNavGym/SEAN; `docs/metrics.md` item 17): fraction of instants with
+    /// Personal space compliance (SocNavGym/SEAN; `docs/metrics.md`, Distance to people): fraction of instants with
     /// `min_i (d - r_robot) >= personal_space_tau` (robot surface to person centre); 1 without
     /// people; `None` without samples.
     pub personal_space_compliance: Option<f64>,
     /// Percentage of instants with the closest person's centre distance in `[0, zones[0])`
-    /// (`docs/metrics.md` item 18; Calderita Ψ(Intimate)); `None` without samples.
+    /// (`docs/metrics.md`, Distance to people; Calderita Ψ(Intimate)); `None` without samples.
     pub psi_intimate: Option<f64>,
     /// Same in `[zones[0], zones[1])` (Ψ(Personal)).
     pub psi_personal: Option<f64>,
@@ -43,11 +43,11 @@ pub struct ProximityMetrics {
     pub psi_public: Option<f64>,
 }
 
-/// How much room the robot left (items 20-22): time to collision, clearance to the static
+/// How much room the robot left: time to collision, clearance to the static
 /// geometry, social force. Its keys follow the object spaces' in the episode record.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ClearanceMetrics {
-    /// Minimum time to collision (s, Francis et al.; `docs/metrics.md` item 20) over steps and people:
+    /// Minimum time to collision (s, Francis et al.; `docs/metrics.md`, Distance to people) over steps and people:
     /// constant relative velocity from instant `t` (robot `v_t` forward difference, person
     /// recorded velocity), contact at centre distance `r_robot + r_i`; 0 when already
     /// overlapping; `None` when no step had a finite TTC.
@@ -56,11 +56,11 @@ pub struct ClearanceMetrics {
     /// a step.
     pub ttc_below_fraction: Option<f64>,
     /// Min clearance of the robot surface to static geometry, `clearance(p_t) - r_robot` (m,
-    /// `docs/metrics.md` item 21); `None` when no instant had a finite clearance.
+    /// `docs/metrics.md`, Static geometry); `None` when no instant had a finite clearance.
     pub clearance_min: Option<f64>,
     /// Mean of the same over instants with a finite clearance (m).
     pub clearance_avg: Option<f64>,
-    /// Sum over instants and people of `|F_{R->i}|` (m/s² summed per instant; `docs/metrics.md` item 22,
+    /// Sum over instants and people of `|F_{R->i}|` (m/s² summed per instant; `docs/metrics.md`, Distance to people,
     /// HuNav "social force on agents"): `A exp((r_R + r_i - d)/B) (lambda + (1 - lambda)(1 +
     /// cos phi)/2)`, `d` centre distance, `phi` between the person's heading and the direction
     /// person -> robot.
@@ -225,8 +225,8 @@ pub(crate) fn force_on_person(
 }
 
 /// Francis et al. time to collision of two discs with relative position `dp` (other minus
-/// robot), relative velocity `dv` (other minus robot) and contact distance `r` (item 20 of
-/// `docs/metrics.md`).
+/// robot), relative velocity `dv` (other minus robot) and contact distance `r` (`docs/metrics.md`,
+/// Distance to people).
 pub(crate) fn time_to_collision(dp: Vec2, dv: Vec2, r: f64) -> f64 {
     let a = dv.norm_squared();
     let b = 2.0 * dp.dot(&dv);
@@ -238,8 +238,8 @@ pub(crate) fn time_to_collision(dp: Vec2, dv: Vec2, r: f64) -> f64 {
     if b < 0.0 && disc >= 0.0 && a > 0.0 { (-b - disc.sqrt()) / (2.0 * a) } else { f64::INFINITY }
 }
 
-/// Anisotropic Helbing-style repulsions between a robot and a person (item 22 of
-/// `docs/metrics.md`): the force the robot (at `robot`, radius `r_robot`) exerts on the person (at
+/// Anisotropic Helbing-style repulsions between a robot and a person (`docs/metrics.md`,
+/// Distance to people): the force the robot (at `robot`, radius `r_robot`) exerts on the person (at
 /// `person`, radius `r_person`, facing the unit vector `person_dir`), and the force the person
 /// exerts on the robot (facing `robot_dir`). The two share their distance and their exponential
 /// (the contact term `(r_robot + r_person - d) / B` is symmetric), so one call costs one `exp`.

@@ -28,8 +28,9 @@ pub enum Outcome {
 }
 
 /// A robot's episode metrics: the outcome and every metric of [`FullMetrics`] (flattened when
-/// serialised, one key per metric).
+/// serialised, one key per metric, in the metric reference's order: [`super::METRICS`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(remote = "Self")]
 pub struct EpisodeReport {
     /// How the episode ended (`running` while it runs).
     pub outcome: Outcome,
@@ -52,6 +53,32 @@ pub struct EpisodeReport {
     /// world fills it in).
     #[serde(flatten)]
     pub recovery: super::RecoveryMetrics,
+}
+
+/// One key per metric in the order of the metric reference ([`super::METRICS`], the one source of
+/// metric names and of their order), so that records, `episodes.csv` and `metrics.json` list the
+/// metrics in one order: the fields' own serialisation, reordered. (A non-finite value, which no
+/// metric has: undefined values are `None`, would become `null` here as in JSON text.)
+impl Serialize for EpisodeReport {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::{Error, SerializeMap};
+        let fields =
+            EpisodeReport::serialize(self, serde_json::value::Serializer).map_err(S::Error::custom)?;
+        let serde_json::Value::Object(mut fields) = fields else {
+            return Err(S::Error::custom("an episode report serialises to a map"));
+        };
+        let mut map = serializer.serialize_map(Some(fields.len()))?;
+        for info in super::METRICS {
+            if let Some(value) = fields.remove(info.key) {
+                map.serialize_entry(info.key, &value)?;
+            }
+        }
+        // Keys missing from the reference (a test keeps there being none) follow, sorted.
+        for (key, value) in &fields {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
 }
 
 /// What stays fixed over a robot's episode.

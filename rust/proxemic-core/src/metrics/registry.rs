@@ -6,11 +6,13 @@
 //! the `metrics.json` column descriptions that `proxemic eval` writes beside its records, the
 //! plot and summary labels with their units, and what the evaluation summarises and shows: each
 //! metric's summary (rate or mean, and its digits), its panel of the metrics plot, whether it is a
-//! headline column and how verdicts compare it. A test checks that the registry and the serialised
-//! report have the same keys.
+//! headline column and how verdicts compare it. The serialised report lists its keys in this
+//! table's order ([`super::EpisodeReport`]'s `Serialize`); tests check that the registry and the
+//! serialised report have the same keys in the same order.
 //!
 //! The file is over 800 lines by design, the one exception to the core's file size: it is a data
-//! table, one entry per metric in the report's key order (definitions, formulas and sources), and
+//! table, one entry per metric in the order of the reference and of the records (definitions,
+//! formulas and sources), and
 //! splitting it would split that one ordered list; the code around the table is about 110 lines.
 
 use serde::Serialize;
@@ -69,6 +71,9 @@ pub struct MetricInfo {
     pub source: &'static str,
     /// How `proxemic eval` summarises it over episodes, if it does.
     pub summary: Option<Summary>,
+    /// Whether a summarised mean is taken over the successful episodes only (a value measured on
+    /// an episode that a collision or the time limit cut short is left out of it).
+    pub over_successes: bool,
     /// Digits after the decimal point of a summarised mean (its value and interval); rates are
     /// shown as whole percentages. Default 2.
     pub decimals: u8,
@@ -141,6 +146,7 @@ const fn m(
         formula,
         source,
         summary: None,
+        over_successes: false,
         decimals: 2,
         panel: None,
         headline: false,
@@ -161,6 +167,11 @@ impl MetricInfo {
     /// Summarised as a mean shown with `decimals` digits after the point.
     const fn mean(self, decimals: u8) -> Self {
         MetricInfo { summary: Some(Summary::Mean), decimals, ..self }
+    }
+
+    /// Its summarised mean taken over the successful episodes only.
+    const fn over_successes(self) -> Self {
+        MetricInfo { over_successes: true, ..self }
     }
 
     /// Shown on `panel` of the metrics plot.
@@ -192,6 +203,10 @@ const OBJECTS: &str = "Objects (time-dependent spaces)";
 const STATIC: &str = "Static geometry";
 const SNQI: &str = "SNQI inputs";
 const RECOVERY: &str = "Progress monitor";
+
+/// The sources of the who-approached-whom zone metrics.
+const SRC_APPROACH: &str =
+    "Hall 1966 (zones); SEAN 2.0, HuNavSim (robot- and person-caused); ours (body gaps, per step)";
 
 const NONE: (Option<f64>, Option<f64>) = (None, None);
 const POS: (Option<f64>, Option<f64>) = (Some(0.0), None);
@@ -419,11 +434,13 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         POS,
         "Executed path length over the geodesic length (≥ 1 up to grid effects); `None` when `ℓ*` \
-         is not finite or ≈ 0.",
+         is not finite or ≈ 0. `proxemic eval` averages it over the successful episodes only: a \
+         collision or the time limit cuts the path short, which would make the ratio look better.",
         "`path_length / ℓ*`",
         "SocNavBench (with a geodesic `ℓ*` because of walls)",
     )
     .mean(2)
+    .over_successes()
     .panel(Efficiency)
     .headline(),
     m(
@@ -755,21 +772,24 @@ pub const METRICS: &[MetricInfo] = &[
     m(
         "psi_intimate",
         PEOPLE,
-        "intimate-zone time",
+        "intimate-zone time, centres",
         "%",
         Lower,
         PCT,
         "Share of instants whose closest person (centre distance) is in the intimate zone: \
-         Calderita et al.'s Ψ(intimate).",
+         Calderita et al.'s Ψ(intimate). Read on centres, 0.45 m is reached only by bodies that \
+         overlap (robot 0.3 m and person 0.22 m radii): `intimate_gap_time` reads the zone on body \
+         gaps.",
         "`100 · #{t : min_i d_i,t < r_intimate} / (T + 1)`",
         "Hall 1966; HuNavSim; Calderita et al.",
     )
     .mean(1)
-    .panel(Social),
+    .panel(Social)
+    .headline(),
     m(
         "psi_personal",
         PEOPLE,
-        "personal-zone time",
+        "personal-zone time, centres",
         "%",
         Lower,
         PCT,
@@ -804,6 +824,172 @@ pub const METRICS: &[MetricInfo] = &[
         "`100 · #{t : min_i d_i,t ≥ r_social} / (T + 1)`",
         "Hall 1966; HuNavSim; Calderita et al.",
     ),
+    // Who approached whom (rust/proxemic-core/src/metrics/approach.rs; the fault rule of fault.rs)
+    m(
+        "intimate_gap_time",
+        PEOPLE,
+        "intimate-zone time, body gaps",
+        "s",
+        Lower,
+        POS,
+        "Seconds with the closest present person's body gap (surface to surface) in the intimate \
+         zone, counted per step at the step's end; 0 without people. The reading of the claims \
+         (`tests/test_social_vs_astar.py`), beside `psi_intimate`'s centre reading.",
+        "`dt · #{k < T : min_i s_i,k+1 < r_intimate}`",
+        SRC_APPROACH,
+    )
+    .mean(2)
+    .panel(Social)
+    .headline(),
+    m(
+        "intimate_gap_time_robot_caused",
+        PEOPLE,
+        "intimate-zone time, body gaps, robot-caused",
+        "s",
+        Lower,
+        POS,
+        "The part of `intimate_gap_time` in steps over which the robot moved toward that closest \
+         person: its velocity along the direction robot → person above 0.05 m/s (the rule of \
+         `collisions_robot_fault`).",
+        "steps of `intimate_gap_time` with `v_R,k · (q_i,k − p_k)/|q_i,k − p_k| > 0.05 m/s`, times `dt`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "intimate_gap_time_person_caused",
+        PEOPLE,
+        "intimate-zone time, body gaps, person-caused",
+        "s",
+        Neither,
+        POS,
+        "The rest of `intimate_gap_time`: the robot stopped, moving away or passing slower than \
+         0.05 m/s toward the person.",
+        "`intimate_gap_time − intimate_gap_time_robot_caused`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "intimate_gap_entries",
+        PEOPLE,
+        "intimate-zone entries, body gaps",
+        "count",
+        Lower,
+        POS,
+        "Entries into a person's intimate zone: steps over which a present person's body gap falls \
+         below the intimate radius from at or above it, counted per person.",
+        "`#{(k, i) : s_i,k ≥ r_intimate > s_i,k+1}`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "intimate_gap_entries_robot_caused",
+        PEOPLE,
+        "intimate-zone entries, robot-caused",
+        "count",
+        Lower,
+        POS,
+        "The entries of `intimate_gap_entries` made while the robot moved toward the person above \
+         0.05 m/s over the step of the entry.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2)
+    .headline(),
+    m(
+        "intimate_gap_entries_person_caused",
+        PEOPLE,
+        "intimate-zone entries, person-caused",
+        "count",
+        Neither,
+        POS,
+        "The other entries of `intimate_gap_entries`: the person came to a robot stopped, moving \
+         away or slower than 0.05 m/s toward them.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2)
+    .headline(),
+    m(
+        "personal_gap_time",
+        PEOPLE,
+        "personal-zone time, body gaps",
+        "s",
+        Lower,
+        POS,
+        "Seconds with the closest present person's body gap in the personal zone (at or above the \
+         intimate radius, below the personal one), per step like `intimate_gap_time`.",
+        "`dt · #{k < T : r_intimate ≤ min_i s_i,k+1 < r_personal}`",
+        SRC_APPROACH,
+    )
+    .mean(1)
+    .panel(Social),
+    m(
+        "personal_gap_time_robot_caused",
+        PEOPLE,
+        "personal-zone time, body gaps, robot-caused",
+        "s",
+        Lower,
+        POS,
+        "The part of `personal_gap_time` in steps over which the robot moved toward that closest \
+         person above 0.05 m/s.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(1)
+    .headline(),
+    m(
+        "personal_gap_time_person_caused",
+        PEOPLE,
+        "personal-zone time, body gaps, person-caused",
+        "s",
+        Neither,
+        POS,
+        "The rest of `personal_gap_time`: the person came to a robot stopped, moving away or \
+         slower than 0.05 m/s toward them.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(1)
+    .headline(),
+    m(
+        "personal_gap_entries",
+        PEOPLE,
+        "personal-zone entries, body gaps",
+        "count",
+        Lower,
+        POS,
+        "Entries into a person's personal zone: steps over which a present person's body gap falls \
+         below the personal radius from at or above it, per person (straight into the intimate \
+         zone included).",
+        "`#{(k, i) : s_i,k ≥ r_personal > s_i,k+1}`",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "personal_gap_entries_robot_caused",
+        PEOPLE,
+        "personal-zone entries, robot-caused",
+        "count",
+        Lower,
+        POS,
+        "The entries of `personal_gap_entries` made while the robot moved toward the person above \
+         0.05 m/s.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2),
+    m(
+        "personal_gap_entries_person_caused",
+        PEOPLE,
+        "personal-zone entries, person-caused",
+        "count",
+        Neither,
+        POS,
+        "The other entries of `personal_gap_entries`: the person came to the robot.",
+        "",
+        SRC_APPROACH,
+    )
+    .mean(2),
     // Groups and interactions
     m(
         "group_psi_intimate",
@@ -954,8 +1140,8 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         PCT,
         "Share of instants inside at least one object space, active or not: Calderita et al.'s \
-         Ψ(Objects) as their Tables 1–2 count it (their non-social 34.98% is the robot crossing \
-         the idle TV space).",
+         Ψ(Objects) as their Tables 1–2 count it (their Table 1 Path 1, the social path, scores \
+         34.98% by crossing the idle TV space).",
         "",
         "Calderita et al., Tables 1–2",
     )
@@ -1265,8 +1451,8 @@ mod tests {
     use super::*;
     use crate::metrics::{EpisodeReport, Groups, ObjectSpaces, Outcome, PeopleTracks, Trajectory, evaluate};
 
-    #[test]
-    fn every_reported_key_is_in_the_registry_and_back() {
+    /// The report of a 4 m straight run to the goal without people.
+    fn report() -> EpisodeReport {
         let robot: Vec<[f64; 3]> = (0..=4).map(|x| [x as f64, 0.0, 0.0]).collect();
         let traj = Trajectory {
             dt: 0.1,
@@ -1287,7 +1473,7 @@ mod tests {
         };
         let metrics = evaluate(&traj, &PeopleTracks::none(), &Groups::none(), &ObjectSpaces::none(), &ctx)
             .expect("valid input");
-        let report = EpisodeReport {
+        EpisodeReport {
             outcome: Outcome::Success,
             duration: 0.4,
             astar_length: 4.0,
@@ -1295,7 +1481,12 @@ mod tests {
             min_robot_gap: None,
             metrics,
             recovery: crate::metrics::RecoveryMetrics::default(),
-        };
+        }
+    }
+
+    #[test]
+    fn every_reported_key_is_in_the_registry_and_back() {
+        let report = report();
         let value = serde_json::to_value(&report).expect("serialisable");
         let keys: Vec<&str> = value.as_object().expect("an object").keys().map(String::as_str).collect();
         let missing: Vec<&str> = keys.iter().copied().filter(|k| metric_info(k).is_none()).collect();
@@ -1307,6 +1498,23 @@ mod tests {
             let is_list = value[info.key].is_array();
             assert_eq!(is_list, info.per != Per::Episode, "{}", info.key);
         }
+    }
+
+    /// The record's columns in the order Python receives them (the JSON text's order, which
+    /// `json.loads` keeps; the binding's dicts are built in the same order) are the registry's
+    /// keys in the registry's order: no column that is not a metric, no metric left out.
+    #[test]
+    fn the_report_lists_the_registry_keys_in_the_registry_order() {
+        let text = serde_json::to_string(&report()).expect("serialisable");
+        // Every other quoted token is a string; a key is one followed by a colon.
+        let parts: Vec<&str> = text.split('"').collect();
+        let keys: Vec<&str> = (1..parts.len())
+            .step_by(2)
+            .filter(|&i| parts[i + 1].starts_with(':'))
+            .map(|i| parts[i])
+            .collect();
+        let registry: Vec<&str> = METRICS.iter().map(|m| m.key).collect();
+        assert_eq!(keys, registry);
     }
 
     #[test]

@@ -587,101 +587,9 @@ fn serializes_with_snake_case_columns() {
     assert_eq!(v["ttc_min"], serde_json::Value::Null);
 }
 
-/// The record's columns, in the order Python receives them (the bindings pass the JSON text to
-/// `json.loads`, whose dicts keep it): one key per metric, the families one after the other.
-#[test]
-fn serializes_one_key_per_metric_in_the_record_order() {
-    let robot = line(3);
-    let t = traj(&robot, 1.0, Vec2::new(3.0, 0.0));
-    let m = run(&t, &PeopleTracks::none(), &ctx(3.0));
-    let text = serde_json::to_string(&m).expect("serializable");
-    // No value is a string: every quoted token is a key.
-    let keys: Vec<&str> = text.split('"').skip(1).step_by(2).collect();
-    let expected = [
-        "steps",
-        "success",
-        "collision",
-        "timeout",
-        "time_to_goal",
-        "hc_count",
-        "wc_count",
-        "ac_count",
-        "hc",
-        "wc",
-        "ac",
-        "path_length",
-        "path_length_ratio",
-        "spl",
-        "failure_to_progress",
-        "stalled_time",
-        "vel_min",
-        "vel_avg",
-        "vel_max",
-        "acc_min",
-        "acc_avg",
-        "acc_max",
-        "jerk_min",
-        "jerk_avg",
-        "jerk_max",
-        "chc",
-        "chc_motion",
-        "path_irregularity",
-        "dist_person_min",
-        "gap_person_min",
-        "cp_avg",
-        "d_min",
-        "discomfort_frequency",
-        "discomfort_gap_avg",
-        "personal_space_compliance",
-        "psi_intimate",
-        "psi_personal",
-        "psi_social",
-        "psi_public",
-        "group_psi_intimate",
-        "group_psi_personal",
-        "group_psi_social",
-        "group_psi_public",
-        "ospace_pct",
-        "ospace_time",
-        "ospace_entries",
-        "interaction_crossings",
-        "interaction_crossings_person_person",
-        "interaction_crossings_person_object",
-        "psi_object_active",
-        "psi_object_any",
-        "psi_objects_any",
-        "psi_objects_active",
-        "ttc_min",
-        "ttc_below_fraction",
-        "clearance_min",
-        "clearance_avg",
-        "social_force_on_people",
-        "social_force_on_robot",
-        "social_work",
-        "l_ratio",
-        "smooth_rad2",
-        "smooth_rad",
-        "smooth_k",
-        "d_t",
-        "tau",
-        "near_misses",
-        "force_exceed_events",
-        "comfort_exposure",
-        "collisions_robot_fault",
-        "collisions_person_fault",
-        "collisions_static",
-        "ped_delay_s_mean",
-        "ped_delay_s_max",
-        "ped_extra_distance_m_mean",
-        "ped_extra_distance_m_max",
-        "ped_path_deviation_m_mean",
-        "ped_path_deviation_m_max",
-    ];
-    assert_eq!(keys, expected);
-}
-
-#[test]
-fn deterministic() {
+/// The metrics of one episode, as the serialised record (every value to the last bit: ryu's
+/// shortest round-trip form).
+fn passing_record() -> String {
     let (robot, pos, vel, head) = passing_person();
     let people = PeopleTracks {
         positions: &pos,
@@ -692,7 +600,23 @@ fn deterministic() {
         present: &[],
     };
     let t = traj(&robot, 1.0, Vec2::new(9.0, 0.0));
-    assert_eq!(run(&t, &people, &ctx(9.0)), run(&t, &people, &ctx(9.0)));
+    serde_json::to_string(&run(&t, &people, &ctx(9.0))).expect("serialisable")
+}
+
+/// The same episode evaluated on several threads at once gives this thread's record bit for bit:
+/// no state shared between evaluations, no thread-dependent order of a reduction (the vector
+/// envs and `step_worlds` evaluate episodes on worker threads).
+#[test]
+fn the_same_episode_gives_the_same_record_on_every_thread() {
+    let here = passing_record();
+    let there: Vec<String> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..4).map(|_| s.spawn(passing_record)).collect();
+        handles.into_iter().map(|h| h.join().expect("no panic")).collect()
+    });
+    assert!(here.contains("\"dist_person_min\":"), "{here}");
+    for record in there {
+        assert_eq!(record, here);
+    }
 }
 
 fn special(v: f64, pick: u8) -> f64 {

@@ -186,7 +186,7 @@ impl Crowd {
 
     /// Advances every person by `dt` seconds (in whole steps of `params.dt`, the last one
     /// shortened). `robots` holds each robot's (centre, radius, velocity); people react to them
-    /// by their [`Reaction`] ([`super::react`]). `geometry` is the static world.
+    /// by their [`Reaction`] (`pedestrians::react`). `geometry` is the static world.
     pub fn step(
         &mut self,
         dt: f64,

@@ -42,17 +42,27 @@ impl Crowd {
         self.script[i] = script;
     }
 
-    /// A walker: along its closed route, dwelling at its stops facing the next waypoint.
-    fn walker_step(&mut self, i: usize, h: f64) {
-        let (pos, arrival) = (self.pos[i], self.params.arrival);
+    /// Person `i`'s walk along its closed route over `h` seconds: counts its dwell down, or, on
+    /// arrival at its target waypoint `k`, moves the target on and starts a dwell of `dwell(k)`
+    /// seconds (0 for no stop there).
+    fn advance_route(&mut self, i: usize, h: f64, dwell: impl Fn(&Self, usize) -> f64) {
         if self.dwell_left[i] > 0.0 {
             self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
-        } else if (self.routes[i][self.target[i]] - pos).norm() <= arrival {
+        } else if (self.routes[i][self.target[i]] - self.pos[i]).norm() <= self.params.arrival {
             let k = self.target[i];
             self.target[i] = (k + 1) % self.routes[i].len();
-            let stop = self.stops[i].get(k).copied().unwrap_or(true);
-            self.dwell_left[i] = if stop { self.dwell[i] } else { 0.0 };
+            self.dwell_left[i] = dwell(self, k);
         }
+    }
+
+    /// A walker: along its closed route, dwelling at its stops facing the next waypoint.
+    fn walker_step(&mut self, i: usize, h: f64) {
+        let pos = self.pos[i];
+        self.advance_route(
+            i,
+            h,
+            |c, k| if c.stops[i].get(k).copied().unwrap_or(true) { c.dwell[i] } else { 0.0 },
+        );
         let next = self.routes[i][self.target[i]];
         if self.dwell_left[i] > 0.0 {
             self.face_want[i] = bearing(pos, next);
@@ -63,14 +73,8 @@ impl Crowd {
 
     /// A tour guide: along its route, standing at its stops facing its followers.
     fn guide_step(&mut self, i: usize, h: f64, stops: &[bool], followers: &[usize]) {
-        let (pos, arrival) = (self.pos[i], self.params.arrival);
-        if self.dwell_left[i] > 0.0 {
-            self.dwell_left[i] = (self.dwell_left[i] - h).max(0.0);
-        } else if (self.routes[i][self.target[i]] - pos).norm() <= arrival {
-            let k = self.target[i];
-            self.target[i] = (k + 1) % self.routes[i].len();
-            self.dwell_left[i] = if stops[k] { self.dwell[i].max(h) } else { 0.0 };
-        }
+        let pos = self.pos[i];
+        self.advance_route(i, h, |c, k| if stops[k] { c.dwell[i].max(h) } else { 0.0 });
         if self.dwell_left[i] > 0.0 {
             // At a stop: stand facing the followers.
             self.moving[i] = false;

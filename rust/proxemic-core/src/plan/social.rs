@@ -17,7 +17,7 @@
 //!
 //! Two people models ([`PeopleModel`]): proxemic's own (each perceived individual's Hall zones on
 //! its space function, searched by A*: the `social_astar` and `social` planners) and Calderita's
-//! (the zones as contours of the summed density `G_d`, [`crate::socialmap::DensityLayer`],
+//! (the zones as contours of the summed density `G_d`, [`crate::social_cost_map::DensityLayer`],
 //! searched by Dijkstra: the `calderita` planner). Each model has its own maps; a path remembers
 //! its model, so its checks see the map it was planned on.
 
@@ -28,11 +28,11 @@ use crate::groups::{DensityParams, DetectorMemory, GroupMethod, PersonState, Rob
 use crate::map::CostGrid;
 use crate::math::Vec2;
 use crate::pedestrians::Crowd;
-use crate::perception::{Individual, Perception, SocialConfig, perceive_with};
+use crate::perception::{Individual, Perception, ProxemicsConfig, perceive_with};
 use crate::plan::{PathPlanner, SearchMode, smooth_path};
 use crate::proxemics::DensityZones;
 use crate::scenario::Scenario;
-use crate::socialmap::{DensityLayer, SocialMap, density_factor};
+use crate::social_cost_map::{DensityLayer, SocialMap, density_factor};
 
 /// Spacing of the points sampled along a path for the re-planning checks (metres).
 pub const SAMPLE_SPACING: f64 = 0.25;
@@ -85,7 +85,7 @@ pub struct SocialPath {
 
 /// State of the social planner for all robots of a world.
 pub struct SocialPlanning {
-    cfg: SocialConfig,
+    cfg: ProxemicsConfig,
     agenda: Agenda,
     object_names: Vec<String>,
     object_polygons: Vec<Vec<Vec2>>,
@@ -114,7 +114,7 @@ impl SocialPlanning {
     /// radius (m): the map widens the objects' interaction spaces by it, so the robot's body
     /// keeps out of a space whose edge its path follows.
     pub fn new(scenario: &Scenario, grids: &[(&CostGrid, f64)]) -> Result<Self> {
-        let cfg = scenario.social_config();
+        let cfg = scenario.proxemics_config();
         let agenda = scenario.agenda()?;
         let mut object_names = Vec::new();
         let mut object_polygons = Vec::new();
@@ -128,7 +128,7 @@ impl SocialPlanning {
         let maps: Vec<SocialMap> = grids
             .iter()
             .map(|&(g, radius)| {
-                let costs = crate::socialmap::SocialCosts { object_margin: radius, ..cfg.costs };
+                let costs = crate::social_cost_map::SocialCosts { object_margin: radius, ..cfg.costs };
                 SocialMap::new(g.clone(), &object_polygons, costs)
             })
             .collect();
@@ -162,7 +162,7 @@ impl SocialPlanning {
     }
 
     /// The social model.
-    pub fn config(&self) -> &SocialConfig {
+    pub fn config(&self) -> &ProxemicsConfig {
         &self.cfg
     }
 
@@ -425,7 +425,7 @@ fn object_factor(p: Vec2, polygons: &[Vec<Vec2>], spans: &[(f64, f64)], factors:
 }
 
 fn ind_bounds(ind: &crate::perception::Individual) -> [f64; 4] {
-    use crate::socialmap::SpaceFunction;
+    use crate::social_cost_map::SpaceFunction;
     ind.bounds()
 }
 

@@ -31,7 +31,7 @@ pub use features::{
     EMOTIONAL_STATES, InfluenceValues, MAX_VARIANCE_SCALE, SideInfluences, adapt, emotional_state_value,
     influence_values, variance_scale,
 };
-pub use space::{Asymmetric, PersonalSpace, Placed};
+pub use space::{Asymmetric, PersonalSpace, Placed, zone_distance, zone_distances};
 
 use crate::error::{CoreError, Result};
 use crate::math::Vec2;

@@ -366,7 +366,7 @@ fn proxemics_and_agenda_parse() {
     assert_eq!(s.persons[1].features, vec![0.70, 0.5]);
     assert_eq!(s.proxemics.influence[0], vec![0.9, 0.0]);
     assert_eq!(s.proxemics.influence[1], vec![0.0, 0.0]);
-    let cfg = s.social_config();
+    let cfg = s.proxemics_config();
     assert_eq!(cfg.features.len(), 2);
     assert!(matches!(cfg.groups, Some(crate::groups::GroupMethod::Delaunay(p)) if p.d_max == 1.2));
     let agenda = s.agenda().expect("valid agenda");

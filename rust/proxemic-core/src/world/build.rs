@@ -7,11 +7,11 @@ use rand_chacha::ChaCha8Rng;
 use super::planners::plan_path;
 use super::{GroundTruth, InflatedGrid, Layout, RobotStatic, World};
 use crate::control::Limits;
-use crate::control::mode_switch::SocialControlParams;
+use crate::control::mode_switch::ModeSwitchParams;
 use crate::control::orca::{ObstacleSet, Orca, OrcaParams};
 use crate::error::{CoreError, Result};
 use crate::map::CostGrid;
-use crate::map::geometry::{Bounds, StaticGeometry};
+use crate::map::geometry::StaticGeometry;
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::map::lidar::Scanner;
 use crate::math::Vec2;
@@ -43,12 +43,8 @@ impl World {
     /// a person's behaviour finds no room (a viewing place, a place at an activity or in a
     /// conversation, a tour's gathering arc) or no path ([`plan_scripts`]).
     pub fn new(scenario: Scenario) -> Result<Self> {
-        let b = scenario.scene.bounds;
-        let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
-        let polygons: Vec<Vec<Vec2>> =
-            scenario.static_polygons().into_iter().map(|p| p.into_iter().map(v2).collect()).collect();
-        let geometry = StaticGeometry::new(polygons, bounds)?;
-        let spec = GridSpec::covering(bounds, scenario.scene.resolution)?;
+        let geometry = scenario.static_geometry()?;
+        let spec = GridSpec::covering(geometry.bounds(), scenario.scene.resolution)?;
         let occupancy = OccupancyGrid::rasterize(&geometry, spec);
         let field = DistanceField::from_occupancy(&occupancy);
 
@@ -70,7 +66,7 @@ impl World {
         let obstacles = ObstacleSet::from_geometry(&geometry)?;
         let orca = Orca::new(OrcaParams::default())?;
         let mut world = World {
-            control: SocialControlParams::default(),
+            control: ModeSwitchParams::default(),
             orca,
             obstacles,
             geometry,

@@ -43,7 +43,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::control::eband::{EbandParams, ElasticBand};
-use crate::control::mode_switch::{Mode, SocialControlParams};
+use crate::control::mode_switch::{Mode, ModeSwitchParams};
 use crate::control::orca::{ObstacleSet, Orca};
 use crate::control::progress::ProgressMonitor;
 use crate::control::stop_and_wait::StopAndWait;
@@ -153,7 +153,7 @@ pub struct World {
     /// The social model, maps and global planner.
     social: SocialPlanning,
     /// Local planners.
-    control: SocialControlParams,
+    control: ModeSwitchParams,
     orca: Orca,
     obstacles: ObstacleSet,
     grids: Vec<InflatedGrid>,

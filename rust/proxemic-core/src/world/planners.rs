@@ -121,7 +121,7 @@ impl World {
     }
 
     /// Robot `i`'s social map (as last updated).
-    pub fn social_map_of(&self, i: usize) -> Option<&crate::socialmap::SocialMap> {
+    pub fn social_map_of(&self, i: usize) -> Option<&crate::social_cost_map::SocialMap> {
         self.social.map(self.statics.get(i)?.grid_index)
     }
 

@@ -14,7 +14,7 @@
 //!   centre to a *zone distance* below [`GaussianSpace::keep_out`] `+ safety_margin`, where the
 //!   zone distance of a point is `zone_scale * sqrt(2 q)` with `exp(-q)` the Gaussian's value
 //!   there (the distance the social map compares with Hall's radii, see
-//!   [`crate::socialmap::SpaceFunction`]). The momentum and efficiency terms are unchanged (they
+//!   [`crate::social_cost_map::SpaceFunction`]). The momentum and efficiency terms are unchanged (they
 //!   use the individual's centre and velocity); no cost term is added (Daza 2021 has none).
 //! - **The level.** `keep_out` is the caller's. The `sousa2022` planner passes Hall's personal
 //!   radius (Daza 2021: 1 m; Sousa 2022 §4.5: Daza's method is used "for avoiding the personal
@@ -37,8 +37,8 @@
 use crate::error::{CoreError, Result};
 use crate::math::Vec2;
 use crate::perception::Individual;
-use crate::proxemics::Asymmetric;
-use crate::socialmap::SpaceFunction;
+use crate::proxemics::{Asymmetric, PersonalSpace, Placed, Pose};
+use crate::social_cost_map::SpaceFunction;
 
 /// How an agent's keep-out region is shaped in the collision filter of
 /// [`super::social_momentum_shaped`].
@@ -58,13 +58,9 @@ pub enum AgentShape {
 /// four per-side sigmas, the zone scale and the keep-out zone distance.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GaussianSpace {
-    cos: f64,
-    sin: f64,
-    /// `1 / (2 sigma²)` per side (1/m²), as in [`crate::proxemics::Placed`].
-    front: f64,
-    rear: f64,
-    right: f64,
-    left: f64,
+    /// The Gaussian placed at the origin (the agent's centre) facing its heading: orientation and
+    /// `1 / (2 sigma²)` per side (1/m²), evaluated on offsets from the centre.
+    placed: Placed,
     zone_scale: f64,
     keep_out: f64,
 }
@@ -86,18 +82,8 @@ impl GaussianSpace {
         if !(keep_out.is_finite() && keep_out >= 0.0) {
             return Err(CoreError::input("keep_out", "a finite length >= 0 (m)", keep_out.to_string()));
         }
-        let k = |sigma: f64| 1.0 / (2.0 * sigma * sigma);
-        let (sin, cos) = heading.sin_cos();
-        Ok(GaussianSpace {
-            cos,
-            sin,
-            front: k(sides.front),
-            rear: k(sides.rear),
-            right: k(sides.right),
-            left: k(sides.left),
-            zone_scale,
-            keep_out,
-        })
+        let placed = PersonalSpace::Asymmetric(sides).at(Pose::new(0.0, 0.0, heading));
+        Ok(GaussianSpace { placed, zone_scale, keep_out })
     }
 
     /// The Gaussian of one individual of the social map (a person alone or a group as one
@@ -116,14 +102,12 @@ impl GaussianSpace {
     /// The exponent `q` at the offset `d` (m) from the centre (Sousa 2022 eq. 5, the quadrant of
     /// eq. 8 by half planes as in [`crate::proxemics::Placed::exponent`]).
     pub fn exponent(&self, d: Vec2) -> f64 {
-        let (s, f) = self.axes(d);
-        let (ks, kf) = self.coefficients(s, f);
-        ks * s * s + kf * f * f
+        self.placed.exponent(d)
     }
 
-    /// The zone distance (m) of the offset `d` from the centre: `zone_scale * sqrt(2 q)`.
+    /// The zone distance (m) of the offset `d` from the centre ([`crate::proxemics::zone_distance`]).
     pub fn zone_distance(&self, d: Vec2) -> f64 {
-        self.zone_scale * (2.0 * self.exponent(d)).max(0.0).sqrt()
+        self.placed.zone_distance(d, self.zone_scale)
     }
 
     /// The exponent level below which a point is inside the keep-out region grown by `margin`
@@ -135,24 +119,16 @@ impl GaussianSpace {
 
     /// The farthest the region grown by `margin` (m) reaches from the centre (m).
     pub(super) fn reach(&self, margin: f64) -> f64 {
-        let k_min = self.front.min(self.rear).min(self.right).min(self.left);
+        let [.., front, rear, right, left] = self.placed.coefficients();
+        let k_min = front.min(rear).min(right).min(left);
         (self.level(margin) / k_min).sqrt()
-    }
-
-    /// `(d_sag, d_fro)`: the offset along the facing direction and to the right (Sousa 2022 eq. 5).
-    fn axes(&self, d: Vec2) -> (f64, f64) {
-        (self.cos * d.x + self.sin * d.y, self.sin * d.x - self.cos * d.y)
-    }
-
-    fn coefficients(&self, s: f64, f: f64) -> (f64, f64) {
-        (if s >= 0.0 { self.front } else { self.rear }, if f >= 0.0 { self.right } else { self.left })
     }
 
     /// The minimum of `q(d0 + dv t)` over `t` in `[0, horizon]` and the first time it is reached
     /// (exact; module docs).
     pub(super) fn min_along(&self, d0: Vec2, dv: Vec2, horizon: f64) -> (f64, f64) {
-        let (s0, f0) = self.axes(d0);
-        let (s1, f1) = self.axes(dv);
+        let (s0, f0) = self.placed.axes(d0);
+        let (s1, f1) = self.placed.axes(dv);
         // Axis crossings inside the horizon split the line into quadratic pieces.
         let mut cuts = [0.0, horizon, horizon, horizon];
         let mut n = 1;
@@ -177,7 +153,7 @@ impl GaussianSpace {
                 continue;
             }
             let mid = 0.5 * (t0 + t1);
-            let (ks, kf) = self.coefficients(s0 + s1 * mid, f0 + f1 * mid);
+            let (ks, kf) = self.placed.side_coefficients(s0 + s1 * mid, f0 + f1 * mid);
             let a = ks * s1 * s1 + kf * f1 * f1;
             let t = if a > 0.0 { (-(ks * s0 * s1 + kf * f0 * f1) / a).clamp(t0, t1) } else { t0 };
             let q = ks * (s0 + s1 * t).powi(2) + kf * (f0 + f1 * t).powi(2);
@@ -193,9 +169,9 @@ impl GaussianSpace {
 mod tests {
     use super::super::*;
     use super::*;
+    use crate::control::clamp_norm;
     use crate::groups::PersonState;
-    use crate::perception::{SocialConfig, perceive};
-    use crate::socialmap::SocialCosts;
+    use crate::perception::{ProxemicsConfig, perceive};
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
     use std::f64::consts::{FRAC_PI_2, PI};
@@ -300,7 +276,7 @@ mod tests {
 
     #[test]
     fn the_zone_distance_is_the_social_maps_for_an_individual_and_for_a_group() {
-        let cfg = SocialConfig::default();
+        let cfg = ProxemicsConfig::default();
         let people = [
             PersonState::standing(v(0.0, 0.0), 0.0),
             PersonState::standing(v(1.2, 0.0), PI),
@@ -314,7 +290,7 @@ mod tests {
             for _ in 0..100 {
                 let p = ind.centre + v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0));
                 let ours = g.zone_distance(p - ind.centre);
-                let map = SocialCosts::zone_distance(ind, p);
+                let map = ind.zone_distance(p);
                 assert!((ours - map).abs() < 1e-9, "{ours} vs {map}");
             }
         }

@@ -74,13 +74,20 @@
 //! radius, weight, gain or limit, `dt <= 0`, or a robot whose centre is inside a static polygon:
 //! the function returns `None` (stop). It never panics and never returns a non-finite velocity.
 
-use crate::control::{Limits, clamp_norm};
-use crate::geom::{cross, distance_point_segment};
+use crate::control::Limits;
+use crate::geom::cross;
 use crate::map::StaticGeometry;
 use crate::math::Vec2;
 
+mod collision;
+mod comfort;
 pub mod gaussian;
+mod window;
+
+use collision::{Edge, Near, collides, nearby_edges};
+use comfort::Comfort;
 pub use gaussian::{AgentShape, GaussianSpace};
+use window::action_set;
 
 /// Sign of the pairwise angular momentum `L` that corresponds to passing on the right
 /// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
@@ -341,86 +348,6 @@ fn inputs_valid(
         && others.iter().all(Agent::is_valid)
 }
 
-/// A wall edge `(a, b)` the robot could reach within the horizon, with its distance now (m).
-type Edge = (Vec2, Vec2, f64);
-
-/// The static edges within `range` (m) of `pos`; `None` when `pos` is inside a polygon.
-fn nearby_edges(pos: Vec2, geom: Option<&StaticGeometry>, range: f64) -> Option<Vec<Edge>> {
-    let mut edges: Vec<Edge> = Vec::new();
-    if let Some(g) = geom {
-        if g.contains(pos) {
-            return None;
-        }
-        for (poly, bb) in g.polygons().iter().zip(g.polygon_bounds()) {
-            let dx = (bb.min.x - pos.x).max(pos.x - bb.max.x).max(0.0);
-            let dy = (bb.min.y - pos.y).max(pos.y - bb.max.y).max(0.0);
-            if dx * dx + dy * dy > range * range {
-                continue;
-            }
-            let n = poly.len();
-            for k in 0..n {
-                let (a, b) = (poly[k], poly[(k + 1) % n]);
-                let d = distance_point_segment(pos, a, b);
-                if d <= range {
-                    edges.push((a, b, d));
-                }
-            }
-        }
-    }
-    Some(edges)
-}
-
-/// A person the robot could meet within the collision horizon.
-struct Near {
-    pos: Vec2,
-    vel: Vec2,
-    /// Squared keep-out bound `(radius + r_i + safety_margin)²` (m²).
-    bound2: f64,
-    /// A Gaussian keep-out region and its exponent level (safety margin included).
-    gaussian: Option<(GaussianSpace, f64)>,
-    /// How far the Gaussian's keep-out region reaches from the centre (m, its
-    /// [`GaussianSpace::reach`] grown by a margin far above rounding; 0 for a disc).
-    gaussian_reach: f64,
-}
-
-impl Near {
-    /// Whether the robot at offset `d0` from the agent is inside its keep-out region now.
-    fn contains(&self, d0: Vec2) -> bool {
-        d0.norm_squared() < self.bound2 || self.gaussian.is_some_and(|(g, level)| g.exponent(d0) < level)
-    }
-
-    /// Whether holding the relative velocity `dv` over `horizon` brings the robot at offset `d0`
-    /// into the keep-out region (the minimum over the horizon lies after `t = 0` and inside).
-    fn brought_inside(&self, d0: Vec2, dv: Vec2, horizon: f64) -> bool {
-        let dd = dv.norm_squared();
-        let t = if dd > 0.0 { (-d0.dot(&dv) / dd).clamp(0.0, horizon) } else { 0.0 };
-        // The smallest squared centre distance over the horizon.
-        let closest2 = (d0 + dv * t).norm_squared();
-        (t > 0.0 && closest2 < self.bound2)
-            || self.gaussian.is_some_and(|(g, level)| {
-                // Farther than the region's reach all along the horizon (the closest approach,
-                // less a slack far above its rounding, clears the reach): the exact minimum
-                // cannot fall below the level, no need to look for it.
-                let slack = 1e-9 * (d0.norm_squared() + dd * horizon * horizon);
-                if closest2 - slack > self.gaussian_reach * self.gaussian_reach {
-                    return false;
-                }
-                let (q, t) = g.min_along(d0, dv, horizon);
-                t > 0.0 && q < level
-            })
-    }
-
-    /// The gap (m) the robot at `p` leaves to the agent's centre after `tau` seconds: the
-    /// centre distance for a disc, the zone distance for a Gaussian.
-    fn gap(&self, p: Vec2, tau: f64) -> f64 {
-        let d = p - self.pos - self.vel * tau;
-        match self.gaussian {
-            None => d.norm(),
-            Some((g, _)) => g.zone_distance(d),
-        }
-    }
-}
-
 /// A person in the momentum term.
 struct Reactive {
     /// pos - p_i
@@ -487,215 +414,6 @@ fn people_sets(
     (near, reactive)
 }
 
-/// Step 1 of [`social_momentum`]: the goal-seeking, coasting and braking samples, then the polar
-/// grid, each projected onto the dynamic window.
-fn action_set(
-    vel: Vec2,
-    to_goal: Vec2,
-    goal_dir: Vec2,
-    reach: f64,
-    vmax: f64,
-    params: &SocialMomentumParams,
-) -> Vec<Vec2> {
-    let tau = params.projection_time;
-    let project = |w: Vec2| project_window(w, vel, reach, vmax);
-    let mut samples: Vec<Vec2> = Vec::with_capacity(3 + params.n_speeds * params.n_headings);
-    samples.push(project(to_goal / tau));
-    samples.push(project(vel));
-    samples.push(project(Vec2::zeros()));
-    if params.n_headings > 0 {
-        let step = std::f64::consts::TAU / params.n_headings as f64;
-        let dirs: Vec<Vec2> =
-            (0..params.n_headings).map(|h| crate::math::rotate(goal_dir, step * h as f64)).collect();
-        for s in 1..=params.n_speeds {
-            let r = reach * s as f64 / params.n_speeds as f64;
-            for d in &dirs {
-                samples.push(project(vel + d * r));
-            }
-        }
-    }
-    samples
-}
-
-/// Step 4 of [`social_momentum`]: the agents whose comfort zone the robot could enter within the
-/// comfort horizon, and what a sample's intrusion into them is.
-struct Comfort {
-    /// Per agent: `pos - p_i`, `v_i`, `R_i`, the squared radius above which a squared distance
-    /// surely gives a distance `>= R_i` (no intrusion, the term is exactly 0), and the first
-    /// comfort instant (index) at which any sample could bring the robot into the zone (none
-    /// can before: the robot covers at most `vmax t` by time `t`).
-    agents: Vec<ComfortAgent>,
-    /// Per comfort instant `k`, the agents (indices into `agents`, ascending) whose zone some
-    /// sample could reach at that instant: from `k >= first` on, and only while the agent's own
-    /// position at `t_k` lies within `R_i + vmax t_k` of `pos` (the robot covers at most
-    /// `vmax t_k`), with a margin far above rounding. The others' terms are exactly 0 there.
-    candidates: [Vec<usize>; COMFORT_SAMPLES],
-    /// How many comfort instants to evaluate: one past the last instant with a candidate (0
-    /// when no instant has one: every intrusion is 0).
-    instants: usize,
-    vel: Vec2,
-    goal_dir: Vec2,
-    accel: f64,
-    vmax: f64,
-    dt: f64,
-    horizon: f64,
-}
-
-impl Comfort {
-    fn new(
-        pos: Vec2,
-        vel: Vec2,
-        goal_dir: Vec2,
-        others: &[Agent],
-        limits: &Limits,
-        dt: f64,
-        params: &SocialMomentumParams,
-    ) -> Self {
-        let vmax = limits.max_speed;
-        let t_c = params.comfort_horizon;
-        let h = t_c / COMFORT_SAMPLES as f64;
-        let agents: Vec<ComfortAgent> = if params.comfort_weight > 0.0 && t_c > 0.0 {
-            others
-                .iter()
-                .filter(|a| {
-                    a.comfort > 0.0 && (pos - a.pos).norm() - a.comfort <= (vmax + a.vel.norm()) * t_c
-                })
-                .map(|a| {
-                    let d0 = pos - a.pos;
-                    // At instant t the robot is within vmax t of pos and the agent within
-                    // |v_i| t of p_i: no intrusion while |d0| - (vmax + |v_i|) t clears R_i
-                    // (by a margin far above rounding).
-                    let (dist, closing) = (d0.norm(), vmax + a.vel.norm());
-                    let first = (0..COMFORT_SAMPLES)
-                        .find(|&k| dist - closing * ((k as f64 + 1.0) * h) < a.comfort + 1e-9)
-                        .unwrap_or(COMFORT_SAMPLES);
-                    ComfortAgent {
-                        d0,
-                        vel: a.vel,
-                        r: a.comfort,
-                        clear2: a.comfort * a.comfort * (1.0 + 1e-12),
-                        first,
-                    }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let candidates = std::array::from_fn(|k| {
-            let t = (k as f64 + 1.0) * h;
-            // |q| <= vmax t (every step of the sample's way is clamped to vmax), so the robot's
-            // offset `d0 + q - v_i t` is at least |d0 - v_i t| - vmax t from the agent.
-            let reach = vmax * t * (1.0 + 1e-9) + 1e-6;
-            (0..agents.len())
-                .filter(|&i| {
-                    let a = &agents[i];
-                    k >= a.first && (a.d0 - a.vel * t).norm() - reach < a.r
-                })
-                .collect()
-        });
-        let instants = candidates.iter().rposition(|c: &Vec<usize>| !c.is_empty()).map_or(0, |k| k + 1);
-        Comfort {
-            agents,
-            candidates,
-            instants,
-            vel,
-            goal_dir,
-            accel: limits.max_accel.min(1e3),
-            vmax,
-            dt,
-            horizon: t_c,
-        }
-    }
-
-    /// Mean intrusion (m) of the sample `v` into the comfort zones over the comfort horizon.
-    #[cfg(test)]
-    fn intrusion(&self, v: Vec2) -> f64 {
-        let mut one = [Scored { v, e: 0.0, sm: 0.0, c: 0.0 }];
-        self.intrusions(&mut one);
-        one[0].c
-    }
-
-    /// Sets `c` of every sample to its mean intrusion (m) into the comfort zones over the comfort
-    /// horizon.
-    ///
-    /// The samples are processed side by side (one array per coordinate, a loop over the samples
-    /// inside the loops over the instants and the candidates, without branches, which the compiler
-    /// turns into SIMD code), each sample's sum in the same order and with the same operations as
-    /// one sample at a time, so every result is the same bit for bit.
-    fn intrusions(&self, samples: &mut [Scored]) {
-        let n = samples.len();
-        if self.instants == 0 || n == 0 {
-            for s in samples.iter_mut() {
-                s.c = 0.0;
-            }
-            return;
-        }
-        // Per sample: its velocity, the acceleration it keeps up (turn * accel), where it has got
-        // to (q) and the sum of its intrusions.
-        let mut buf = vec![0.0; 7 * n];
-        let (vx, rest) = buf.split_at_mut(n);
-        let (vy, rest) = rest.split_at_mut(n);
-        let (px, rest) = rest.split_at_mut(n);
-        let (py, rest) = rest.split_at_mut(n);
-        let (qx, rest) = rest.split_at_mut(n);
-        let (qy, sum) = rest.split_at_mut(n);
-        for (j, s) in samples.iter().enumerate() {
-            // The sample's way over the horizon: it keeps accelerating the way it turned (at the
-            // acceleration limit, up to the speed limit), so a step aside shows where it leads.
-            let dv0 = s.v - self.vel;
-            let turn = if dv0.norm() > 1e-9 { dv0 / dv0.norm() } else { Vec2::zeros() };
-            let push = turn * self.accel;
-            (vx[j], vy[j], px[j], py[j]) = (s.v.x, s.v.y, push.x, push.y);
-        }
-        let (gx, gy) = (self.goal_dir.x, self.goal_dir.y);
-        let vmax = self.vmax;
-        let h = self.horizon / COMFORT_SAMPLES as f64;
-        // After the last instant with a candidate every term is 0: the sums are complete.
-        for (k, candidates) in self.candidates.iter().enumerate().take(self.instants) {
-            let t = (k as f64 + 1.0) * h;
-            let ramp = (t - self.dt).max(0.0);
-            for j in 0..n {
-                // w = clamp_norm(v + push * ramp, vmax), as in `clamp_norm`.
-                let (mut wx, mut wy) = (vx[j] + px[j] * ramp, vy[j] + py[j] * ramp);
-                let norm = (wx * wx + wy * wy).sqrt();
-                if norm > vmax && norm > 0.0 {
-                    let scale = vmax / norm;
-                    (wx, wy) = (wx * scale, wy * scale);
-                }
-                // Backing away from the partial goal counts as standing still: the robot may slow
-                // down or sidestep for someone's comfort, but it does not retreat along its way.
-                let back = (wx * gx + wy * gy).min(0.0);
-                (wx, wy) = (wx - gx * back, wy - gy * back);
-                qx[j] += wx * h;
-                qy[j] += wy * h;
-            }
-            for &i in candidates {
-                let a = &self.agents[i];
-                let (shift_x, shift_y) = (a.vel.x * t, a.vel.y * t);
-                for j in 0..n {
-                    let (dx, dy) = ((a.d0.x + qx[j]) - shift_x, (a.d0.y + qy[j]) - shift_y);
-                    let d2 = dx * dx + dy * dy;
-                    // A term that is exactly 0 (no intrusion) adds +0: the sum is the same, bit
-                    // for bit, as without it.
-                    sum[j] += if d2 > a.clear2 { 0.0 } else { (a.r - d2.sqrt()).max(0.0) };
-                }
-            }
-        }
-        for (s, c) in samples.iter_mut().zip(sum.iter()) {
-            s.c = c / COMFORT_SAMPLES as f64;
-        }
-    }
-}
-
-/// An agent of the comfort term (see [`Comfort`]).
-struct ComfortAgent {
-    d0: Vec2,
-    vel: Vec2,
-    r: f64,
-    clear2: f64,
-    first: usize,
-}
-
 /// What the collision filter and the scores of one step look at.
 struct Scene<'a> {
     pos: Vec2,
@@ -714,29 +432,6 @@ struct Scored {
     e: f64,
     sm: f64,
     c: f64,
-}
-
-/// Step 2 of [`social_momentum`]: `true` if holding `v` over the horizon brings the robot inside a
-/// person's keep-out bound or within `wall_bound` of a wall edge (closer than it is now).
-fn collides(scene: &Scene, v: Vec2, horizon: f64) -> bool {
-    let pos = scene.pos;
-    let hits_person = scene.near.iter().any(|a| a.brought_inside(pos - a.pos, v - a.vel, horizon));
-    if hits_person {
-        return true;
-    }
-    if scene.edges.is_empty() {
-        return false;
-    }
-    let end = pos + v * horizon;
-    // An edge farther than the swept length plus the bound cannot come within the bound.
-    let sweep = v.norm() * horizon * (1.0 + 1e-9) + 1e-9;
-    scene.edges.iter().any(|&(a, b, d_now)| {
-        if d_now - sweep >= scene.wall_bound {
-            return false;
-        }
-        let d = segment_segment_distance(pos, end, a, b);
-        d < scene.wall_bound && d < d_now
-    })
 }
 
 /// Steps 2-4 of [`social_momentum`]: the collision-free samples with their raw scores.
@@ -819,58 +514,6 @@ fn best_score(feasible: &[Scored], params: &SocialMomentumParams) -> Option<Vec2
 #[inline]
 fn finite2(v: Vec2) -> bool {
     v.x.is_finite() && v.y.is_finite()
-}
-
-#[inline]
-/// The point of `{|v| <= vmax} ∩ {|v - c| <= r}` closest to `w` (exact). When the two discs are
-/// disjoint the speed bound wins: the point of the speed disc closest to the acceleration disc.
-fn project_window(w: Vec2, c: Vec2, r: f64, vmax: f64) -> Vec2 {
-    let in_speed = |v: Vec2| v.norm() <= vmax;
-    let in_reach = |v: Vec2| (v - c).norm() <= r;
-    if in_speed(w) && in_reach(w) {
-        return w;
-    }
-    let p1 = clamp_norm(w, vmax);
-    if in_reach(p1) {
-        return p1;
-    }
-    let p2 = c + clamp_norm(w - c, r);
-    if in_speed(p2) {
-        return p2;
-    }
-    // The closest point is one of the two corners where the circles cross.
-    let dc = c.norm();
-    if dc > 0.0 {
-        let a = (vmax * vmax - r * r + dc * dc) / (2.0 * dc);
-        let h2 = vmax * vmax - a * a;
-        if h2 >= 0.0 {
-            let u = c / dc;
-            let perp = Vec2::new(-u.y, u.x);
-            let h = h2.sqrt();
-            let q1 = u * a + perp * h;
-            let q2 = u * a - perp * h;
-            let q = if (q1 - w).norm_squared() <= (q2 - w).norm_squared() { q1 } else { q2 };
-            return clamp_norm(q, vmax);
-        }
-    }
-    clamp_norm(p2, vmax)
-}
-
-/// Minimum distance (m) between the segments `pq` and `ab` (0 if they cross).
-fn segment_segment_distance(p: Vec2, q: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let d1 = cross(q - p, a - p);
-    let d2 = cross(q - p, b - p);
-    let d3 = cross(b - a, p - a);
-    let d4 = cross(b - a, q - a);
-    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
-        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
-    {
-        return 0.0;
-    }
-    distance_point_segment(p, a, b)
-        .min(distance_point_segment(q, a, b))
-        .min(distance_point_segment(a, p, q))
-        .min(distance_point_segment(b, p, q))
 }
 
 #[cfg(test)]

@@ -1,6 +1,8 @@
 //! Tests of Social Momentum (the disc model and its steps).
 
+use super::collision::segment_segment_distance;
 use super::*;
+use crate::control::clamp_norm;
 use crate::map::Bounds;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

@@ -251,7 +251,7 @@ fn build_approach(
     let members = approach_members(ck, f, a, persons)?;
     let (centre, heading, sides) = approached_space(&members, persons, prox)?;
     let [front, rear, right, left] = prox.sigmas;
-    // The personal zone's edge in value terms (see crate::socialmap::SpaceFunction).
+    // The personal zone's edge in value terms (see crate::social_cost_map::SpaceFunction).
     let zone_scale = match prox.space.as_str() {
         "calderita" => right,
         "daza2021" => front,

@@ -40,7 +40,7 @@ use self::furnish::{GObject, GPerson, Keep};
 use self::layout::Plan;
 use super::model::{Reaction, Scenario};
 use crate::error::Result;
-use crate::map::geometry::{Bounds, StaticGeometry};
+use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
 
 /// A generated scene: its scenario file text and the validated scenario.
@@ -150,15 +150,8 @@ fn shortest_way(s: &Scenario, start: Vec2, goal: Vec2) -> Result<Vec<Vec2>> {
     use crate::map::CostGrid;
     use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
     use crate::plan::geodesic::GoalField;
-    let b = s.scene.bounds;
-    let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
-    let polygons = s
-        .static_polygons()
-        .into_iter()
-        .map(|poly| poly.into_iter().map(|q| Vec2::new(q[0], q[1])).collect())
-        .collect();
-    let geometry = StaticGeometry::new(polygons, bounds)?;
-    let spec = GridSpec::covering(bounds, s.scene.resolution)?;
+    let geometry = s.static_geometry()?;
+    let spec = GridSpec::covering(geometry.bounds(), s.scene.resolution)?;
     let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geometry, spec));
     let r = &s.robots[0];
     let grid = CostGrid::inflated(&field, r.radius + r.inflation_margin);
@@ -196,15 +189,7 @@ fn round2(v: f64) -> f64 {
 /// The walls and solid object footprints as the loaded scenario will have them.
 fn static_geometry(plan: &Plan, objects: &[GObject], p: &GenParams, source: &str) -> Result<StaticGeometry> {
     let text = render(0, p, plan, objects, &[], &[], &[([0.15, 0.15, 0.0], [1.0, 1.0])]);
-    let s = Scenario::from_toml_str(&text, source)?;
-    let b = s.scene.bounds;
-    let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
-    let polygons = s
-        .static_polygons()
-        .into_iter()
-        .map(|poly| poly.into_iter().map(|q| Vec2::new(q[0], q[1])).collect())
-        .collect();
-    StaticGeometry::new(polygons, bounds)
+    Scenario::from_toml_str(&text, source)?.static_geometry()
 }
 
 /// An activity of the agenda: object name, start and end (`"HH:MM"`).

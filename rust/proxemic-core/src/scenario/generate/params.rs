@@ -82,7 +82,34 @@ pub const PARAM_NAMES: [&str; 13] = [
     "reaction",
 ];
 
-fn perr(source: &str, field: &str, expected: impl Into<String>, found: impl Into<String>) -> CoreError {
+/// Hands each `key=value` pair of the spec `spec`'s `query` (the part after `?`, pairs joined by
+/// `&`) to `set`, in order; errors name a pair that is not `key=value` and a key given twice.
+pub(super) fn each_parameter<'q>(
+    spec: &str,
+    query: &'q str,
+    mut set: impl FnMut(&'q str, &'q str) -> Result<()>,
+) -> Result<()> {
+    let mut seen: Vec<&str> = Vec::new();
+    for pair in query.split('&').filter(|p| !p.is_empty()) {
+        let (k, v) = pair
+            .split_once('=')
+            .ok_or_else(|| perr(spec, "<spec>", "key=value pairs after '?'", format!("{pair:?}")))?;
+        if seen.contains(&k) {
+            return Err(perr(spec, k, "each parameter at most once", format!("{k:?} twice")));
+        }
+        seen.push(k);
+        set(k, v)?;
+    }
+    Ok(())
+}
+
+/// A scenario error of the spec `source` naming `field`.
+pub(super) fn perr(
+    source: &str,
+    field: &str,
+    expected: impl Into<String>,
+    found: impl Into<String>,
+) -> CoreError {
     CoreError::Scenario {
         file: source.to_string(),
         field: field.to_string(),
@@ -212,17 +239,7 @@ pub fn parse_spec(spec: &str) -> Result<(u64, GenParams)> {
         .map_err(|_| perr(spec, "seed", "a non-negative integer seed", format!("{seed_text:?}")))?;
     let mut params = GenParams::default();
     if let Some(q) = query {
-        let mut seen: Vec<&str> = Vec::new();
-        for pair in q.split('&').filter(|p| !p.is_empty()) {
-            let (k, v) = pair
-                .split_once('=')
-                .ok_or_else(|| perr(spec, "<spec>", "key=value pairs after '?'", format!("{pair:?}")))?;
-            if seen.contains(&k) {
-                return Err(perr(spec, k, "each parameter at most once", format!("{k:?} twice")));
-            }
-            seen.push(k);
-            params.set(spec, k, v)?;
-        }
+        each_parameter(spec, q, |k, v| params.set(spec, k, v))?;
     }
     params.check(spec)?;
     Ok((seed, params))

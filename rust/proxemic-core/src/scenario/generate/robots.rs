@@ -9,7 +9,6 @@ use rand_chacha::ChaCha8Rng;
 use crate::error::{CoreError, Result};
 use crate::geom::contains_point_polygon;
 use crate::map::CostGrid;
-use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::map::grid::{DistanceField, GridSpec, OccupancyGrid};
 use crate::math::Vec2;
 use crate::plan::geodesic::GoalField;
@@ -33,15 +32,8 @@ pub type Task = ([f64; 3], [f64; 2]);
 /// episode. Deterministic in `seed`. Errors name `robots` when the scene has no room left.
 pub fn sample_tasks(s: &Scenario, keep: usize, n: usize, seed: u64) -> Result<Vec<Task>> {
     let template = s.robots.first().ok_or_else(|| no_room(s, n, "a scenario with a robot to copy"))?;
-    let b = s.scene.bounds;
-    let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
-    let polygons: Vec<Vec<Vec2>> = s
-        .static_polygons()
-        .into_iter()
-        .map(|p| p.into_iter().map(|q| Vec2::new(q[0], q[1])).collect())
-        .collect();
-    let geometry = StaticGeometry::new(polygons, bounds)?;
-    let spec = GridSpec::covering(bounds, s.scene.resolution)?;
+    let geometry = s.static_geometry()?;
+    let spec = GridSpec::covering(geometry.bounds(), s.scene.resolution)?;
     let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geometry, spec));
     let inflate = template.radius + template.inflation_margin;
     let grid = CostGrid::inflated(&field, inflate);

@@ -16,6 +16,8 @@ use super::raw::{
     d_success, d_time, d_true,
 };
 use crate::error::Result;
+use crate::map::geometry::{Bounds, StaticGeometry};
+use crate::math::Vec2;
 
 /// Number of vertices used to approximate a circle as a polygon.
 pub const CIRCLE_VERTICES: usize = 24;
@@ -364,10 +366,10 @@ impl Scenario {
     }
 
     /// The social model described by `[proxemics]`.
-    pub fn social_config(&self) -> crate::perception::SocialConfig {
+    pub fn proxemics_config(&self) -> crate::perception::ProxemicsConfig {
         use crate::groups::{DelaunayParams, DensityParams, FFormationParams, FeatureAggregate, GroupMethod};
         use crate::proxemics::{Asymmetric, HallZones, PersonalSpace, SideInfluences};
-        use crate::socialmap::{CostMode, SocialCosts};
+        use crate::social_cost_map::{CostMode, SocialCosts};
         let p = &self.proxemics;
         let [front, rear, right, left] = p.sigmas;
         let space = match p.space.as_str() {
@@ -401,7 +403,7 @@ impl Scenario {
             _ => FeatureAggregate::Mean,
         };
         let [fi, ri, rti, li] = p.influence.clone();
-        crate::perception::SocialConfig {
+        crate::perception::ProxemicsConfig {
             zones,
             space,
             features: p.features.clone(),
@@ -451,5 +453,21 @@ impl Scenario {
         let walls = self.walls.iter().map(|w| w.polygon.clone());
         let objects = self.objects.iter().filter(|o| o.solid).map(|o| o.footprint.clone());
         walls.chain(objects).collect()
+    }
+
+    /// The static geometry of [`Scenario::static_polygons`] within the scene's bounds (its
+    /// [`StaticGeometry::bounds`]), as the world collides, rasterises and plans with it.
+    ///
+    /// # Errors
+    /// [`crate::CoreError::Input`] as [`StaticGeometry::new`] (a degenerate polygon, bad bounds).
+    pub fn static_geometry(&self) -> Result<StaticGeometry> {
+        let b = self.scene.bounds;
+        let bounds = Bounds { min: Vec2::new(b[0], b[1]), max: Vec2::new(b[2], b[3]) };
+        let polygons = self
+            .static_polygons()
+            .into_iter()
+            .map(|poly| poly.into_iter().map(|q| Vec2::new(q[0], q[1])).collect())
+            .collect();
+        StaticGeometry::new(polygons, bounds)
     }
 }

@@ -153,7 +153,7 @@ pub struct Person {
     /// Follower: index of the guide (a person).
     pub guide: Option<usize>,
     /// Follower of a robot (`guide = "robot:<name>"`): index of the robot; `None` if that robot
-    /// is not in the episode (see [`Scenario::with_robots`]: the tour then waits at its start).
+    /// is not in the episode (see [`crate::scenario::Scenario::with_robots`]: the tour then waits at its start).
     pub guide_robot: Option<usize>,
     /// Follower of a robot: the robot's tour, its start, waypoints and goal (`[x, y]`, metres).
     pub tour: Vec<[f64; 2]>,

@@ -39,7 +39,9 @@ pub enum PlannerKind {
     /// nearest detected mobile object decides ([`crate::control::daza2021::daza2021_decide`]):
     /// a person (or a human group) runs Social Momentum with no comfort term, keeping out of the
     /// people's intimate zones and the groups' o-spaces; only robots on a collision course run
-    /// ORCA among the robots only; otherwise the path is followed. Hall radii 0.5 / 1 / 4 m.
+    /// ORCA among the robots only; otherwise (line 21) the path is followed and no one is avoided,
+    /// as the paper writes it: a robot outside the collision cone and anyone beyond the detection
+    /// range are not avoided, a collision risk of the published algorithm. Hall radii 0.5 / 1 / 4 m.
     Daza2021,
     /// Sousa et al. 2022: [`PlannerKind::Daza2021`]'s local step (Algorithm 1) whose Social
     /// Momentum keeps out of the personal level of the fully asymmetric Gaussians of the people

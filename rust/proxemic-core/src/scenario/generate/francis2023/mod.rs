@@ -24,7 +24,8 @@ use rand_chacha::ChaCha8Rng;
 
 use super::Generated;
 use super::layout::round2;
-use crate::error::{CoreError, Result};
+use super::params::{each_parameter, perr};
+use crate::error::Result;
 use crate::scenario::Scenario;
 
 /// The prefix of a Francis et al. 2023 scene's spec.
@@ -87,16 +88,7 @@ impl Spec {
     }
 }
 
-fn perr(source: &str, field: &str, expected: impl Into<String>, found: impl Into<String>) -> CoreError {
-    CoreError::Scenario {
-        file: source.to_string(),
-        field: field.to_string(),
-        expected: expected.into(),
-        found: found.into(),
-    }
-}
-
-/// Parses `francis2023/<archetype>[?seed=N&max_time=T]`. Errors are [`CoreError::Scenario`] naming
+/// Parses `francis2023/<archetype>[?seed=N&max_time=T]`. Errors are [`crate::CoreError::Scenario`] naming
 /// the spec and the part that is wrong (an unknown archetype lists them all).
 pub fn parse_spec(spec: &str) -> Result<Spec> {
     let rest = spec.strip_prefix(PREFIX).ok_or_else(|| {
@@ -110,15 +102,7 @@ pub fn parse_spec(spec: &str) -> Result<Spec> {
         return Err(perr(spec, "archetype", format!("one of {ARCHETYPES:?}"), format!("{name:?}")));
     }
     let mut out = Spec { archetype: name.to_string(), seed: 0, max_time: None };
-    let mut seen: Vec<&str> = Vec::new();
-    for pair in query.unwrap_or("").split('&').filter(|p| !p.is_empty()) {
-        let (k, v) = pair
-            .split_once('=')
-            .ok_or_else(|| perr(spec, "<spec>", "key=value pairs after '?'", format!("{pair:?}")))?;
-        if seen.contains(&k) {
-            return Err(perr(spec, k, "each parameter at most once", format!("{k:?} twice")));
-        }
-        seen.push(k);
+    each_parameter(spec, query.unwrap_or(""), |k, v| {
         match k {
             "seed" => {
                 out.seed = v
@@ -134,7 +118,8 @@ pub fn parse_spec(spec: &str) -> Result<Spec> {
             }
             _ => return Err(perr(spec, k, "a parameter among [\"seed\", \"max_time\"]", format!("{k:?}"))),
         }
-    }
+        Ok(())
+    })?;
     Ok(out)
 }
 

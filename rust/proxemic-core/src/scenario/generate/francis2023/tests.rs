@@ -2,6 +2,7 @@
 //! robot start where the archetype puts them, and the passages are as narrow as drawn.
 
 use super::*;
+use crate::error::CoreError;
 use crate::map::geometry::{Bounds, StaticGeometry};
 use crate::math::Vec2;
 use crate::scenario::Behaviour;

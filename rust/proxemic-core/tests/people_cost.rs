@@ -1,11 +1,13 @@
-//! Issue 23, the robot's cost to people by counterfactual: a robot standing in a corridor too
+//! The robot's cost to people by counterfactual: a robot standing in a corridor too
 //! narrow to pass delays the person walking it; a robot far from everyone costs nobody anything,
 //! exactly (the robot-free replay is the episode's own crowd, bit for bit). The robots are
 //! simulated kinematically (their commands integrated exactly; no MuJoCo).
 
 use proxemic_core::metrics::EpisodeReport;
 use proxemic_core::scenario::Scenario;
-use proxemic_core::world::{PERSON_OUT, World};
+
+mod common;
+use common::Drive;
 
 /// A 20 x 10 m hall with a corridor 1.1 m wide along its south wall (y 0 to 1.1) and a person
 /// walking it west to east and back; the robot starts at `robot` (x, y) and is held still.
@@ -63,18 +65,13 @@ speed_jitter = 0.0
 
 /// `steps` control steps with robot 0 held still (zero command, integrated kinematically).
 fn run(s: Scenario, steps: usize) -> EpisodeReport {
-    let mut w = World::new(s).expect("valid world");
-    let lay = *w.layout();
-    let mut out = vec![0.0; lay.stride];
-    let mut people = vec![0.0; w.num_people() * PERSON_OUT];
-    w.reset(0, &mut out, &mut people).expect("reset");
-    let mut state = [0.0; 6];
+    let mut d = Drive::start(s, 0);
     for _ in 0..steps {
-        w.command(&[0.0, 0.0, 0.0], &mut out).expect("command");
-        state[..3].copy_from_slice(&out[lay.pose.offset..lay.pose.offset + 3]);
-        w.step(&state, &[0], &mut out, &mut people).expect("step");
+        d.command(&[0.0, 0.0, 0.0]);
+        d.hold();
+        d.step_free();
     }
-    w.episode_metrics().expect("metrics").remove(0)
+    d.world.episode_metrics().expect("metrics").remove(0)
 }
 
 #[test]

@@ -8,7 +8,9 @@
 //! first is a refresh.
 
 use proxemic_core::scenario::Scenario;
-use proxemic_core::world::{PERSON_OUT, World};
+
+mod common;
+use common::Drive;
 
 /// A hall of `width` x `height` m with people standing on a 2.2 m lattice (none within 3 m of
 /// the robot's start or goal, on the hall's middle line) and one `social` robot crossing it.
@@ -41,22 +43,11 @@ fn hall(width: f64, height: f64) -> String {
 /// Social searches of the robot in the first `steps` control steps of an episode.
 fn searches(scene: &str, steps: usize) -> usize {
     let s = Scenario::from_toml_str(scene, "lattice").expect("the lattice hall is a valid scenario");
-    let dt = s.control_dt();
-    let mut w = World::new(s).expect("the lattice hall builds");
-    let lay = *w.layout();
-    let mut out = vec![0.0; lay.stride];
-    let mut people = vec![0.0; w.num_people() * PERSON_OUT];
-    w.reset(0, &mut out, &mut people).expect("reset");
+    let mut d = Drive::start(s, 0);
     for _ in 0..steps {
-        w.command(&[f64::NAN; 3], &mut out).expect("command");
-        let pose = &out[lay.pose.offset..lay.pose.offset + 3];
-        let c = &out[lay.command.offset..lay.command.offset + 3];
-        let (sn, cs) = pose[2].sin_cos();
-        let (vx, vy) = (cs * c[0] - sn * c[1], sn * c[0] + cs * c[1]);
-        let state = [pose[0] + vx * dt, pose[1] + vy * dt, pose[2] + c[2] * dt, vx, vy, c[2]];
-        w.step(&state, &[0], &mut out, &mut people).expect("step");
+        d.drive();
     }
-    w.social_searches(0)
+    d.world.social_searches(0)
 }
 
 #[test]

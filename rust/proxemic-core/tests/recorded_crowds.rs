@@ -1,4 +1,4 @@
-//! Recorded crowds (issue 23, item 5): `[[replay]]` tracks become people who are where the file
+//! Recorded crowds: `[[replay]]` tracks become people who are where the file
 //! says (linear interpolation at the control instants), appear at their first sample and leave
 //! after their last (absent people count in no observation or metric), react to a robot within
 //! `react_radius`, and bad files are refused naming the file, the line and the column.
@@ -13,6 +13,9 @@ use proxemic_core::math::Vec2;
 use proxemic_core::metrics::Outcome;
 use proxemic_core::scenario::{Behaviour, Scenario};
 use proxemic_core::world::{PERSON_OUT, World};
+
+mod common;
+use common::{Drive, scenario_error};
 
 /// A fresh directory for one test's files.
 fn dir(name: &str) -> PathBuf {
@@ -69,32 +72,20 @@ struct Run {
 }
 
 fn run(s: &Scenario, steps: usize) -> Run {
-    let mut world = World::new(s.clone()).expect("valid world");
-    let n = world.num_robots();
-    let lay = *world.layout();
-    let mut out = vec![0.0; lay.stride * n];
-    let mut people = vec![0.0; world.num_people() * PERSON_OUT];
-    world.reset(3, &mut out, &mut people).expect("reset");
-    let state: Vec<f64> = {
-        let r = &out[lay.pose.offset..lay.pose.offset + 3];
-        vec![r[0], r[1], r[2], 0.0, 0.0, 0.0]
-    };
+    let mut d = Drive::start(s.clone(), 3);
+    let lay = *d.world.layout();
     let mask = |o: &[f64]| o[lay.obs_people_mask.range()].to_vec();
-    let mut r = Run {
-        pos: vec![world.crowd().pos.clone()],
-        present: vec![world.crowd().present.clone()],
-        buffer: vec![people.clone()],
-        masks: vec![mask(&out)],
-        world,
-    };
-    for _ in 0..steps {
-        r.world.step(&state, &[0], &mut out, &mut people).expect("step");
-        r.pos.push(r.world.crowd().pos.clone());
-        r.present.push(r.world.crowd().present.clone());
-        r.buffer.push(people.clone());
-        r.masks.push(mask(&out));
+    let (mut pos, mut present, mut buffer, mut masks) = (vec![], vec![], vec![], vec![]);
+    for k in 0..=steps {
+        if k > 0 {
+            d.step_free();
+        }
+        pos.push(d.world.crowd().pos.clone());
+        present.push(d.world.crowd().present.clone());
+        buffer.push(d.people.clone());
+        masks.push(mask(&d.out));
     }
-    r
+    Run { pos, present, buffer, masks, world: d.world }
 }
 
 /// Two tracks sampled every 0.4 s (ETH's rate), in a frame rotated and moved into the scene.
@@ -226,11 +217,7 @@ fn same_file_same_replay_bit_for_bit() {
 
 /// The error for the track file `csv` (its file, field, expected, found).
 fn file_error(name: &str, csv: &str) -> (String, String, String, String) {
-    match scene(name, csv, [-8.0, -8.0], "") {
-        Err(CoreError::Scenario { file, field, expected, found }) => (file, field, expected, found),
-        Err(other) => panic!("expected a scenario error, got {other}"),
-        Ok(_) => panic!("expected an error for {csv:?}"),
-    }
+    scenario_error(scene(name, csv, [-8.0, -8.0], ""))
 }
 
 #[test]

@@ -184,7 +184,7 @@ impl SocialMap {
     }
 
     /// Replaces the whole people layer with `factors` (one per cell, row-major; infinity marks a
-    /// forbidden cell), e.g. the density contours of [`density_layer`] (the `calderita` planner),
+    /// forbidden cell), e.g. the density contours of [`crate::social_cost_map::DensityLayer`] (the `calderita` planner),
     /// and recombines the cells whose factor changed. The incremental bookkeeping of
     /// [`SocialMap::update_people`] is dropped: a map is fed by one of the two, not both.
     ///
@@ -196,7 +196,7 @@ impl SocialMap {
     }
 
     /// As [`SocialMap::set_people_factors`], for the listed `cells` only (row-major indices into
-    /// `factors`, one factor per cell; repeats allowed): what [`DensityLayer`] changed in an
+    /// `factors`, one factor per cell; repeats allowed): what [`crate::social_cost_map::DensityLayer`] changed in an
     /// update.
     ///
     /// # Errors

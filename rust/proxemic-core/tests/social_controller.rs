@@ -2,15 +2,14 @@
 //! random scenes, simulated kinematically (commands integrated exactly; no MuJoCo): contacts are
 //! measured geometrically.
 
-use proxemic_core::control::body_to_world;
 use proxemic_core::math::Vec2;
 use proxemic_core::metrics::{CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC};
 use proxemic_core::scenario::{Reaction, Scenario};
-use proxemic_core::world::World;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-const ENVS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../python/proxemic/data/envs");
+mod common;
+use common::{Drive, env_scenario, with_reaction};
 
 /// Per step: robot positions, people positions; plus the outcome flags of every robot at the end.
 struct Run {
@@ -23,24 +22,11 @@ struct Run {
 }
 
 fn simulate(scenario: Scenario, seed: u64) -> Run {
-    let dt = scenario.control_dt();
     let max_steps = scenario.max_steps();
     let robot_radius: Vec<f64> = scenario.robots.iter().map(|r| r.radius).collect();
-    let mut world = World::new(scenario).expect("valid world");
-    let n = world.num_robots();
-    let stride = world.layout().stride;
-    let cmd = world.layout().command.offset;
-    let pose_off = world.layout().pose.offset;
-    let flags = world.layout().flags.offset;
-    let mut out = vec![0.0; stride * n];
-    let mut people_out = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
-    world.reset(seed, &mut out, &mut people_out).expect("reset");
-    let mut state: Vec<f64> = (0..n)
-        .flat_map(|i| {
-            let r = &out[i * stride + pose_off..i * stride + pose_off + 3];
-            [r[0], r[1], r[2], 0.0, 0.0, 0.0]
-        })
-        .collect();
+    let mut d = Drive::start(scenario, seed);
+    let n = d.world.num_robots();
+    let flags = d.world.layout().flags.offset;
     let mut run = Run {
         robots: vec![],
         people: vec![],
@@ -49,46 +35,35 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
         static_hits: 0,
         headings: vec![],
     };
-    let record = |world: &World, state: &[f64], run: &mut Run| {
-        run.robots.push((0..n).map(|i| Vec2::new(state[6 * i], state[6 * i + 1])).collect());
-        run.people.push(world.crowd().pos.clone());
+    let record = |d: &Drive, run: &mut Run| {
+        run.robots.push((0..n).map(|i| d.robot(i)).collect());
+        run.people.push(d.world.crowd().pos.clone());
     };
-    record(&world, &state, &mut run);
+    record(&d, &mut run);
     for _ in 0..max_steps {
-        for i in 0..n {
-            let c = &out[i * stride + cmd..i * stride + cmd + 3];
-            let th = state[6 * i + 2];
-            let v = body_to_world(Vec2::new(c[0], c[1]), th);
-            state[6 * i] += v.x * dt;
-            state[6 * i + 1] += v.y * dt;
-            state[6 * i + 2] = th + c[2] * dt;
-            state[6 * i + 3] = v.x;
-            state[6 * i + 4] = v.y;
-            state[6 * i + 5] = c[2];
-        }
+        d.integrate();
         let mut contacts = vec![0u8; n];
-        for i in 0..n {
-            let p = Vec2::new(state[6 * i], state[6 * i + 1]);
-            if world.geometry().distance(p) < run.robot_radius[i] {
-                contacts[i] |= CONTACT_STATIC;
+        for (i, bits) in contacts.iter_mut().enumerate() {
+            let p = d.robot(i);
+            if d.world.geometry().distance(p) < run.robot_radius[i] {
+                *bits |= CONTACT_STATIC;
                 run.static_hits += 1;
             }
             for j in 0..n {
-                let q = Vec2::new(state[6 * j], state[6 * j + 1]);
-                if j != i && (p - q).norm() < run.robot_radius[i] + run.robot_radius[j] {
-                    contacts[i] |= CONTACT_ROBOT;
+                if j != i && (p - d.robot(j)).norm() < run.robot_radius[i] + run.robot_radius[j] {
+                    *bits |= CONTACT_ROBOT;
                 }
             }
-            let c = world.crowd();
+            let c = d.world.crowd();
             if c.pos.iter().zip(&c.radius).any(|(q, r)| (p - q).norm() < run.robot_radius[i] + r) {
-                contacts[i] |= CONTACT_PERSON;
+                *bits |= CONTACT_PERSON;
             }
         }
-        world.step(&state, &contacts, &mut out, &mut people_out).expect("step");
-        record(&world, &state, &mut run);
+        d.step(&contacts);
+        record(&d, &mut run);
         let mut all_done = true;
         for i in 0..n {
-            let f = &out[i * stride + flags..i * stride + flags + 4];
+            let f = &d.row(i)[flags..flags + 4];
             if f[2] > 0.5 {
                 run.success[i] = true;
             }
@@ -98,23 +73,17 @@ fn simulate(scenario: Scenario, seed: u64) -> Run {
             break;
         }
     }
-    run.headings = (0..n).map(|i| state[6 * i + 2]).collect();
+    run.headings = (0..n).map(|i| d.state[6 * i + 2]).collect();
     run
 }
 
 fn load(name: &str, planner: &str) -> Scenario {
-    Scenario::from_file(format!("{ENVS}/{name}.toml"))
-        .expect("scene parses")
-        .with_planner(planner)
-        .expect("planner")
+    env_scenario(name).with_planner(planner).expect("planner")
 }
 
 /// `scenario` with every person's reaction to robots set to `ignore` (the robot is invisible).
-fn ignoring_robots(mut scenario: Scenario) -> Scenario {
-    for p in &mut scenario.persons {
-        p.reaction = Reaction::Ignore;
-    }
-    scenario
+fn ignoring_robots(scenario: Scenario) -> Scenario {
+    with_reaction(scenario, Reaction::Ignore)
 }
 
 /// Steps where robot `i` came within `zone` (centre distance) of a person *by its own motion*:

@@ -15,6 +15,10 @@ pub trait SpaceFunction {
     fn exponent(&self, p: Vec2) -> f64;
     /// The length (metres) that turns `sqrt(2 q)` into a zone distance.
     fn zone_scale(&self) -> f64;
+    /// The zone distance (metres) of `p` ([`crate::proxemics::zone_distance`]).
+    fn zone_distance(&self, p: Vec2) -> f64 {
+        crate::proxemics::zone_distance(self.exponent(p), self.zone_scale())
+    }
     /// Axis-aligned box `[xmin, ymin, xmax, ymax]` (metres) outside which the individual adds no
     /// cost; bounds the cells it touches.
     fn bounds(&self) -> [f64; 4];
@@ -117,11 +121,6 @@ impl SocialCosts {
             }
             CostMode::Continuous { gain } => 1.0 + gain * (-q).exp(),
         }
-    }
-
-    /// The zone distance (metres) of a point for one individual (see [`SpaceFunction`]).
-    pub fn zone_distance<S: SpaceFunction>(s: &S, p: Vec2) -> f64 {
-        s.zone_scale() * (2.0 * s.exponent(p)).max(0.0).sqrt()
     }
 
     /// Stored `u8` cost of a factor (`LETHAL` for infinity).

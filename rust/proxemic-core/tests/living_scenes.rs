@@ -11,11 +11,8 @@ use proxemic_core::math::Vec2;
 use proxemic_core::scenario::{Behaviour, Scenario};
 use proxemic_core::world::World;
 
-const ENVS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../python/proxemic/data/envs");
-
-fn scenario(name: &str) -> Scenario {
-    Scenario::from_file(format!("{ENVS}/{name}.toml")).expect("valid scenario")
-}
+mod common;
+use common::{Drive, env_scenario as scenario, scenario_error};
 
 /// Per step (after it): positions and headings of the people.
 struct Trace {
@@ -24,28 +21,16 @@ struct Trace {
     heading: Vec<Vec<f64>>,
 }
 
+/// `steps` control steps with the robots held still at their starts; `check` sees the world after
+/// each step.
 fn run(s: &Scenario, seed: u64, steps: usize, mut check: impl FnMut(&World, usize)) -> Trace {
-    let dt = s.control_dt();
-    let mut world = World::new(s.clone()).expect("valid world");
-    let n = world.num_robots();
-    let stride = world.layout().stride;
-    let pose_off = world.layout().pose.offset;
-    let mut out = vec![0.0; stride * n];
-    let mut people = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
-    world.reset(seed, &mut out, &mut people).expect("reset");
-    let state: Vec<f64> = (0..n)
-        .flat_map(|i| {
-            let r = &out[i * stride + pose_off..i * stride + pose_off + 3];
-            [r[0], r[1], r[2], 0.0, 0.0, 0.0]
-        })
-        .collect();
-    let contacts = vec![0u8; n];
-    let mut trace = Trace { dt, pos: Vec::with_capacity(steps), heading: Vec::with_capacity(steps) };
+    let mut d = Drive::start(s.clone(), seed);
+    let mut trace = Trace { dt: d.dt, pos: Vec::with_capacity(steps), heading: Vec::with_capacity(steps) };
     for k in 0..steps {
-        world.step(&state, &contacts, &mut out, &mut people).expect("step");
-        check(&world, k);
-        trace.pos.push(world.crowd().pos.clone());
-        trace.heading.push(world.crowd().heading.clone());
+        d.step_free();
+        check(&d.world, k);
+        trace.pos.push(d.world.crowd().pos.clone());
+        trace.heading.push(d.world.crowd().heading.clone());
     }
     trace
 }
@@ -346,15 +331,10 @@ goal = [9, 7]
 /// The error of ROOM plus `people`, from parsing or building the world.
 fn room_error(people: &str) -> (String, String, String) {
     let text = format!("{ROOM}\n{people}");
-    let result = Scenario::from_toml_str(&text, "room.toml").and_then(World::new);
-    match result {
-        Err(CoreError::Scenario { file, field, expected, found }) => {
-            assert_eq!(file, "room.toml");
-            (field, expected, found)
-        }
-        Err(other) => panic!("expected a scenario error, got {other}"),
-        Ok(_) => panic!("expected a scenario error for {people}"),
-    }
+    let (file, field, expected, found) =
+        scenario_error(Scenario::from_toml_str(&text, "room.toml").and_then(World::new));
+    assert_eq!(file, "room.toml");
+    (field, expected, found)
 }
 
 #[test]

@@ -7,10 +7,12 @@
 //! people are stepped through `World::step` as in an episode.
 
 use proxemic_core::CoreError;
-use proxemic_core::control::body_to_world;
 use proxemic_core::math::Vec2;
 use proxemic_core::scenario::Scenario;
-use proxemic_core::world::{PERSON_OUT, World};
+use proxemic_core::world::World;
+
+mod common;
+use common::Drive;
 
 /// A 24 x 12 m hall with a display case between the first two stops; the guide starts in the
 /// west, stops twice for 20 s and ends in the south-east; three followers, and two walkers
@@ -104,49 +106,26 @@ struct Step {
 
 /// Runs `steps` control steps (or until the people have stood 10 s at the end of the tour).
 fn run(s: &Scenario, seed: u64, steps: usize) -> Vec<Step> {
-    let dt = s.control_dt();
-    let mut world = World::new(s.clone()).expect("valid world");
-    let n = world.num_robots();
-    let lay = *world.layout();
-    let (cmd, pose, mode, flags) = (lay.command.offset, lay.pose.offset, lay.mode.offset, lay.flags.offset);
-    let stride = lay.stride;
-    let mut out = vec![0.0; stride * n];
-    let mut people = vec![0.0; world.num_people() * PERSON_OUT];
-    world.reset(seed, &mut out, &mut people).expect("reset");
-    let mut state: Vec<f64> = (0..n)
-        .flat_map(|i| {
-            let r = &out[i * stride + pose..i * stride + pose + 3];
-            [r[0], r[1], r[2], 0.0, 0.0, 0.0]
-        })
-        .collect();
-    let contacts = vec![0u8; n];
+    let mut d = Drive::start(s.clone(), seed);
+    let n = d.world.num_robots();
+    let lay = *d.world.layout();
+    let (mode, flags) = (lay.mode.offset, lay.flags.offset);
     let mut trace = Vec::with_capacity(steps);
     let mut after_end = 0;
     for _ in 0..steps {
-        let nan = vec![f64::NAN; 3 * n];
-        world.command(&nan, &mut out).expect("command");
-        for i in 0..n {
-            let c = &out[i * stride + cmd..i * stride + cmd + 3];
-            let th = state[6 * i + 2];
-            let v = body_to_world(Vec2::new(c[0], c[1]), th);
-            state[6 * i] += v.x * dt;
-            state[6 * i + 1] += v.y * dt;
-            state[6 * i + 2] = th + c[2] * dt;
-            state[6 * i + 3..6 * i + 6].copy_from_slice(&[v.x, v.y, c[2]]);
-        }
-        world.step(&state, &contacts, &mut out, &mut people).expect("step");
+        d.drive();
         let step = Step {
-            robots: (0..n).map(|i| Vec2::new(state[6 * i], state[6 * i + 1])).collect(),
-            dwelling: (0..n).map(|i| out[i * stride + mode] == 3.0).collect(),
-            success: (0..n).map(|i| out[i * stride + flags + 2] > 0.5).collect(),
-            people: world.crowd().pos.clone(),
-            headings: world.crowd().heading.clone(),
+            robots: (0..n).map(|i| d.robot(i)).collect(),
+            dwelling: (0..n).map(|i| d.row(i)[mode] == 3.0).collect(),
+            success: (0..n).map(|i| d.row(i)[flags + 2] > 0.5).collect(),
+            people: d.world.crowd().pos.clone(),
+            headings: d.world.crowd().heading.clone(),
         };
         let done = step.success[0];
         trace.push(step);
         if done {
             after_end += 1;
-            if after_end as f64 * dt >= 10.0 {
+            if after_end as f64 * d.dt >= 10.0 {
                 break;
             }
         }
@@ -294,10 +273,7 @@ planner = "astar"
 }
 
 fn scenario_error(text: &str) -> (String, String, String, String) {
-    match Scenario::from_toml_str(text, "robot_tour.toml") {
-        Err(CoreError::Scenario { file, field, expected, found }) => (file, field, expected, found),
-        other => panic!("expected a scenario error, got {:?}", other.map(|s| s.scene.name)),
-    }
+    common::scenario_error(Scenario::from_toml_str(text, "robot_tour.toml"))
 }
 
 #[test]
