@@ -344,7 +344,7 @@ pub fn plan(
             let hits = pts.iter().any(|pt| {
                 g.contains(pt.pos) || {
                     let d = g.boundary_distance_within(pt.pos, wall_bound);
-                    d < wall_bound && d < wall_now - 1e-9
+                    d < robot.radius.max(wall_bound.min(wall_now)) - 1e-9
                 }
             });
             if hits {
@@ -406,7 +406,9 @@ fn candidates(vel: Vec2, dir: Vec2, speed: f64, params: &YieldParams) -> Vec<Vec
             out.push(rotate(dir, a.to_radians()) * slow);
         }
     }
-    out.push(vel);
+    if speed > 1e-9 {
+        out.push(vel);
+    }
     out
 }
 

@@ -352,7 +352,11 @@ impl World {
             // among everyone (no social terms): it passes the people it waited for.
             let recovering = self.robots[i].progress.holds_path()
                 && (local_planner(kind).is_some() || kind.daza2021_family());
+            // `social` keeps its own step through a recovery (the yielding below, on the
+            // recovery path, with the active object spaces hard): only the path changes.
+            let yields = kind == PlannerKind::Social;
             let mode = match local_planner(kind) {
+                _ if recovering && yields => Mode::FollowPath,
                 _ if recovering => Mode::Orca,
                 Some(local) => {
                     let radius = self.statics[i].radius.to_bits();
@@ -370,6 +374,11 @@ impl World {
                 }
                 None if kind == PlannerKind::AstarStop => self.stop_step(i, &mut desired[i], dt),
                 None => Mode::FollowPath,
+            };
+            let mode = if yields && mode != Mode::Orca && self.yield_step(i, &mut desired[i], recovering) {
+                Mode::Wait
+            } else {
+                mode
             };
             if mode == Mode::Orca {
                 match kind {
