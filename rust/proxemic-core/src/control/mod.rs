@@ -16,7 +16,7 @@
 //! and recovery every built-in planner runs), [`stop_and_wait`] (the `astar_stop` baseline's
 //! rule: stop for whoever is in the way, re-plan around them after a wait) and [`yielding`]
 //! (predictive yielding: rollouts against the people's predicted motion with a hard body gap,
-//! written to become the `social` planner's local control near people; not yet wired in).
+//! the `social` planner's last word on its commands, `crate::world`'s yield step).
 //!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.

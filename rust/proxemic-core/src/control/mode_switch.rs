@@ -17,8 +17,8 @@
 //! switch never makes the command jump beyond the acceleration limits.
 
 use crate::control::social_momentum::{Agent, SocialMomentumParams, social_momentum};
-use crate::control::{Limits, clamp_norm};
 use crate::control::yielding::YieldParams;
+use crate::control::{Limits, clamp_norm};
 use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
 

@@ -14,7 +14,8 @@
 //!    [`YieldParams::speed_fractions`]) and each heading offset in [`HEADINGS_DEG`] (around `u`'s
 //!    direction, out to ±90°: side steps), the command of that speed and heading; three backward
 //!    headings ([`BACK_HEADINGS_DEG`]) at the smallest speed let the robot back off from someone
-//!    walking into it. The current velocity (coast) comes last.
+//!    walking into it. The current velocity (coast) comes last, unless the reference is a stop;
+//!    [`plan_with`] adds a caller's candidates (the `social` planner's Social Momentum command).
 //! 2. **Rollout.** A candidate `c` is held for [`YieldParams::commit`] seconds, then the robot
 //!    brakes to a stop and stands until the horizon [`YieldParams::horizon`]; its velocity moves
 //!    toward the target at the acceleration limit (`|Δv| <= max_accel h` per integration step
@@ -25,8 +26,9 @@
 //!    from it never collides; braking is the manoeuvre tried).
 //! 3. **Hard constraints.** People move at constant velocity (their position and velocity now).
 //!    A rollout is rejected if at any integration instant the robot's body gap (edge to edge,
-//!    `|p - q| - r - r_i`) to a mover is below the mover's required gap (0.45 m for a person:
-//!    Hall's intimate zone, from body edge to body edge; 0 for a group's o-space disc) *and*
+//!    `|p - q| - r - r_i`) to a mover is below the mover's required gap (for a person
+//!    [`YieldParams::body_gap`], Hall's intimate zone from body edge to body edge, plus
+//!    [`YieldParams::speed_margin`] times their speed; 0 for a group's o-space disc) *and*
 //!    either the robot moves toward the mover faster than
 //!    [`YieldParams::approach_tolerance`] (0.05 m/s, the rule `collisions_robot_fault` uses) or
 //!    it is closer to the mover than it would be had it stood still where it is now: the robot
@@ -84,6 +86,14 @@ pub struct YieldParams {
     /// Body gap (edge to edge) the robot keeps from a person (m); default 0.45, Hall's intimate
     /// zone.
     pub body_gap: f64,
+    /// Growth of a person's required gap with their speed (s: metres per m/s); default 0.4. A
+    /// walking person's path is the least certain (they steer, slow, turn), so the gap the
+    /// robot keeps from them is `body_gap + speed_margin |v|`: 0.45 m from someone standing,
+    /// 0.85 m from someone walking at 1 m/s. Chosen on the tuning split (0, 0.2 and 0.4 tried,
+    /// `docs/planners.md`).
+    pub speed_margin: f64,
+    /// Body gap kept from another robot's body (m); default 0.1.
+    pub robot_gap: f64,
     /// Speed toward a mover (m/s) above which the robot counts as approaching it; default 0.05,
     /// the rule of `collisions_robot_fault`.
     pub approach_tolerance: f64,
@@ -116,6 +126,8 @@ impl Default for YieldParams {
             step: 0.1,
             commit: 1.0,
             body_gap: 0.45,
+            speed_margin: 0.4,
+            robot_gap: 0.1,
             approach_tolerance: 0.05,
             wall_margin: 0.05,
             speed_fractions: [1.0, 2.0 / 3.0, 1.0 / 3.0],
@@ -140,6 +152,8 @@ impl YieldParams {
             && pos(self.clearance_scale)
             && nonneg(self.commit)
             && nonneg(self.body_gap)
+            && nonneg(self.speed_margin)
+            && nonneg(self.robot_gap)
             && nonneg(self.approach_tolerance)
             && nonneg(self.wall_margin)
             && self.speed_fractions.iter().all(|&f| nonneg(f))
@@ -303,6 +317,22 @@ pub fn plan(
     limits: &Limits,
     params: &YieldParams,
 ) -> YieldOutcome {
+    plan_with(robot, reference, &[], movers, cost, geometry, limits, params)
+}
+
+/// [`plan`] with `extra` candidate commands (m/s, world frame) tried after the module's own:
+/// another local planner's proposal, kept when it scores best.
+#[allow(clippy::too_many_arguments)]
+pub fn plan_with(
+    robot: &Robot,
+    reference: Vec2,
+    extra: &[Vec2],
+    movers: &[Mover],
+    cost: &dyn CostField,
+    geometry: Option<&StaticGeometry>,
+    limits: &Limits,
+    params: &YieldParams,
+) -> YieldOutcome {
     let stop = YieldOutcome { velocity: Vec2::zeros(), stopped: true };
     let finite = |v: Vec2| v.x.is_finite() && v.y.is_finite();
     if !(finite(robot.pos) && finite(robot.vel) && finite(reference) && robot.radius.is_finite())
@@ -316,7 +346,8 @@ pub fn plan(
     }
     let speed = reference.norm().min(limits.max_speed);
     let dir = if speed > 1e-9 { reference / reference.norm() } else { Vec2::zeros() };
-    let candidates = candidates(robot.vel, dir, speed, params);
+    let mut candidates = candidates(robot.vel, dir, speed, params);
+    candidates.extend(extra.iter().copied().filter(|c| c.x.is_finite() && c.y.is_finite()));
     // Only the movers a rollout could reach matter: the robot covers at most v_max T, a mover
     // |v_i| T.
     let reach = limits.max_speed.max(robot.vel.norm()) * params.horizon;

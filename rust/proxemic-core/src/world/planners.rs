@@ -347,6 +347,7 @@ impl World {
                 continue;
             }
             (desired[i], partial_goals[i]) = self.follow_path(i, dt);
+            let reference = desired[i];
             let kind = self.statics[i].planner;
             // While a recovery path is held, a planner with a local planner follows it with ORCA
             // among everyone (no social terms): it passes the people it waited for.
@@ -375,11 +376,13 @@ impl World {
                 None if kind == PlannerKind::AstarStop => self.stop_step(i, &mut desired[i], dt),
                 None => Mode::FollowPath,
             };
-            let mode = if yields && mode != Mode::Orca && self.yield_step(i, &mut desired[i], recovering) {
-                Mode::Wait
-            } else {
-                mode
-            };
+            let mode =
+                if yields && mode != Mode::Orca && self.yield_step(i, reference, &mut desired[i], recovering)
+                {
+                    Mode::Wait
+                } else {
+                    mode
+                };
             if mode == Mode::Orca {
                 match kind {
                     _ if kind.daza2021_family() && !recovering => orca_robots_only.push(i),

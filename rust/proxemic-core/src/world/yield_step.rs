@@ -5,7 +5,7 @@
 //! with the active object spaces as hard costs: only the path (the search's goal) changes.
 
 use super::World;
-use crate::control::yielding::{CostField, Mover, Robot, plan};
+use crate::control::yielding::{CostField, Mover, Robot, plan_with};
 use crate::math::Vec2;
 use crate::perception::Individual;
 use crate::social_cost_map::{SocialCosts, SpaceFunction};
@@ -47,34 +47,19 @@ impl World {
     /// Robot `i`'s desired velocity `desired` (m/s, from the path follower or Social Momentum)
     /// made safe and polite by predictive yielding; `true` when no rollout was admissible and
     /// the robot brakes. `recovering`: a recovery path is held (active object spaces are hard).
-    pub(super) fn yield_step(&self, i: usize, desired: &mut Vec2, recovering: bool) -> bool {
+    pub(super) fn yield_step(&self, i: usize, reference: Vec2, desired: &mut Vec2, recovering: bool) -> bool {
         let st = &self.statics[i];
         let rb = &self.robots[i];
-        let mut tuned = self.control.yielding;
-        if let Ok(spec) = std::env::var("PROXEMIC_YIELD") {
-            for kv in spec.split(',').filter(|s| !s.is_empty()) {
-                let (k, v) = kv.split_once('=').unwrap_or((kv, "0"));
-                let v: f64 = v.parse().unwrap_or(0.0);
-                match k {
-                    "horizon" => tuned.horizon = v,
-                    "commit" => tuned.commit = v,
-                    "w_social" => tuned.w_social = v,
-                    "w_clearance" => tuned.w_clearance = v,
-                    "clearance_scale" => tuned.clearance_scale = v,
-                    "w_accel" => tuned.w_accel = v,
-                    "w_turn" => tuned.w_turn = v,
-                    "wall_margin" => tuned.wall_margin = v,
-                    _ => {}
-                }
-            }
-        }
-        let params = &tuned;
+        let params = &self.control.yielding;
         let robot = Robot { pos: Vec2::new(rb.pose[0], rb.pose[1]), vel: rb.exec_v, radius: st.radius };
         let c = &self.crowd;
         let mut movers: Vec<Mover> = Vec::with_capacity(c.len() + self.robots.len() + 4);
-        movers.extend(
-            (0..c.len()).map(|k| Mover { pos: c.pos[k], vel: c.vel[k], radius: c.radius[k], gap: params.body_gap }),
-        );
+        movers.extend((0..c.len()).map(|k| Mover {
+            pos: c.pos[k],
+            vel: c.vel[k],
+            radius: c.radius[k],
+            gap: params.body_gap + params.speed_margin * c.vel[k].norm(),
+        }));
         let tod = self.time_of_day();
         let mut object_factors = self.social.object_factors(tod);
         if recovering {
@@ -92,7 +77,8 @@ impl World {
                 if ind.members.is_empty() || ind.robots.contains(&i) {
                     continue;
                 }
-                let vel = ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k]) / ind.members.len() as f64;
+                let vel =
+                    ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k]) / ind.members.len() as f64;
                 individuals.push((ind, vel));
                 if ind.members.len() + ind.robots.len() >= 2 {
                     // A group's o-space: the mean distance of its members from its centre, kept
@@ -105,18 +91,19 @@ impl World {
         }
         for (j, (o, s)) in self.robots.iter().zip(&self.statics).enumerate() {
             if j != i {
-                movers.push(Mover { pos: Vec2::new(o.pose[0], o.pose[1]), vel: o.velocity, radius: s.radius, gap: 0.0 });
+                movers.push(Mover {
+                    pos: Vec2::new(o.pose[0], o.pose[1]),
+                    vel: o.velocity,
+                    radius: s.radius,
+                    gap: params.robot_gap,
+                });
             }
         }
-        let field = SocialField { world: self, costs: &self.social.config().costs, individuals, object_factors };
-        let out = plan(&robot, *desired, &movers, &field, Some(&self.geometry), &st.limits, params);
-        if std::env::var("PROXEMIC_YIELD_DEBUG").is_ok() {
-            eprintln!(
-                "t={:.1} p=({:.2},{:.2}) v=({:.2},{:.2}) in=({:.2},{:.2}) out=({:.2},{:.2}) stop={} rec={} movers={}",
-                self.time(), robot.pos.x, robot.pos.y, robot.vel.x, robot.vel.y, desired.x, desired.y,
-                out.velocity.x, out.velocity.y, out.stopped, recovering, movers.len()
-            );
-        }
+        let field =
+            SocialField { world: self, costs: &self.social.config().costs, individuals, object_factors };
+        let extra = [*desired];
+        let out =
+            plan_with(&robot, reference, &extra, &movers, &field, Some(&self.geometry), &st.limits, params);
         *desired = out.velocity;
         out.stopped
     }
