@@ -208,6 +208,7 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "ScenarioError",
         "max_time",
     ),
+    ("gen-door-too-wide", "_core.generate('generated/2?door_width=3')", "ScenarioError", "door_width"),
     ("francis-archetype-number", "gym.make('proxemic/Francis2023-v1', archetype=3)", "InputError", "archetype"),
     (
         "vec-num-envs-limit-plus-one",
@@ -902,6 +903,7 @@ MESSAGES: dict[str, str] = {
     "francis-duplicate-key": 'seed: expected each parameter at most once, got "seed" twice',
     "francis-duplicate-max-time": 'got "max_time" twice',
     "francis-archetype-none": "got NoneType None",
+    "gen-door-too-wide": "a door width that fits the wall between two rooms of 4.09 m",
     "vec-num-envs-huge": "num_envs: expected an integer from 1 to 1024, got 1000000000",
     "core-astar-path-negative": "got -1",
     "core-reset-seed-2-64": "seed: expected an integer in [0, 2**64), got 18446744073709551616",
