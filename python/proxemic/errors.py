@@ -5,7 +5,9 @@ derive from :class:`ValueError`, so generic handlers keep working. Each carries 
 ``file`` (the scenario file, or None), ``field`` (the dotted field or argument name),
 ``expected`` and ``found``; the message says all four.
 
-The compiled core raises these classes by name, so they must stay importable from here.
+The compiled core raises these classes by name, so they must stay importable from here. The
+checks every front end shares live here too: :func:`input_error` (the message format),
+:func:`typed_repr` (what arrived, with its type) and :func:`check_action` (a robot's action).
 """
 
 from __future__ import annotations
