@@ -29,8 +29,9 @@
 //! A mutant that validates but describes a world too large to build quickly (over the grid limit
 //! the scenario enforces, or thousands of people) is still built: that is part of what is tested.
 //!
-//! Run: `make fuzz` (`FUZZ_SECONDS`, default 600), or
-//! `cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds N [--seed S]`.
+//! Run: `make fuzz` (`FUZZ_SECONDS`, default 600; `FUZZ_ARGS=--keep-going` records every finding
+//! and runs to the end, exiting 1 if there was any), or
+//! `cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds N [--seed S] [--keep-going]`.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
@@ -366,7 +367,7 @@ enum Input<'a> {
 const SEEDS: [u64; 4] = [7, 0, 1 << 63, u64::MAX];
 
 /// An override of the Python API applied to a validated scenario, with extreme arguments.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 enum Override {
     /// None: the scenario as it is.
     Keep,
@@ -501,6 +502,9 @@ fn main() {
     };
     let seconds = arg("--seconds", 600);
     let seed = arg("--seed", 1);
+    // --keep-going: record every finding (the first 50 inputs written) and run to the end.
+    let keep_going = args.iter().any(|a| a == "--keep-going");
+    let mut findings: Vec<String> = Vec::new();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../python/proxemic/data/envs");
     let seeds = corpus(&root);
     // Quiet the default panic hook: findings are reported once, below.
@@ -539,14 +543,20 @@ fn main() {
                 valid_kinds[kind] += u64::from(ok);
             }
             Err(msg) => {
-                let dir = Path::new("fuzz-findings");
-                let _ = std::fs::create_dir_all(dir);
-                let ext = ["toml", "name.txt", "csv"][kind];
-                let path = dir.join(format!("finding-{seed}-{runs}.{ext}"));
-                let _ = std::fs::write(&path, &text);
-                eprintln!("FINDING after {runs} inputs: {msg}; input written to {}", path.display());
-                let _ = std::fs::remove_dir_all(&tmp);
-                std::process::exit(1);
+                let msg = format!("{msg} (override {o:?}, reset seed {world_seed})");
+                findings.push(msg.clone());
+                if findings.len() <= 50 {
+                    let dir = Path::new("fuzz-findings");
+                    let _ = std::fs::create_dir_all(dir);
+                    let ext = ["toml", "name.txt", "csv"][kind];
+                    let path = dir.join(format!("finding-{seed}-{runs}.{ext}"));
+                    let _ = std::fs::write(&path, &text);
+                    eprintln!("FINDING after {runs} inputs: {msg}; input written to {}", path.display());
+                }
+                if !keep_going {
+                    let _ = std::fs::remove_dir_all(&tmp);
+                    std::process::exit(1);
+                }
             }
         }
         if runs % 2000 == 0 {
@@ -554,9 +564,14 @@ fn main() {
         }
     }
     let _ = std::fs::remove_dir_all(&tmp);
+    let verdict = if findings.is_empty() {
+        "no panic, no broken invariant".to_string()
+    } else {
+        format!("{} findings (inputs in fuzz-findings/)", findings.len())
+    };
     println!(
         "fuzz_scenario: {runs} inputs ({} scenario files, {} scene names, {} replay track files; {valid} valid, \
-         built and stepped: {}, {} and {}) in {:.0} s, seed {seed}: no panic, no broken invariant",
+         built and stepped: {}, {} and {}) in {:.0} s, seed {seed}: {verdict}",
         kinds[0],
         kinds[1],
         kinds[2],
@@ -565,4 +580,7 @@ fn main() {
         valid_kinds[2],
         start.elapsed().as_secs_f64()
     );
+    if !findings.is_empty() {
+        std::process::exit(1);
+    }
 }
