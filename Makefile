@@ -111,8 +111,9 @@ soak: setup ## 1M museum env steps and 200k 4-robot parallel steps, random actio
 	$(PY) tests/soak.py
 
 FUZZ_SECONDS ?= 600
-fuzz: ## mutation fuzzer of the scenario parser and world builder for FUZZ_SECONDS (default 600): fails on any panic
-	cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds $(FUZZ_SECONDS)
+FUZZ_ARGS ?=
+fuzz: ## mutation fuzzer of scenarios, scene names and replay tracks for FUZZ_SECONDS (default 600): fails on any panic or broken record invariant (FUZZ_ARGS=--keep-going runs to the end)
+	cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds $(FUZZ_SECONDS) $(FUZZ_ARGS)
 
 clean: ## remove build products and the venv
 	rm -rf target $(VENV) $(OUT) site python/proxemic/_core*.so

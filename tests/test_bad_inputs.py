@@ -188,6 +188,148 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "out",
     ),
     ("par-width-zero", "proxemic.parallel_env('museum_multi', robots=2, width=0)", "InputError", "width"),
+    ("par-robots-huge", "proxemic.parallel_env('museum_multi', robots=2**70)", "ScenarioError", "robots"),
+    ("par-robots-string", "proxemic.parallel_env('museum_multi', robots='2')", "InputError", "robots"),
+    (
+        "gen-duplicate-key-apart",
+        "proxemic.env.ProxemicEnv('generated/3?density=1&robots=1&density=2')",
+        "ScenarioError",
+        "density",
+    ),
+    (
+        "francis-duplicate-max-time",
+        "proxemic.env.ProxemicEnv('francis2023/crossing_90?max_time=9&max_time=30')",
+        "ScenarioError",
+        "max_time",
+    ),
+    (
+        "core-generate-duplicate-key",
+        "_core.generate('francis2023/frontal_approach?max_time=20&seed=1&max_time=30')",
+        "ScenarioError",
+        "max_time",
+    ),
+    ("gen-door-too-wide", "_core.generate('generated/2?door_width=3')", "ScenarioError", "door_width"),
+    ("francis-archetype-number", "gym.make('proxemic/Francis2023-v2', archetype=3)", "InputError", "archetype"),
+    (
+        "vec-num-envs-limit-plus-one",
+        "from proxemic.vector import vector_env, MAX_NUM_ENVS\nvector_env('museum', num_envs=MAX_NUM_ENVS + 1)",
+        "InputError",
+        "num_envs",
+    ),
+    (
+        "core-reset-seed-negative",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.reset(-1, np.zeros(w.stride), np.zeros(w.num_people * _core.PERSON_OUT))",
+        "InputError",
+        "seed",
+    ),
+    (
+        "core-trajectory-huge",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.trajectory(2**64)",
+        "InputError",
+        "robot",
+    ),
+    (
+        "core-episode-metrics-negative",
+        "w = _core.World(_core.Scenario.from_file(scenarios.resolve('museum')))\nw.episode_metrics([0, -1])",
+        "InputError",
+        "robots[1]",
+    ),
+    (
+        "core-with-robot-planner-negative",
+        "_core.Scenario.from_file(scenarios.resolve('museum')).with_robot_planner(-1, 'astar')",
+        "InputError",
+        "robot",
+    ),
+    (
+        "core-with-robots-huge",
+        "_core.Scenario.from_file(scenarios.resolve('museum')).with_robots(2**70)",
+        "ScenarioError",
+        "robots",
+    ),
+    (
+        "core-step-worlds-threads-negative",
+        "env = stepped()\nws = env.unwrapped.ws\n_core.step_worlds([ws.world], ws._actions, ws._physics, ws.sim.state, ws.sim.contacts, ws.out, ws.people, threads=-1)",
+        "InputError",
+        "threads",
+    ),
+    (
+        "policy-raises-at-step",
+        "proxemic.evaluate(lambda obs: 1 / 0, scenario='museum', episodes=1, planners=[])",
+        "PolicyError",
+        "policy",
+    ),
+    (
+        "policy-exits-at-step",
+        "proxemic.evaluate(lambda obs: sys.exit(4), scenario='museum', episodes=1, planners=[])",
+        "PolicyError",
+        "policy",
+    ),
+    (
+        "policy-reset-raises",
+        "class P:\n    def __call__(self, obs): return np.zeros(3)\n    def reset(self, seed): raise KeyError(seed)\n"
+        "proxemic.evaluate(P(), scenario='museum', episodes=1, planners=[])",
+        "PolicyError",
+        "policy",
+    ),
+    (
+        "policy-nan-action",
+        "proxemic.evaluate(lambda obs: np.array([np.nan, 0, 0]), scenario='museum', episodes=1, planners=[])",
+        "InputError",
+        "policy",
+    ),
+    (
+        "policy-complex-action",
+        "proxemic.evaluate(lambda obs: np.zeros(3, complex), scenario='museum', episodes=1, planners=[])",
+        "InputError",
+        "policy",
+    ),
+    (
+        "policy-string-action",
+        "proxemic.evaluate(lambda obs: 'forward', scenario='museum', episodes=1, planners=[])",
+        "InputError",
+        "policy",
+    ),
+    (
+        "run-episode-policy-raises",
+        "from proxemic.runner import run_episode\nrun_episode('museum', 0, policy=lambda obs: [][1])",
+        "PolicyError",
+        "policy",
+    ),
+    (
+        "joint-policy-raises",
+        "from proxemic.policy import joint_policy\nenv = multi()\nact = joint_policy(lambda obs: 1 / 0, env.possible_agents)\n"
+        "act.reset(0)\nact({a: None for a in env.agents})",
+        "PolicyError",
+        "policy",
+    ),
+    (
+        "joint-policy-sys-exit",
+        "from proxemic.policy import joint_policy\nenv = multi()\nact = joint_policy(lambda obs: sys.exit(0), env.possible_agents)\n"
+        "act.reset(0)\nact({a: None for a in env.agents})",
+        "PolicyError",
+        "policy",
+    ),
+    (
+        "video-out-suffix",
+        "from proxemic.viz.video import write_video\nwrite_video([np.zeros((8, 8, 3), np.uint8)], tempfile.mkdtemp() + '/v.txt')",
+        "InputError",
+        "out",
+    ),
+    (
+        "video-record-out-unwritable",
+        "from proxemic.viz.video import record_episode\nrecord_episode('museum', path='/proc/proxemic/v.mp4', max_steps=1)",
+        "InputError",
+        "out",
+    ),
+    (
+        "video-record-width-string",
+        "from proxemic.viz.video import record_episode\nrecord_episode('museum', width='640')",
+        "InputError",
+        "width",
+    ),
+    ("par-height-string", "proxemic.parallel_env('museum_multi', robots=2, height='480')", "InputError", "height"),
+    ("par-autopilot-number", "proxemic.parallel_env('museum_multi', robots=2, autopilot=1)", "InputError", "autopilot"),
+    ("par-step-array", "multi().step(np.zeros((2, 3)))", "InputError", "actions"),
     # --- scenario files
     (
         "scn-unknown-field",
@@ -686,7 +828,8 @@ CLI_CASES: list[tuple[str, list[str], str]] = [
     ("cli-tune-trials-zero", ["tune", "--trials", "0"], "--trials"),
     ("cli-demo-episodes-zero", ["demo", "--episodes", "0"], "--episodes"),
     ("cli-video-out-directory", ["video", "--max-steps", "2", "--out", "/tmp"], "out"),
-    ("cli-video-out-unwritable", ["video", "--max-steps", "2", "--out", "/proc/proxemic/v.mp4"], "out"),
+    ("cli-video-out-unwritable", ["video", "--max-steps", "2", "--out", "/proc/proxemic/v.mp4"], "--out"),
+    ("cli-video-out-suffix", ["video", "--max-steps", "2", "--out", "/tmp/bad-cli/v.txt"], "--out"),
     (
         "cli-eval-archetype-without-suite",
         ["eval", "--archetype", "crossing_90", "--out", "/tmp/bad-cli"],
@@ -744,13 +887,50 @@ def run_case(code: str) -> dict[str, object]:
     return out
 
 
-@pytest.mark.parametrize(("code", "cls", "field"), [c[1:] for c in API_CASES], ids=[c[0] for c in API_CASES])
-def test_api_bad_input(code: str, cls: str, field: str | None) -> None:
+#: Cases whose message must also say what arrived (or where) in these words: the weak messages
+#: reported before (a string reported as its first letter or as a bare number, a pipe error instead
+#: of the path) and the inputs that failed untyped before.
+MESSAGES: dict[str, str] = {
+    "par-autopilot-string": "got str 'robot_0' (for one agent write autopilot=['robot_0'])",
+    "env-width-string": "got str '640'",
+    "video-record-width-string": "got str '640'",
+    "par-height-string": "got str '480'",
+    "par-robots-string": "in [1, 11], got str '2'",
+    "par-step-none": "got NoneType None",
+    "par-step-list": "got list [array(",
+    "gen-duplicate-key": 'robots: expected each parameter at most once, got "robots" twice',
+    "gen-duplicate-key-apart": 'got "density" twice',
+    "francis-duplicate-key": 'seed: expected each parameter at most once, got "seed" twice',
+    "francis-duplicate-max-time": 'got "max_time" twice',
+    "francis-archetype-none": "got NoneType None",
+    "gen-door-too-wide": "a door width that fits the wall between two rooms of 4.09 m",
+    "vec-num-envs-huge": "num_envs: expected an integer from 1 to 1024, got 1000000000",
+    "core-astar-path-negative": "got -1",
+    "core-reset-seed-2-64": "seed: expected an integer in [0, 2**64), got 18446744073709551616",
+    "core-with-robots-huge": "got 1180591620717411303424",
+    "video-out-unwritable": "got '/proc/proxemic/v.mp4'",
+    "video-out-suffix": "a .txt suffix",
+    "policy-raises-at-step": "policy '<lambda>' raised ZeroDivisionError: division by zero at step 0 of the episode of seed 0 on museum",
+    "policy-exits-at-step": "policy '<lambda>' called sys.exit(4) at step 0 of the episode of seed 0 on museum",
+    "policy-reset-raises": "policy 'P' raised KeyError: 0 in reset(0)",
+    "policy-nan-action": "got [nan, 0.0, 0.0] (returned by policy '<lambda>' at step 0 of the episode of seed 0 on museum)",
+    "policy-complex-action": "got shape (3,) of complex128 (returned by policy '<lambda>' at step 0",
+    "policy-string-action": "got str 'forward'",
+    "run-episode-policy-raises": "raised IndexError: list index out of range at step 0 of the episode of seed 0 on museum",
+    "joint-policy-raises": "policy 'robot_0' raised ZeroDivisionError: division by zero at step 0 of the episode of seed 0",
+    "joint-policy-sys-exit": "policy 'robot_0' called sys.exit(0) at step 0",
+}
+
+
+@pytest.mark.parametrize(("case", "code", "cls", "field"), API_CASES, ids=[c[0] for c in API_CASES])
+def test_api_bad_input(case: str, code: str, cls: str, field: str | None) -> None:
     out = run_case(code)
     assert out["class"] == cls, out
     if field is not None:  # file errors append the TOML position: "robot[0].start (line 5, column 7)"
         assert out["field"] == field or str(out["field"]).startswith(field + " (line "), out
     assert out["message"], out
+    if case in MESSAGES:
+        assert MESSAGES[case] in str(out["message"]), out
 
 
 @pytest.mark.parametrize(("argv", "field"), [c[1:] for c in CLI_CASES], ids=[c[0] for c in CLI_CASES])
@@ -762,7 +942,17 @@ def test_cli_bad_input(argv: list[str], field: str) -> None:
     assert field in lines[0], lines[0]
 
 
+def test_cli_video_out_names_the_flag_and_the_path() -> None:
+    """Not ffmpeg's ``[Errno 32] Broken pipe``: the message names ``--out`` and the path, before the episode runs."""
+    argv = ["video", "--out", "/proc/proxemic/v.mp4"]
+    result = subprocess.run([sys.executable, "-m", "proxemic.cli", *argv], capture_output=True, text=True, timeout=600)
+    assert result.returncode == 2, result.stderr
+    assert result.stderr.startswith("proxemic: error: --out: expected the path of a video file"), result.stderr
+    assert "got '/proc/proxemic/v.mp4'" in result.stderr and "Broken pipe" not in result.stderr, result.stderr
+
+
 def test_the_table_is_large_and_ids_are_unique() -> None:
     ids = [c[0] for c in API_CASES] + [c[0] for c in CLI_CASES]
     assert len(ids) == len(set(ids))
+    assert set(MESSAGES) <= set(ids), set(MESSAGES) - set(ids)
     assert len(ids) >= 100, len(ids)

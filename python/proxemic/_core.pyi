@@ -23,6 +23,7 @@ PERSON_OUT: int
 CONTACT_RANGE: float
 PLANNERS: list[str]
 EBAND_GAINS: list[str]
+MAX_ROBOTS: int
 
 def parse_time_of_day(value: str | float) -> float: ...
 def step_worlds(

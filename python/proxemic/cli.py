@@ -300,6 +300,7 @@ def cmd_video(args: argparse.Namespace) -> int:
         overlays=args.overlay or ("path",),
         progress=True,
         metrics=metrics,
+        field="--out",
     )
     outcome = metrics.get("outcome", "running")
     steps, duration = metrics.get("steps"), metrics.get("duration")

@@ -5,14 +5,18 @@ derive from :class:`ValueError`, so generic handlers keep working. Each carries 
 ``file`` (the scenario file, or None), ``field`` (the dotted field or argument name),
 ``expected`` and ``found``; the message says all four.
 
-The compiled core raises these classes by name, so they must stay importable from here.
+The compiled core raises these classes by name, so they must stay importable from here. The
+checks every front end shares live here too: :func:`input_error` (the message format),
+:func:`typed_repr` (what arrived, with its type) and :func:`check_action` (a robot's action).
 """
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
+from typing import Any
 
+import numpy as np
 from gymnasium.error import ResetNeeded
 
 
@@ -153,8 +157,54 @@ def input_error(field: str, expected: str, found: object, *, note: str | None = 
     return InputError(message, field=field, expected=expected, found=text)
 
 
+def typed_repr(value: object, limit: int = 80) -> str:
+    """What arrived, for a message: its type and its ``repr``, cut to `limit` characters.
+
+    ``"str 'robot_0'"``, ``"NoneType None"``: a string is never mistaken for a number or a list.
+    """
+    text = repr(value)
+    return f"{type(value).__name__} {text if len(text) <= limit else text[: limit - 3] + '...'}"
+
+
+#: What an action must be, as error messages say.
+ACTION_EXPECTED = "3 finite real numbers in [-1, 1], shape (3,)"
+
+#: The numpy dtype kinds of real numbers: signed and unsigned integers and floats. Booleans,
+#: complex numbers, text and objects are refused, never converted.
+REAL_KINDS = "iuf"
+
+
+def check_action(action: Any, field: str, *, note: str | None = None) -> np.ndarray:
+    """`action` as 3 float64 values, or an :class:`InputError` naming `field`.
+
+    The one check of a robot's action, for ``env.step``, the parallel env's ``step`` and the
+    actions a user policy returns (:class:`proxemic.policy.PolicyActor`). Accepted: anything
+    numpy reads as a real (integer or floating, :data:`REAL_KINDS`) array of shape (3,) with
+    finite values (values outside [-1, 1] are clipped by the core, as documented).
+
+    Args:
+        action: What arrived.
+        field: The argument named in the message (``"action"``, ``"actions['robot_1']"``, ``"policy"``).
+        note: An optional hint appended to the message (e.g. which policy returned it, when).
+    """
+    try:
+        raw = np.asarray(action)
+    except (ValueError, TypeError):
+        raw = np.asarray(None)
+    if raw.shape != (3,) or raw.dtype.kind not in REAL_KINDS:
+        numbers = raw.dtype.kind in REAL_KINDS + "bc"
+        what = f"shape {raw.shape} of {raw.dtype}" if numbers else typed_repr(action)
+        raise input_error(field, ACTION_EXPECTED, what, note=note)
+    a = raw.astype(np.float64)
+    if not np.isfinite(a).all():
+        raise input_error(field, ACTION_EXPECTED, str(a.tolist()), note=note)
+    return a
+
+
 __all__ = [
+    "ACTION_EXPECTED",
     "EXTRAS",
+    "REAL_KINDS",
     "EpisodeError",
     "InputError",
     "InvariantError",
@@ -165,6 +215,8 @@ __all__ = [
     "ProxemicError",
     "ScenarioError",
     "UnknownNameError",
+    "check_action",
     "input_error",
     "require_extra",
+    "typed_repr",
 ]

@@ -27,7 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from proxemic import _core, evaluation, markdown, reference, scenarios
-from proxemic.errors import input_error
+from proxemic.errors import input_error, typed_repr
 from proxemic.evaluation import episodes as eval_episodes
 from proxemic.evaluation import summary as eval_summary
 
@@ -51,7 +51,7 @@ def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) 
     from proxemic.errors import UnknownNameError
 
     if not isinstance(archetype, str):
-        raise input_error("archetype", f"one of {list(ARCHETYPES)}", f"{type(archetype).__name__} {archetype!r}")
+        raise input_error("archetype", f"one of {list(ARCHETYPES)}", typed_repr(archetype))
     if archetype not in ARCHETYPES:
         raise UnknownNameError(
             f"unknown archetype {archetype!r}{scenarios.suggest(archetype, ARCHETYPES)}: expected one of "

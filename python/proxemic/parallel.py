@@ -13,7 +13,7 @@ from gymnasium.utils import seeding
 from pettingzoo import ParallelEnv
 
 from proxemic import _core, scenarios
-from proxemic.errors import NeedsResetError, input_error
+from proxemic.errors import NeedsResetError, input_error, typed_repr
 from proxemic.records import EpisodeMetrics
 from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
@@ -122,9 +122,10 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.width, self.height = width, height
         core, _ = scenarios.load(scenario)
         if robots is not None:
-            if isinstance(robots, bool) or not isinstance(robots, int):
-                raise input_error("robots", f"an integer number of robots in [1, {core.num_robots}]", robots)
-            core = core.with_robots(robots)
+            if isinstance(robots, bool) or not isinstance(robots, (int, np.integer)):
+                most = max(core.num_robots, _core.MAX_ROBOTS)
+                raise input_error("robots", f"an integer number of robots in [1, {most}]", typed_repr(robots))
+            core = core.with_robots(int(robots))
         names = [f"robot_{i}" for i in range(core.num_robots)]
         if isinstance(planners, str):
             core = core.with_planner(planners)
@@ -153,7 +154,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             raise input_error(
                 "autopilot",
                 f"True, False or a list of agent names among {names}",
-                f"{type(autopilot).__name__} {autopilot!r}",
+                typed_repr(autopilot),
                 note=f"for one agent write autopilot=[{autopilot!r}]" if isinstance(autopilot, str) else None,
             )
         else:
@@ -224,11 +225,10 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         """
         ws, index, live = self.ws, self._index, self.agents
         if not isinstance(actions, Mapping):
-            text = repr(actions)
             raise input_error(
                 "actions",
                 f"a dict agent -> action with one entry per live agent {live} ({{}} when all are on autopilot)",
-                f"{type(actions).__name__} {text if len(text) <= 80 else text[:77] + '...'}",
+                typed_repr(actions),
             )
         if not live:
             raise NeedsResetError(

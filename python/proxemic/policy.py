@@ -34,7 +34,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from proxemic.errors import PolicyError, input_error
+from proxemic.errors import PolicyError, check_action, input_error
 
 __all__ = [
     "FlatObservation",
@@ -192,13 +192,19 @@ class PolicyActor:
 
     Calls ``predict(obs, deterministic=True)`` if the policy has it (keeping only the action of an
     ``(action, state)`` pair), else ``policy(obs)``; :meth:`reset` forwards to the policy's
-    ``reset(seed)`` when it has one.
+    ``reset(seed)`` when it has one. The action is checked by ``env.step``'s own check
+    (:func:`proxemic.errors.check_action`: 3 finite real numbers; booleans, complex numbers and
+    text refused), after dropping a leading batch axis of 1. A policy that raises or calls
+    ``sys.exit`` becomes a :class:`PolicyError` naming the policy, the episode and the step.
     """
 
-    def __init__(self, policy: Any, action_shape: tuple[int, ...] = (3,), name: str = "policy") -> None:
-        """Wraps `policy` (checked: callable or with ``predict``)."""
+    def __init__(self, policy: Any, name: str = "policy", *, scene: str | None = None) -> None:
+        """Wraps `policy` (checked: callable or with ``predict``), labelled `name` in errors.
+
+        `scene`, if given, names the episodes' scene in errors (with the seed of :meth:`reset`).
+        """
         check_policy(policy, f"policy {name!r} is")
-        self.policy, self.action_shape, self.name = policy, tuple(action_shape), name
+        self.policy, self.name, self.scene = policy, name, scene
         predict = getattr(policy, "predict", None)
         self._predict = predict if callable(predict) else None
         reset = getattr(policy, "reset", None)
@@ -207,7 +213,8 @@ class PolicyActor:
         self.steps = 0
 
     def _where(self) -> str:
-        return f"at step {self.steps} of the episode of seed {self.seed}"
+        on = f" on {self.scene}" if self.scene else ""
+        return f"at step {self.steps} of the episode of seed {self.seed}{on}"
 
     def reset(self, seed: int | None) -> None:
         """Tells the policy a new episode starts from `seed`.
@@ -223,10 +230,11 @@ class PolicyActor:
                 raise policy_failure(self.name, f"in reset({seed!r})", e) from e
 
     def __call__(self, obs: Any) -> np.ndarray:
-        """The policy's action for `obs`, as a float32 array of the action shape.
+        """The policy's action for `obs`, as a float32 array of shape (3,).
 
         Raises:
-            InputError: The action is not numbers of the action shape (one line naming it).
+            InputError: The action is not 3 finite real numbers (one line naming the policy, the
+                episode's seed and the step).
             PolicyError: The policy raised or called ``sys.exit`` (naming the episode's seed and the step).
         """
         try:
@@ -238,32 +246,28 @@ class PolicyActor:
                 out = self.policy(obs)
         except (Exception, SystemExit) as e:
             raise policy_failure(self.name, self._where(), e) from e
+        action = self.check_action(out)
         self.steps += 1
-        return self.check_action(out)
+        return action
 
     def check_action(self, action: Any) -> np.ndarray:
-        """`action` as a float32 array of the action shape, or an :class:`InputError`.
+        """`action` as a float32 array of shape (3,), or an :class:`InputError` naming ``policy``.
 
-        Booleans, complex numbers and text are refused, not converted (as ``env.step`` does).
+        The check of ``env.step`` (:func:`proxemic.errors.check_action`), after a leading batch
+        axis of 1 (as ``predict`` may return) is dropped.
         """
-        expected = f"an action of shape {self.action_shape} (vx, vy, wz in [-1, 1])"
-        note = f"returned by policy {self.name!r} {self._where()}"
         try:
             raw = np.asarray(action)
-        except (TypeError, ValueError) as e:
-            raise input_error("policy", expected, f"{type(action).__name__} {action!r}", note=note) from e
-        if raw.dtype.kind not in "iuf":
-            raise input_error("policy", expected + " of real numbers", f"{raw.dtype} values {action!r}", note=note)
-        a = raw.astype(np.float32)
-        if a.shape == (1, *self.action_shape):
-            a = a[0]
-        if a.shape != self.action_shape:
-            raise input_error("policy", expected, f"an action of shape {a.shape}", note=note)
-        return a
+        except (TypeError, ValueError):
+            raw = None
+        if raw is not None and raw.shape == (1, 3):
+            action = raw[0]
+        note = f"returned by policy {self.name!r} {self._where()}"
+        return check_action(action, "policy", note=note).astype(np.float32)
 
 
 def joint_policy(
-    policies: Policy | Mapping[str, Policy], agents: list[str], action_shape: tuple[int, ...] = (3,)
+    policies: Policy | Mapping[str, Policy], agents: list[str]
 ) -> Callable[[Mapping[str, Any]], dict[str, np.ndarray]]:
     """For several robots: ``act(observations) -> actions`` over PettingZoo-style agent dicts.
 
@@ -271,7 +275,6 @@ def joint_policy(
         policies: One shared policy (called for every agent with its own observation) or a mapping
             ``agent -> policy`` naming every agent.
         agents: The env's possible agents.
-        action_shape: Each agent's action shape.
 
     Returns:
         A function mapping ``{agent: obs}`` (the agents still running) to ``{agent: action}``; it has
@@ -289,18 +292,24 @@ def joint_policy(
                 str(sorted(policies)),
                 note=f"missing {missing}, unknown {unknown}",
             )
-        actors = {a: PolicyActor(policies[a], action_shape, a) for a in agents}
+        by_agent: Mapping[str, Policy] = policies
     else:
-        shared = PolicyActor(policies, action_shape, "shared")
-        actors = dict.fromkeys(agents, shared)
+        by_agent = dict.fromkeys(agents, policies)
+    # One actor per agent (its errors name the agent and count that agent's steps).
+    actors = {a: PolicyActor(by_agent[a], a) for a in agents}
 
     class _Joint:
         def __call__(self, observations: Mapping[str, Any]) -> dict[str, np.ndarray]:
             return {agent: actors[agent](obs) for agent, obs in observations.items()}
 
         def reset(self, seed: int | None) -> None:
-            for actor in {id(a): a for a in actors.values()}.values():
-                actor.reset(seed)
+            told: set[int] = set()
+            for actor in actors.values():
+                if id(actor.policy) in told:  # a policy shared by several agents is reset once
+                    actor.seed, actor.steps = seed, 0
+                else:
+                    told.add(id(actor.policy))
+                    actor.reset(seed)
 
     return _Joint()
 

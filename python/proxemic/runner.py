@@ -11,6 +11,7 @@ import numpy as np
 
 from proxemic import _core
 from proxemic.env import ProxemicEnv
+from proxemic.policy import PolicyActor
 
 
 @dataclass
@@ -47,16 +48,24 @@ def run_episode(
     """Runs one episode of `scenario` from `seed` with the robot's built-in planner driving.
 
     Pass an existing `env` (made with ``autopilot=True``) to reuse its compiled model. With a
-    `policy` (``obs -> action``, e.g. a :class:`proxemic.policy.PolicyActor`; its ``reset(seed)`` is
-    called first if it has one) the policy drives instead, in an env made with ``autopilot=False``.
+    `policy` (see :mod:`proxemic.policy`; its ``reset(seed)`` is called first if it has one) the
+    policy drives instead, in an env made with ``autopilot=False``, through a
+    :class:`proxemic.policy.PolicyActor` (unless it is one already).
+
+    Raises:
+        PolicyError: The policy raised or called ``sys.exit`` (naming it, the seed and the step).
+        InputError: The policy returned an action that is not 3 finite real numbers.
     """
     own = env is None
     if env is None:
         env = ProxemicEnv(scenario, autopilot=policy is None)
     try:
         obs, _ = env.reset(seed=seed)
-        if policy is not None and callable(getattr(policy, "reset", None)):
-            policy.reset(seed)  # type: ignore[attr-defined]
+        if policy is not None and not isinstance(policy, PolicyActor):
+            name = getattr(policy, "__name__", None) or type(policy).__name__
+            policy = PolicyActor(policy, name, scene=env.scenario["scene"]["name"])
+        if policy is not None:
+            policy.reset(seed)
         people = [env.people()[:, :2]]
         path = env.planned_path()
         total = 0.0

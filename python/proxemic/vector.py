@@ -26,7 +26,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from proxemic import _core, scenarios
-from proxemic.errors import NeedsResetError, input_error
+from proxemic.errors import REAL_KINDS, NeedsResetError, input_error
 from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_reset_args
 
 __all__ = ["MAX_NUM_ENVS", "ProxemicVectorEnv", "vector_env"]
@@ -322,7 +322,7 @@ def _check_actions(actions: Any, n: int) -> np.ndarray:
         a = np.asarray(actions)
     except (ValueError, TypeError):
         raise input_error("actions", expected, repr(actions)) from None
-    if a.shape != (n, 3) or a.dtype.kind not in "iuf":
+    if a.shape != (n, 3) or a.dtype.kind not in REAL_KINDS:
         raise input_error("actions", expected, f"shape {a.shape} of {a.dtype}")
     a = a.astype(np.float64)
     if not np.isfinite(a).all():

@@ -25,7 +25,7 @@ import numpy as np
 from gymnasium import spaces
 
 from proxemic import _core
-from proxemic.errors import InputError, input_error
+from proxemic.errors import ACTION_EXPECTED, REAL_KINDS, InputError, check_action, input_error, typed_repr
 from proxemic.sim import Simulation, ensure_gl_backend
 
 #: The local planner's mode by code (Daza 2021 Algorithm 1; see proxemic-core control::social::Mode).
@@ -98,12 +98,9 @@ def check_frame_size(width: Any, height: Any) -> None:
     """Raises :class:`InputError` unless `width` and `height` are integers in [1, :data:`MAX_FRAME`]."""
     for name, value in (("width", width), ("height", height)):
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 1 <= value <= MAX_FRAME:
-            found = value if isinstance(value, (int, np.integer)) and not isinstance(value, bool) else None
-            raise input_error(
-                name,
-                f"a frame size in pixels, an integer from 1 to {MAX_FRAME}",
-                repr(found) if found is not None else f"{type(value).__name__} {value!r}",
-            )
+            integer = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+            found = repr(value) if integer else typed_repr(value)
+            raise input_error(name, f"a frame size in pixels, an integer from 1 to {MAX_FRAME}", found)
 
 
 def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> None:
@@ -118,30 +115,6 @@ def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> 
         warnings.warn(f"reset(options={options!r}) ignored: this env takes no reset options", stacklevel=3)
     elif options:
         raise input_error("options", "None or {} (this env takes no reset options)", options)
-
-
-#: What an action must be, as error messages say.
-ACTION_EXPECTED = "3 finite real numbers in [-1, 1], shape (3,)"
-
-
-def check_action(action: Any, field: str) -> np.ndarray:
-    """`action` as 3 float64 values; raises :class:`InputError` naming `field` otherwise.
-
-    Accepted: anything numpy reads as a real (integer or floating) array of shape (3,) with
-    finite values (values outside [-1, 1] are clipped by the core, as documented).
-    """
-    expected = ACTION_EXPECTED
-    try:
-        raw = np.asarray(action)
-    except (ValueError, TypeError):
-        raw = np.asarray(None)
-    if raw.shape != (3,) or raw.dtype.kind not in "iuf":
-        what = f"shape {raw.shape} of {raw.dtype}" if raw.dtype != object else f"{action!r}"
-        raise input_error(field, expected, what)
-    a = raw.astype(np.float64)
-    if not np.isfinite(a).all():
-        raise input_error(field, expected, str(a.tolist()))
-    return a
 
 
 class WorldSim:
@@ -332,7 +305,7 @@ class WorldSim:
         """
         # Fast path, a real ndarray of shape (3,) (what policies return): checked as Python
         # numbers and cast into the slot; anything else goes through check_action's conversion.
-        if type(action) is np.ndarray and action.shape == (3,) and action.dtype.kind in "iuf":
+        if type(action) is np.ndarray and action.shape == (3,) and action.dtype.kind in REAL_KINDS:
             a, b, c = action.tolist()
             if not (isfinite(a) and isfinite(b) and isfinite(c)):
                 raise input_error(field, ACTION_EXPECTED, str([float(a), float(b), float(c)]))
@@ -350,7 +323,7 @@ class WorldSim:
         # Fast path: real-valued ndarrays of shape (3,) only (a list would let numpy turn booleans
         # into numbers; subclasses take the slow path, to the same result).
         nd = np.ndarray
-        real = all([type(x) is nd and x.shape == (3,) and x.dtype.kind in "iuf" for x in actions])
+        real = all([type(x) is nd and x.shape == (3,) and x.dtype.kind in REAL_KINDS for x in actions])
         if real and len(robots) == self.num_robots and robots == self._all_rows:
             # Every robot, in order: cast straight into the buffer. A finite sum means every value
             # is finite (an infinity or a NaN makes it infinite or NaN); else the checks below.

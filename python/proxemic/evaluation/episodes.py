@@ -69,7 +69,7 @@ def policy_env(scenario: str | _core.Scenario, ref: PolicyRef) -> tuple[Any, Pol
                 note=f"policy {ref.name!r} runs only in this process and in forked worker processes; "
                 "an import path runs anywhere (e.g. on Ray)",
             )
-        cached = (env, PolicyActor(policy, tuple(env.action_space.shape or (3,)), ref.name))
+        cached = (env, PolicyActor(policy, ref.name, scene=env.scenario["scene"]["name"]))
         _POLICY_CACHE[key] = cached
     return cached
 

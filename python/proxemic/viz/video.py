@@ -23,13 +23,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from proxemic.errors import input_error, require_extra
+from proxemic.errors import InputError, input_error, require_extra
 from proxemic.viz.topdown import FRAME_SIZE
 
 if TYPE_CHECKING:
     from proxemic.env import ProxemicEnv
 
-__all__ = ["VIEWS", "record_episode", "render_frame", "write_video"]
+__all__ = ["VIEWS", "check_video_path", "record_episode", "render_frame", "write_video"]
 
 #: The views a frame can be rendered from.
 VIEWS: tuple[str, ...] = ("topdown", "top", "follow")
@@ -40,6 +40,36 @@ def _imageio() -> Any:
     iio = require_extra("imageio.v2", "video", "video export")
     require_extra("imageio_ffmpeg", "video", "video export")  # the ffmpeg binary imageio's writer uses
     return iio
+
+
+def check_video_path(path: str | os.PathLike[str], field: str = "out") -> Path:
+    """`path` as the :class:`Path` of a video file that can be written, or an :class:`InputError`.
+
+    Checked before any frame is made (ffmpeg would otherwise fail after the episode with
+    ``[Errno 32] Broken pipe``): a suffix ffmpeg writes (imageio's list: ``.mp4``, ``.mkv``...),
+    not a directory, its folder created and the file creatable. `field` is the argument named
+    in the message (``--out`` for the CLI).
+
+    Raises:
+        InputError: Naming `field`, what was expected and the path that arrived.
+        MissingExtraError: imageio or imageio-ffmpeg is not installed.
+    """
+    _imageio()
+    from imageio.config import extension_list
+
+    suffixes = sorted(e.extension for e in extension_list if "FFMPEG" in e.priority)
+    out = Path(path)
+    expected = f"the path of a video file to write ({', '.join(suffixes)})"
+    if out.is_dir():
+        raise input_error(field, expected, f"{os.fspath(path)!r}, a directory")
+    if out.suffix.lower() not in suffixes:
+        raise input_error(field, expected, f"{os.fspath(path)!r}, a {out.suffix or 'missing'} suffix")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.open("wb").close()
+    except OSError as e:
+        raise input_error(field, expected + " that can be written", f"{os.fspath(path)!r} ({e.strerror or e})") from e
+    return out
 
 
 def _check_view(view: str) -> None:
@@ -81,37 +111,35 @@ def write_video(
     *,
     total: int | None = None,
     progress: bool = False,
+    field: str = "out",
 ) -> Path:
     """Write RGB frames to an H.264 mp4 file, streaming (frames are not kept in memory).
 
     Args:
         frames: ``(H, W, 3)`` uint8 images, all the same size; H and W must be even (yuv420p).
-        path: The output file (``.mp4``); parent folders are created.
+        path: The output file (``.mp4``, or another suffix ffmpeg writes); parent folders are created.
         fps: Frames per second of the video (> 0).
         total: The number of frames, if known (for the progress bar).
         progress: Show a tqdm progress bar on stderr.
+        field: The name of `path` in error messages (``--out`` for the CLI).
 
     Returns:
         The path written.
 
     Raises:
-        InputError: A non-positive fps, a path that is a directory or cannot be written (named
-            ``out``), no frames, or a frame of the wrong shape, dtype or size.
+        InputError: A non-positive fps; a path (named `field`) that is a directory, has no video
+            suffix, cannot be created or that ffmpeg fails to write; no frames, or a frame of the
+            wrong shape, dtype or size.
         ImportError: imageio or imageio-ffmpeg is not installed.
     """
     if not (fps > 0 and np.isfinite(fps)):
         raise input_error("fps", "a positive number", fps)
-    if Path(path).is_dir():
-        raise input_error("out", "the path of an .mp4 file to write", f"{os.fspath(path)!r}, a directory")
+    out = check_video_path(path, field)
     iio = _imageio()
-    out = Path(path)
-    try:  # an unwritable path is the caller's `out`, said before ffmpeg starts (it would say Broken pipe)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.open("wb").close()
-    except OSError as e:
-        raise input_error(
-            "out", "the path of an .mp4 file that can be written", f"{os.fspath(path)!r} ({e.strerror or e})"
-        ) from e
+
+    def ffmpeg_failed(e: Exception) -> InputError:
+        return input_error(field, "the path of a video file ffmpeg can write", f"{os.fspath(path)!r} ({e})")
+
     bar = None
     if progress:
         from tqdm import tqdm
@@ -129,21 +157,30 @@ def write_video(
                         "frames[0]", "an (H, W, 3) uint8 image with even H and W", f"shape {a.shape} dtype {a.dtype}"
                     )
                 shape = a.shape
-                writer = iio.get_writer(
-                    str(out), format="FFMPEG", mode="I", fps=fps, codec="libx264", macro_block_size=1, quality=7
-                )
+                try:
+                    writer = iio.get_writer(
+                        str(out), format="FFMPEG", mode="I", fps=fps, codec="libx264", macro_block_size=1, quality=7
+                    )
+                except (OSError, RuntimeError, ValueError) as e:
+                    raise ffmpeg_failed(e) from e
             elif a.shape != shape or a.dtype != np.uint8:
                 raise input_error(
                     f"frames[{count}]", f"{shape} uint8 like the first frame", f"shape {a.shape} dtype {a.dtype}"
                 )
             if writer is not None:
-                writer.append_data(a)
+                try:
+                    writer.append_data(a)
+                except (OSError, RuntimeError, ValueError) as e:  # ffmpeg died (a full disk: Broken pipe)
+                    raise ffmpeg_failed(e) from e
             count += 1
             if bar is not None:
                 bar.update(1)
     finally:
         if writer is not None:
-            writer.close()
+            try:
+                writer.close()
+            except (OSError, RuntimeError, ValueError) as e:
+                raise ffmpeg_failed(e) from e
         if bar is not None:  # the episode may end before `total`: the bar ends where it did
             bar.total = count
             bar.refresh()
@@ -199,6 +236,7 @@ def record_episode(
     overlays: Iterable[str] = ("path",),
     progress: bool = False,
     metrics: dict[str, Any] | None = None,
+    field: str = "out",
 ) -> Path:
     """Record one seeded episode with the robot's built-in planner driving, as an mp4.
 
@@ -216,24 +254,29 @@ def record_episode(
         overlays: Overlays of the top-down view (see :meth:`proxemic.env.ProxemicEnv.set_overlays`).
         progress: Show a progress bar (it ends at the episode's last frame).
         metrics: Filled with the episode's metrics (``outcome``, ``time_to_goal`` ...) once recorded.
+        field: The name of `path` in error messages (``--out`` for the CLI).
 
     Returns:
         The path written. The video has one frame per control step plus the starting frame.
 
     Raises:
-        InputError: A bad view, size, fps or max_steps; ScenarioError / UnknownNameError for a bad
+        InputError: A bad view, size, fps or max_steps, or a path that cannot be written (named
+            `field`, checked before the episode runs); ScenarioError / UnknownNameError for a bad
             scenario or planner.
         ImportError: imageio or imageio-ffmpeg is not installed.
     """
     from proxemic.env import ProxemicEnv
     from proxemic.registration import ENV_IDS
+    from proxemic.world import check_frame_size
 
     _check_view(view)
     if max_steps is not None and max_steps < 0:
         raise input_error("max_steps", "a number >= 0", max_steps)
-    for field, value in (("width", width), ("height", height)):
+    check_frame_size(width, height)
+    for side, value in (("width", width), ("height", height)):
         if value < 2 or value % 2:
-            raise input_error(field, "an even number of pixels >= 2 (H.264 in yuv420p)", value)
+            raise input_error(side, "an even number of pixels >= 2 (H.264 in yuv420p)", value)
+    check_video_path(path, field)
     name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
     env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays)
     try:
@@ -241,6 +284,6 @@ def record_episode(
         steps = episode_steps if max_steps is None else min(max_steps, episode_steps)
         frames = episode_frames(env, seed, view=view, max_steps=max_steps, metrics=metrics)
         rate = float(env.metadata["render_fps"]) if fps is None else fps
-        return write_video(frames, path, rate, total=steps + 1, progress=progress)
+        return write_video(frames, path, rate, total=steps + 1, progress=progress, field=field)
     finally:
         env.close()

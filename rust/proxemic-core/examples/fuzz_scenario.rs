@@ -4,8 +4,16 @@
 //! ([`proxemic_core::metrics::invariants`]: a [`CoreError::Invariant`] is a finding too).
 //!
 //! Three kinds of input, in turn: scenario files (TOML), the names of generated scenes
-//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T`), and the CSV
-//! track files of `[[replay]]` tables (written to a temporary folder beside a scenario naming them).
+//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T`: mutated as
+//! text and as key=value pairs, with keys repeated, added, dropped and given extreme values), and
+//! the CSV track files of `[[replay]]` tables (written to a temporary folder beside a scenario
+//! naming them).
+//!
+//! Each validated scenario also goes through an override the Python API exposes, with extreme
+//! arguments (`with_robots` from 0 to `usize::MAX`, `with_goal` of a robot out of range or at a
+//! non-finite point, `with_robot_planner` with any name), and each built world is reset with an
+//! extreme seed (0, 7, 2^63, `u64::MAX`) and asked for robot indices out of range (path,
+//! trajectory, A* path, cost grid, metrics...): none of this may panic.
 //!
 //! `cargo fuzz` needs a nightly toolchain, which cannot be installed here, so this is a
 //! structure-aware mutation fuzzer on the stable toolchain: it starts from the bundled scenario
@@ -21,16 +29,18 @@
 //! A mutant that validates but describes a world too large to build quickly (over the grid limit
 //! the scenario enforces, or thousands of people) is still built: that is part of what is tested.
 //!
-//! Run: `make fuzz` (`FUZZ_SECONDS`, default 600), or
-//! `cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds N [--seed S]`.
+//! Run: `make fuzz` (`FUZZ_SECONDS`, default 600; `FUZZ_ARGS=--keep-going` records every finding
+//! and runs to the end, exiting 1 if there was any), or
+//! `cargo run --release -p proxemic-core --example fuzz_scenario -- --seconds N [--seed S] [--keep-going]`.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use proxemic_core::CoreError;
-use proxemic_core::scenario::Scenario;
+use proxemic_core::math::Vec2;
 use proxemic_core::scenario::generate::{self, francis2023};
+use proxemic_core::scenario::{MAX_ROBOTS, Scenario};
 use proxemic_core::world::World;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng as StdRng;
@@ -134,6 +144,52 @@ const SCENE_NAMES: &[&str] = &[
     "francis2023/crossing_90?seed=2&max_time=30",
     "francis2023/pedestrian_obstruction?seed=5",
 ];
+
+/// A scene name mutated as `prefix?key=value&...`: a pair repeated (a duplicate key, refused),
+/// a known key added with an interesting value, a pair dropped, a value replaced, the archetype
+/// or seed segment replaced; or, one time in four, as text ([`mutate`]).
+fn mutate_name(name: &str, rng: &mut StdRng) -> String {
+    if rng.random_bool(0.25) {
+        return mutate(name, rng).replace('\n', "&");
+    }
+    let (head, query) = name.split_once('?').unwrap_or((name, ""));
+    let mut head = head.to_string();
+    let mut pairs: Vec<String> = query.split('&').filter(|p| !p.is_empty()).map(str::to_string).collect();
+    let value = |rng: &mut StdRng| NUMBERS[rng.random_range(0..NUMBERS.len())].trim_matches('"').to_string();
+    for _ in 0..rng.random_range(1..=3) {
+        match rng.random_range(0..6) {
+            0 if !pairs.is_empty() => {
+                let p = pairs[rng.random_range(0..pairs.len())].clone();
+                pairs.insert(rng.random_range(0..=pairs.len()), p);
+            }
+            1 | 2 => {
+                let keys: Vec<&str> =
+                    generate::PARAM_NAMES.iter().copied().chain(["seed", "max_time", "x"]).collect();
+                let k = keys[rng.random_range(0..keys.len())];
+                let v = value(rng);
+                pairs.insert(rng.random_range(0..=pairs.len()), format!("{k}={v}"));
+            }
+            3 if !pairs.is_empty() => {
+                pairs.remove(rng.random_range(0..pairs.len()));
+            }
+            4 if !pairs.is_empty() => {
+                let i = rng.random_range(0..pairs.len());
+                let k = pairs[i].split('=').next().unwrap_or("").to_string();
+                pairs[i] = format!("{k}={}", value(rng));
+            }
+            _ => {
+                let last = if head.starts_with(francis2023::PREFIX) && rng.random_bool(0.7) {
+                    francis2023::ARCHETYPES[rng.random_range(0..francis2023::ARCHETYPES.len())].to_string()
+                } else {
+                    value(rng)
+                };
+                let prefix = head.rsplit_once('/').map_or("generated", |(p, _)| p).to_string();
+                head = format!("{prefix}/{last}");
+            }
+        }
+    }
+    if pairs.is_empty() { head } else { format!("{head}?{}", pairs.join("&")) }
+}
 
 /// A track file the CSV mutants start from (three people crossing a 12 m x 8 m hall).
 const TRACKS: &str = "t,id,x,y\n0.0,a,1.0,4.0\n0.0,b,11.0,4.2\n0.4,a,1.5,4.0\n0.4,b,10.5,4.2\n0.8,a,2.0,4.0\n\
@@ -307,9 +363,68 @@ enum Input<'a> {
     Tracks(&'a str, &'a Path),
 }
 
-/// Builds, resets and steps the world of `scenario`, then makes its records; `Err` carries an
-/// invariant's error (a finding).
-fn run_world(scenario: Scenario) -> Result<(), String> {
+/// Episode seeds a world is reset with (the binding takes any of [0, 2^64)).
+const SEEDS: [u64; 4] = [7, 0, 1 << 63, u64::MAX];
+
+/// An override of the Python API applied to a validated scenario, with extreme arguments.
+#[derive(Clone, Copy, Debug)]
+enum Override {
+    /// None: the scenario as it is.
+    Keep,
+    /// `Scenario::with_robots(n)`.
+    Robots(usize),
+    /// `Scenario::with_goal(robot, goal)`.
+    Goal(usize, [f64; 2]),
+    /// `Scenario::with_robot_planner(robot, name)`.
+    Planner(usize, &'static str),
+}
+
+/// Interesting coordinates of a goal override.
+const COORDS: [f64; 8] = [0.0, -1.0, 1.5, 4.0, 1e9, f64::NAN, f64::INFINITY, -0.0];
+
+fn pick_override(rng: &mut StdRng) -> Override {
+    let index = |rng: &mut StdRng| [0, 1, 2, MAX_ROBOTS, usize::MAX][rng.random_range(0..5)];
+    match rng.random_range(0..8) {
+        0 => Override::Robots(
+            [0, 1, 2, 3, MAX_ROBOTS, MAX_ROBOTS + 1, 1 << 20, usize::MAX][rng.random_range(0..8)],
+        ),
+        1 => {
+            let goal = [COORDS[rng.random_range(0..COORDS.len())], COORDS[rng.random_range(0..COORDS.len())]];
+            Override::Goal(index(rng), goal)
+        }
+        2 => Override::Planner(index(rng), NAMES[rng.random_range(0..NAMES.len())]),
+        _ => Override::Keep,
+    }
+}
+
+/// `scenario` with `o` applied; `None` when the override is refused (an error, as it should be).
+fn apply(scenario: Scenario, o: Override) -> Option<Scenario> {
+    match o {
+        Override::Keep => Some(scenario),
+        Override::Robots(n) => scenario.with_robots(n).ok(),
+        Override::Goal(robot, goal) => scenario.with_goal(robot, goal).ok(),
+        Override::Planner(robot, name) => scenario.with_robot_planner(robot, name).ok(),
+    }
+}
+
+/// Asks `world` (of `n` robots) about robot indices out of range: every accessor must answer
+/// `None`, zero or an error, never panic.
+fn probe_indices(world: &mut World, n: usize) {
+    for i in [n, n + 1, usize::MAX] {
+        let _ = world.path(i).map(<[Vec2]>::len);
+        let _ = world.trajectory(i).map(<[[f64; 3]]>::len);
+        let _ = world.astar_path(i).map(<[Vec2]>::len);
+        let _ = world.cost_grid(i).is_some();
+        let _ = world.geodesic_start_distance(i);
+        let _ = world.replans(i) + world.social_searches(i);
+        let _ = world.plan(i, Vec2::new(1.0, 1.0), Vec2::new(2.0, 2.0));
+        let _ = world.robot_metrics(&[0, i]).is_ok();
+    }
+}
+
+/// Builds, resets (from `seed`) and steps the world of `scenario`, then makes its records; `Err`
+/// carries an invariant's error (a finding).
+fn run_world(scenario: Scenario, seed: u64) -> Result<(), String> {
     let Ok(mut world) = World::new(scenario) else {
         return Ok(());
     };
@@ -317,7 +432,7 @@ fn run_world(scenario: Scenario) -> Result<(), String> {
     let n = world.num_robots();
     let mut out = vec![0.0; n * stride];
     let mut people = vec![0.0; world.num_people() * proxemic_core::world::PERSON_OUT];
-    if world.reset(7, &mut out, &mut people).is_err() {
+    if world.reset(seed, &mut out, &mut people).is_err() {
         return Ok(());
     }
     let mut state = vec![0.0; 6 * n];
@@ -333,15 +448,16 @@ fn run_world(scenario: Scenario) -> Result<(), String> {
             break;
         }
     }
+    probe_indices(&mut world, n);
     match world.episode_metrics() {
         Err(e @ CoreError::Invariant { .. }) => Err(format!("invariant broken: {e}")),
         _ => Ok(()),
     }
 }
 
-/// Parses, builds, resets and steps one input; `Ok(true)` when it validated, `Err` carries the
-/// panic message or the broken invariant.
-fn exercise(input: &Input) -> Result<bool, String> {
+/// Parses one input, applies `o` to it, builds, resets (from `seed`) and steps it; `Ok(true)`
+/// when it validated and `o` was accepted, `Err` carries the panic message or the broken invariant.
+fn exercise(input: &Input, o: Override, seed: u64) -> Result<bool, String> {
     let run = catch_unwind(AssertUnwindSafe(|| -> Result<bool, String> {
         let scenario = match input {
             Input::Toml(text) => Scenario::from_toml_str(text, "fuzz.toml"),
@@ -360,7 +476,10 @@ fn exercise(input: &Input) -> Result<bool, String> {
         let Ok(scenario) = scenario else {
             return Ok(false);
         };
-        run_world(scenario).map(|()| true)
+        let Some(scenario) = apply(scenario, o) else {
+            return Ok(false); // the override refused: an error, as it should be
+        };
+        run_world(scenario, seed).map(|()| true)
     }));
     run.map_err(|e| {
         let msg = e
@@ -383,6 +502,9 @@ fn main() {
     };
     let seconds = arg("--seconds", 600);
     let seed = arg("--seed", 1);
+    // --keep-going: record every finding (the first 50 inputs written) and run to the end.
+    let keep_going = args.iter().any(|a| a == "--keep-going");
+    let mut findings: Vec<String> = Vec::new();
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../python/proxemic/data/envs");
     let seeds = corpus(&root);
     // Quiet the default panic hook: findings are reported once, below.
@@ -392,7 +514,7 @@ fn main() {
     let _ = std::fs::create_dir_all(&tmp);
     let deadline = Instant::now() + Duration::from_secs(seconds);
     let (mut runs, mut valid) = (0u64, 0u64);
-    let mut kinds = [0u64; 3];
+    let (mut kinds, mut valid_kinds) = ([0u64; 3], [0u64; 3]);
     let start = Instant::now();
     while Instant::now() < deadline {
         // Scenario files most of the time; names and track files one input in five each.
@@ -402,7 +524,7 @@ fn main() {
             _ => 0,
         };
         let text = match kind {
-            1 => mutate(SCENE_NAMES[rng.random_range(0..SCENE_NAMES.len())], &mut rng).replace('\n', "&"),
+            1 => mutate_name(SCENE_NAMES[rng.random_range(0..SCENE_NAMES.len())], &mut rng),
             2 => mutate(TRACKS, &mut rng),
             _ => mutate(&seeds[rng.random_range(0..seeds.len())], &mut rng),
         };
@@ -411,19 +533,30 @@ fn main() {
             2 => Input::Tracks(&text, &tmp),
             _ => Input::Toml(&text),
         };
+        let o = pick_override(&mut rng);
+        let world_seed = SEEDS[rng.random_range(0..SEEDS.len())];
         runs += 1;
         kinds[kind] += 1;
-        match exercise(&input) {
-            Ok(ok) => valid += u64::from(ok),
+        match exercise(&input, o, world_seed) {
+            Ok(ok) => {
+                valid += u64::from(ok);
+                valid_kinds[kind] += u64::from(ok);
+            }
             Err(msg) => {
-                let dir = Path::new("fuzz-findings");
-                let _ = std::fs::create_dir_all(dir);
-                let ext = ["toml", "name.txt", "csv"][kind];
-                let path = dir.join(format!("finding-{seed}-{runs}.{ext}"));
-                let _ = std::fs::write(&path, &text);
-                eprintln!("FINDING after {runs} inputs: {msg}; input written to {}", path.display());
-                let _ = std::fs::remove_dir_all(&tmp);
-                std::process::exit(1);
+                let msg = format!("{msg} (override {o:?}, reset seed {world_seed})");
+                findings.push(msg.clone());
+                if findings.len() <= 50 {
+                    let dir = Path::new("fuzz-findings");
+                    let _ = std::fs::create_dir_all(dir);
+                    let ext = ["toml", "name.txt", "csv"][kind];
+                    let path = dir.join(format!("finding-{seed}-{runs}.{ext}"));
+                    let _ = std::fs::write(&path, &text);
+                    eprintln!("FINDING after {runs} inputs: {msg}; input written to {}", path.display());
+                }
+                if !keep_going {
+                    let _ = std::fs::remove_dir_all(&tmp);
+                    std::process::exit(1);
+                }
             }
         }
         if runs % 2000 == 0 {
@@ -431,12 +564,23 @@ fn main() {
         }
     }
     let _ = std::fs::remove_dir_all(&tmp);
+    let verdict = if findings.is_empty() {
+        "no panic, no broken invariant".to_string()
+    } else {
+        format!("{} findings (inputs in fuzz-findings/)", findings.len())
+    };
     println!(
         "fuzz_scenario: {runs} inputs ({} scenario files, {} scene names, {} replay track files; {valid} valid, \
-         built and stepped) in {:.0} s, seed {seed}: no panic, no broken invariant",
+         built and stepped: {}, {} and {}) in {:.0} s, seed {seed}: {verdict}",
         kinds[0],
         kinds[1],
         kinds[2],
+        valid_kinds[0],
+        valid_kinds[1],
+        valid_kinds[2],
         start.elapsed().as_secs_f64()
     );
+    if !findings.is_empty() {
+        std::process::exit(1);
+    }
 }

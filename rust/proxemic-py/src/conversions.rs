@@ -58,28 +58,43 @@ impl<K: Serialize, V: Serialize> Serialize for Named<'_, K, V> {
     }
 }
 
-/// A robot index argument: a negative or too large Python int is an `InputError` naming `robot`
-/// and what arrived (pyo3 alone raises `OverflowError`); a non-int keeps pyo3's `TypeError`.
+/// `obj` as a `u64`: `Some` for an int in [0, 2**64), `None` for an int that is negative or
+/// too large (pyo3 alone raises `OverflowError` there); a value that is not an int keeps pyo3's
+/// `TypeError`. The one conversion of the bindings' index, count and seed arguments.
+pub(crate) fn int_in_range(obj: &Bound<'_, PyAny>) -> PyResult<Option<u64>> {
+    match obj.extract::<u64>() {
+        Ok(v) => Ok(Some(v)),
+        Err(_) if obj.is_instance_of::<pyo3::types::PyInt>() => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// A non-negative integer argument `field` (an index or a count): a negative Python int or one
+/// of 2**64 or more is an `InputError` naming `field`, saying `expected` and what arrived.
+pub(crate) fn index_arg(obj: &Bound<'_, PyAny>, field: &str, expected: &str) -> PyResult<usize> {
+    int_in_range(obj)?
+        .and_then(|v| usize::try_from(v).ok())
+        .ok_or_else(|| input_err(obj.py(), field, expected.into(), obj.to_string()))
+}
+
+/// A robot index argument (`robot`); see [`index_arg`]. Too large an index is refused by
+/// `World.robot`, which knows the number of robots.
 pub(crate) fn robot_index(obj: &Bound<'_, PyAny>) -> PyResult<usize> {
-    obj.extract::<usize>().map_err(|e| {
-        if obj.is_instance_of::<pyo3::types::PyInt>() {
-            input_err(obj.py(), "robot", "a robot index, an integer >= 0".into(), obj.to_string())
-        } else {
-            e
-        }
-    })
+    index_arg(obj, "robot", "a robot index, an integer in [0, the number of robots)")
+}
+
+/// A list of robot indices (`robots`): each one as [`robot_index`] checks it, named `robots[k]`.
+pub(crate) fn robot_indices(obj: &Bound<'_, PyAny>) -> PyResult<Vec<usize>> {
+    let items: Vec<Bound<'_, PyAny>> = obj.extract()?;
+    let expected = "a robot index, an integer in [0, the number of robots)";
+    items.iter().enumerate().map(|(k, r)| index_arg(r, &format!("robots[{k}]"), expected)).collect()
 }
 
 /// A seed argument: a negative Python int or one of 2**64 or more is an `InputError` naming
 /// `seed` and what arrived (pyo3 alone raises `OverflowError`).
 pub(crate) fn seed_arg(obj: &Bound<'_, PyAny>) -> PyResult<u64> {
-    obj.extract::<u64>().map_err(|e| {
-        if obj.is_instance_of::<pyo3::types::PyInt>() {
-            input_err(obj.py(), "seed", "an integer in [0, 2**64)".into(), obj.to_string())
-        } else {
-            e
-        }
-    })
+    int_in_range(obj)?
+        .ok_or_else(|| input_err(obj.py(), "seed", "an integer in [0, 2**64)".into(), obj.to_string()))
 }
 
 /// `obj` as a one-dimensional numpy array of `T`, or an `InputError` naming `field` that says

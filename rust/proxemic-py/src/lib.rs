@@ -91,6 +91,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("CONTACT_RANGE", proxemic_core::world::CONTACT_RANGE)?;
     m.add("PLANNERS", proxemic_core::scenario::PlannerKind::NAMES.to_vec())?;
     m.add("EBAND_GAINS", proxemic_core::scenario::EbandGains::NAMES.to_vec())?;
+    m.add("MAX_ROBOTS", proxemic_core::scenario::MAX_ROBOTS)?;
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<world::PyWorld>()?;
     m.add("GENERATE_PARAMS", proxemic_core::scenario::generate::PARAM_NAMES.to_vec())?;

@@ -6,7 +6,7 @@ use pyo3::types::PyDict;
 use proxemic_core::CoreError;
 use proxemic_core::scenario::{Scenario as CoreScenario, TimeOfDay as CoreTimeOfDay};
 
-use crate::conversions::{TimeOfDay, robot_index, to_json_text};
+use crate::conversions::{TimeOfDay, int_in_range, robot_index, to_json_text};
 use crate::errors::{enter_core, input_err};
 
 /// A validated scenario (parsed once, from a TOML file or string).
@@ -41,20 +41,29 @@ impl PyScenario {
     }
 
     /// A copy whose robot `index` uses the built-in planner `name` (see `PLANNERS`).
-    fn with_robot_planner(&self, py: Python<'_>, index: usize, name: &str) -> PyResult<Self> {
+    fn with_robot_planner(
+        &self,
+        py: Python<'_>,
+        #[pyo3(from_py_with = robot_index)] index: usize,
+        name: &str,
+    ) -> PyResult<Self> {
         let inner = enter_core(py, || self.inner.with_robot_planner(index, name))?;
         Ok(PyScenario { inner })
     }
 
-    /// A copy with only the first `n` robots (1 <= n <= the file's `[[robot]]` entries).
-    /// Raises `ScenarioError` naming `robots` for any other count, negative ones included.
-    fn with_robots(&self, py: Python<'_>, n: i64) -> PyResult<Self> {
-        let inner = enter_core(py, || match usize::try_from(n) {
-            Ok(k) => self.inner.with_robots(k),
+    /// A copy with `n` robots, 1 <= n <= the larger of the file's `[[robot]]` entries and
+    /// `MAX_ROBOTS` (8): the file's first `n`, then sampled ones (see the core's
+    /// `Scenario::with_robots`). Raises `ScenarioError` naming `robots` for any other count,
+    /// negative and huge ones included.
+    fn with_robots(&self, py: Python<'_>, n: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let count = int_in_range(n)?.and_then(|k| usize::try_from(k).ok());
+        let shown = n.to_string();
+        let inner = enter_core(py, || match count {
+            Some(k) => self.inner.with_robots(k),
             // The core's error for a count below 1, saying what arrived.
-            Err(_) => self.inner.with_robots(0).map_err(|e| match e {
+            None => self.inner.with_robots(0).map_err(|e| match e {
                 CoreError::Scenario { file, field, expected, .. } => {
-                    CoreError::Scenario { file, field, expected, found: n.to_string() }
+                    CoreError::Scenario { file, field, expected, found: shown }
                 }
                 other => other,
             }),

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use proxemic_core::CoreError;
 use proxemic_core::world::{self, World as CoreWorld};
 
-use crate::conversions::{array_of, busy, flat_mut};
+use crate::conversions::{array_of, busy, flat_mut, index_arg};
 use crate::errors::{enter_core, input_err};
 use crate::world::PyWorld;
 
@@ -33,8 +33,12 @@ pub(crate) fn step_worlds(
     contacts: &Bound<'_, PyAny>,
     out: &Bound<'_, PyAny>,
     people_out: &Bound<'_, PyAny>,
-    threads: Option<usize>,
+    threads: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
+    let threads = match threads.filter(|t| !t.is_none()) {
+        Some(t) => Some(index_arg(t, "threads", "a number of threads, an integer >= 1")?),
+        None => None,
+    };
     let list: Vec<Bound<'_, PyWorld>> = worlds.extract().map_err(|_| {
         input_err(
             py,

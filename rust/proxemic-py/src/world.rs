@@ -8,7 +8,8 @@ use proxemic_core::scenario::check_time_of_day;
 use proxemic_core::world::World as CoreWorld;
 
 use crate::conversions::{
-    Named, array_of, busy, finite_point, flat_mut, points_to_array, robot_index, seed_arg, to_py,
+    Named, array_of, busy, finite_point, flat_mut, points_to_array, robot_index, robot_indices, seed_arg,
+    to_py,
 };
 use crate::errors::{enter_core, input_err, missing};
 use crate::scenario::PyScenario;
@@ -195,8 +196,9 @@ impl PyWorld {
     fn episode_metrics<'py>(
         &self,
         py: Python<'py>,
-        robots: Option<Vec<usize>>,
+        robots: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let robots = robots.filter(|r| !r.is_none()).map(robot_indices).transpose()?;
         let w = &self.inner;
         let reports = enter_core(py, move || match &robots {
             Some(r) => w.robot_metrics(r),

@@ -4,7 +4,8 @@
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-use super::params::{GenParams, MIN_ROOM_DEPTH};
+use super::params::{GenParams, MIN_ROOM_DEPTH, perr};
+use crate::error::Result;
 use crate::math::Vec2;
 
 /// Outer wall thickness (m); the centre line runs half of it inside the bounds.
@@ -88,8 +89,36 @@ pub(super) fn round2(v: f64) -> f64 {
     (v * 100.0).round() / 100.0
 }
 
-/// Draws the floor plan.
-pub(super) fn plan(rng: &mut ChaCha8Rng, p: &GenParams) -> Plan {
+/// Clear wall kept each side of a doorway (m).
+const DOOR_MARGIN: f64 = 0.6;
+
+/// A doorway centre drawn in `[lo, hi]` (a room side, m) leaving [`DOOR_MARGIN`] of wall each
+/// side of a door `dw` wide; a `door_width` error of the spec `source` when the side is too short
+/// (`what` says which side).
+fn door_centre(rng: &mut ChaCha8Rng, lo: f64, hi: f64, dw: f64, source: &str, what: &str) -> Result<f64> {
+    let margin = dw / 2.0 + DOOR_MARGIN;
+    if lo + margin > hi - margin {
+        let fits = hi - lo - 2.0 * DOOR_MARGIN;
+        return Err(perr(
+            source,
+            "door_width",
+            format!(
+                "a door width that fits {what} of {:.2} m with {DOOR_MARGIN} m of wall each side (at most {:.2} m for \
+                 this seed; or larger rooms: a larger width or height)",
+                hi - lo,
+                fits.max(0.0)
+            ),
+            format!("{dw}"),
+        ));
+    }
+    Ok(round2(rng.random_range(lo + margin..=hi - margin)))
+}
+
+/// Draws the floor plan of the spec `source`.
+///
+/// # Errors
+/// A `door_width` error when a doorway does not fit a room's side (a wide door in small rooms).
+pub(super) fn plan(rng: &mut ChaCha8Rng, p: &GenParams, source: &str) -> Result<Plan> {
     let (w, h) = (round2(p.width), round2(p.height));
     let (x0, x1, y0, y1) = (OUTER, w - OUTER, OUTER, h - OUTER);
     let cw = p.corridor_width;
@@ -139,8 +168,7 @@ pub(super) fn plan(rng: &mut ChaCha8Rng, p: &GenParams) -> Plan {
             let index = rooms.len();
             rooms.push(room);
             // the doorway to the corridor
-            let margin = dw / 2.0 + 0.6;
-            let xc = round2(rng.random_range(room.min.x + margin..=room.max.x - margin));
+            let xc = door_centre(rng, room.min.x, room.max.x, dw, source, "a room's corridor side")?;
             corridor_gaps.push((xc - dw / 2.0, xc + dw / 2.0));
             doors.push(Door {
                 centre: Vec2::new(xc, wall_y),
@@ -156,8 +184,7 @@ pub(super) fn plan(rng: &mut ChaCha8Rng, p: &GenParams) -> Plan {
         for (k, &x) in divs.iter().enumerate() {
             let mut gaps = Vec::new();
             if rng.random_bool(0.5) {
-                let margin = dw / 2.0 + 0.6;
-                let yd = round2(rng.random_range(ry0 + margin..=ry1 - margin));
+                let yd = door_centre(rng, ry0, ry1, dw, source, "the wall between two rooms")?;
                 gaps.push((yd - dw / 2.0, yd + dw / 2.0));
                 doors.push(Door {
                     centre: Vec2::new(x, yd),
@@ -170,7 +197,7 @@ pub(super) fn plan(rng: &mut ChaCha8Rng, p: &GenParams) -> Plan {
             wall_with_gaps(Vec2::new(x, wy0), Vec2::new(x, wy1), INNER, &mut gaps, &mut walls);
         }
     }
-    Plan { rooms, doors, walls }
+    Ok(Plan { rooms, doors, walls })
 }
 
 /// The room sequence (by doorways) from room `a` to room `b`: breadth first over the doorways,

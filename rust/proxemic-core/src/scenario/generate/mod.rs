@@ -112,7 +112,7 @@ pub fn generate(seed: u64, p: &GenParams) -> Result<Generated> {
     let source = spec(seed, p);
     p.check(&source)?;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let plan = layout::plan(&mut rng, p);
+    let plan = layout::plan(&mut rng, p, &source)?;
     let mut keep = Keep::new(&plan);
     let mut objects = furnish::objects(&mut rng, &plan, p, &mut keep);
     let geometry = static_geometry(&plan, &objects, p, &source)?;
