@@ -25,7 +25,7 @@ import gymnasium as gym
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v1"
+ENV_ID = "proxemic/Museum-v2"
 TRIALS = 3
 
 

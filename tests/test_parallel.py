@@ -136,12 +136,6 @@ def test_four_robots_cross_without_robot_collision_and_all_arrive():
         assert 0.0 < team["team_time"] <= team["total_time"]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured on test seeds 1000-1009 with the people reacting to robots: every robot delivers in 9 "
-    "of 10 episodes; on seed 1008 robot_1 hits a wall at 10.0 s (a static contact, no robot or person "
-    "contact in any episode); the robots meet (closest bodies below 1 m) in 5 of 10",
-)
 def test_care_center_delivery_robots_meet_in_the_corridor_and_all_deliver():
     # Test-split seeds (on seed 0 the robots no longer meet since the people react to them).
     met = 0

@@ -13,8 +13,10 @@
 //! runs it, and each local planner's choice of mode), [`daza2021`] (Algorithm 1 as published, for
 //! the `daza2021` and `sousa2022` planners), [`orca`], [`social_momentum`] and [`eband`] (the local planners),
 //! [`orca_crowd`] (ORCA as the robots run it among people), [`progress`] (the progress monitor
-//! and recovery every built-in planner runs) and [`stop_and_wait`] (the `astar_stop` baseline's
-//! rule: stop for whoever is in the way, re-plan around them after a wait).
+//! and recovery every built-in planner runs), [`stop_and_wait`] (the `astar_stop` baseline's
+//! rule: stop for whoever is in the way, re-plan around them after a wait) and [`yielding`]
+//! (predictive yielding: rollouts against the people's predicted motion with a hard body gap,
+//! the `social` planner's last word on its commands, `crate::world`'s yield step).
 //!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
@@ -27,6 +29,7 @@ pub mod orca_crowd;
 pub mod progress;
 pub mod social_momentum;
 pub mod stop_and_wait;
+pub mod yielding;
 
 use crate::math::{Vec2, rotate, wrap_angle};
 

@@ -17,6 +17,7 @@
 //! switch never makes the command jump beyond the acceleration limits.
 
 use crate::control::social_momentum::{Agent, SocialMomentumParams, social_momentum};
+use crate::control::yielding::YieldParams;
 use crate::control::{Limits, clamp_norm};
 use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
@@ -63,6 +64,9 @@ pub struct ModeSwitchParams {
     pub group_weight: f64,
     /// Social Momentum parameters.
     pub sm: SocialMomentumParams,
+    /// Predictive yielding, the `social` planner's last word on every command
+    /// ([`crate::control::yielding`]).
+    pub yielding: YieldParams,
 }
 
 impl Default for ModeSwitchParams {
@@ -74,6 +78,7 @@ impl Default for ModeSwitchParams {
             partial_goal: 1.5,
             group_weight: 2.0,
             sm: SocialMomentumParams::default(),
+            yielding: YieldParams::default(),
         }
     }
 }

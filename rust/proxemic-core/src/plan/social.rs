@@ -198,6 +198,13 @@ impl SocialPlanning {
         out.extend(self.object_names.iter().map(|n| self.agenda.active(n, time_of_day)));
     }
 
+    /// The object factor at `p` for the per-object `factors` (in the order of
+    /// [`Self::object_names`]): the largest factor of the interaction polygons containing `p`,
+    /// at least 1 (infinite where an infinite factor's polygon contains `p`).
+    pub fn object_factor_at(&self, p: Vec2, factors: &[f64]) -> f64 {
+        object_factor(p, &self.object_polygons, &self.object_spans, factors)
+    }
+
     /// The interaction polygons of the objects with one (world frame, m), in the order of
     /// [`Self::object_names`].
     pub fn object_polygons(&self) -> &[Vec<Vec2>] {

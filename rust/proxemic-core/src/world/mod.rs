@@ -38,6 +38,7 @@ mod recovery;
 pub mod reward;
 mod stop;
 pub mod tours;
+mod yield_step;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;

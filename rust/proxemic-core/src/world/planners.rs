@@ -347,12 +347,17 @@ impl World {
                 continue;
             }
             (desired[i], partial_goals[i]) = self.follow_path(i, dt);
+            let reference = desired[i];
             let kind = self.statics[i].planner;
             // While a recovery path is held, a planner with a local planner follows it with ORCA
             // among everyone (no social terms): it passes the people it waited for.
             let recovering = self.robots[i].progress.holds_path()
                 && (local_planner(kind).is_some() || kind.daza2021_family());
+            // `social` keeps its own step through a recovery (the yielding below, on the
+            // recovery path, with the active object spaces hard): only the path changes.
+            let yields = kind == PlannerKind::Social;
             let mode = match local_planner(kind) {
+                _ if recovering && yields => Mode::FollowPath,
                 _ if recovering => Mode::Orca,
                 Some(local) => {
                     let radius = self.statics[i].radius.to_bits();
@@ -371,6 +376,13 @@ impl World {
                 None if kind == PlannerKind::AstarStop => self.stop_step(i, &mut desired[i], dt),
                 None => Mode::FollowPath,
             };
+            let mode =
+                if yields && mode != Mode::Orca && self.yield_step(i, reference, &mut desired[i], recovering)
+                {
+                    Mode::Wait
+                } else {
+                    mode
+                };
             if mode == Mode::Orca {
                 match kind {
                     _ if kind.daza2021_family() && !recovering => orca_robots_only.push(i),
