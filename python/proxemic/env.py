@@ -11,7 +11,7 @@ import gymnasium as gym
 import numpy as np
 
 from proxemic import _core, scenarios
-from proxemic.errors import NeedsResetError, input_error
+from proxemic.errors import InvariantError, NeedsResetError, input_error
 from proxemic.records import EpisodeMetrics
 from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
@@ -180,6 +180,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             # A policy drives and nobody reads the planner's command: skip that work.
             self.ws.set_planning([False] + [True] * (self.ws.num_robots - 1))
         self._done, self._started = True, False
+        self._reset_seed: int | None = None
 
     def __reduce__(self) -> tuple[Any, tuple[dict[str, Any]]]:
         """Pickles as the constructor's arguments: a copy is a new env (episode state not carried).
@@ -208,6 +209,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             InputError: A seed that is not None or a non-negative integer, or any option.
         """
         check_reset_args(seed, options)
+        self._reset_seed = seed
         super().reset(seed=seed)
         self.ws.reset(int(self.np_random.integers(0, 2**63 - 1)))
         self._done, self._started = False, True
@@ -256,8 +258,24 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         Undefined values are ``None`` (e.g. ``time_to_goal`` without success). ``d_min`` holds one
         value per person (scenario order) and ``psi_object_active`` / ``psi_object_any`` one per object
         with an interaction space (scenario order); :func:`flat_metrics` names them.
+
+        Raises:
+            InvariantError: The record broke one of its invariants (a bug in proxemic): its ``file``
+                names the env (its id, or the scene's name), the seed given to ``reset`` and the
+                core's episode (scene, world seed, robot), its ``field`` the invariant.
         """
-        return self.world.episode_metrics([0])[0]
+        try:
+            return self.world.episode_metrics([0])[0]
+        except InvariantError as e:
+            env = self.spec.id if self.spec is not None else self.scenario["scene"]["name"]
+            episode = f"env {env}, reset(seed={self._reset_seed}), robot 0 (core: {e.file})"
+            raise InvariantError(
+                f"{episode}: invariant {e.field} broken: {e.found} (a bug in proxemic: please report it)",
+                file=episode,
+                field=e.field,
+                expected=e.expected,
+                found=e.found,
+            ) from e
 
     def flat_metrics(self) -> dict[str, Any]:
         """:meth:`metrics` with the per-person and per-object lists as named scalar keys.

@@ -1,6 +1,7 @@
 //! The outcome and the collisions (`docs/metrics.md`, Outcome and collisions): success, collision, timeout,
 //! time to goal, and the steps with a collision by kind. A step collides with a person when the
-//! physics says so or when the swept relative motion of the two discs overlaps (CrowdNav's test),
+//! physics says so or when the swept relative motion of the two discs overlaps (CrowdNav's test;
+//! people present over the step only),
 //! with the static geometry or another robot when the physics says so. A person contact ends the
 //! episode (a collision, failing success) only when it is the robot's fault ([`super::fault`]).
 
@@ -27,9 +28,11 @@ pub struct CollisionMetrics {
     pub timeout: bool,
     /// Time to goal (s, `docs/metrics.md`, Outcome and collisions): first goal instant times `dt`; `None` without success.
     pub time_to_goal: Option<f64>,
-    /// Steps with a collision with a person, HC (`docs/metrics.md`, Outcome and collisions): the physics' person bit, or a
+    /// Steps with a collision with a person, HC (`docs/metrics.md`, Outcome and collisions): a
     /// negative surface gap anywhere on the swept relative motion over the step (both bodies
-    /// moving linearly between the instants, CrowdNav's test).
+    /// moving linearly between the instants, CrowdNav's test), or the physics' person bit; only
+    /// people present over the whole step count ([`super::fault`]: a physics contact with a
+    /// replayed person appearing or leaving in the step is none).
     pub hc_count: usize,
     /// Steps with a collision with walls or furniture, WC (physics' static bit).
     pub wc_count: usize,
@@ -67,29 +70,24 @@ pub(crate) fn evaluate(
     touches: &[Touch],
 ) -> CollisionMetrics {
     let np = people.count;
-    let person = |t: usize, i: usize| people.positions[t * np + i];
     // Per step k, attributed to instant k + 1.
     let (mut hc_count, mut wc_count, mut ac_count) = (0usize, 0usize, 0usize);
     let mut first_collision_instant: Option<usize> = None;
     for k in 0..s.steps {
         let bits = contacts.get(k).copied().unwrap_or(0);
-        let swept = (0..np).filter(|&i| people.is_present(k, i) && people.is_present(k + 1, i)).any(|i| {
-            swept_gap(
-                s.pos[k],
-                s.pos[k + 1],
-                person(k, i),
-                person(k + 1, i),
-                traj.robot_radius,
-                people.radii[i],
-            ) < 0.0
-        });
-        let hit_person = bits & CONTACT_PERSON != 0 || swept;
+        // A person contact is a step touching someone ([`super::fault::classify_step`]: the swept
+        // discs of a person present over the step, or the physics' person contact with a person
+        // present over it; a physics contact with a replayed person appearing or leaving is
+        // none), or the physics' person contact with no person in the tracks to attribute it to.
+        let row = touches.get(k * np..(k + 1) * np).unwrap_or(&[]);
+        let nobody = (0..np).all(|i| !people.is_present(k, i) && !people.is_present(k + 1, i));
+        let hit_person = row.iter().any(|&t| t != Touch::None) || (bits & CONTACT_PERSON != 0 && nobody);
         let hit_static = bits & CONTACT_STATIC != 0;
         let hit_robot = bits & CONTACT_ROBOT != 0;
         hc_count += usize::from(hit_person);
         wc_count += usize::from(hit_static);
         ac_count += usize::from(hit_robot);
-        let robot_fault = touches.get(k * np..(k + 1) * np).is_some_and(|t| t.contains(&Touch::RobotFault));
+        let robot_fault = row.contains(&Touch::RobotFault);
         if (robot_fault || hit_static || hit_robot) && first_collision_instant.is_none() {
             first_collision_instant = Some(k + 1);
         }

@@ -107,12 +107,29 @@ pub(crate) fn classify_step(s: &StepContact, out: &mut Vec<Touch>) {
         out.push(if touching { fault(s, i) } else { Touch::None });
     }
     if s.physics_person && !any {
-        // The physics touched someone the discs do not show: the nearest person.
-        let nearest = (0..np).filter(|&i| s.here(i)).map(|i| (gaps(i), i)).min_by(|a, b| a.0.total_cmp(&b.0));
-        if let Some((_, i)) = nearest {
+        // The physics touched someone the discs do not show: the nearest person among everyone
+        // the physics stepped (the people as they stood at the step's start). A replayed person
+        // leaving in the step is measured from where they stood to the robot's path over the
+        // step (`leaving_gap`); one appearing at its end was parked for the physics. When the
+        // nearest is a person leaving, the contact was theirs and counts for no one.
+        let was = |i: usize| s.present_before.get(i).copied().unwrap_or(true);
+        let gap = |i: usize| match (was(i), s.here(i)) {
+            (true, true) => Some(gaps(i)),
+            (true, false) => Some(leaving_gap(s, i)),
+            (false, _) => None,
+        };
+        let nearest = (0..np).filter_map(|i| gap(i).map(|g| (g, i))).min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((_, i)) = nearest.filter(|&(_, i)| s.here(i)) {
             out[i] = fault(s, i);
         }
     }
+}
+
+/// Surface gap (m) from person `i` where they stood at the start of the step to the robot's
+/// path over it (the robot moving linearly from `p0` to `p1`): how close the physics, which steps
+/// the robot among the people as they stood at the step's start, brought them.
+pub(crate) fn leaving_gap(s: &StepContact, i: usize) -> f64 {
+    crate::geom::distance_point_segment(s.before[i], s.p0, s.p1) - s.robot_radius - s.radii[i]
 }
 
 /// Whose fault the contact with person `i` over the step is; the same rule says who approached
@@ -376,6 +393,45 @@ mod tests {
         let r = run.eval();
         assert_eq!(counts(&r), (0, 0, 0));
         assert!(!r.metrics.collisions.hc && !r.metrics.collisions.collision);
+    }
+
+    #[test]
+    fn a_physics_contact_with_a_person_leaving_touches_nobody() {
+        // A replayed person at (0.5, 0), 5 cm from the robot's body, leaves the scene over the
+        // step (parked far away at its end) while the physics, which stepped them where they
+        // stood, reports a person contact; another person stands 3.5 m ahead. The contact was
+        // the leaving person's: nobody is touched (not the person ahead, by the robot's fault),
+        // no step has a person contact, the episode runs on and its record is made.
+        let mut run = Run::new(&[Vec2::new(0.5, 0.0), Vec2::new(4.0, 0.0)]);
+        run.log = SceneLog::new(vec![0.2; 2], vec![]);
+        let push = |log: &mut SceneLog, p: &[Vec2], present: &[bool]| {
+            let mut sn = snapshot(p);
+            sn.present = present;
+            log.push(&sn);
+        };
+        push(&mut run.log, &[Vec2::new(0.5, 0.0), Vec2::new(4.0, 0.0)], &[true, true]);
+        push(&mut run.log, &[Vec2::new(50.0, 0.0), Vec2::new(4.0, 0.0)], &[false, true]);
+        assert_eq!(run.rec.record(&run.log, [0.1, 0.0, 0.0], CONTACT_PERSON, false), Outcome::Running);
+        let r = run.eval();
+        assert_eq!(counts(&r), (0, 0, 0));
+        assert_eq!(r.metrics.collisions.hc_count, 0);
+        assert!(!r.metrics.collisions.collision);
+    }
+
+    #[test]
+    fn a_swept_touch_is_no_physics_contact_for_the_others() {
+        // A person walks into the robot from behind (swept overlap, the person's fault) while the
+        // robot drives on at 1 m/s toward another person, who ends the step 3 cm from its body
+        // without any overlap. No physics contact: the person ahead is not touched, by the
+        // recorder nor by the evaluator (which once read the swept overlap as a physics contact
+        // and blamed the robot for the person ahead, breaking `outcome_agrees`).
+        let mut run = Run::new(&[Vec2::new(-0.5, 0.0), Vec2::new(0.58, 0.0)]);
+        assert_eq!(run.step(&[Vec2::new(-0.3, 0.0), Vec2::new(0.58, 0.0)], 0.1, 0), Outcome::Running);
+        let r = run.eval();
+        assert_eq!(counts(&r), (0, 1, 0));
+        assert_eq!(r.metrics.collisions.hc_count, 1);
+        assert_eq!(r.outcome, Outcome::Running);
+        assert!(r.metrics.collisions.timeout && !r.metrics.collisions.collision);
     }
 
     #[test]

@@ -10,29 +10,34 @@
 //!   wall or a robot contact);
 //! - `robot_fault_ends_episode`: robot-at-fault person contact events only in the last recorded
 //!   step (one per person touched then: a robot can touch two people at once), which fail
-//!   success, end the episode and coincide with a body gap at
-//!   or below zero on the swept relative motion of a person present over that step, or with the
-//!   physics' person contact;
+//!   success and end the episode; each person touched by the robot's fault then is present over
+//!   that step and meets the robot's body: a surface gap at or below zero on the swept relative
+//!   motion, or else the physics' person contact, with no replayed person leaving in that step
+//!   standing closer to the robot's path (the contact would then be theirs);
 //! - `absent_people_never_count`: a person who is not in the scene (a replayed person before
-//!   they appear, after they leave, parked) counts in no contact, zone, nearest distance, social
-//!   force, SNQI input or people's cost: the record equals the one computed with every absent
-//!   person moved to the far side of the world;
+//!   they appear, after they leave, parked) counts in no contact, zone (centre distance or body
+//!   gap), nearest distance, social force, SNQI input or people's cost: the record equals the one
+//!   computed with every absent person moved to the far side of the world;
 //! - `within_bounds`: every value with bounds in the metric reference ([`super::METRICS`]: shares
 //!   within [0, 100], fractions and flags within [0, 1], lengths and counts non-negative) is
 //!   within them;
 //! - `whole_counts`: every count (units `steps`, `count`, `windows`, `events`, `instants`,
 //!   `instant-person pairs`) is a whole number;
 //! - `duration_and_path`: `duration` is `steps * dt`, `steps` the recorded poses minus one,
-//!   `path_length` the length of the recorded poses, and no time (to goal, stalled, in o-spaces,
-//!   in the intimate and personal zones together) or count of steps exceeds the episode's;
+//!   `path_length` the length of the recorded poses, Calderita's `d_t` and `tau` are
+//!   `path_length` and `duration`, and no time (to goal, stalled, in o-spaces, in the intimate
+//!   and personal zones together) or count of steps exceeds the episode's;
 //! - `columns_add_up`: the four Hall zone shares (of people, of groups) add up to 100, the two
 //!   kinds of interaction crossings to their total, each object's share of active time is at
 //!   most its share of any time, the share inside some object space is at least each object's
-//!   and at most their sum, `dist_person_min` is the least of the per-person `d_min`, and the
-//!   robot-caused and person-caused zone time and entries (body gaps) add up to their totals.
+//!   and at most their sum, `dist_person_min` is the least of the per-person `d_min`, the
+//!   robot-caused and person-caused zone time and entries (body gaps) add up to their totals,
+//!   there are person contact events exactly when there are person contact steps and static
+//!   events exactly when static steps (never more events than static steps), and every summary
+//!   of one set of values is ordered (`*_min <= *_avg <= *_max`, `ped_*_mean <= ped_*_max`).
 
-use super::fault::{Touch, touches};
-use super::{CONTACT_PERSON, EpisodeReport, METRICS, Outcome, collisions::swept_gap};
+use super::fault::{Touch, leaving_gap, step_contact, touches};
+use super::{EpisodeReport, METRICS, Outcome, collisions::swept_gap};
 use super::{
     EvalContext, FullMetrics, Groups, ObjectSpaces, PeopleTracks, RobotFreeTracks, Samples, Trajectory,
     evaluate,
@@ -150,7 +155,7 @@ fn robot_fault_ends_episode(
     let np = people.count;
     let all = touches(&s, traj, people, ctx.collision_steps);
     let Some(k) = (0..s.steps).find(|&k| all[k * np..(k + 1) * np].contains(&Touch::RobotFault)) else {
-        return fail(name, "collisions_robot_fault = 1 but no step has a robot-fault touch".into());
+        return fail(name, format!("collisions_robot_fault = {faults} but no step has a robot-fault touch"));
     };
     if k + 1 != s.steps {
         return fail(
@@ -168,22 +173,44 @@ fn robot_fault_ends_episode(
             ),
         );
     }
-    let physics = ctx.collision_steps.get(k).is_some_and(|b| b & CONTACT_PERSON != 0);
-    let gap = (0..np)
-        .filter(|&i| people.is_present(k, i) && people.is_present(k + 1, i))
-        .map(|i| {
-            let at = |t: usize| people.positions[t * np + i];
-            swept_gap(s.pos[k], s.pos[k + 1], at(k), at(k + 1), traj.robot_radius, people.radii[i])
-        })
-        .fold(f64::INFINITY, f64::min);
-    if gap > 0.0 && !physics {
-        return fail(
-            name,
-            format!(
-                "the robot-fault contact at step {k} has no body contact: smallest swept gap to a \
-                 person present over the step {gap:+.3} m, no physics person contact"
-            ),
-        );
+    // Each person touched by the robot's fault in that step was in the scene over the whole step
+    // (a replayed person appearing, leaving or parked is never touched) and met the robot's body:
+    // a surface gap at or below zero somewhere on the swept relative motion, or the physics'
+    // person contact, never one that a person leaving in the step stood closer to.
+    let step = step_contact(&s, traj, people, ctx.collision_steps, k);
+    for i in (0..np).filter(|&i| all[k * np + i] == Touch::RobotFault) {
+        if !step.here(i) {
+            return fail(
+                name,
+                format!(
+                    "the robot-fault contact at step {k} is with person {i}, who is absent at instant {} \
+                     (a replayed person appearing, leaving or parked)",
+                    if people.is_present(k, i) { k + 1 } else { k }
+                ),
+            );
+        }
+        let swept =
+            swept_gap(step.p0, step.p1, step.before[i], step.after[i], traj.robot_radius, people.radii[i]);
+        if swept <= 0.0 {
+            continue;
+        }
+        let leaving = (0..np)
+            .filter(|&j| people.is_present(k, j) && !people.is_present(k + 1, j))
+            .map(|j| (leaving_gap(&step, j), j))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let end = (step.after[i] - step.p1).norm() - traj.robot_radius - people.radii[i];
+        let own = end.min(leaving_gap(&step, i));
+        if !step.physics_person || leaving.is_some_and(|(g, _)| g < own) {
+            return fail(
+                name,
+                format!(
+                    "the robot-fault contact at step {k} with person {i} has no body contact: swept gap \
+                     {swept:+.3} m, gap {own:+.3} m, physics person contact {}, nearest person leaving in \
+                     the step (gap, index): {leaving:?}",
+                    step.physics_person
+                ),
+            );
+        }
     }
     Ok(())
 }
@@ -235,10 +262,11 @@ fn absent_people_never_count(
             "the record with absent people moved away is invalid".into(),
         );
     };
-    let families: [(&str, bool); 6] = [
+    let families: [(&str, bool); 7] = [
         ("collisions", m.collisions == away.collisions),
         ("fault", m.fault == away.fault),
         ("proximity", m.proximity == away.proximity),
+        ("approach", m.approach == away.approach),
         ("clearance", m.clearance == away.clearance),
         ("snqi", m.snqi == away.snqi),
         ("people_cost", m.people_cost == away.people_cost),
@@ -316,6 +344,15 @@ fn duration_and_path(r: &EpisodeReport, traj: &Trajectory) -> Result<(), Violati
             format!(
                 "path_length = {} m but the recorded poses are {length} m long",
                 m.efficiency.path_length
+            ),
+        );
+    }
+    if m.papers.d_t != m.efficiency.path_length || m.papers.tau != r.duration {
+        return fail(
+            name,
+            format!(
+                "d_t = {} m and tau = {} s but path_length = {} m and duration = {} s (the same numbers)",
+                m.papers.d_t, m.papers.tau, m.efficiency.path_length, r.duration
             ),
         );
     }
@@ -450,6 +487,53 @@ fn columns_add_up(m: &FullMetrics) -> Result<(), Violation> {
     {
         return fail(name, format!("psi_objects_active = {a} exceeds psi_objects_any = {b}"));
     }
+    // Contact events against the steps with contact: every person-contact step belongs to an
+    // event with a person and every event has such a step; static events are runs of static steps.
+    let (c, f) = (&m.collisions, &m.fault);
+    let person_events = f.collisions_robot_fault + f.collisions_person_fault;
+    if (c.hc_count > 0) != (person_events > 0) {
+        return fail(
+            name,
+            format!(
+                "hc_count = {} steps but collisions_robot_fault + collisions_person_fault = {person_events} events",
+                c.hc_count
+            ),
+        );
+    }
+    if f.collisions_static > c.wc_count || (c.wc_count > 0) != (f.collisions_static > 0) {
+        return fail(
+            name,
+            format!("wc_count = {} steps but collisions_static = {} events", c.wc_count, f.collisions_static),
+        );
+    }
+    // Summaries of one set of values: least <= mean <= largest.
+    let v = &m.motion;
+    let q = &m.people_cost;
+    let c = &m.clearance;
+    let ordered: [(&str, Vec<Option<f64>>); 7] = [
+        ("vel_min <= vel_avg <= vel_max", vec![v.vel_min, v.vel_avg, v.vel_max]),
+        ("acc_min <= acc_avg <= acc_max", vec![v.acc_min, v.acc_avg, v.acc_max]),
+        ("jerk_min <= jerk_avg <= jerk_max", vec![v.jerk_min, v.jerk_avg, v.jerk_max]),
+        ("clearance_min <= clearance_avg", vec![c.clearance_min, c.clearance_avg]),
+        ("ped_delay_s_mean <= ped_delay_s_max", vec![q.ped_delay_s_mean, q.ped_delay_s_max]),
+        (
+            "ped_extra_distance_m_mean <= ped_extra_distance_m_max",
+            vec![q.ped_extra_distance_m_mean, q.ped_extra_distance_m_max],
+        ),
+        (
+            "ped_path_deviation_m_mean <= ped_path_deviation_m_max",
+            vec![q.ped_path_deviation_m_mean, q.ped_path_deviation_m_max],
+        ),
+    ];
+    for (key, values) in ordered {
+        let broken = values.windows(2).any(|w| match (w[0], w[1]) {
+            (Some(a), Some(b)) => a > b && !close(a, b),
+            (a, b) => a.is_some() != b.is_some(),
+        });
+        if broken {
+            return fail(name, format!("{key} does not hold: {values:?}"));
+        }
+    }
     let least = p.d_min.iter().flatten().copied().reduce(f64::min);
     if least != p.dist_person_min {
         return fail(
@@ -555,9 +639,26 @@ mod tests {
             success_radius: 0.05,
         };
         assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path", "zone time above the duration");
-        let mut b = r;
+        let mut b = r.clone();
         b.duration = 2.0;
         assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path");
+        let mut b = r.clone();
+        b.metrics.papers.d_t += 0.5;
+        assert_eq!(name(duration_and_path(&b, &traj)), "duration_and_path", "d_t is path_length");
+        // Summaries out of order, contact events without contact steps.
+        let mut b = r.clone();
+        b.metrics.motion.vel_avg = b.metrics.motion.vel_max.map(|v| v + 0.1);
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up", "mean above the max");
+        let mut b = r.clone();
+        b.metrics.people_cost.ped_delay_s_mean = Some(1.0);
+        b.metrics.people_cost.ped_delay_s_max = Some(0.5);
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up", "mean delay above the max");
+        let mut b = r.clone();
+        b.metrics.fault.collisions_person_fault = 1;
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up", "an event without a contact step");
+        let mut b = r;
+        b.metrics.collisions.wc_count = 1;
+        assert_eq!(name(columns_add_up(&b.metrics)), "columns_add_up", "a static step without its event");
     }
 
     #[test]

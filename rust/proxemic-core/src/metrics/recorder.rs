@@ -4,7 +4,6 @@
 
 use serde::Serialize;
 
-use super::collisions::swept_gap;
 use super::fault::{StepContact, Touch, classify_step};
 use super::{
     CONTACT_PERSON, CONTACT_ROBOT, CONTACT_STATIC, EvalContext, FullMetrics, Groups, InteractionLink,
@@ -271,18 +270,17 @@ impl EpisodeRecorder {
         let prev = self.poses[prev_t];
         self.poses.push(pose);
         let (p0, p1) = (Vec2::new(prev[0], prev[1]), Vec2::new(pose[0], pose[1]));
-        let rr = self.setup.robot_radius;
         // A log that does not hold both instants (a caller's error) has no people to sweep past;
         // `evaluate` reports the mismatch.
         // Absent people (replayed people coming or going) are neither swept past nor touched
         // (`classify_step` leaves them out, as the evaluator does).
-        let (swept, robot_fault) = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
+        let robot_fault = match (log.people_at(prev_t), log.people_at(prev_t + 1)) {
             (Some(before), Some(after)) => {
                 let step = StepContact {
                     p0,
                     p1,
                     vel: (p1 - p0) / self.setup.dt,
-                    robot_radius: rr,
+                    robot_radius: self.setup.robot_radius,
                     before,
                     after,
                     radii: &log.people_radii,
@@ -290,17 +288,15 @@ impl EpisodeRecorder {
                     present_before: log.present_at(prev_t).unwrap_or(&[]),
                     present_after: log.present_at(prev_t + 1).unwrap_or(&[]),
                 };
-                let swept = (0..before.len())
-                    .filter(|&i| step.here(i))
-                    .any(|i| swept_gap(p0, p1, before[i], after[i], rr, log.people_radii[i]) < 0.0);
                 classify_step(&step, &mut self.touches);
-                (swept, self.touches.contains(&Touch::RobotFault))
+                self.touches.contains(&Touch::RobotFault)
             }
-            _ => (false, false),
+            _ => false,
         };
-        let bits = contacts | if swept { CONTACT_PERSON } else { 0 };
-        self.contacts.push(bits);
-        self.outcome = if robot_fault || bits & (CONTACT_STATIC | CONTACT_ROBOT) != 0 {
+        // The physics' own bits: the evaluator runs the swept test itself, and a swept overlap
+        // is no physics contact (the fault rule reads the physics' person bit as one).
+        self.contacts.push(contacts);
+        self.outcome = if robot_fault || contacts & (CONTACT_STATIC | CONTACT_ROBOT) != 0 {
             Outcome::Collision
         } else if (p1 - self.setup.goal).norm() <= self.setup.success_radius {
             Outcome::Success

@@ -284,7 +284,8 @@ pub const METRICS: &[MetricInfo] = &[
         Lower,
         POS,
         "Steps with a person collision: the physics' person contact, or a negative surface gap on \
-         the swept relative motion; whoever's fault (`collisions_robot_fault`, \
+         the swept relative motion, with a person present over the step (a physics contact with a \
+         replayed person leaving in the step is none); whoever's fault (`collisions_robot_fault`, \
          `collisions_person_fault`).",
         "",
         "Francis et al. 2023 (HC)",
