@@ -67,8 +67,23 @@ REASONS: dict[str, list[str]] = {
         "Scene geometry: the paper gives no coordinates for Fig. 17a/17b; our rooms, objects and "
         "people are reconstructions, so distances (d_t, d_min) and times differ in absolute value; "
         "compare the direction of the differences between the social path and the non-social one.",
-        "Psi zones: the paper does not give its zone radii or whether distances are centre or "
-        "surface; we use the scene's Hall zones on centre distance, per control instant.",
+        "Psi zones: the paper's zones are the contours of the summed density G_d (Sect. 4.1), and "
+        "its own rows rule out circles (Table 1 Path 1: Psi(Public) 100% with d_min(senior_1) "
+        "1.39 m, inside Hall's social radius; Path 2: Psi(Personal) 11% with nobody nearer than "
+        "1.13 m). Ours are still the scene's Hall zones on centre distance, per control instant "
+        "(psi_*): the G_d-contour shares are not measured yet, so Psi per zone is not like for like.",
+        "Robot: the paper's text gives neither the robot's speed nor its size (the real robot, "
+        "Viriato, is omnidirectional and about 1.6 m tall); only its tables imply a speed (d_t / "
+        "tau), which we do not assert. Ours drives the scene's robot, so tau compares only as the "
+        "direction of the differences.",
+        "Table 2: our scenes do not exercise its mechanism (tests/test_calderita_mechanisms.py, "
+        "strict xfails): in calderita_exp2_path2 the first path already keeps 1.2 m south of the "
+        "table's space, pushed there by the people at the table, so the rise of R(t) never makes "
+        "calderita re-plan; Path 1 starts with the therapy already on and plans round it, where "
+        "the paper's Path 1 keeps its first path through the table's space during the therapy.",
+        "Table 4 (the real test, Fig. 23) is not run: the text gives the apartment's area (65 m2), "
+        "its objects (a TV and a table) and who does what, but no layout, positions, start or goal, "
+        "and the figures are not in our copy of the paper.",
         "CHC: the paper does not say whether CHC is the body yaw or the motion direction; we report "
         "the body yaw's (chc), the sum of |wrap(theta_{t+1} - theta_t)|.",
         "Psi(Objects) is compared as the paper counts it, any time inside an object space "
