@@ -15,6 +15,9 @@ import numpy as np
 import pytest
 
 from proxemic.env import ProxemicEnv
+from proxemic.errors import InputError
+from proxemic.evaluation import run_task
+from proxemic.reproduce import DENSITY_ZONES, density_zone_shares
 
 SEED = 1000
 
@@ -107,3 +110,27 @@ def test_table2_path2_replans_when_the_table_activity_starts():
 def test_table2_path1_crosses_the_table_space_during_the_therapy():
     """Table 2 Path 1: 'the robot crosses the occupational therapy room during the therapy'."""
     assert run("calderita_exp2_path1", "calderita")[0]["psi_object_active_ot_table"] > 0.0
+
+
+def test_density_zones_along_are_the_g_d_contours():
+    """One person alone: the G_d contours lie at Hall's radii to her side (0.45/1.2/3.6 m), and
+    ahead of her, where her Gaussian is wider (sigma_h = 2 m against sigma_s = 4/3 m), 1.5 times
+    farther."""
+    world = ProxemicEnv("calderita_exp1", autopilot=True, planner="calderita").world
+    side = np.array([[0.0, 0.3], [0.0, 0.8], [0.0, 2.0], [0.0, 5.0]])
+    ahead = np.array([[0.6, 0.0], [1.5, 0.0], [5.0, 0.0], [5.6, 0.0]])
+    her = np.zeros((4, 1, 3))  # at the origin, facing +x, at every instant
+    assert world.density_zones_along(side, her).tolist() == [0, 1, 2, 3]
+    # 1.5 times the radii ahead: 5.0 m is social there, public to her side
+    assert world.density_zones_along(ahead, her).tolist() == [0, 1, 2, 3]
+    with pytest.raises(InputError, match="people"):
+        world.density_zones_along(side, np.zeros((3, 1, 3)))
+
+
+def test_reproduce_scores_psi_per_zone_on_the_g_d_contours():
+    """psi_gd_* (the paper's zones) cover every instant once, beside the Hall-circle psi_*."""
+    res = run_task(("calderita_exp1_test1", "calderita", SEED), keep=True)
+    shares = density_zone_shares("calderita_exp1_test1", "calderita", res)
+    assert sorted(shares) == sorted(f"psi_gd_{z}" for z in DENSITY_ZONES)
+    assert sum(shares.values()) == pytest.approx(100.0)
+    assert shares != {f"psi_gd_{z}": res.record[f"psi_{z}"] for z in DENSITY_ZONES}
