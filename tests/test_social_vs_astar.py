@@ -290,10 +290,9 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
 }
 #: The same for the full test split.
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 11/60 episodes (centre reading: 0/60)",
-    ("museum", "personal_seconds"): "personal-zone time: social 90.37 s vs plain A* 176.37 s (49% less, claim 50%)",
-    ("care_center", "intimate"): "social within 0.45 m body edge to body edge in 6/60 episodes (centre reading: 0/60)",
-    (GENERATED, "intimate"): "social within 0.45 m body edge to body edge in 3/60 scenes (centre reading: 0/60)",
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 1/60 episodes (seed 1036; centre "
+    "reading: 0/60)",
+    ("museum", "personal_seconds"): "personal-zone time: social 161.70 s vs plain A* 176.37 s (8% less, claim 50%)",
 }
 #: (scene set, claim) -> the measured figure, for claims against ``astar_orca`` that do not hold on
 #: the test split (CI sets).
@@ -501,15 +500,13 @@ KNOWN_YIELD_FAILURES: dict[tuple[str, str], str] = {
 }
 #: The same for the full test split.
 KNOWN_FULL_YIELD_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 11/60 episodes, one entry each",
-    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1118.4 s vs astar_orca "
-    "1383.1 s (19% less, claim 50%)",
-    ("care_center", "robot_caused_intimate"): "social moved into an intimate zone in 6/60 episodes, one entry each",
-    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 432.8 s vs "
-    "astar_orca 468.8 s (8% less, claim 50%)",
-    (GENERATED, "robot_caused_intimate"): "social moved into an intimate zone in 3/60 scenes, one entry each",
-    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 159.4 s vs astar_orca "
-    "184.6 s (14% less, claim 50%)",
+    ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 1/60 episodes (seed 1036), one entry",
+    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1061.7 s vs astar_orca "
+    "1383.1 s (23% less, claim 50%)",
+    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 480.4 s vs "
+    "astar_orca 468.8 s (2% more, claim 50% less)",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 132.0 s vs astar_orca "
+    "184.6 s (28% less, claim 50%)",
 }
 
 
@@ -585,8 +582,11 @@ KNOWN_FRANCIS_FAILURES: dict[str, str] = {
 }
 #: The same on the whole test split.
 KNOWN_FULL_FRANCIS_FAILURES: dict[str, str] = {
-    "narrow_hallway": "social succeeds in 80% (astar_orca 90%), times out in 20% (60 seeds)",
-    "dense_crowd": "social succeeds in 65% (astar_orca 98.3%), times out in 35% (60 seeds)",
+    "narrow_hallway": "social succeeds in 0% (astar_orca 90%), times out in 100% (60 seeds)",
+    "dense_crowd": "social succeeds in 6.7% (astar_orca 98.3%), times out in 93.3% (60 seeds)",
+    "pedestrian_obstruction": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
+    "robot_overtaking": "social succeeds in 86.7% (astar_orca 100%), times out in 13.3% (60 seeds)",
+    "blind_corner": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
 }
 
 
@@ -644,9 +644,10 @@ def replay_records() -> Records:
 
 #: claim -> the measured figure, for yielding claims that do not hold on the replays.
 KNOWN_REPLAY_FAILURES: dict[str, str] = {
-    "robot_caused_personal_seconds": "robot-caused personal-zone time: social 101.7 s vs astar_orca 111.0 s (8% "
+    "robot_caused_intimate": "social moved into an intimate zone in 1/15 windows, one entry",
+    "robot_caused_personal_seconds": "robot-caused personal-zone time: social 84.6 s vs astar_orca 111.0 s (24% "
     "less, claim 50%)",
-    "time_upper_bound": "paired time to goal social/astar_orca 1.196 [95% CI 1.065, 1.362] over 15 pairs",
+    "time_upper_bound": "paired time to goal social/astar_orca 1.410 [95% CI 1.206, 1.644] over 15 pairs",
 }
 
 
@@ -658,6 +659,17 @@ def _replay_cases() -> list[Any]:
             m.append(pytest.mark.xfail(strict=True, reason=reason))
         out.append(pytest.param(claim, marks=m, id=claim))
     return out
+
+
+def test_recovery_claim_is_exercised() -> None:
+    """``recovery_keeps_spaces`` can fail: ``astar_orca`` enters an o-space while recovering in the museum
+    (CI seeds), and ``social`` recovers in the Francis archetypes (CI seeds), where it holds too."""
+    museum = records("museum", _seeds("museum", False))[ASTAR_ORCA]
+    assert sum(r["recovery_ospace_entries"] + r["recovery_object_entries"] for r in museum) > 0
+    francis = francis_records(CI_FRANCIS_SEEDS)
+    assert sum(r["recovery_time"] for rec in francis.values() for r in rec[SOCIAL]) > 0
+    for rec in francis.values():
+        _recovery_keeps_spaces(rec)
 
 
 @pytest.mark.parametrize("claim", _replay_cases())
