@@ -52,7 +52,12 @@ def test_each_paper_runs_its_own_planner_beside_ours():
     own = next(e for e in cald.experiments if e.role == "planner")
     assert cald.planners_of(base) == ["astar"]
     assert cald.planners_of(own) == ["calderita", "social"]
-    assert paper("sousa2022").planners_of(experiments("sousa2022")[0]) == ["sousa2022", "astar", "social"]
+    assert paper("sousa2022").planners_of(experiments("sousa2022")[0]) == [
+        "sousa2022",
+        "sousa2022_astar",
+        "astar",
+        "social",
+    ]
 
 
 def test_published_keys_are_our_metric_names():
@@ -377,7 +382,7 @@ def test_daza_path1_robot_does_the_avoiding(daza_runs):
 @pytest.mark.xfail(
     strict=True,
     reason="measured on seeds 1000-1002: Path 1's Smooth (0.46-2.38 rad) is not the least of the five "
-    "and Path 3's (0.36-0.41 rad) is not the greatest: the head-on walker makes our robot turn hard",
+    "and Path 3's (0.36-0.41 rad) is not the greatest (cause not isolated)",
 )
 def test_daza_paired_directions_are_the_papers(daza_runs):
     """Sect. 5.6: the best Smooth is Path 1's (0.08 rad), the highest Path 3's (0.77 rad)."""
@@ -392,3 +397,26 @@ def test_daza_fig15_robots_meet_without_colliding(daza_runs):
         reproduce.MECHANISMS["daza_orca_team"].happened(r, "daza2021_fig15") for r in daza_runs["daza2021_fig15"]
     )
     assert all(len(r.others) == 3 for r in daza_runs["daza2021_fig15"])
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured on seeds 1000-1004: `sousa2022_astar` comes within zone distance 0.70-0.92 m of a "
+    "group on Fig. 16 (plain A* 0.82-1.03 m) and 0.92-0.96 m on Fig. 17 (plain A* 0.78-0.85 m), under "
+    "the 1.0 m personal radius (cause not isolated: Algorithm 1's partial goal lies on the A* path, "
+    "which runs through the space); the cost-map path of `sousa2022` keeps 1.09-1.14 m",
+)
+@pytest.mark.parametrize("scene", ["sousa2022_fig16", "sousa2022_fig17"])
+def test_sousa_gaussian_social_momentum_keeps_plain_astar_out_of_personal_spaces(scene):
+    """Sect. 4.5, Figs. 16-17: the A* path (blue) crosses personal spaces; "combining the proposed
+    approach with social momentum (red line)" respects them. `sousa2022_astar` is that pairing:
+    Social Momentum on the Gaussians bending the plain A* path (our `sousa2022` plans on the
+    Gaussians' cost map instead). Test-split seeds; plain A* alone must enter one for the claim
+    to say something."""
+    _needs("sousa2022_astar")
+    respects = reproduce.MECHANISMS["sousa_respects_spaces"].happened
+    for seed in TEST_SEEDS:
+        plain = run_task((scene, "astar", seed), keep=True)
+        bent = run_task((scene, "sousa2022_astar", seed), keep=True)
+        assert not respects(plain, scene), seed
+        assert respects(bent, scene), (seed, bent.record["outcome"], bent.record["dist_person_min"])

@@ -42,17 +42,21 @@ TOLERANCE = 0.2
 REASONS: dict[str, list[str]] = {
     "daza2021": [
         "Scene geometry: the paper gives no coordinates for Paths 1-5 (Figures 17-21 are Matlab "
-        "plots without a scale); our scenes are reconstructions from the figure descriptions, so "
-        "the people's positions relative to the A* path, which decide how far the robot must "
-        "deviate, are ours.",
+        "plots without a scale); our scenes put the people's space on the A* line, as Sect. "
+        "5.3-5.5 say the A* path does not respect it, but how far the people stand into the path, "
+        "which decides how far the robot must deviate, is ours (each scene's header).",
         "Reference path D_A*: the paper's A* is a grid path; ours is the plain A* path after "
-        "line-of-sight smoothing (`astar_length`, printed beside L_ratio), and our executed path "
-        "ends at the success radius while D_A* runs to the goal.",
+        "line-of-sight smoothing (`astar_length`, printed beside L_ratio), up to a few % longer "
+        "than the straight line, so a small detour can give L_ratio 1.00. Our D_SN is the executed "
+        "path plus its straight rest to the goal (the episode ends inside the success radius), so "
+        "both run to the goal as in the paper.",
         "Smooth: Table 2 is compared with `smooth_rad`, the root of eq. 2 (the paper reads its "
         "values as angles; see docs/metrics.md). The tolerance for 'on the A* path' is not given "
         "(we use 0.2 m), and with k = 1 eq. 2 divides by zero (we use theta_1^2).",
-        "People: the paper's people are static or scripted in Matlab; ours walk routes with a "
-        "social-force model and per-episode jitter, so every seed is a slightly different episode.",
+        "People: the paper's people are static or scripted in Matlab; ours stand, or walk routes "
+        "(Path 1's walker ignores the robot, as a scripted person does); each seed moves the "
+        "robot's start (up to 0.2 m per axis) and the walkers' speeds (10%), so every seed is a "
+        "different episode.",
     ],
     "sousa2022": [
         "The paper publishes no numbers for Figures 16 and 17 (only the drawn paths): the "
@@ -168,14 +172,17 @@ class Paper:
     experiments: list[Experiment]
     average: dict[str, float]
     claim: str | None = None
+    variants: tuple[str, ...] = ()
+    """Other readings of the paper's system, run beside it with their own table rows (for Sousa
+    2022: ``sousa2022_astar``, the figures' pairing of plain A* and Social Momentum)."""
 
     def planners_of(self, exp: Experiment) -> list[str]:
         """The planners run on `exp`: the one its published column measures first."""
         if exp.role == "baseline":
             return [self.baseline] if self.baseline else []
         if exp.role == "planner":
-            return [self.planner, self.ours]
-        return [self.planner, *([self.baseline] if self.baseline else []), self.ours]
+            return [self.planner, *self.variants, self.ours]
+        return [self.planner, *self.variants, *([self.baseline] if self.baseline else []), self.ours]
 
 
 def published() -> dict[str, Any]:
@@ -215,6 +222,7 @@ def paper(name: str) -> Paper:
         ],
         average=dict(info.get("average", {})),
         claim=info.get("claim"),
+        variants=tuple(info.get("variants", ())),
     )
 
 
@@ -243,7 +251,9 @@ def check_paper(p: Paper) -> None:
                 found=exp.scene,
             )
     known = set(_core.PLANNERS)
-    for role, planner in (("planner", p.planner), ("baseline", p.baseline), ("ours", p.ours)):
+    roles = [("planner", p.planner), ("baseline", p.baseline), ("ours", p.ours)]
+    roles += [(f"variants[{k}]", v) for k, v in enumerate(p.variants)]
+    for role, planner in roles:
         if planner is not None and planner not in known:
             raise ScenarioError(
                 f"{_PUBLISHED.name}: {p.name}.{role}: expected one of the built-in planners "
@@ -515,7 +525,8 @@ def reproduce(name: str, out: Path, *, episodes: int = 10, seed: int = 0) -> str
         if name == "calderita":
             metrics += ["psi_objects_active"]
         names = list(results)
-        table += table_rows(exp, names[0], results[names[0]], scene)
+        for row_planner in [names[0], *(v for v in p.variants if v in results)]:
+            table += table_rows(exp, row_planner, results[row_planner], scene)
         when = f", {exp.start_time}" if exp.start_time else ""
         lines += [f"## {exp.name} (`{exp.scene}`{when})", ""]
         rows = []
