@@ -562,7 +562,7 @@ def reproduce(name: str, out: Path, *, episodes: int = 10, seed: int = 0) -> str
     lines[intro:intro] = [
         "## Reproduce table",
         "",
-        f"Per row: the published value, ours (the row's first planner: mean and 95% interval over "
+        f"Per row: the published value, ours (the planner named in the row: mean and 95% interval over "
         f"{episodes} seeds, which vary the robot's start, the walkers' phases and speeds as the "
         f"scene allows), ours / published, and in how many episodes the mechanism the paper "
         f"describes happened.",
