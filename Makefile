@@ -104,7 +104,7 @@ bench: setup ## criterion benches of the core (medians, checked against their ta
 	mkdir -p target && touch target/bench-start
 	set -o pipefail; for b in $(BENCHES); do cargo bench -p proxemic-core --bench $$b -- --warm-up-time 1 --measurement-time 3 \
 	  | grep -E '^[a-z_/0-9.]+|time:|thrpt:' || exit 1; done
-	status=0; for script in criterion_targets env_bench parallel_bench crowd_bench eval_bench vector_bench orca_vs_navground pedestrians_vs_navground; do \
+	status=0; for script in criterion_targets env_bench calderita_bench parallel_bench crowd_bench eval_bench vector_bench orca_vs_navground pedestrians_vs_navground; do \
 	  $(PY) benches/$$script.py $$([ $$script = criterion_targets ] && echo --newer-than target/bench-start) || { echo "benches/$$script.py: failed or missed a target"; status=1; }; done; exit $$status
 
 soak: setup ## 1M museum env steps and 200k 4-robot parallel steps, random actions: fails if RSS grows >5% after warm-up or an observation leaves its space

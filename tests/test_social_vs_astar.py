@@ -466,6 +466,20 @@ def _time_upper(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL)
     )
 
 
+def _recovery_keeps_spaces(rec: Records, baseline: str = ASTAR_ORCA, subject: str = SOCIAL) -> None:
+    entered = [
+        (r["seed"], int(r["recovery_ospace_entries"]), int(r["recovery_object_entries"]))
+        for r in rec[subject]
+        if r["recovery_ospace_entries"] or r["recovery_object_entries"]
+    ]
+    seconds = sum(float(r["recovery_time"]) for r in rec[subject])
+    assert not entered, (
+        f"{subject} entered an o-space or an active object space while recovering in {len(entered)}/"
+        f"{len(rec[subject])} episodes ({seconds:.1f} s in recovery; seed, o-space entries, object entries: "
+        f"{entered})"
+    )
+
+
 #: The yielding claims, each asserted for ``social`` against ``astar_orca`` on every scene set.
 YIELD_CLAIMS: dict[str, Callable[..., None]] = {
     "robot_caused_intimate": _robot_intimate,
@@ -473,6 +487,7 @@ YIELD_CLAIMS: dict[str, Callable[..., None]] = {
     "robot_caused_personal_seconds": _robot_personal,
     "success_and_timeouts": _success_at_least,
     "time_upper_bound": _time_upper,
+    "recovery_keeps_spaces": _recovery_keeps_spaces,
 }
 #: (scene set, claim) -> the measured figure, for yielding claims that do not hold on the test split
 #: (CI sets).

@@ -120,6 +120,9 @@ class EpisodeMetrics(TypedDict):
     ped_path_deviation_m_max: float | None
     recoveries: int
     monitor_stalled_time: float
+    recovery_time: float
+    recovery_ospace_entries: int
+    recovery_object_entries: int
 
 
 class MetricInfo(TypedDict):

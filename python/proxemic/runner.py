@@ -30,6 +30,8 @@ class EpisodeRecord:
     path: np.ndarray = field(repr=False)
     """(K, 2) the global path planned at the start."""
     total_reward: float = 0.0
+    people_heading: np.ndarray | None = field(default=None, repr=False)
+    """(T + 1, P) people headings (rad), beside ``people``."""
 
     def row(self) -> dict[str, Any]:
         """A flat row for tables: seed, planner, outcome and the scalar metrics."""
@@ -66,14 +68,17 @@ def run_episode(
             policy = PolicyActor(policy, name, scene=env.scenario["scene"]["name"])
         if policy is not None:
             policy.reset(seed)
-        people = [env.people()[:, :2]]
+        now = env.people()
+        people, headings = [now[:, :2]], [now[:, 2]]
         path = env.planned_path()
         total = 0.0
         while True:
             action = env.action_space.sample() * 0.0 if policy is None else policy(obs)
             obs, reward, terminated, truncated, info = env.step(action)
             total += reward
-            people.append(env.people()[:, :2])
+            now = env.people()
+            people.append(now[:, :2])
+            headings.append(now[:, 2])
             if terminated or truncated:
                 break
         planner = env.scenario["robots"][0]["planner"]
@@ -86,6 +91,7 @@ def run_episode(
             people=np.array(people),
             path=path,
             total_reward=total,
+            people_heading=np.array(headings),
         )
     finally:
         if own:

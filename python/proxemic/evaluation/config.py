@@ -59,3 +59,5 @@ class EpisodeResult:
     path: np.ndarray | None = field(default=None, repr=False)
     others: list[EpisodeResult] = field(default_factory=list, repr=False)
     """On a multi-robot scene, the other robots' records of the same episode (robot 1, 2, ...)."""
+    people_heading: np.ndarray | None = field(default=None, repr=False)
+    """(T + 1, P) the people's headings (rad) beside ``people`` (single-robot episodes)."""

@@ -106,7 +106,7 @@ def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool
     }
     record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
-        return EpisodeResult(record, rec.robot, rec.people, rec.path)
+        return EpisodeResult(record, rec.robot, rec.people, rec.path, people_heading=rec.people_heading)
     return EpisodeResult(record)
 
 

@@ -1,6 +1,6 @@
 //! `World`: the simulated world of a scenario, its episode calls and its inspection calls.
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
@@ -335,6 +335,64 @@ impl PyWorld {
     ) -> PyResult<usize> {
         let robot = self.robot(py, robot)?;
         Ok(self.inner.social_searches(robot))
+    }
+
+    /// Calderita et al.'s zone of each point of `track` ((T, 2) float64, m) among `people[t]`
+    /// ((T, P, 3) float64: x, y in m, heading in rad): the contours of the summed density `G_d`
+    /// (their §4.1, the zones the `calderita` planner plans on, with this world's density
+    /// parameters and contour levels), where Hall's zones are circles. A (T,) uint8 array:
+    /// 0 intimate, 1 personal, 2 social, 3 public. Raises `InputError` naming the argument for a
+    /// wrong shape or a non-finite value.
+    fn density_zones_along<'py>(
+        &self,
+        py: Python<'py>,
+        track: PyReadonlyArray2<'py, f64>,
+        people: PyReadonlyArray3<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<u8>>> {
+        use proxemic_core::groups::PersonState;
+        use proxemic_core::math::Vec2;
+        use proxemic_core::proxemics::Zone;
+        let (ts, ps) = (track.shape().to_vec(), people.shape().to_vec());
+        if ts.len() != 2 || ts[1] != 2 {
+            return Err(input_err(py, "track", "a (T, 2) float64 array (m)".into(), format!("shape {ts:?}")));
+        }
+        if ps.len() != 3 || ps[0] != ts[0] || ps[2] != 3 {
+            return Err(input_err(
+                py,
+                "people",
+                format!(
+                    "a ({}, P, 3) float64 array (x, y in m, heading in rad), one row per track point",
+                    ts[0]
+                ),
+                format!("shape {ps:?}"),
+            ));
+        }
+        let (track, people) = (track.as_array(), people.as_array());
+        if let Some(v) = track.iter().find(|v| !v.is_finite()) {
+            return Err(input_err(py, "track", "finite coordinates".into(), format!("{v}")));
+        }
+        if let Some(v) = people.iter().find(|v| !v.is_finite()) {
+            return Err(input_err(py, "people", "finite values".into(), format!("{v}")));
+        }
+        let zones = *self.inner.social().density_zones();
+        let mut out = Vec::with_capacity(ts[0]);
+        let mut crowd: Vec<PersonState> = Vec::with_capacity(ps[1]);
+        for t in 0..ts[0] {
+            crowd.clear();
+            crowd.extend((0..ps[1]).map(|k| PersonState {
+                pos: Vec2::new(people[[t, k, 0]], people[[t, k, 1]]),
+                heading: people[[t, k, 2]],
+                vel: Vec2::zeros(),
+            }));
+            let zone = zones.zone_of(&crowd, Vec2::new(track[[t, 0]], track[[t, 1]]));
+            out.push(match zone {
+                Zone::Intimate => 0,
+                Zone::Personal => 1,
+                Zone::Social => 2,
+                Zone::Public => 3,
+            });
+        }
+        Ok(PyArray1::from_vec(py, out))
     }
 
     /// The people now: (P, 6) float64 of x, y, heading, vx, vy, radius.

@@ -185,7 +185,7 @@ mod tests {
         let mut rec = EpisodeRecorder::new(setup, [0.0; 3]);
         for &(x, p) in steps {
             push(&mut log, p);
-            rec.record(&log, [x, 0.0, 0.0], 0, false);
+            rec.record(&log, [x, 0.0, 0.0], 0, false, false);
         }
         rec.evaluate(&log, &|_| f64::INFINITY, [0.45, 1.2, 3.6], MetricParams::default(), None)
             .expect("a record whose invariants hold")
@@ -313,7 +313,7 @@ mod tests {
                 present: &absent,
             });
             if k > 0 {
-                rec.record(&log, [x, 0.0, 0.0], 0, false);
+                rec.record(&log, [x, 0.0, 0.0], 0, false, false);
             }
         }
         let r = rec

@@ -281,7 +281,7 @@ mod tests {
         /// The people move to `people`, the robot to (x, 0), with the physics' `bits`.
         fn step(&mut self, people: &[Vec2], x: f64, bits: u8) -> Outcome {
             self.log.push(&snapshot(people));
-            self.rec.record(&self.log, [x, 0.0, 0.0], bits, false)
+            self.rec.record(&self.log, [x, 0.0, 0.0], bits, false, false)
         }
 
         fn eval(&self) -> EpisodeReport {
@@ -388,7 +388,7 @@ mod tests {
         for (k, (p, here)) in steps.iter().enumerate() {
             push(&mut run.log, p, &[*here]);
             let x = 0.1 * (k + 1) as f64;
-            assert_eq!(run.rec.record(&run.log, [x, 0.0, 0.0], 0, false), Outcome::Running);
+            assert_eq!(run.rec.record(&run.log, [x, 0.0, 0.0], 0, false, false), Outcome::Running);
         }
         let r = run.eval();
         assert_eq!(counts(&r), (0, 0, 0));
@@ -411,7 +411,7 @@ mod tests {
         };
         push(&mut run.log, &[Vec2::new(0.5, 0.0), Vec2::new(4.0, 0.0)], &[true, true]);
         push(&mut run.log, &[Vec2::new(50.0, 0.0), Vec2::new(4.0, 0.0)], &[false, true]);
-        assert_eq!(run.rec.record(&run.log, [0.1, 0.0, 0.0], CONTACT_PERSON, false), Outcome::Running);
+        assert_eq!(run.rec.record(&run.log, [0.1, 0.0, 0.0], CONTACT_PERSON, false, false), Outcome::Running);
         let r = run.eval();
         assert_eq!(counts(&r), (0, 0, 0));
         assert_eq!(r.metrics.collisions.hc_count, 0);

@@ -106,6 +106,15 @@ impl Groups<'_> {
     pub fn none() -> Groups<'static> {
         Groups { ospace_offsets: &[], ospaces: &[], link_offsets: &[], links: &[] }
     }
+
+    /// Whether `p` (m) lies in some o-space present at instant `t` (distance to its centre at
+    /// most its radius); false for an instant beyond the offsets.
+    pub fn in_ospace(&self, t: usize, p: Vec2) -> bool {
+        match (self.ospace_offsets.get(t), self.ospace_offsets.get(t + 1)) {
+            (Some(&lo), Some(&hi)) => self.ospaces[lo..hi].iter().any(|o| (p - o.centre).norm() <= o.radius),
+            _ => false,
+        }
+    }
 }
 
 /// Objects' interaction spaces (Calderita et al.'s affordance/activity spaces).
@@ -123,6 +132,16 @@ impl ObjectSpaces<'_> {
     /// No objects.
     pub fn none() -> ObjectSpaces<'static> {
         ObjectSpaces { polygons: &[], active: &[] }
+    }
+
+    /// Whether `p` (m) lies in the interaction polygon of an object whose activity is on at
+    /// instant `t`.
+    pub fn in_active_space(&self, t: usize, p: Vec2) -> bool {
+        let m = self.polygons.len();
+        self.polygons.iter().enumerate().any(|(k, poly)| {
+            self.active.get(t * m + k).copied().unwrap_or(false)
+                && crate::geom::contains_point_polygon_pnpoly(p, poly)
+        })
     }
 }
 

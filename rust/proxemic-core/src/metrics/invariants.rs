@@ -578,7 +578,7 @@ mod tests {
         let mut rec = EpisodeRecorder::new(setup, [0.0; 3]);
         for k in 1..=10 {
             log.push(&snap(k));
-            rec.record(&log, [0.1 * k as f64, 0.0, 0.0], 0, false);
+            rec.record(&log, [0.1 * k as f64, 0.0, 0.0], 0, false, false);
         }
         (log, rec)
     }

@@ -219,6 +219,8 @@ pub struct EpisodeRecorder {
     setup: RecorderSetup,
     poses: Vec<[f64; 3]>,
     contacts: Vec<u8>,
+    /// Per step, whether its command followed a held recovery path.
+    recovering: Vec<bool>,
     min_robot_gap: f64,
     outcome: Outcome,
     /// Scratch: the last step's touch per person.
@@ -232,6 +234,7 @@ impl EpisodeRecorder {
             setup,
             poses: vec![start],
             contacts: Vec::new(),
+            recovering: Vec::new(),
             min_robot_gap: f64::INFINITY,
             outcome: Outcome::Running,
             touches: Vec::new(),
@@ -245,6 +248,7 @@ impl EpisodeRecorder {
         self.poses.clear();
         self.poses.push(start);
         self.contacts.clear();
+        self.recovering.clear();
         self.min_robot_gap = f64::INFINITY;
         self.outcome = Outcome::Running;
     }
@@ -261,8 +265,16 @@ impl EpisodeRecorder {
     /// physics' person contact or a negative surface gap anywhere on the relative motion swept
     /// over the step, with the robot moving toward the person) ends the episode before the goal
     /// does; the goal before the time limit. A person walking into the robot does not end it.
-    /// Steps after the end are ignored.
-    pub fn record(&mut self, log: &SceneLog, pose: [f64; 3], contacts: u8, out_of_time: bool) -> Outcome {
+    /// `recovering`: the step's command followed a held recovery path (for the recovery
+    /// metrics, [`super::recovery`]). Steps after the end are ignored.
+    pub fn record(
+        &mut self,
+        log: &SceneLog,
+        pose: [f64; 3],
+        contacts: u8,
+        out_of_time: bool,
+        recovering: bool,
+    ) -> Outcome {
         if self.outcome != Outcome::Running {
             return self.outcome;
         }
@@ -296,6 +308,7 @@ impl EpisodeRecorder {
         // The physics' own bits: the evaluator runs the swept test itself, and a swept overlap
         // is no physics contact (the fault rule reads the physics' person bit as one).
         self.contacts.push(contacts);
+        self.recovering.push(recovering);
         self.outcome = if robot_fault || contacts & (CONTACT_STATIC | CONTACT_ROBOT) != 0 {
             Outcome::Collision
         } else if (p1 - self.setup.goal).norm() <= self.setup.success_radius {
@@ -398,7 +411,7 @@ impl EpisodeRecorder {
             geodesic_length: s.geodesic_length.is_finite().then_some(s.geodesic_length),
             min_robot_gap: self.min_robot_gap.is_finite().then_some(self.min_robot_gap),
             metrics,
-            recovery: super::RecoveryMetrics::default(),
+            recovery: super::recovery::evaluate(&traj, &self.recovering, &groups, &objects),
         };
         super::invariants::check(&report, &traj, &people, &groups, &objects, &ctx).map_err(|v| {
             crate::error::CoreError::Invariant {
@@ -461,7 +474,7 @@ mod tests {
         /// The scene's next instant, then the robot's step to (x, y).
         fn step(&mut self, x: f64, y: f64, contacts: u8, out_of_time: bool) -> Outcome {
             self.log.push(&snapshot(&self.people));
-            self.rec.record(&self.log, [x, y, 0.0], contacts, out_of_time)
+            self.rec.record(&self.log, [x, y, 0.0], contacts, out_of_time, false)
         }
 
         fn eval(&self) -> EpisodeReport {

@@ -1436,6 +1436,48 @@ pub const METRICS: &[MetricInfo] = &[
         "ours",
     )
     .mean(2),
+    m(
+        "recovery_time",
+        RECOVERY,
+        "time in recovery",
+        "s",
+        Lower,
+        POS,
+        "Seconds of steps whose command followed a held recovery path (the path the monitor's \
+         recovery planned, held for 8 s), those steps times `dt`. 0 when the built-in \
+         planner does not run or never recovered.",
+        "",
+        "ours",
+    )
+    .mean(2),
+    m(
+        "recovery_ospace_entries",
+        RECOVERY,
+        "o-space entries in recovery",
+        "count",
+        Lower,
+        POS,
+        "Entries into groups' o-spaces while following a recovery path: recovery steps that end \
+         with the robot centre inside an o-space present then, having started outside every \
+         o-space present at the step's start (the o-spaces of `ospace_entries`).",
+        "",
+        "ours",
+    )
+    .mean(2),
+    m(
+        "recovery_object_entries",
+        RECOVERY,
+        "active object-space entries in recovery",
+        "count",
+        Lower,
+        POS,
+        "Entries into active object spaces while following a recovery path: recovery steps that \
+         end with the robot centre inside the interaction polygon of an object whose activity is \
+         on, having started outside every active one (the spaces of `psi_objects_active`).",
+        "",
+        "ours",
+    )
+    .mean(2),
 ];
 
 /// The sections of the reference, in order.

@@ -6,7 +6,7 @@ use crate::error::{CoreError, Result};
 use crate::map::CostGrid;
 use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
-use crate::metrics::{EpisodeReport, MetricParams, RecoveryMetrics};
+use crate::metrics::{EpisodeReport, MetricParams};
 use crate::pedestrians::Crowd;
 use crate::scenario::Scenario;
 
@@ -93,7 +93,7 @@ impl World {
 
     /// Every metric of every robot's episode so far (`docs/metrics.md`; the zones are the
     /// scenario's Hall zones, the thresholds [`MetricParams::default`]), with the progress
-    /// monitor's record ([`RecoveryMetrics`]).
+    /// monitor's record ([`crate::metrics::RecoveryMetrics`]).
     ///
     /// # Errors
     /// [`CoreError::Input`] before the first reset, or if a recorded value is not finite.
@@ -137,10 +137,8 @@ impl World {
                     MetricParams::default(),
                     Some(free),
                 )?;
-                report.recovery = RecoveryMetrics {
-                    recoveries: rb.progress.recoveries(),
-                    monitor_stalled_time: rb.progress.stalled_time(),
-                };
+                report.recovery.recoveries = rb.progress.recoveries();
+                report.recovery.monitor_stalled_time = rb.progress.stalled_time();
                 Ok(report)
             })
             .collect()

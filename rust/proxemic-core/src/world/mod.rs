@@ -135,6 +135,9 @@ struct RobotRuntime {
     dwell_left: f64,
     /// The progress monitor ([`crate::control::progress`]).
     progress: ProgressMonitor,
+    /// Whether the command computed for the next step follows a held recovery path (recorded
+    /// with that step, for the recovery metrics).
+    recovering: bool,
     /// The stop-and-wait rule's state (astar_stop planner only).
     stop: StopAndWait,
 }
@@ -364,6 +367,7 @@ impl World {
             dwelling: false,
             dwell_left: 0.0,
             progress: ProgressMonitor::new(r.progress, geodesic, start),
+            recovering: false,
             stop: StopAndWait::new(),
         }
     }

@@ -338,9 +338,11 @@ impl World {
         for i in 0..n {
             if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
                 self.robots[i].mode = Mode::FollowPath;
+                self.robots[i].recovering = false;
                 continue;
             }
             self.watch_progress(i, dt);
+            self.robots[i].recovering = self.robots[i].progress.holds_path();
             if self.robots[i].dwelling {
                 // At a tour stop: stand still (the desired velocity stays zero).
                 self.robots[i].mode = Mode::Wait;

@@ -82,7 +82,7 @@ impl World {
         // (Francis et al.'s agent collisions, AC).
         rb.recorder.observe_robot_gap(robot_gap);
         let bits = contacts | if robot_gap < 0.0 { CONTACT_ROBOT } else { 0 };
-        let outcome = rb.recorder.record(&self.log, pose, bits, out_of_time);
+        let outcome = rb.recorder.record(&self.log, pose, bits, out_of_time, rb.recovering);
         rb.outcome = outcome;
         let geo = st.fields[rb.leg].distance(p);
         let progress = if geo.is_finite() && rb.geodesic.is_finite() { rb.geodesic - geo } else { 0.0 };
