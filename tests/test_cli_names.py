@@ -43,7 +43,7 @@ def test_every_env_id_resolves_to_its_bundled_file(env_id, name):
 
 def test_eval_accepts_an_env_id(tmp_path, capsys):
     out = tmp_path / "e"
-    args = ["eval", "--scenario", "proxemic/Daza2021Path1-v2", "--episodes", "1", "--workers", "1", "--out", str(out)]
+    args = ["eval", "--scenario", "proxemic/Daza2021Path1-v3", "--episodes", "1", "--workers", "1", "--out", str(out)]
     assert main(args) == 0, capsys.readouterr().err
     with (out / "episodes.csv").open() as fh:
         rows = list(csv.DictReader(fh))

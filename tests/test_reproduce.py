@@ -52,7 +52,12 @@ def test_each_paper_runs_its_own_planner_beside_ours():
     own = next(e for e in cald.experiments if e.role == "planner")
     assert cald.planners_of(base) == ["astar"]
     assert cald.planners_of(own) == ["calderita", "social"]
-    assert paper("sousa2022").planners_of(experiments("sousa2022")[0]) == ["sousa2022", "astar", "social"]
+    assert paper("sousa2022").planners_of(experiments("sousa2022")[0]) == [
+        "sousa2022",
+        "sousa2022_astar",
+        "astar",
+        "social",
+    ]
 
 
 def test_published_keys_are_our_metric_names():
@@ -72,7 +77,7 @@ def test_published_keys_are_our_metric_names():
 
 
 def test_every_row_of_the_papers_tables_is_an_experiment():
-    assert [e.scene for e in experiments("daza2021")] == [f"daza2021_path{k}" for k in range(1, 6)]
+    assert [e.scene for e in experiments("daza2021")] == [*(f"daza2021_path{k}" for k in range(1, 6)), "daza2021_fig15"]
     names = [e.name for e in experiments("calderita")]
     for table, rows in (
         ("Table 1", ("Path 1", "Path 2", "non-social")),
@@ -193,11 +198,13 @@ def test_daza2021_report_puts_published_beside_measured(tmp_path):
     assert (out / "report.md").read_text() == report
     with (out / "episodes.csv").open() as fh:
         rows = list(csv.DictReader(fh))
-    assert len(rows) == 10  # 5 paths x (daza2021, social)
+    assert len(rows) == 12  # (5 paths + Fig. 15) x (daza2021, social)
     for k, exp in enumerate(experiments("daza2021"), start=1):
         assert (out / f"{k}_{exp.scene}.png").stat().st_size > 0
         own = next(r for r in rows if r["experiment"] == exp.name and r["planner"] == "daza2021")
         assert own["seed"] == "3"
+        if not exp.published:
+            continue
         ours = f"{float(own['smooth_rad']):.2f}" if own["smooth_rad"] else "n/a"
         assert any(
             line.startswith(f"| smooth_rad | {exp.published['smooth_rad']:g} | {ours}") for line in report.splitlines()
@@ -244,3 +251,172 @@ def test_published_data_cites_its_sources():
     for name in PAPERS:
         assert data[name]["source"]
         assert json.dumps(data[name]["experiment"])
+
+
+#: The registered scenes of Daza 2021 and Sousa 2022: standing people, so only the robot's start
+#: jitter (and Path 1's and Path 5's walkers' speeds and phases) can tell two seeds apart.
+VARIED = [*(f"daza2021_path{k}" for k in range(1, 6)), "daza2021_fig15", "sousa2022_fig16", "sousa2022_fig17"]
+
+
+@pytest.mark.parametrize("scene", VARIED)
+def test_seeds_give_different_episodes(scene):
+    """Issue 44: Paths 2-4 once gave the same episode for every seed (a confidence interval over copies)."""
+    a, b = (run_task((scene, "astar", s), keep=True) for s in (0, 1))
+    assert a.robot is not None and b.robot is not None
+    assert not np.allclose(a.robot[0, :2], b.robot[0, :2])  # the start jitter moved the robot
+    assert a.record["path_length"] != b.record["path_length"]
+
+
+def test_reproduce_table_prints_published_ours_ratio_and_mechanism(tmp_path):
+    _needs("daza2021")
+    report = reproduce.reproduce("daza2021", tmp_path / "d", episodes=2, seed=0)
+    table = report.split("## Reproduce table")[1].split("\n## ")[0]
+    assert "| experiment | metric | published | ours [95% CI] | ratio | mechanism |" in table
+    rows = [line.split(" | ") for line in table.splitlines() if line.startswith("| Path ") or line.startswith("| Fig")]
+    assert len(rows) == 5 * 2 + 1  # two published metrics per path, Fig. 15's mechanism alone
+    with (tmp_path / "d" / "episodes.csv").open() as fh:
+        own = [r for r in csv.DictReader(fh) if r["planner"] == "daza2021"]
+    for exp in experiments("daza2021"):
+        recs = [r for r in own if r["experiment"] == exp.name]
+        results = [
+            EpisodeResult(
+                {
+                    **r,
+                    "l_ratio": float(r["l_ratio"]) if r["l_ratio"] else None,
+                    "smooth_rad": float(r["smooth_rad"]) if r["smooth_rad"] else None,
+                }
+            )
+            for r in recs
+        ]
+        held = (
+            sum(reproduce.MECHANISMS[exp.mechanism].happened(r, exp.scene) for r in results)
+            if exp.scene != "daza2021_fig15"
+            else None
+        )
+        for row in (r for r in rows if r[0].lstrip("| ").startswith(exp.name)):
+            if held is not None:
+                assert row[-1].rstrip(" |").endswith(f"({held}/2)"), row
+            if row[1] == "l_ratio":
+                values = [v.record["l_ratio"] for v in results if v.record["l_ratio"] is not None]
+                if len(values) == 2:
+                    mean = sum(values) / 2
+                    assert row[3].startswith(f"{mean:.2f} ["), row
+                    assert row[4] == f"{mean / exp.published['l_ratio']:.2f}", row
+
+
+def test_unknown_mechanism_is_a_typed_error():
+    exp = reproduce.Experiment("row", "daza2021_path1", {}, mechanism="teleport")
+    with pytest.raises(ScenarioError, match=r"mechanism: expected one of .* found 'teleport'"):
+        reproduce.mechanism_cell(exp, [_fake()], "daza2021_path1")
+
+
+#: Test-split seeds for the mechanism claims (python/proxemic/splits.py).
+TEST_SEEDS = (1000, 1001, 1002)
+
+
+@pytest.fixture(scope="module")
+def daza_runs() -> dict[str, list[EpisodeResult]]:
+    return {
+        exp.scene: [run_task((exp.scene, "daza2021", s), keep=True) for s in TEST_SEEDS]
+        for exp in experiments("daza2021")
+    }
+
+
+def _detours(runs: list[EpisodeResult], scene: str) -> list[bool]:
+    return [reproduce.MECHANISMS["daza_detour"].happened(r, scene) for r in runs]
+
+
+@pytest.mark.parametrize(
+    "k",
+    [
+        1,
+        pytest.param(
+            2,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="measured on seeds 1000-1004: 2 of 5 detour to the goal; 2 collide with a "
+                "member of the group standing on the A* line (Social Momentum with the partial goal "
+                "inside the group), 1 passes with L_ratio 1.006",
+            ),
+        ),
+        pytest.param(
+            3,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="measured on seeds 1000-1004: L_ratio 0.97-1.00 (3 of 5 below 1): the A* line "
+                "runs between the two people and robot_1 of the group and the robot keeps to it "
+                "(closest person 0.6-1.0 m), a detour of under 3%",
+            ),
+        ),
+        4,
+        pytest.param(
+            5,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="measured on seeds 1000-1004: 3 of 5 collide with group 2, standing on the "
+                "A* line (2 of 5 detour to the goal)",
+            ),
+        ),
+    ],
+)
+def test_daza_robot_detours_where_the_papers_robot_does(daza_runs, k):
+    """Sect. 5.3-5.6: on every path the A* path crosses the people's zones and Social Momentum bends it
+    (Table 2: L_ratio 0.80-0.86, Smooth 0.08-0.77 rad): L_ratio < 1 and Smooth > 0, reaching the goal."""
+    scene = f"daza2021_path{k}"
+    assert all(_detours(daza_runs[scene], scene)), [
+        (r.record["outcome"], r.record["l_ratio"], r.record["smooth_rad"]) for r in daza_runs[scene]
+    ]
+
+
+def test_daza_path1_robot_does_the_avoiding(daza_runs):
+    """Sect. 5.3: the scripted person walks on (reaction 'ignore'), the robot bends around it."""
+    _, data = scenarios.load("daza2021_path1")
+    assert data["persons"][0]["reaction"] == "ignore"
+    for r in daza_runs["daza2021_path1"]:
+        assert r.record["outcome"] == "success"
+        assert reproduce.MECHANISMS["daza_detour"].happened(r, "daza2021_path1")
+        # the person keeps to its line y = 5: the robot's detour is the robot's doing
+        assert r.people is not None and float(np.abs(r.people[:, 0, 1] - 5.0).max()) < 0.01
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured on seeds 1000-1002: Path 1's Smooth (0.46-2.38 rad) is not the least of the five "
+    "and Path 3's (0.36-0.41 rad) is not the greatest (cause not isolated)",
+)
+def test_daza_paired_directions_are_the_papers(daza_runs):
+    """Sect. 5.6: the best Smooth is Path 1's (0.08 rad), the highest Path 3's (0.77 rad)."""
+    smooth = {s: float(np.mean([r.record["smooth_rad"] for r in rs])) for s, rs in daza_runs.items() if "path" in s}
+    assert min(smooth, key=smooth.__getitem__) == "daza2021_path1", smooth
+    assert max(smooth, key=smooth.__getitem__) == "daza2021_path3", smooth
+
+
+def test_daza_fig15_robots_meet_without_colliding(daza_runs):
+    """Sect. 5.2, Fig. 15: four robots move to a point in common with ORCA, without colliding."""
+    assert all(
+        reproduce.MECHANISMS["daza_orca_team"].happened(r, "daza2021_fig15") for r in daza_runs["daza2021_fig15"]
+    )
+    assert all(len(r.others) == 3 for r in daza_runs["daza2021_fig15"])
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="measured on seeds 1000-1004: `sousa2022_astar` comes within zone distance 0.70-0.92 m of a "
+    "group on Fig. 16 (plain A* 0.82-1.03 m) and 0.92-0.96 m on Fig. 17 (plain A* 0.78-0.85 m), under "
+    "the 1.0 m personal radius (cause not isolated: Algorithm 1's partial goal lies on the A* path, "
+    "which runs through the space); the cost-map path of `sousa2022` keeps 1.09-1.14 m",
+)
+@pytest.mark.parametrize("scene", ["sousa2022_fig16", "sousa2022_fig17"])
+def test_sousa_gaussian_social_momentum_keeps_plain_astar_out_of_personal_spaces(scene):
+    """Sect. 4.5, Figs. 16-17: the A* path (blue) crosses personal spaces; "combining the proposed
+    approach with social momentum (red line)" respects them. `sousa2022_astar` is that pairing:
+    Social Momentum on the Gaussians bending the plain A* path (our `sousa2022` plans on the
+    Gaussians' cost map instead). Test-split seeds; plain A* alone must enter one for the claim
+    to say something."""
+    _needs("sousa2022_astar")
+    respects = reproduce.MECHANISMS["sousa_respects_spaces"].happened
+    for seed in TEST_SEEDS:
+        plain = run_task((scene, "astar", seed), keep=True)
+        bent = run_task((scene, "sousa2022_astar", seed), keep=True)
+        assert not respects(plain, scene), seed
+        assert respects(bent, scene), (seed, bent.record["outcome"], bent.record["dist_person_min"])

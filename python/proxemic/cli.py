@@ -666,7 +666,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     r.add_argument("paper", choices=list(PAPERS), help="which paper (its own planner runs, with plain A* and ours)")
     r.add_argument(
-        "--episodes", type=_positive_int, default=5, help="seeded episodes per planner and scene (default: 5)"
+        "--episodes", type=_positive_int, default=10, help="seeded episodes per planner and scene (default: 10)"
     )
     r.add_argument("--seed", type=int, default=0, help="first seed (default: 0)")
     r.add_argument("--out", default="out/reproduce", help="output folder; the paper's name is appended")

@@ -111,7 +111,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     | ``render_mode`` | ``None`` | ``"rgb_array"`` (MuJoCo offscreen, EGL/OSMesa), ``"topdown"`` (fast 2D numpy view) or ``"human"`` |
     | ``autopilot`` | ``False`` | ignore actions and let the robot's built-in planner drive |
     | ``planner_actions`` | ``True`` | run the built-in planner every step to fill ``info["planner_action"]`` even while a policy acts; ``False`` skips that work (no ``planner_action`` / ``planner_mode`` in ``info``) |
-    | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``: ``astar``, ``social_astar``, ``social``, the non-social baselines ``astar_orca`` and ``astar_stop``, ``social_momentum``, ``eband``, and the papers' own ``daza2021`` and ``sousa2022``; docs: planners.md) |
+    | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``: ``astar``, ``social_astar``, ``social``, the non-social baselines ``astar_orca`` and ``astar_stop``, ``social_momentum``, ``eband``, and the papers' own ``daza2021``, ``sousa2022`` (with ``sousa2022_astar``, its figures' pairing) and ``calderita``; docs: planners.md) |
     | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
     | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
     | ``width``, ``height`` | ``FRAME_SIZE`` | frame size (``proxemic.viz.topdown.FRAME_SIZE``) |

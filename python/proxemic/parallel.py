@@ -44,9 +44,12 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
     Robots whose names are in ``autopilot`` are driven by their built-in planner (their actions
     may be omitted and are ignored); every robot's built-in planner is the scenario's unless
     ``planners`` names another (one name for all, or ``{"robot_1": "astar", ...}``), so planners
-    mix freely. The ``social`` planner (proxemic's own, with Daza 2021's mode switch) and
-    ``daza2021`` (Daza 2021 Algorithm 1 as published) avoid other robots reciprocally with ORCA
-    and treat a robot that joined a human group as a person.
+    mix freely. The ``social`` planner (proxemic's own, with Daza 2021's mode switch) avoids other
+    robots reciprocally with ORCA. ``daza2021`` (Daza 2021 Algorithm 1 as published) runs ORCA
+    among the robots only when nothing but robots is detected and one is on a collision course
+    (lines 5-11); with people around and the nearest object neither a person nor a group, it
+    follows its path and avoids no one (line 21), as the paper writes it: a collision risk with
+    a robot outside the collision cone. Both treat a robot that joined a human group as a person.
 
     An agent terminates on success or on a collision (with a person, the static geometry or
     another robot: Francis et al.'s HC, WC and AC), and is truncated at ``episode.max_time``; it
@@ -88,8 +91,9 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                 the scenario; beyond those, extra robots shaped like robot 0 with starts and goals
                 sampled free and reachable (``Scenario.with_robots``).
             planners: Built-in planner of every robot (a name of ``proxemic._core.PLANNERS``, for
-                example ``"daza2021"``, Daza et al. 2021 Algorithm 1 with ORCA among the robots
-                only) or per agent (``{"robot_1": "astar_orca"}``; the others keep the scenario's).
+                example ``"daza2021"``, Daza et al. 2021 Algorithm 1: ORCA among the robots only
+                when only robots are detected, no robot avoided otherwise) or per agent
+                (``{"robot_1": "astar_orca"}``; the others keep the scenario's).
             autopilot: True, False, or a collection (list, set) of the agents driven by their
                 built-in planner (actions ignored); a single name is given as ``["robot_0"]``.
             planner_actions: Run the built-in planners of the agents not on autopilot too, for

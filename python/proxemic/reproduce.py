@@ -15,7 +15,7 @@ from __future__ import annotations
 import csv
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -42,17 +42,21 @@ TOLERANCE = 0.2
 REASONS: dict[str, list[str]] = {
     "daza2021": [
         "Scene geometry: the paper gives no coordinates for Paths 1-5 (Figures 17-21 are Matlab "
-        "plots without a scale); our scenes are reconstructions from the figure descriptions, so "
-        "the people's positions relative to the A* path, which decide how far the robot must "
-        "deviate, are ours.",
+        "plots without a scale); our scenes put the people's space on the A* line, as Sect. "
+        "5.3-5.5 say the A* path does not respect it, but how far the people stand into the path, "
+        "which decides how far the robot must deviate, is ours (each scene's header).",
         "Reference path D_A*: the paper's A* is a grid path; ours is the plain A* path after "
-        "line-of-sight smoothing (`astar_length`, printed beside L_ratio), and our executed path "
-        "ends at the success radius while D_A* runs to the goal.",
+        "line-of-sight smoothing (`astar_length`, printed beside L_ratio), up to a few % longer "
+        "than the straight line, so a small detour can give L_ratio 1.00. Our D_SN is the executed "
+        "path plus its straight rest to the goal (the episode ends inside the success radius), so "
+        "both run to the goal as in the paper.",
         "Smooth: Table 2 is compared with `smooth_rad`, the root of eq. 2 (the paper reads its "
         "values as angles; see docs/metrics.md). The tolerance for 'on the A* path' is not given "
         "(we use 0.2 m), and with k = 1 eq. 2 divides by zero (we use theta_1^2).",
-        "People: the paper's people are static or scripted in Matlab; ours walk routes with a "
-        "social-force model and per-episode jitter, so every seed is a slightly different episode.",
+        "People: the paper's people are static or scripted in Matlab; ours stand, or walk routes "
+        "(Path 1's walker ignores the robot, as a scripted person does); each seed moves the "
+        "robot's start (up to 0.2 m per axis) and the walkers' speeds (10%), so every seed is a "
+        "different episode.",
     ],
     "sousa2022": [
         "The paper publishes no numbers for Figures 16 and 17 (only the drawn paths): the "
@@ -104,6 +108,69 @@ class Experiment:
     start_time: str | None = None
     role: str | None = None
     """'planner' or 'baseline' when the published column belongs to one of them, else all run."""
+    mechanism: str | None = None
+    """The key in :data:`MECHANISMS` of what the paper says happened in this experiment."""
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """What the paper says happened in an experiment, as a predicate on one episode of the row's planner.
+
+    ``happened`` gets the episode (kept: its trajectory is there) and the scene it ran on; the
+    reproduce table prints in how many of the row's episodes it held.
+    """
+
+    description: str
+    happened: Callable[[EpisodeResult, str | _core.Scenario], bool]
+
+
+#: Every experiment's mechanism, by the key its ``mechanism`` field in the data file names. A paper
+#: adds its own with :func:`register_mechanism`.
+MECHANISMS: dict[str, Mechanism] = {}
+
+
+def register_mechanism(key: str, description: str) -> Callable[[Callable[..., bool]], Callable[..., bool]]:
+    """Decorator: registers ``fn(result, scene) -> bool`` as mechanism ``key`` (see :class:`Mechanism`)."""
+
+    def add(fn: Callable[[EpisodeResult, str | _core.Scenario], bool]) -> Callable[..., bool]:
+        MECHANISMS[key] = Mechanism(description, fn)
+        return fn
+
+    return add
+
+
+@register_mechanism(
+    "daza_detour",
+    "the robot detours from the A* path and reaches the goal (L_ratio < 1 and Smooth > 0, Sect. 5.3-5.6)",
+)
+def _daza_detour(result: EpisodeResult, scene: str | _core.Scenario) -> bool:
+    rec = result.record
+    l_ratio, smooth = rec.get("l_ratio"), rec.get("smooth_rad")
+    return l_ratio is not None and smooth is not None and l_ratio < 1.0 and smooth > 0.0
+
+
+@register_mechanism(
+    "daza_orca_team",
+    "every robot reaches its common-point goal without a collision (ORCA among robots, Fig. 15)",
+)
+def _daza_orca_team(result: EpisodeResult, scene: str | _core.Scenario) -> bool:
+    team = [result, *result.others]
+    return len(team) > 1 and all(r.record["outcome"] == "success" for r in team)
+
+
+@register_mechanism(
+    "sousa_respects_spaces",
+    "the path keeps out of every perceived group's and person's personal space (zone distance "
+    "below the personal radius, Sect. 4.5)",
+)
+def _sousa_respects(result: EpisodeResult, scene: str | _core.Scenario) -> bool:
+    from proxemic.social import SocialMap
+
+    if result.robot is None:
+        return False
+    individuals = SocialMap(scene, seed=int(result.record["seed"])).perception["individuals"]
+    track = result.robot[:, :2]
+    return all(float(zone_distance(ind, track).min()) >= SOUSA_PERSONAL_RADIUS for ind in individuals)
 
 
 @dataclass(frozen=True)
@@ -122,14 +189,17 @@ class Paper:
     experiments: list[Experiment]
     average: dict[str, float]
     claim: str | None = None
+    variants: tuple[str, ...] = ()
+    """Other readings of the paper's system, run beside it with their own table rows (for Sousa
+    2022: ``sousa2022_astar``, the figures' pairing of plain A* and Social Momentum)."""
 
     def planners_of(self, exp: Experiment) -> list[str]:
         """The planners run on `exp`: the one its published column measures first."""
         if exp.role == "baseline":
             return [self.baseline] if self.baseline else []
         if exp.role == "planner":
-            return [self.planner, self.ours]
-        return [self.planner, *([self.baseline] if self.baseline else []), self.ours]
+            return [self.planner, *self.variants, self.ours]
+        return [self.planner, *self.variants, *([self.baseline] if self.baseline else []), self.ours]
 
 
 def published() -> dict[str, Any]:
@@ -163,11 +233,13 @@ def paper(name: str) -> Paper:
                 published=dict(e.get("published", {})),
                 start_time=e.get("start_time"),
                 role=e.get("role"),
+                mechanism=e.get("mechanism"),
             )
             for e in info["experiment"]
         ],
         average=dict(info.get("average", {})),
         claim=info.get("claim"),
+        variants=tuple(info.get("variants", ())),
     )
 
 
@@ -196,7 +268,9 @@ def check_paper(p: Paper) -> None:
                 found=exp.scene,
             )
     known = set(_core.PLANNERS)
-    for role, planner in (("planner", p.planner), ("baseline", p.baseline), ("ours", p.ours)):
+    roles = [("planner", p.planner), ("baseline", p.baseline), ("ours", p.ours)]
+    roles += [(f"variants[{k}]", v) for k, v in enumerate(p.variants)]
+    for role, planner in roles:
         if planner is not None and planner not in known:
             raise ScenarioError(
                 f"{_PUBLISHED.name}: {p.name}.{role}: expected one of the built-in planners "
@@ -447,7 +521,7 @@ def density_zone_shares(scene: str | _core.Scenario, planner: str, result: Episo
     return {f"psi_gd_{z}": 100.0 * float(c) / len(zones) for z, c in zip(DENSITY_ZONES, counts, strict=True)}
 
 
-def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
+def reproduce(name: str, out: Path, *, episodes: int = 10, seed: int = 0) -> str:
     """Runs paper `name`'s experiments on `episodes` seeds each; writes the report, records and figures.
 
     Returns the report (markdown), also written to ``out / "report.md"``.
@@ -476,7 +550,9 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
     ]
     if p.claim:
         lines += [f"The paper's claim: {p.claim}.", ""]
+    intro = len(lines)
     records: list[dict[str, Any]] = []
+    table: list[list[str]] = []
     per_path: dict[str, dict[str, list[float | None]]] = {pl: {m: [] for m in p.average} for pl in (p.planner, p.ours)}
     for index, exp in enumerate(p.experiments, start=1):
         scene = scene_of(exp)
@@ -497,6 +573,8 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
             metrics = [m for m in metrics if m not in hall]
             metrics += [f"psi_gd_{z}" for z in DENSITY_ZONES] + hall + ["psi_objects_active"]
         names = list(results)
+        for row_planner in [names[0], *(v for v in p.variants if v in results)]:
+            table += table_rows(exp, row_planner, results[row_planner], scene)
         when = f", {exp.start_time}" if exp.start_time else ""
         lines += [f"## {exp.name} (`{exp.scene}`{when})", ""]
         rows = []
@@ -517,7 +595,7 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
                     why = explain(m, pub, exp, results[n], zones) or "see the reasons below"
                     notes.setdefault((n, why), []).append(m)
                 cells.append(_fmt(mean, half, k, len(results[n])) + mark)
-                if m in p.average and n in per_path:
+                if m in p.average and n in per_path and exp.published:
                     per_path[n][m].append(None if k == 0 else mean)
             rows.append([m, "-" if pub is None else f"{pub:g}", *cells])
         lines += [markdown.table(["metric", "published", *(f"ours: {n}" for n in names)], rows)]
@@ -533,6 +611,17 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
         png = out / f"{index}_{exp.scene}.png"
         SocialMap(scene, seed=seed).plot(png, paths=first, title=f"{exp.name}: seed {seed}")
         lines += [f"![{exp.name}]({png.name})", ""]
+    lines[intro:intro] = [
+        "## Reproduce table",
+        "",
+        f"Per row: the published value, ours (the planner named in the row: mean and 95% interval over "
+        f"{episodes} seeds, which vary the robot's start, the walkers' phases and speeds as the "
+        f"scene allows), ours / published, and in how many episodes the mechanism the paper "
+        f"describes happened.",
+        "",
+        markdown.table(["experiment", "metric", "published", "ours [95% CI]", "ratio", "mechanism"], table),
+        "",
+    ]
     if p.average:
         lines += _average_lines(p, per_path)
     lines += ["## Why ours differ (what the run cannot tell)", ""] + [f"- {r}" for r in REASONS[name]] + [""]
@@ -542,6 +631,60 @@ def reproduce(name: str, out: Path, *, episodes: int = 5, seed: int = 0) -> str:
     return report
 
 
+def mechanism_cell(exp: Experiment, results: Sequence[EpisodeResult], scene: str | _core.Scenario) -> str:
+    """``yes (k/N)``, ``partly (k/N)`` or ``no (0/N)``: in how many episodes `exp`'s mechanism held; ``-`` without one.
+
+    Raises:
+        ScenarioError: the experiment names a mechanism that is not in :data:`MECHANISMS`.
+
+    """
+    if exp.mechanism is None:
+        return "-"
+    if exp.mechanism not in MECHANISMS:
+        raise ScenarioError(
+            f"{_PUBLISHED.name}: experiment {exp.name!r}: mechanism: expected one of "
+            f"{sorted(MECHANISMS)}, found {exp.mechanism!r}",
+            file=str(_PUBLISHED),
+            field="mechanism",
+            expected=f"one of {sorted(MECHANISMS)}",
+            found=exp.mechanism,
+        )
+    held = sum(MECHANISMS[exp.mechanism].happened(r, scene) for r in results)
+    word = "yes" if held == len(results) else ("no" if held == 0 else "partly")
+    return f"{word} ({held}/{len(results)})"
+
+
+def table_rows(
+    exp: Experiment, planner: str, results: Sequence[EpisodeResult], scene: str | _core.Scenario
+) -> list[list[str]]:
+    """The reproduce table's rows of `exp`: one per published metric.
+
+    Each row: published, ours (`planner`'s mean and 95% interval), ours / published and the
+    mechanism; one row with the mechanism alone when the paper publishes no number for it.
+    """
+    mech = mechanism_cell(exp, results, scene)
+    label = f"{exp.name} (`{planner}`)"
+    if not exp.published:
+        return [[label, "-", "-", "-", "-", mech]]
+    rows = []
+    for m, pub in exp.published.items():
+        # Calderita's Psi per zone is measured on its own zones (psi_gd_*) where the run has them.
+        zone = m.removeprefix("psi_")
+        key = f"psi_gd_{zone}" if zone in DENSITY_ZONES and results and f"psi_gd_{zone}" in results[0].record else m
+        mean, half, k = mean_ci(r.record.get(key) for r in results)
+        if k == 0:
+            ours = f"n/a (0 of {len(results)})"
+        elif math.isnan(half):
+            ours = f"{mean:.2f} (1 of {len(results)})"
+        else:
+            ours = f"{mean:.2f} [{mean - half:.2f}, {mean + half:.2f}]" + (
+                "" if k == len(results) else f" ({k} of {len(results)})"
+            )
+        ratio = "-" if k == 0 or pub == 0 else f"{mean / pub:.2f}"
+        rows.append([label, m if key == m else f"{m} ({key})", f"{pub:g}", ours, ratio, mech])
+    return rows
+
+
 def average_over_paths(values: Sequence[float | None]) -> tuple[float, int]:
     """The mean of the paths' values that are defined, and how many there are (a failed path has None)."""
     defined = [v for v in values if v is not None and not math.isnan(v)]
@@ -549,7 +692,7 @@ def average_over_paths(values: Sequence[float | None]) -> tuple[float, int]:
 
 
 def _average_lines(p: Paper, per_path: dict[str, dict[str, list[float | None]]]) -> list[str]:
-    total = len(p.experiments)
+    total = sum(bool(e.published) for e in p.experiments)
     planners = [pl for pl in (p.planner, p.ours) if pl in per_path]
     lines = [
         f"## Average over the {total} experiments",

@@ -13,8 +13,11 @@ use crate::math::{EPS, Vec2, wrap_angle};
 /// The papers' own metrics of an episode.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PaperMetrics {
-    /// Daza et al. 2021 eq. 1: `L_ratio = D_A* / D_SN`, A* polyline length over the executed
-    /// path length; `None` without success, with fewer than 2 A* points, or PL < 1e-9 m.
+    /// Daza et al. 2021 eq. 1: `L_ratio = D_A* / D_SN`, the A* polyline length (start to goal)
+    /// over the social path's length to the goal: the executed path plus the straight rest from
+    /// its last point (inside the success radius) to the goal, so both lengths end at the goal as
+    /// in the paper, where `L_ratio <= 1` by construction. `None` without success, with fewer than
+    /// 2 A* points, or `D_SN` < 1e-9 m.
     pub l_ratio: Option<f64>,
     /// Daza et al. 2021 eq. 2 as written (rad²): `Smooth = 1/(k-1) sum_i theta_i²` over the `k`
     /// angles (rad) between the executed step direction and the A* direction where the path
@@ -44,8 +47,14 @@ pub(crate) fn evaluate(
     path_length: f64,
 ) -> PaperMetrics {
     let astar_ok = ctx.astar_path.len() >= 2;
-    let l_ratio =
-        (astar_ok && success && path_length > EPS).then(|| polyline_length(ctx.astar_path) / path_length);
+    // D_SN runs to the goal (the A* path's last point), like D_A*: the executed path ends inside
+    // the success radius, so the straight rest to the goal is added.
+    let to_goal = match (s.pos.last(), ctx.astar_path.last()) {
+        (Some(p), Some(g)) => (g - p).norm(),
+        _ => 0.0,
+    };
+    let d_sn = path_length + to_goal;
+    let l_ratio = (astar_ok && success && d_sn > EPS).then(|| polyline_length(ctx.astar_path) / d_sn);
     let angles = if astar_ok {
         leave_rejoin_angles(&s.pos, ctx.astar_path, ctx.params.astar_tolerance)
     } else {

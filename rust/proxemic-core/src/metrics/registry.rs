@@ -499,8 +499,8 @@ pub const METRICS: &[MetricInfo] = &[
         "",
         Higher,
         POS,
-        "The A* length over the executed path length (≤ 1 typically; success only, else `None`).",
-        "`D_A* / D_SN`",
+        "The A* length over the social path's length to the goal: the executed path plus the straight rest from its last point (inside the success radius) to the goal, so both run to the goal as in the paper (≤ 1 against a shortest reference; success only, else `None`).",
+        "`D_A* / (path_length + |p_T − goal|)`",
         "Daza et al. 2021, eq. 1",
     )
     .mean(2)

@@ -420,6 +420,13 @@ fn daza_l_ratio_and_smooth() {
     assert_close(m.papers.l_ratio, 1.0);
     assert_close(m.papers.smooth_rad2, 0.0);
     assert_eq!(m.papers.smooth_k, 0);
+    // Ending 0.3 m short of the goal (inside the success radius) on the A* path: D_SN is the
+    // executed 9.7 m plus the 0.3 m rest to the goal, so L_ratio is 1, never above it.
+    let short: Vec<[f64; 3]> = (0..=97).map(|k| [k as f64 * 0.1, 0.0, 0.0]).collect();
+    let t_short = Trajectory { success_radius: 0.5, ..traj(&short, 1.0, Vec2::new(10.0, 0.0)) };
+    let m = run(&t_short, &PeopleTracks::none(), &c);
+    assert!(close(m.efficiency.path_length, 9.7));
+    assert_close(m.papers.l_ratio, 1.0);
     // Without an A* path, both undefined.
     let m = run(&t, &PeopleTracks::none(), &ctx(10.0));
     assert_eq!((m.papers.l_ratio, m.papers.smooth_rad2, m.papers.smooth_rad), (None, None, None));

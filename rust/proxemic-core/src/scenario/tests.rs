@@ -603,6 +603,11 @@ fn every_planner_name_parses_to_its_own_kind_and_the_papers_planners_are_listed(
     assert!(!PlannerKind::Social.daza2021_family());
     // Daza 2021 line 1: plain A*; Sousa 2022 §3.1: the path on the Gaussians' cost map.
     assert!(!PlannerKind::Daza2021.social_global() && PlannerKind::Sousa2022.social_global());
+    // §4.5's pairing: Sousa's Gaussians in Social Momentum on the plain A* path.
+    assert_eq!(PlannerKind::parse("sousa2022_astar"), Some(PlannerKind::Sousa2022Astar));
+    let pairing = PlannerKind::Sousa2022Astar;
+    assert!(pairing.daza2021_family() && pairing.sousa2022_gaussians() && !pairing.social_global());
+    assert!(!PlannerKind::Daza2021.sousa2022_gaussians());
     assert_eq!(PlannerKind::parse("daza"), None);
 }
 

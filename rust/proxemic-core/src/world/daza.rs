@@ -10,7 +10,6 @@ use crate::control::daza2021::{
 };
 use crate::control::mode_switch::Mode;
 use crate::math::Vec2;
-use crate::scenario::PlannerKind;
 
 impl World {
     /// Robot `i`'s local step with the `daza2021` or `sousa2022` planner: its mode, with Social
@@ -63,8 +62,8 @@ impl World {
             Daza2021Mode::FollowPath => Mode::FollowPath,
             Daza2021Mode::Orca => Mode::Orca,
             Daza2021Mode::SocialMomentum => {
-                let spaces = match (st.planner, per) {
-                    (PlannerKind::Sousa2022, Some(p)) => PeopleSpaces::Gaussians(&p.individuals),
+                let spaces = match per {
+                    Some(p) if st.planner.sousa2022_gaussians() => PeopleSpaces::Gaussians(&p.individuals),
                     _ => PeopleSpaces::Intimate,
                 };
                 let v = daza2021_social_momentum(

@@ -51,6 +51,11 @@ pub enum PlannerKind {
     /// cost function"): the scenario's social map of the individuals, searched by A* and
     /// re-planned on triggers like [`PlannerKind::SocialAstar`]'s.
     Sousa2022,
+    /// Sousa et al. 2022 §4.5 as the figures pair it (Figs. 16-17: "the A* path" bent by "the
+    /// Social Momentum algorithm considering the proxemic zones"): [`PlannerKind::Sousa2022`]'s
+    /// local step, Social Momentum on the people's and groups' asymmetric Gaussians, on the plain
+    /// A* global path (as [`PlannerKind::Daza2021`]'s) instead of the cost-map path.
+    Sousa2022Astar,
     /// Calderita et al.'s system as published: Dijkstra on the time-dependent social cost map
     /// with the people's zones as contours of the summed density (§4.1, §5.1-5.2), the elastic
     /// band (`k_c`, `k_r`, §5.3) deforming that path, re-planned when the agenda or the people
@@ -71,6 +76,7 @@ impl PlannerKind {
             "eband" => Some(PlannerKind::Eband),
             "daza2021" => Some(PlannerKind::Daza2021),
             "sousa2022" => Some(PlannerKind::Sousa2022),
+            "sousa2022_astar" => Some(PlannerKind::Sousa2022Astar),
             "calderita" => Some(PlannerKind::Calderita),
             _ => None,
         }
@@ -87,6 +93,7 @@ impl PlannerKind {
         "eband",
         "daza2021",
         "sousa2022",
+        "sousa2022_astar",
         "calderita",
     ];
 
@@ -94,7 +101,14 @@ impl PlannerKind {
     /// Gaussians for [`PlannerKind::Sousa2022`]): its local step is
     /// [`crate::control::daza2021`]'s.
     pub fn daza2021_family(self) -> bool {
-        matches!(self, PlannerKind::Daza2021 | PlannerKind::Sousa2022)
+        matches!(self, PlannerKind::Daza2021 | PlannerKind::Sousa2022 | PlannerKind::Sousa2022Astar)
+    }
+
+    /// Whether the planner's Social Momentum keeps out of Sousa 2022's asymmetric Gaussians
+    /// ([`PlannerKind::Sousa2022`], [`PlannerKind::Sousa2022Astar`]) rather than Daza's intimate
+    /// zones.
+    pub fn sousa2022_gaussians(self) -> bool {
+        matches!(self, PlannerKind::Sousa2022 | PlannerKind::Sousa2022Astar)
     }
 
     /// Whether the planner's global path is the social A* path (re-planned on triggers); for
