@@ -6,7 +6,8 @@ crosses the hall on the ``social`` planner. For each size the bench reports, as 
 trials:
 
 - build: the wall time of ``ProxemicEnv(...)`` (scenario validation, the Rust world with every
-  person's paths planned, the MuJoCo physics model compiled) and of the first ``reset``;
+  person's paths planned, the MuJoCo physics model compiled: with the people up to 1000 of them,
+  without them beyond, see ``proxemic.sim.reduced.FULL_MODEL_PEOPLE``) and of the first ``reset``;
 - step: thread CPU time of an env step with the robot's ``social`` planner driving, split into
   the physics (the ``frame_skip`` ``mj_step`` calls of the step, with the people's poses and the
   contact hints written), the core (the rest of the one Rust call ``World.step``) and Python (the

@@ -155,6 +155,55 @@ def test_an_env_names_its_reset_seed_in_a_broken_record(monkeypatch):
     assert "outcome = Success but success = false" in str(e)
 
 
+class _Broken:
+    """A core world whose every record is broken (delegating everything else to the real one)."""
+
+    def __init__(self, world: object) -> None:
+        self._world = world
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self._world, name)
+
+    def episode_metrics(self, robots: list[int] | None = None) -> list[dict]:
+        raise InvariantError(
+            "museum, seed 99, robot 0: invariant outcome_agrees broken: x",
+            file="museum, seed 99, robot 0",
+            field="outcome_agrees",
+            found="outcome = Success but success = false",
+        )
+
+
+def test_the_vector_and_parallel_envs_name_their_reset_seed_in_a_broken_record():
+    """A broken record raised through the vector env (an ended world's final info; world k reset
+    with seed s + k) and the PettingZoo parallel env (its metrics) names the env, the seed given to
+    ``reset`` and the core's episode."""
+    import proxemic
+    from proxemic.vector import ProxemicVectorEnv
+
+    venv = ProxemicVectorEnv("museum", num_envs=2)
+    try:
+        venv.reset(seed=7)
+        venv.sims[1].world = _Broken(venv.sims[1].world)  # type: ignore[assignment]
+        with pytest.raises(InvariantError) as info:
+            venv._infos([0, 1], [1])  # world 1's episode ended: its final info has its metrics
+    finally:
+        venv.close()
+    e = info.value
+    assert e.field == "outcome_agrees" and e.file is not None
+    assert "world 1, reset(seed=8)" in e.file and "museum, seed 99, robot 0" in e.file
+    penv = proxemic.parallel_env("museum_multi", robots=2)
+    try:
+        penv.reset(seed=5)
+        penv.world = _Broken(penv.world)  # type: ignore[assignment]
+        with pytest.raises(InvariantError) as info:
+            penv.episode_metrics()
+    finally:
+        penv.close()
+    e = info.value
+    assert e.file is not None and "reset(seed=5)" in e.file and "museum, seed 99, robot 0" in e.file
+    assert "outcome = Success but success = false" in str(e)
+
+
 def census(seeds: int, windows: int) -> Counter[str]:
     """Runs :func:`cases` and counts the broken records by family and invariant (printing each)."""
     import tempfile

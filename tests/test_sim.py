@@ -398,10 +398,16 @@ def test_a_period_stepped_in_one_call_reads_the_contacts_of_every_physics_step()
     assert periods[0] == 300 and early_only[0] > 0
 
 
-def test_a_crowd_beyond_the_default_arena_builds_and_steps(tmp_path):
+@pytest.mark.parametrize("standins_only", [False, True])
+def test_a_crowd_beyond_the_default_arena_builds_and_steps(tmp_path, monkeypatch, standins_only: bool):
     # 2500 people: MuJoCo's collision pass needs about 4 bytes per pair of bodies, 25 MB, more than
-    # its default 16 MB arena (a bare mujoco.FatalError before the arena was sized from the scene).
+    # its default 16 MB arena (a bare mujoco.FatalError before the arena was sized from the scene);
+    # in the physics model (a limit above them) and left out of it (the default).
     from proxemic.env import ProxemicEnv
+    from proxemic.sim import simulation
+
+    if not standins_only:
+        monkeypatch.setattr(simulation, "FULL_MODEL_PEOPLE", 10**6)
 
     people = "".join(
         f'[[person]]\nbehaviour = "standing"\npose = [{2 + (k % 50) * 1.2:.1f}, {2 + (k // 50) * 1.2:.1f}, 0]\n'
@@ -412,11 +418,72 @@ def test_a_crowd_beyond_the_default_arena_builds_and_steps(tmp_path):
     path.write_text(text)
     env = ProxemicEnv(path, autopilot=True, planner="astar")
     try:
+        assert env.sim.standins_only == standins_only
+        assert env.sim.model.nmocap == (0 if standins_only else 2500)
         env.reset(seed=0)
         for _ in range(3):
             env.step(np.zeros(3))
     finally:
         env.close()
+
+
+def test_a_crowd_left_out_of_the_physics_model_steps_like_the_physics_model_with_it(tmp_path, monkeypatch):
+    """Eleven robots driving at the nearest person they see in the museum (people not making way):
+    with the people left out of the physics model (every period with people in reach on a crowd
+    model of stand-ins, the larger ones compiled when first needed) the states and contacts equal
+    the physics model's with every person in it, bit for bit, with people touched and more people
+    in reach at once than the crowd models compiled up front."""
+    import proxemic
+    from proxemic.sim import simulation
+
+    envs = Path(proxemic.__file__).parent / "data" / "envs"
+    text = (envs / "museum_multi.toml").read_text()
+    text = text.replace('extends = "museum.toml"', f'extends = "{envs / "museum.toml"}"', 1)
+    text = text.replace("[scene]\n", '[scene]\nreaction = "ignore"\n', 1)
+    scene = str(tmp_path / "museum_multi_ignore.toml")
+    Path(scene).write_text(text)
+
+    def run(standins_only: bool) -> tuple[list[np.ndarray], int, int]:
+        monkeypatch.setattr(simulation, "FULL_MODEL_PEOPLE", 0 if standins_only else 10**6)
+        env = proxemic.parallel_env(scene, robots=11, planner_actions=False)
+        sim = env.ws.sim
+        assert sim.standins_only == standins_only
+        if not standins_only:
+            sim._crowd_max = 0  # every period with people in reach on the physics model
+        most, touched = [0], [0]
+        real = sim.step
+
+        def step(command: np.ndarray, possible: bool = True) -> None:
+            real(command, possible)
+            if possible:
+                most[0] = max(most[0], len(sim._near))
+                touched[0] += int(bool((sim.contacts & _core.CONTACT_PERSON).any()))
+
+        sim.step = step  # type: ignore[method-assign]
+        rng = np.random.default_rng(4)
+        env.reset(seed=6)
+        states = []
+        for _ in range(300):
+            if not env.agents:
+                env.reset()
+            obs = env.ws.observations(robots=True)
+            actions = {}
+            for a in env.agents:
+                o = obs[int(a.split("_")[1])]
+                x, y = o["people"][0][:2] if o["people_mask"][0] else (1.0, 0.0)
+                scale = max(1.0, abs(float(x)), abs(float(y)))
+                actions[a] = np.array([x / scale, y / scale, rng.uniform(-0.3, 0.3)], np.float32)
+            env.step(actions)
+            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, sim.contacts]))
+        if standins_only:
+            assert sim.model.nmocap == 0 and max(sim._crowds) >= most[0] > 0
+        return states, touched[0], most[0]
+
+    monkeypatch.setattr(simulation, "CROWD_MAX", 4)  # so that larger crowd models are compiled in steps
+    fast, touched, most = run(True)
+    plain, plain_touched, _ = run(False)
+    assert all(np.array_equal(a, b) for a, b in zip(fast, plain, strict=True))
+    assert touched == plain_touched > 10 and most > 4
 
 
 def test_a_crowd_too_large_for_mujoco_is_an_input_error_naming_the_people_and_the_limit():

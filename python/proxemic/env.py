@@ -11,7 +11,7 @@ import gymnasium as gym
 import numpy as np
 
 from proxemic import _core, scenarios
-from proxemic.errors import InvariantError, NeedsResetError, input_error
+from proxemic.errors import InvariantError, NeedsResetError, input_error, invariant_in
 from proxemic.records import EpisodeMetrics
 from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
@@ -268,14 +268,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             return self.world.episode_metrics([0])[0]
         except InvariantError as e:
             env = self.spec.id if self.spec is not None else self.scenario["scene"]["name"]
-            episode = f"env {env}, reset(seed={self._reset_seed}), robot 0 (core: {e.file})"
-            raise InvariantError(
-                f"{episode}: invariant {e.field} broken: {e.found} (a bug in proxemic: please report it)",
-                file=episode,
-                field=e.field,
-                expected=e.expected,
-                found=e.found,
-            ) from e
+            raise invariant_in(f"env {env}, reset(seed={self._reset_seed}), robot 0", e) from e
 
     def flat_metrics(self) -> dict[str, Any]:
         """:meth:`metrics` with the per-person and per-object lists as named scalar keys.

@@ -82,6 +82,22 @@ class InvariantError(ProxemicError):
     """
 
 
+def invariant_in(episode: str, e: InvariantError) -> InvariantError:
+    """The core's broken-record error `e` with `episode` (the env, its reset seed) before the core's name of it.
+
+    The envs raise it from the core's: the core names its world's own seed, the env the seed its
+    user gave ``reset``.
+    """
+    named = f"{episode} (core: {e.file})"
+    return InvariantError(
+        f"{named}: invariant {e.field} broken: {e.found} (a bug in proxemic: please report it)",
+        file=named,
+        field=e.field,
+        expected=e.expected,
+        found=e.found,
+    )
+
+
 class NeedsResetError(ProxemicError, ResetNeeded):
     """An env was stepped before ``reset()``, or after its episode ended (terminated or truncated).
 
@@ -217,6 +233,7 @@ __all__ = [
     "UnknownNameError",
     "check_action",
     "input_error",
+    "invariant_in",
     "require_extra",
     "typed_repr",
 ]

@@ -13,7 +13,7 @@ from gymnasium.utils import seeding
 from pettingzoo import ParallelEnv
 
 from proxemic import _core, scenarios
-from proxemic.errors import NeedsResetError, input_error, typed_repr
+from proxemic.errors import InvariantError, NeedsResetError, input_error, invariant_in, typed_repr
 from proxemic.records import EpisodeMetrics
 from proxemic.viz.topdown import FRAME_SIZE
 from proxemic.world import (
@@ -169,6 +169,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         self.observation_spaces: dict[AgentID, spaces.Space[Any]] = {a: obs_space for a in names}
         self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
         self._np_random: np.random.Generator | None = None
+        self._reset_seed: int | None = None  # the seed given to the last reset(), for error messages
         self._live: frozenset[str] = frozenset()
         self._rows: list[int] = []  # the live agents' robot indices
         # Final metrics of the robots whose episode ended, by robot index.
@@ -202,6 +203,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         check_reset_args(seed, options, warn_options=True)
         if seed is not None or self._np_random is None:
             self._np_random, _ = seeding.np_random(seed)
+        self._reset_seed = seed
         self.ws.reset(int(self._np_random.integers(0, 2**63 - 1)))
         self._set_agents(list(self.possible_agents))
         self._final = {}
@@ -274,7 +276,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             self._set_agents([a for a in live if not (terms[a] or truncs[a])])
             # A robot's metrics are final once its episode ended: evaluated once, kept.
             done = [index[a] for a in finished]
-            for i, m in zip(done, self.world.episode_metrics(done), strict=True):
+            for i, m in zip(done, self._episode_metrics(done), strict=True):
                 self._final[i] = m
             for a in finished:
                 infos[a]["metrics"] = self._final[index[a]]
@@ -310,7 +312,20 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
     # ------------------------------------------------------------------ extras
     def metrics(self) -> list[EpisodeMetrics]:
         """Every robot's episode metrics so far, by robot index (see ``docs/metrics.md``)."""
-        return self.world.episode_metrics()
+        return self._episode_metrics(None)
+
+    def _episode_metrics(self, robots: list[int] | None) -> list[EpisodeMetrics]:
+        """The core's metrics of `robots` (None: all); a broken record's error names this env and its reset seed.
+
+        Raises:
+            InvariantError: A record broke one of its invariants (a bug in proxemic): its ``file``
+                names the scene, the seed given to ``reset`` and the core's episode.
+        """
+        try:
+            return self.world.episode_metrics() if robots is None else self.world.episode_metrics(robots)
+        except InvariantError as e:
+            episode = f"parallel env {self.scenario['scene']['name']}, reset(seed={self._reset_seed})"
+            raise invariant_in(episode, e) from e
 
     def episode_metrics(self) -> dict[str, Any]:
         """The team's metrics so far.

@@ -26,7 +26,8 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from proxemic import _core, scenarios
-from proxemic.errors import REAL_KINDS, NeedsResetError, input_error
+from proxemic.errors import REAL_KINDS, InvariantError, NeedsResetError, input_error, invariant_in
+from proxemic.records import EpisodeMetrics
 from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_reset_args
 
 __all__ = ["MAX_NUM_ENVS", "ProxemicVectorEnv", "vector_env"]
@@ -136,6 +137,8 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         self._flag_col = lay["flags"][0]
         self._info_cols = self.sims[0]._info_cols
         self._rngs: list[np.random.Generator | None] = [None] * n
+        # Per world: the seed given to its last reset() and the autoresets since (error messages).
+        self._seeds: list[tuple[int | None, int]] = [(None, 0)] * n
         self._autoreset = np.zeros(n, dtype=bool)
         self._started = False
         self._all = list(range(n))
@@ -173,6 +176,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         chosen = self._all if mask is None else [k for k in range(n) if mask[k]]
         for k in chosen:
             self._reset_world(k, seeds[k])
+            self._seeds[k] = (seeds[k], 0)
             self._autoreset[k] = False
         self._started = True
         return self._observations(), self._infos(chosen, [])
@@ -194,6 +198,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         stepping = [k for k in range(n) if not self._autoreset[k]] if resetting else self._all
         for k in resetting:
             self._reset_world(k, None)
+            self._seeds[k] = (self._seeds[k][0], self._seeds[k][1] + 1)
         if stepping:
             self._step_worlds(stepping)
         out = self._out
@@ -311,8 +316,24 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             infos["planner_mode"], infos["_planner_mode"] = modes, mask.copy()
         put("time_of_day", vals[:, nterms + 3].copy())
         for k in ended:
-            infos = self._add_info(infos, {"metrics": self.sims[k].world.episode_metrics([0])[0]}, k)
+            infos = self._add_info(infos, {"metrics": self._metrics(k)}, k)
         return infos
+
+    def _metrics(self, k: int) -> EpisodeMetrics:
+        """World k's episode metrics; a broken record's error names the world and its reset seed.
+
+        Raises:
+            InvariantError: The record broke one of its invariants (a bug in proxemic): its
+                ``file`` names the scene, the world, the seed given to ``reset`` (and the
+                autoresets since) and the core's episode.
+        """
+        try:
+            return self.sims[k].world.episode_metrics([0])[0]
+        except InvariantError as e:
+            seed, autoresets = self._seeds[k]
+            since = f", {autoresets} autoreset(s) since" if autoresets else ""
+            episode = f"vector env {self.sims[k].scenario['scene']['name']}, world {k}, reset(seed={seed}){since}"
+            raise invariant_in(episode, e) from e
 
 
 def _check_actions(actions: Any, n: int) -> np.ndarray:

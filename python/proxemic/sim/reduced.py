@@ -9,7 +9,9 @@ the cost with 50 people (their bodies' kinematics are most of a contact-free ste
 without the static geometry. Periods with a few people in reach are stepped on a crowd model
 (``ReducedModels._crowd``): the physics model with 1, 2, 4, ... stand-in people taking over the
 bodies and poses of just those people, in the same order, so the contacts are the same and come
-in the same order.
+in the same order. A crowd of more than ``FULL_MODEL_PEOPLE`` people is left out of the physics
+model altogether (``Simulation.standins_only``): every period with people in reach is then
+stepped on a crowd model, the larger ones compiled when first needed.
 """
 
 from __future__ import annotations
@@ -24,8 +26,15 @@ from proxemic.sim.model import _view, build_spec
 
 #: Most people in reach of a robot in a control period stepped on a crowd model (see
 #: ``ReducedModels._crowd``; also at most half the scene's people): the crowd models are compiled
-#: with 1, 2, 4, ... stand-ins up to it.
+#: with 1, 2, 4, ... stand-ins up to it (beyond it, without :attr:`Simulation.standins_only`, the
+#: physics model steps the period).
 CROWD_MAX = 64
+#: The most people a physics model holds (:attr:`Simulation.standins_only` above): MuJoCo's
+#: model building grows with the square of the bodies (MjSpec's add_body and XML parsing: 38 s
+#: for 10,000 people, 0.45 s for 1000), so a larger crowd is left out of the physics model and
+#: every period with people in reach is stepped on a crowd model of stand-ins, the larger ones
+#: compiled when first needed. Every scene up to it keeps the physics model with all the people.
+FULL_MODEL_PEOPLE = 1000
 
 #: The model values of a person's body geom that differ between people (its capsule's size and
 #: placement, and what the broadphase derives from them): what a stand-in takes over.
@@ -70,6 +79,8 @@ class ReducedModels:
     _free: tuple[mujoco.MjModel, mujoco.MjData] | None
     _crowds: dict[int, _Crowd]
     _person_geom: dict[str, np.ndarray]
+    _person_ref: tuple[mujoco.MjModel, np.ndarray]
+    standins_only: bool
     _person_bvh: np.ndarray
     _mocap_pos: np.ndarray
     _mocap_quat: np.ndarray
@@ -79,7 +90,8 @@ class ReducedModels:
     def robots_model(self) -> mujoco.MjModel:
         """The model stepped while contacts are on but no person is in reach.
 
-        The physics model without the people (the physics model itself in a scene without people).
+        The physics model without the people (the physics model itself in a scene without people
+        or with :attr:`Simulation.standins_only`).
         """
         return self.model if self._robots_only is None else self._robots_only[0]
 
@@ -117,7 +129,10 @@ class ReducedModels:
         full = self.model
         names = [(mujoco.mjtObj.mjOBJ_JOINT, full.njnt, m.njnt), (mujoco.mjtObj.mjOBJ_ACTUATOR, full.nu, m.nu)]
         if static:
-            names += [(mujoco.mjtObj.mjOBJ_BODY, m.nbody, m.nbody), (mujoco.mjtObj.mjOBJ_GEOM, m.ngeom, m.ngeom)]
+            # The people come last in both models: the bodies and geoms the two have in common
+            # (the physics model without people has fewer than a crowd model).
+            bodies, geoms = min(m.nbody, full.nbody), min(m.ngeom, full.ngeom)
+            names += [(mujoco.mjtObj.mjOBJ_BODY, bodies, bodies), (mujoco.mjtObj.mjOBJ_GEOM, geoms, geoms)]
         same = (full.nq, full.nv, full.na, full.nu) == (m.nq, m.nv, m.na, m.nu) and all(
             n1 == n2 and all(mujoco.mj_id2name(full, t, i) == mujoco.mj_id2name(m, t, i) for i in range(n1))
             for t, n1, n2 in names
@@ -144,7 +159,10 @@ class ReducedModels:
         bit for bit, without the cost of every person's body kinematics.
         """
         n = len(near)
-        crowd = self._crowds[1 << (n - 1).bit_length()]
+        size = min(1 << (n - 1).bit_length(), self.num_people)
+        crowd = self._crowds.get(size)
+        if crowd is None:  # more people in reach than ever before, without them in the physics model
+            crowd = self._crowds[size] = self._new_crowd(size)
         if crowd.near != near:
             idx = np.array(near, dtype=np.intp)
             for f, dst in crowd.geom.items():
@@ -163,13 +181,16 @@ class ReducedModels:
     def _new_crowd(self, size: int) -> _Crowd:
         """A crowd model of `size` stand-ins (see :meth:`_crowd`), nobody in reach yet."""
         m, d = self._reduced(self.scenario, static=True, people=size)
-        full = self.model
+        full, person_geoms = self._person_ref
         geoms = np.array([m.geom(f"person_{i}/body").id for i in range(size)], dtype=np.intp)
         bodies = np.array([m.body(f"person_{i}/root").id for i in range(size)], dtype=np.intp)
         mocap = np.array([m.body_mocapid[b] for b in bodies], dtype=np.intp)
+        if self.standins_only and not np.array_equal(geoms, self.model.ngeom + np.arange(size)):
+            # SHOULD NOT OCCUR: the contact classification takes the geoms after the physics
+            # model's for people
+            raise ValueError("a crowd model's stand-ins do not follow the physics model's geoms")
         # Everything else about a person's body geom is the asset's, the same for every person
         # and stand-in (checked: a difference would make the contacts differ).
-        person_geoms = np.array([full.geom(f"person_{i}/body").id for i in range(self.num_people)], dtype=np.intp)
         for f in dir(full):
             a = getattr(full, f)
             if f.startswith("geom_") and f not in _PERSON_GEOM and f not in _GEOM_ANY and isinstance(a, np.ndarray):

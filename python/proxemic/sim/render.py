@@ -17,6 +17,8 @@ class Rendering:
     model: mujoco.MjModel
     data: mujoco.MjData
     _render: tuple[mujoco.MjModel, mujoco.MjData] | None
+    _mocap_pos: np.ndarray
+    _mocap_quat: np.ndarray
     _renderers: dict[tuple[int, int], Any]
 
     @property
@@ -32,7 +34,7 @@ class Rendering:
     def _render_pair(self) -> tuple[mujoco.MjModel, mujoco.MjData]:
         if self._render is None:
             rm = build_spec(self.scenario, visual=True).compile()
-            if (rm.nq, rm.nv, rm.nmocap, rm.nu) != (self.model.nq, self.model.nv, self.model.nmocap, self.model.nu):
+            if (rm.nq, rm.nv, rm.nmocap, rm.nu) != (self.model.nq, self.model.nv, len(self._mocap_pos), self.model.nu):
                 raise ValueError("render and physics models differ in joints or bodies")  # SHOULD NOT OCCUR
             self._render = (rm, mujoco.MjData(rm))
         return self._render
@@ -43,8 +45,8 @@ class Rendering:
         d = self.data
         rd.qpos[:] = d.qpos
         rd.qvel[:] = d.qvel
-        rd.mocap_pos[:] = d.mocap_pos
-        rd.mocap_quat[:] = d.mocap_quat
+        rd.mocap_pos[:] = self._mocap_pos  # the people's, in order (every mocap body is a person)
+        rd.mocap_quat[:] = self._mocap_quat
         rd.time = d.time
         mujoco.mj_kinematics(rm, rd)
         mujoco.mj_camlight(rm, rd)

@@ -18,8 +18,8 @@ import numpy as np
 
 from proxemic import _core
 from proxemic.sim import timer
-from proxemic.sim.model import DYNAMIC_BIT, STATIC_BIT, _view, build_spec
-from proxemic.sim.reduced import _PERSON_GEOM, CROWD_MAX, ReducedModels
+from proxemic.sim.model import DYNAMIC_BIT, STATIC_BIT, _view, build_spec, check_crowd_fits
+from proxemic.sim.reduced import _PERSON_GEOM, CROWD_MAX, FULL_MODEL_PEOPLE, ReducedModels
 from proxemic.sim.render import Rendering
 
 
@@ -38,27 +38,62 @@ class Simulation(ReducedModels, Rendering):
     def __init__(self, scenario: dict[str, Any]) -> None:
         """Compiles the physics model of `scenario` (a validated scenario dict)."""
         self.scenario = scenario
-        self.model = build_spec(scenario, visual=False).compile()
-        self.data = mujoco.MjData(self.model)
-        m, d = self.model, self.data
+        check_crowd_fits(scenario)
         self.num_robots = len(scenario["robots"])
         self.num_people = len(scenario["persons"])
-        self.frame_skip = round(scenario["scene"]["physics_hz"] / scenario["scene"]["control_hz"])
         n, p = self.num_robots, self.num_people
+        #: Whether the physics model leaves the people out (more than :data:`FULL_MODEL_PEOPLE`):
+        #: every period with people in reach is then stepped on a crowd model (see `_crowd`).
+        self.standins_only = p > FULL_MODEL_PEOPLE
+        self.model = build_spec({**scenario, "persons": []} if self.standins_only else scenario, visual=False).compile()
+        self.data = mujoco.MjData(self.model)
+        m, d = self.model, self.data
+        self.frame_skip = round(scenario["scene"]["physics_hz"] / scenario["scene"]["control_hz"])
         qpos = np.array([[m.jnt_qposadr[m.joint(f"robot_{i}/{j}").id] for j in ("x", "y", "yaw")] for i in range(n)])
         qvel = np.array([[m.jnt_dofadr[m.joint(f"robot_{i}/{j}").id] for j in ("x", "y", "yaw")] for i in range(n)])
         ctrl = np.array([[m.actuator(f"robot_{i}/{a}").id for a in ("vx", "vy", "wz")] for i in range(n)])
-        mocap = np.array([m.body_mocapid[m.body(f"person_{i}/root").id] for i in range(p)], dtype=np.intp)
         robot_geoms = [[g for g in range(m.ngeom) if m.geom(g).name.startswith(f"robot_{i}/")] for i in range(n)]
         robot_bodies = [m.body(f"robot_{i}/base").id for i in range(n)]
-        person_geoms = [m.geom(f"person_{i}/body").id for i in range(p)]
-        person_bodies = [m.body(f"person_{i}/root").id for i in range(p)]
         # Views of the data's arrays (the data's memory never moves), sliced once.
         self._qpos = _view(d.qpos, qpos)
         self._qvel = _view(d.qvel, qvel)
         self._ctrl = _view(d.ctrl, ctrl)
-        self._mocap_pos = _view(d.mocap_pos, mocap)
-        self._mocap_quat = _view(d.mocap_quat, mocap)
+        if self.standins_only:
+            # The people's poses and body flags kept here, for the crowd models' stand-ins; their
+            # body geoms' values from a model with one person of each body shape.
+            shapes: dict[tuple[float, float], int] = {}
+            kind = [shapes.setdefault((q["radius"], q["height"]), len(shapes)) for q in scenario["persons"]]
+            firsts = [kind.index(k) for k in range(len(shapes))]
+            ref = build_spec({**scenario, "persons": [scenario["persons"][i] for i in firsts]}, visual=False).compile()
+            ref_geoms = np.array([ref.geom(f"person_{k}/body").id for k in range(len(shapes))], dtype=np.intp)
+            ref_bodies = np.array([ref.body(f"person_{k}/root").id for k in range(len(shapes))], dtype=np.intp)
+            if not (ref.body_bvhnum[ref_bodies] == 1).all():  # SHOULD NOT OCCUR: one collision geom each
+                raise ValueError("a person's body with more than one bounding volume")
+            idx = np.array(kind, dtype=np.intp)
+            self._person_ref = (ref, ref_geoms)
+            self._person_geom = {f: getattr(ref, f)[ref_geoms][idx] for f in _PERSON_GEOM}
+            self._person_bvh = ref.bvh_aabb[ref.body_bvhadr[ref_bodies]][idx]
+            self._mocap_pos = np.zeros((p, 3))
+            self._mocap_quat = np.zeros((p, 4))
+            self._person_flags = [np.zeros(p, dtype=np.int32), np.zeros(p, dtype=np.int32)]
+            person_geoms: list[int] = []
+        else:
+            mocap = np.array([m.body_mocapid[m.body(f"person_{i}/root").id] for i in range(p)], dtype=np.intp)
+            person_geoms = [m.geom(f"person_{i}/body").id for i in range(p)]
+            person_bodies = [m.body(f"person_{i}/root").id for i in range(p)]
+            self._mocap_pos = _view(d.mocap_pos, mocap)
+            self._mocap_quat = _view(d.mocap_quat, mocap)
+            # A person's body flags decide whether the broadphase sees them at all (MuJoCo checks a
+            # body's contype/conaffinity before pairing it), so they are the ones switched.
+            pb = np.array(person_bodies, dtype=np.intp)
+            self._person_flags = [_view(m.body_contype, pb), _view(m.body_conaffinity, pb)]
+            # The physics model's values the stand-ins take over (each person's body geom and
+            # bounding volume).
+            self._person_ref = (m, np.array(person_geoms, dtype=np.intp))
+            self._person_geom = {f: _view(getattr(m, f), self._person_ref[1]) for f in _PERSON_GEOM}
+            self._person_bvh = m.bvh_aabb[m.body_bvhadr[pb]] if p else np.zeros((0, 6))
+            if p and not (m.body_bvhnum[pb] == 1).all():  # SHOULD NOT OCCUR: one collision geom each
+                raise ValueError("a person's body with more than one bounding volume")
         per_robot = {len(g) for g in robot_geoms}
         if len(per_robot) > 1:  # SHOULD NOT OCCUR: every robot is the same model
             raise ValueError("robots with different numbers of collision geoms")
@@ -66,10 +101,6 @@ class Simulation(ReducedModels, Rendering):
         self._robot_body_ids = np.array(robot_bodies, dtype=np.intp)
         self._robot_geom_aff = _view(m.geom_conaffinity, self._robot_geom_ids)
         self._robot_body_aff = _view(m.body_conaffinity, self._robot_body_ids)
-        # A person's body flags decide whether the broadphase sees them at all (MuJoCo checks a
-        # body's contype/conaffinity before pairing it), so they are the ones switched.
-        pb = np.array(person_bodies, dtype=np.intp)
-        self._person_flags = [_view(m.body_contype, pb), _view(m.body_conaffinity, pb)]
         # Contact classification: per geom, the robot owning it (-1 for none) and the CONTACT_*
         # bit another robot touching it gets.
         owner = np.full(m.ngeom, -1, dtype=np.intp)
@@ -83,6 +114,9 @@ class Simulation(ReducedModels, Rendering):
                 bit[g] = _core.CONTACT_STATIC
         self._owner_list: list[int] = owner.tolist()
         self._bit_list: list[int] = bit.tolist()
+        if self.standins_only:  # a crowd model's stand-ins' body geoms follow the physics model's
+            self._owner_list += [-1] * p
+            self._bit_list += [int(_core.CONTACT_PERSON)] * p
         self.state = np.zeros(6 * n)
         self._state2d = self.state.reshape(n, 6)
         # `state`'s pose and velocity columns, sliced once (read() runs every control step).
@@ -117,7 +151,9 @@ class Simulation(ReducedModels, Rendering):
         # The robots' affinity views of every reduced model with the static geometry (set_hints
         # writes them all).
         self._solo_affs: list[tuple[np.ndarray, np.ndarray]] = []
-        self._robots_only = self._reduced(scenario, static=True) if scenario["persons"] else None
+        self._robots_only = (
+            self._reduced(scenario, static=True) if scenario["persons"] and not self.standins_only else None
+        )
         self._free = self._reduced(scenario, static=False) if scenario["persons"] or has_static else None
         # Periods with a few people in reach: the people in reach (indices, from the hints), the
         # physics model's values the stand-ins take over (each person's body geom and bounding
@@ -127,13 +163,11 @@ class Simulation(ReducedModels, Rendering):
         #: The model and data the last control period was stepped on (the physics model, a
         #: reduced or a crowd model; for the benches' like-with-like bare denominators).
         self.stepped: tuple[mujoco.MjModel, mujoco.MjData] = (m, self.data)
-        self._person_geom = {f: _view(getattr(m, f), np.array(person_geoms, dtype=np.intp)) for f in _PERSON_GEOM}
-        self._person_bvh = m.bvh_aabb[m.body_bvhadr[pb]] if p else np.zeros((0, 6))
-        if p and not (m.body_bvhnum[pb] == 1).all():  # SHOULD NOT OCCUR: one collision geom each
-            raise ValueError("a person's body with more than one bounding volume")
         sizes = [1 << k for k in range(min(p // 2, CROWD_MAX).bit_length())]
         self._crowds = {size: self._new_crowd(size) for size in sizes}
-        self._crowd_max = sizes[-1] if sizes else 0  # more people in reach: the physics model
+        # More people in reach: the physics model (without the people in it, a crowd model of
+        # them, compiled when first needed).
+        self._crowd_max = p if self.standins_only else (sizes[-1] if sizes else 0)
         self._render: tuple[mujoco.MjModel, mujoco.MjData] | None = None
         self._renderers: dict[tuple[int, int], Any] = {}
 
