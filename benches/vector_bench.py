@@ -25,7 +25,7 @@ import gymnasium as gym
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v2"
+ENV_ID = "proxemic/Museum-v3"
 TRIALS = 3
 
 

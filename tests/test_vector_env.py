@@ -8,7 +8,7 @@ import pytest
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v2"
+ENV_ID = "proxemic/Museum-v3"
 STEPS = 25
 
 

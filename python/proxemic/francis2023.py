@@ -10,8 +10,8 @@ seed within ranges written beside the code (``rust/proxemic-core/src/scenario/ge
 
 A scene is named ``francis2023/<archetype>`` (seed 0) or ``francis2023/<archetype>?seed=N`` (and
 ``&max_time=T`` to shorten or lengthen the episode, seconds in [5, 600]); the name works wherever a
-scenario name does (``gym.make("proxemic/Generated-v2", scenario=...)``, ``proxemic.parallel_env``,
-``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v2", archetype=..., scene_seed=N)``
+scenario name does (``gym.make("proxemic/Generated-v3", scenario=...)``, ``proxemic.parallel_env``,
+``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v3", archetype=..., scene_seed=N)``
 is the same env. The suite (:func:`run_suite`, ``proxemic eval --suite francis2023``) runs episode
 ``k`` of every archetype on the scene of seed ``seed + k``, with episode seed ``seed + k``: the
 scene's parameters vary from episode to episode, and every planner meets the same scenes.
@@ -73,7 +73,7 @@ def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) 
 def make_env(
     archetype: str = "frontal_approach", scene_seed: int = 0, max_time: float | None = None, **kwargs: Any
 ) -> Any:
-    """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v2", archetype=...)``).
+    """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v3", archetype=...)``).
 
     Args:
         archetype: One of :data:`ARCHETYPES`.

@@ -23,7 +23,9 @@ pub struct GroupMetrics {
     /// Percentage of instants with the robot centre inside some o-space circle (distance to
     /// its centre <= radius) (`docs/metrics.md`, Groups and interactions); `None` without samples.
     pub ospace_pct: Option<f64>,
-    /// Time with the robot centre inside some o-space (s): instants inside times `dt`.
+    /// Time with the robot centre inside some o-space (s): the steps starting at an instant
+    /// inside times `dt` (each step's interval `[t, t + 1)` counted by its start, as
+    /// `stalled_time`; the last instant starts no step), so at most the episode's duration.
     pub ospace_time: f64,
     /// Entries into o-spaces: instants inside some o-space after an instant inside none (the
     /// first instant counts if inside).
@@ -49,6 +51,7 @@ pub(crate) fn evaluate(s: &Samples, dt: f64, groups: &Groups, zones: &[f64; 3]) 
     let n = s.n;
     let mut group_zone_counts = [0usize; 4];
     let mut inside_count = 0usize;
+    let mut inside_steps = 0usize;
     let mut ospace_entries = 0usize;
     let mut was_inside = false;
     for (t, &p) in s.pos.iter().enumerate() {
@@ -62,6 +65,7 @@ pub(crate) fn evaluate(s: &Samples, dt: f64, groups: &Groups, zones: &[f64; 3]) 
         }
         group_zone_counts[zone_of(closest, zones)] += 1;
         inside_count += usize::from(inside);
+        inside_steps += usize::from(inside && t < s.steps);
         ospace_entries += usize::from(inside && !was_inside);
         was_inside = inside;
     }
@@ -83,7 +87,7 @@ pub(crate) fn evaluate(s: &Samples, dt: f64, groups: &Groups, zones: &[f64; 3]) 
         group_psi_social: pct(group_zone_counts[2], n),
         group_psi_public: pct(group_zone_counts[3], n),
         ospace_pct: pct(inside_count, n),
-        ospace_time: inside_count as f64 * dt,
+        ospace_time: inside_steps as f64 * dt,
         ospace_entries,
         interaction_crossings: cross_pp + cross_po,
         interaction_crossings_person_person: cross_pp,

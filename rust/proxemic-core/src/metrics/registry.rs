@@ -1052,7 +1052,17 @@ pub const METRICS: &[MetricInfo] = &[
     .mean(1)
     .panel(Social)
     .verdict(Share),
-    m("ospace_time", GROUPS, "o-space time", "s", Lower, POS, "Those instants times `dt`.", "", ""),
+    m(
+        "ospace_time",
+        GROUPS,
+        "o-space time",
+        "s",
+        Lower,
+        POS,
+        "The steps starting at an instant inside, times `dt` (at most the episode's duration).",
+        "",
+        "",
+    ),
     m(
         "ospace_entries",
         GROUPS,

@@ -384,6 +384,21 @@ fn interaction_crossings_and_ospace() {
 }
 
 #[test]
+fn ospace_time_of_an_episode_spent_inside_is_its_duration() {
+    // Every one of the 10 instants (9 steps of 0.5 s) inside the o-space: 4.5 s, the episode's
+    // duration (each step counted by its start), not 10 instants times dt = 5 s.
+    let robot = line(9);
+    let n = robot.len();
+    let ospaces = vec![OSpace { centre: Vec2::new(4.5, 0.0), radius: 10.0 }; n];
+    let ospace_offsets: Vec<usize> = (0..=n).collect();
+    let groups = Groups { ospace_offsets: &ospace_offsets, ospaces: &ospaces, link_offsets: &[], links: &[] };
+    let t = traj(&robot, 0.5, Vec2::new(9.0, 0.0));
+    let m = evaluate(&t, &PeopleTracks::none(), &groups, &ObjectSpaces::none(), &ctx(9.0)).expect("valid");
+    assert_close(m.groups.ospace_pct, 100.0);
+    assert_eq!(m.groups.ospace_time, 4.5);
+}
+
+#[test]
 fn daza_l_ratio_and_smooth() {
     // Leaves the straight A* path at 45 degrees and rejoins it at -45 degrees.
     let pts = [
