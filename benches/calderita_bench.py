@@ -1,4 +1,4 @@
-"""The ``calderita`` planner's env step against ``social``'s, on the museum (issue 44 part 6).
+"""The ``calderita`` planner's env step against ``social``'s, on the museum.
 
 Both planners drive the autopilot on the museum scenario; each trial steps each planner
 ``STEPS`` control steps from the same seed (test split, 1000 + trial), planners interleaved (the
@@ -26,7 +26,7 @@ from proxemic.env import ProxemicEnv
 
 TRIALS = 5
 STEPS = 300
-#: ``calderita``'s env step may cost at most this many times ``social``'s (issue 44 part 6).
+#: ``calderita``'s env step may cost at most this many times ``social``'s.
 TARGET_RATIO = 3.0
 PLANNERS = ("social", "calderita")
 

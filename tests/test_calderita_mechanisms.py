@@ -1,6 +1,6 @@
 """Calderita et al.'s Tables 1-2: the mechanism each row reports, and the direction of each
 paired comparison the paper makes (the social path against the non-social one), on the scenes
-`proxemic reproduce calderita` runs (issue 44 parts 1-2).
+`proxemic reproduce calderita` runs.
 
 One episode per scene and planner, test-split seed 1000 (the scenes' people stand still, so the
 seeds differ only by the people's phase). A mechanism our scenes do not exercise stays a strict

@@ -71,7 +71,14 @@ BUNDLED_SCENES = tuple(ENV_IDS.values())
 CI_SEEDS = splits.TEST_EPISODE_SEEDS[:20]
 #: (scene, baseline) -> the measured figure, where the baseline succeeds more than 5 points less often
 #: than ``social`` on the test split (strict xfails).
-KNOWN_SHORTFALLS: dict[tuple[str, str], str] = {}
+KNOWN_SHORTFALLS: dict[tuple[str, str], str] = {
+    ("daza2021_path3", "astar_stop"): "astar_stop succeeds in 75% (30/40) vs social 100% (40/40) since the "
+    "Daza scenes put the groups on the A* line: it waits for a standing group on its path to move",
+    ("daza2021_path4", "astar_stop"): "astar_stop succeeds in 88% (35/40) vs social 100% (40/40) since the "
+    "Daza scenes put the groups on the A* line",
+    ("sousa2022_fig16", "astar_stop"): "astar_stop succeeds in 75% (15/20) vs social 100% (20/20) since the "
+    "Sousa scenes jitter the robot's start",
+}
 
 
 def _outcomes(scene: str, seed: int) -> dict[str, list[bool]]:

@@ -260,7 +260,7 @@ VARIED = [*(f"daza2021_path{k}" for k in range(1, 6)), "daza2021_fig15", "sousa2
 
 @pytest.mark.parametrize("scene", VARIED)
 def test_seeds_give_different_episodes(scene):
-    """Issue 44: Paths 2-4 once gave the same episode for every seed (a confidence interval over copies)."""
+    """Paths 2-4 once gave the same episode for every seed (a confidence interval over copies)."""
     a, b = (run_task((scene, "astar", s), keep=True) for s in (0, 1))
     assert a.robot is not None and b.robot is not None
     assert not np.allclose(a.robot[0, :2], b.robot[0, :2])  # the start jitter moved the robot
