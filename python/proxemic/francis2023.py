@@ -6,7 +6,8 @@ Each archetype (the 25 panels of the paper's Fig. 7: frontal approach, pedestria
 overtaking both ways, down path, intersections (crossings at 90 and 45 degrees, waiting and
 proceeding), blind corner, narrow hallway and doorway, entering and exiting a room and an elevator,
 joining and leaving a group, following, leading and accompanying a person, a dense crowd, parallel
-and perpendicular traffic, circular crossing, robot crowding) is a scene family of the core's generator: its widths, lengths, speeds, angles and offsets are drawn from a
+and perpendicular traffic, circular crossing, robot crowding) is a scene family of the core's
+generator: its widths, lengths, speeds, angles and offsets are drawn from a
 seed within ranges written beside the code (``rust/proxemic-core/src/scenario/generate/francis2023``).
 
 A scene is named ``francis2023/<archetype>`` (seed 0) or ``francis2023/<archetype>?seed=N`` (and
@@ -303,7 +304,8 @@ def plot_archetype(archetype: str, path: str | Path, seed: int = 0) -> Path:
     """A top-down picture of an archetype's scene of `seed`, written to `path` (PNG).
 
     Walls, every person where they start (a walk as a dashed line with an arrow; a follower of the
-    robot behind it, an arrow its way; conversation groups as their members), every robot's start (with its heading) and goal, the straight line
+    robot behind it, an arrow its way; conversation groups as their members), every robot's start
+    (with its heading) and goal, the straight line
     between them dotted.
     """
     import matplotlib
