@@ -30,6 +30,7 @@
 mod access;
 pub mod batch;
 mod build;
+pub mod crowdnav;
 mod daza;
 pub mod layout;
 pub mod observe;
