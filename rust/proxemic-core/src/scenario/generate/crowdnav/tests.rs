@@ -2,10 +2,10 @@ use super::*;
 
 #[test]
 fn specs_round_trip_and_bad_parameters_are_named() {
-    let s = parse_spec("crowdnav/circle_crossing?humans=20&visible=true&seed=7").unwrap();
+    let s = parse_spec("crowdnav/circle_crossing?humans=20&visible=true&seed=7").expect("ok");
     assert_eq!((s.humans, s.visible, s.seed), (20, true, 7));
-    assert_eq!(parse_spec(&s.text()).unwrap(), s);
-    assert_eq!(parse_spec("crowdnav/square_crossing").unwrap().text(), "crowdnav/square_crossing");
+    assert_eq!(parse_spec(&s.text()).expect("ok"), s);
+    assert_eq!(parse_spec("crowdnav/square_crossing").expect("ok").text(), "crowdnav/square_crossing");
     for (bad, field) in [
         ("crowdnav/triangle", "family"),
         ("crowdnav/circle_crossing?humans=0", "humans"),
@@ -14,7 +14,7 @@ fn specs_round_trip_and_bad_parameters_are_named() {
         ("crowdnav/circle_crossing?seed=-1", "seed"),
         ("crowdnav/circle_crossing?speed=2", "speed"),
     ] {
-        let e = parse_spec(bad).unwrap_err().to_string();
+        let e = parse_spec(bad).expect_err("an error").to_string();
         assert!(e.contains(field), "{bad}: {e}");
     }
 }
@@ -25,7 +25,7 @@ fn people_follow_crowdnavs_rules() {
     for family in FAMILIES {
         for seed in 0..30 {
             let s = Spec { family: family.to_string(), humans: 20, visible: false, seed };
-            let people = draw_people(&s).unwrap();
+            let people = draw_people(&s).expect("ok");
             assert_eq!(people.len(), 20);
             let d = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
             for (k, (start, goal)) in people.iter().enumerate() {
@@ -52,12 +52,12 @@ fn people_follow_crowdnavs_rules() {
 
 #[test]
 fn scenes_load_with_the_protocols_settings() {
-    let g = generate("crowdnav/square_crossing?humans=3&seed=4").unwrap();
+    let g = generate("crowdnav/square_crossing?humans=3&seed=4").expect("ok");
     let sc = &g.scenario;
     assert_eq!(sc.persons.len(), 3);
     assert_eq!(sc.control_dt(), TIME_STEP);
     assert_eq!(sc.episode.max_time, TIME_LIMIT);
     assert_eq!(sc.robots[0].radius, RADIUS);
-    assert_eq!(g.toml, generate("crowdnav/square_crossing?humans=3&seed=4").unwrap().toml);
-    assert_ne!(g.toml, generate("crowdnav/square_crossing?humans=3&seed=5").unwrap().toml);
+    assert_eq!(g.toml, generate("crowdnav/square_crossing?humans=3&seed=4").expect("ok").toml);
+    assert_ne!(g.toml, generate("crowdnav/square_crossing?humans=3&seed=5").expect("ok").toml);
 }
