@@ -31,6 +31,12 @@ $(VENV)/.deps: pyproject.toml Makefile
 	$(PIP) install -q "ray>=2.9"  # the `ray` extra: the Ray backend of eval and tune is tested too
 	@touch $@
 
+# The `rl` extra (stable-baselines3 and torch: about 5.4 GB with torch's CUDA libraries, the only
+# torch build PyPI has for Linux; docs/training.md): only `make test` and the training example need it.
+$(VENV)/.rl-deps: $(VENV)/.deps
+	$(PIP) install -q "stable-baselines3>=2.3"
+	@touch $@
+
 $(VENV)/.docs-deps: Makefile
 	@test -x $(PY) || python3 -m venv $(VENV)
 	$(PIP) install -q "mkdocs>=1.6" "mkdocs-material>=9.5" "mkdocstrings[python]>=0.26"
@@ -51,8 +57,8 @@ test: setup test-rust test-python ## all Rust and Python tests
 test-rust: ## Rust unit and integration tests (property tests with a fixed seed: the same cases every run)
 	PROPTEST_RNG_SEED=$${PROPTEST_RNG_SEED:-20261122} cargo test $(CARGO_FLAGS) --quiet
 
-test-python: ## Python tests (gymnasium conformance, determinism, errors, install)
-	$(PY) -m pytest -q
+test-python: $(VENV)/.rl-deps ## Python tests (gymnasium conformance, determinism, errors, install, PPO learning)
+	PROXEMIC_REQUIRE_RL=1 $(PY) -m pytest -q
 
 test-full: setup ## the full claims suites on the whole test split (60 seeds per scene, 60 generated scenes; pytest -m full): social vs the baselines, the yielding claims, the timeout and collision rates; the calibrated people on the ETH recordings; and the docs snippets that take minutes
 	$(PY) -m pytest -q -m full tests/test_social_vs_astar.py tests/test_crowd_card.py tests/test_progress.py tests/test_snippets.py

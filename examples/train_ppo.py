@@ -1,19 +1,29 @@
-r"""Train a PPO agent with stable-baselines3 on a proxemic scene, save it, evaluate it like a planner.
+r"""Train a PPO agent with stable-baselines3 on proxemic scenes, save it, evaluate it like a planner.
 
-Needs the ``rl`` extra: ``pip install 'proxemic[rl]'`` (stable-baselines3 and torch).
+Needs the ``rl`` extra: ``pip install 'proxemic[rl]'`` (stable-baselines3 and torch; why this
+framework and not SB3's JAX port: ``docs/training.md``).
 
-The default scene is ``daza2021_path3`` (Daza et al. 2021, Path 3: a 14 x 10 m room, two boxes,
-a group of two people and a robot beside the robot's 10 m west-east line), not the museum: the
-museum's 52 people and 30 m routes through rooms need far more than the few hundred thousand
-steps two CPU cores train in reasonable time, while this room poses the same social question (pass
-a group without crossing its o-space) on a short route. The observation dict is flattened and
-scaled to about [-1, 1] by :class:`proxemic.policy.FlatObservation` (so SB3's plain ``MlpPolicy``
-applies); the env's reward (geodesic progress, success, collision, time and personal-space terms)
-is used as it is.
+Two kinds of training set:
+
+* one scene (``--scenario daza2021_path3``, the default: Daza et al. 2021, Path 3, a 14 x 10 m
+  room, two boxes, a group of two people and a robot beside the robot's 10 m west-east line),
+  each episode seeded from the env's own sequence;
+* ``--scenario generated-tuning``: generated scenes of the tuning split
+  (``proxemic.splits.TUNING_SCENE_SEEDS``, the 12 x 12 m size ``GENERATED_SIZE`` so that every
+  scene has the same observation bounds), a fresh scene drawn at every reset.
+
+The observation dict is flattened and scaled to about [-1, 1] by
+:class:`proxemic.policy.FlatObservation` (so SB3's plain ``MlpPolicy`` applies); the env's reward
+(geodesic progress, success, collision, time and personal-space terms) is used as it is.
+
+Every finished training episode is logged (env steps so far, success, collision, personal-zone
+seconds) to ``OUT/curve_<scene>.csv`` and drawn as ``OUT/curve_<scene>.png`` (success rate,
+collision rate and personal-zone time against env steps); the run ends with its env steps per
+second and wall time.
 
 Train (the model is written to ``OUT/ppo_<scene>.zip``)::
 
-    python examples/train_ppo.py --scenario daza2021_path3 --steps 150000 --out out/ppo
+    python examples/train_ppo.py --scenario daza2021_path3 --steps 200000 --out out/ppo
 
 Evaluate it beside the planners, on the same seeds (``PROXEMIC_PPO_MODEL`` names the model;
 default ``out/ppo/ppo_daza2021_path3.zip``)::
@@ -26,12 +36,15 @@ default ``out/ppo/ppo_daza2021_path3.zip``)::
 from __future__ import annotations
 
 import argparse
+import csv
 import os
 import sys
 import time
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 
 from proxemic.errors import require_extra
@@ -39,27 +52,170 @@ from proxemic.policy import FlatObservation, flat_observation_env
 
 DEFAULT_SCENE = "daza2021_path3"
 DEFAULT_MODEL = Path("out/ppo") / f"ppo_{DEFAULT_SCENE}.zip"
+#: The training set of generated scenes of the tuning split.
+GENERATED_SET = "generated-tuning"
+#: Generated scenes' size in the training set (m): the generator's smallest, one size for all so
+#: that the goal-offset bounds (the map diagonal), hence the observation space, agree.
+GENERATED_SIZE = {"width": 12.0, "height": 12.0}
+#: Finished episodes per point of the learning curve.
+CURVE_WINDOW = 50
 
 
 def make_env(scenario: str) -> Any:
-    """The single-robot env of `scenario` with flat, scaled observations."""
+    """The single-robot env of `scenario` with flat, scaled observations.
+
+    ``GENERATED_SET`` gives a :class:`SceneCycle` over generated scenes of the tuning split.
+    """
+    if scenario == GENERATED_SET:
+        return SceneCycle()
     from proxemic.env import ProxemicEnv
 
     return flat_observation_env(ProxemicEnv(scenario))
 
 
-def train(scenario: str, steps: int, out: Path, seed: int = 0, n_envs: int = 2, n_steps: int = 1024) -> Path:
-    """Trains PPO for `steps` env steps on `n_envs` copies of the env; returns the saved model's path.
+class SceneCycle(gym.Env):
+    """A gymnasium env that loads a generated scene of the tuning split at every reset.
 
-    `n_steps` is the rollout length per env between updates.
+    The scene seed is drawn from ``proxemic.splits.TUNING_SCENE_SEEDS`` by the env's own random
+    generator (seeded by ``reset(seed=...)``), and the episode seed is the scene seed, as in the
+    claims suites. Observations are flat and scaled (:class:`proxemic.policy.FlatObservation`);
+    every scene has the same spaces because every scene has the same size (``GENERATED_SIZE``).
     """
+
+    metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 (gymnasium declares it an instance variable)
+
+    def __init__(self) -> None:
+        """Builds the first scene to read the spaces from."""
+        from proxemic.splits import TUNING_SCENE_SEEDS
+
+        self._seeds = TUNING_SCENE_SEEDS
+        self._env = self._load(self._seeds[0])
+        self.observation_space = self._env.observation_space
+        self.action_space = self._env.action_space
+        self.scene_seed = self._seeds[0]
+
+    def _load(self, seed: int) -> Any:
+        from proxemic.env import ProxemicEnv
+        from proxemic.scenarios import generated_name
+
+        return flat_observation_env(ProxemicEnv(generated_name(seed, **GENERATED_SIZE)))
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict]:
+        """Draws a scene seed, loads the scene and resets it with that seed."""
+        super().reset(seed=seed)
+        scene = int(self._seeds[int(self.np_random.integers(len(self._seeds)))])
+        self._env.close()
+        self._env = self._load(scene)
+        if self._env.observation_space != self.observation_space:
+            raise RuntimeError(
+                f"generated scene {scene}: observation space {self._env.observation_space} differs from "
+                f"the first scene's {self.observation_space}"
+            )
+        self.scene_seed = scene
+        return self._env.reset(seed=scene, options=options)
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
+        """One step of the current scene."""
+        return self._env.step(action)
+
+    def close(self) -> None:
+        """Closes the current scene's env."""
+        self._env.close()
+
+
+def _curve_callback_base() -> type:
+    return require_extra("stable_baselines3.common.callbacks", "rl", "the PPO example").BaseCallback
+
+
+class LearningCurve:
+    """Per finished training episode: env steps so far, success, collision, personal-zone seconds.
+
+    ``callback()`` gives the stable-baselines3 callback that fills ``rows``; :meth:`write` saves
+    them as CSV and :meth:`plot` draws the windowed rates against env steps.
+    """
+
+    def __init__(self) -> None:
+        """An empty curve."""
+        self.rows: list[dict[str, float]] = []
+
+    def record(self, env_steps: int, infos: Iterable[dict[str, Any]], dones: Iterable[bool]) -> None:
+        """Adds a row for each env whose episode ended at this vector step."""
+        for info, done in zip(infos, dones, strict=True):
+            if not done:
+                continue
+            metrics = info.get("metrics", {})
+            self.rows.append(
+                {
+                    "env_steps": float(env_steps),
+                    "success": float(bool(info.get("is_success", False))),
+                    "collision": float(bool(info.get("collision", False))),
+                    "personal_gap_time": float(metrics.get("personal_gap_time", 0.0)),
+                }
+            )
+
+    def callback(self) -> Any:
+        """A stable-baselines3 callback that records into this curve."""
+        curve = self
+
+        class _Callback(_curve_callback_base()):  # type: ignore[misc]
+            def _on_step(self) -> bool:
+                curve.record(self.num_timesteps, self.locals["infos"], self.locals["dones"])
+                return True
+
+        return _Callback()
+
+    def windows(self, window: int = CURVE_WINDOW) -> list[dict[str, float]]:
+        """Means over consecutive windows of `window` episodes, at each window's last env step."""
+        out = []
+        for start in range(0, len(self.rows) - window + 1, window):
+            chunk = self.rows[start : start + window]
+            means = {k: float(np.mean([r[k] for r in chunk])) for k in chunk[0]}
+            out.append(means | {"env_steps": chunk[-1]["env_steps"]})
+        return out
+
+    def write(self, path: Path) -> None:
+        """The per-episode rows as CSV."""
+        with path.open("w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=["env_steps", "success", "collision", "personal_gap_time"])
+            writer.writeheader()
+            writer.writerows(self.rows)
+
+    def plot(self, path: Path, title: str, window: int = CURVE_WINDOW) -> None:
+        """Success rate, collision rate and personal-zone seconds per episode against env steps."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        points = self.windows(window)
+        x = [p["env_steps"] for p in points]
+        fig, axes = plt.subplots(1, 3, figsize=(12, 3.2), constrained_layout=True)
+        for ax, key, label in zip(
+            axes,
+            ("success", "collision", "personal_gap_time"),
+            ("success rate", "collision rate", "personal-zone time per episode (s)"),
+            strict=True,
+        ):
+            ax.plot(x, [p[key] for p in points], marker=".")
+            ax.set_xlabel("env steps")
+            ax.set_title(label)
+            ax.grid(alpha=0.3)
+            if key != "personal_gap_time":
+                ax.set_ylim(-0.02, 1.02)
+        fig.suptitle(f"{title} (means over {window} training episodes)")
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+
+
+def build_model(scenario: str, seed: int = 0, n_envs: int = 2, n_steps: int = 1024) -> Any:
+    """An untrained PPO (SB3 defaults but `n_steps`, batch 256, 5 epochs) on `n_envs` copies of the env."""
     torch: Any = require_extra("torch", "rl", "the PPO example")
     PPO = require_extra("stable_baselines3", "rl", "the PPO example").PPO
     make_vec_env = require_extra("stable_baselines3.common.env_util", "rl", "the PPO example").make_vec_env
 
     torch.set_num_threads(1)  # a small MLP: threads only contend on a shared machine
     vec = make_vec_env(lambda: make_env(scenario), n_envs=n_envs, seed=seed)
-    model = PPO(
+    return PPO(
         "MlpPolicy",
         vec,
         n_steps=n_steps,
@@ -72,14 +228,92 @@ def train(scenario: str, steps: int, out: Path, seed: int = 0, n_envs: int = 2, 
         device="cpu",
         verbose=0,
     )
+
+
+def _name(scenario: str) -> str:
+    return scenario.replace("/", "_").replace("?", "_").replace("&", "_").replace("=", "")
+
+
+def train(
+    scenario: str,
+    steps: int,
+    out: Path,
+    seed: int = 0,
+    n_envs: int = 2,
+    n_steps: int = 1024,
+    model: Any = None,
+) -> Path:
+    """Trains PPO for `steps` env steps; returns the saved model's path.
+
+    `n_steps` is the rollout length per env between updates; `model` (from :func:`build_model`)
+    is trained instead of a new one. The learning curve goes to ``OUT/curve_<scene>.csv`` and
+    ``.png``; env steps per second and wall time are printed.
+    """
+    model = model if model is not None else build_model(scenario, seed, n_envs, n_steps)
+    curve = LearningCurve()
     t0 = time.perf_counter()
-    model.learn(total_timesteps=steps)
+    model.learn(total_timesteps=steps, callback=curve.callback())
+    wall = time.perf_counter() - t0
     out.mkdir(parents=True, exist_ok=True)
-    path = out / f"ppo_{scenario}.zip"
+    path = out / f"ppo_{_name(scenario)}.zip"
     model.save(path)
-    print(f"trained {steps} steps on {scenario} in {time.perf_counter() - t0:.0f} s; saved {path}")
-    vec.close()
+    curve.write(out / f"curve_{_name(scenario)}.csv")
+    if len(curve.rows) >= CURVE_WINDOW:
+        curve.plot(out / f"curve_{_name(scenario)}.png", f"PPO on {scenario}, seed {seed}")
+    done = int(model.num_timesteps)
+    print(
+        f"trained {done} env steps on {scenario} in {wall:.0f} s ({done / wall:.0f} env steps/s with the "
+        f"updates, {len(curve.rows)} episodes); saved {path}"
+    )
+    model.get_env().close()
     return path
+
+
+def input_scale(scenario: str) -> np.ndarray:
+    """The divisors :class:`FlatObservation` applies to `scenario`'s observation, flattened in its key order."""
+    from proxemic.env import ProxemicEnv
+    from proxemic.scenarios import generated_name
+
+    name = generated_name(0, **GENERATED_SIZE) if scenario == GENERATED_SET else scenario
+    env = ProxemicEnv(name)
+    flat = FlatObservation(env.observation_space)
+    env.close()
+    return np.concatenate([np.broadcast_to(flat.scales[k], env.observation_space[k].shape).ravel() for k in flat.keys])
+
+
+def export_policy(model: Any, scenario: str, path: Path) -> Path:
+    """Writes `model`'s deterministic policy as the ``.npz`` array file the core's ``learned`` planner reads.
+
+    Arrays (float32): ``input_scale`` (the training scenes' observation divisors), then per layer
+    ``w<k>`` (outputs x inputs) and ``b<k>``: SB3's ``MlpPolicy`` policy net (tanh after each
+    hidden layer) followed by its linear action head.
+    """
+    policy = model.policy
+    linears = [m for m in policy.mlp_extractor.policy_net if hasattr(m, "weight")]
+    linears.append(policy.action_net)
+    arrays = {"input_scale": input_scale(scenario).astype(np.float32)}
+    for k, layer in enumerate(linears):
+        arrays[f"w{k}"] = layer.weight.detach().cpu().numpy().astype(np.float32)
+        arrays[f"b{k}"] = layer.bias.detach().cpu().numpy().astype(np.float32)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, **arrays)
+    return path
+
+
+def mean_return(policy: Callable[[np.ndarray], Any], scenario: str, seeds: Iterable[int]) -> float:
+    """The mean undiscounted episode return of `policy` (flat observation in) over episode `seeds`."""
+    env = make_env(scenario)
+    returns = []
+    for s in seeds:
+        obs, _ = env.reset(seed=int(s))
+        total, done = 0.0, False
+        while not done:
+            obs, reward, terminated, truncated, _ = env.step(policy(obs))
+            total += float(reward)
+            done = terminated or truncated
+        returns.append(total)
+    env.close()
+    return float(np.mean(returns))
 
 
 class PPOPolicy:
@@ -110,11 +344,15 @@ def make(observation_space: Any, action_space: Any) -> PPOPolicy:
 def main() -> None:
     """Trains, then evaluates the model against astar, astar_orca, astar_stop and social on the same seeds."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scenario", default=DEFAULT_SCENE)
+    ap.add_argument("--scenario", default=DEFAULT_SCENE, help=f"a scene name, or {GENERATED_SET}")
     ap.add_argument("--steps", type=int, default=150_000, help="training env steps (default: 150000)")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--n-envs", type=int, default=2, help="env copies stepped together (default: 2)")
     ap.add_argument("--episodes", type=int, default=20, help="evaluation episodes per policy (default: 20)")
     ap.add_argument("--out", default="out/ppo")
+    ap.add_argument(
+        "--export", metavar="NPZ", help="also write the policy as the learned planner's array file (docs/training.md)"
+    )
     args = ap.parse_args()
     import proxemic
     from proxemic.errors import MissingExtraError
@@ -124,7 +362,12 @@ def main() -> None:
             require_extra(module, "rl", "examples/train_ppo.py")
     except MissingExtraError as e:
         sys.exit(f"{e}\nFrom the repository root: pip install '.[rl]' (stable-baselines3, which brings torch)")
-    path = train(args.scenario, args.steps, Path(args.out), seed=args.seed)
+    path = train(args.scenario, args.steps, Path(args.out), seed=args.seed, n_envs=args.n_envs)
+    if args.export:
+        ppo = require_extra("stable_baselines3", "rl", "examples/train_ppo.py").PPO
+        print(f"exported {export_policy(ppo.load(path, device='cpu'), args.scenario, Path(args.export))}")
+    if args.scenario == GENERATED_SET or args.episodes == 0:
+        return  # a scene set: evaluate with `proxemic eval` on the test split's generated scenes
     os.environ["PROXEMIC_PPO_MODEL"] = str(path.resolve())
     result = proxemic.evaluate(
         "examples.train_ppo:make",
