@@ -33,8 +33,9 @@ ran no social search (``World.social_searches``, read outside the timer: a step 
 re-planning, against the run's matched denominator); and what a learning policy pays: the planner off
 (``planner_actions=False``), the policy turning in place. Targets: plain A* at least 3,000 env
 steps/s and at most 1.5x the physics model; ``social`` at most 2.0x the physics model (mean); the policy at
-least 8,000 env steps/s; reset at most 1 ms. A missed target prints ``MISSED`` and the bench exits
-with status 1.
+least 8,000 env steps/s; reset at most 1 ms; the built-in ``learned`` planner's mean env step at most
+1.5x ``astar_orca``'s (both over ``SOCIAL_STEPS``-step runs from the same seeds). A missed target
+prints ``MISSED`` and the bench exits with status 1.
 
 Rendering: milliseconds per 640x480 frame from MuJoCo's top camera, its camera following the
 robot (offscreen, EGL or OSMesa) and the numpy top-down view (bare and with every overlay), as
@@ -410,6 +411,23 @@ def bench_social(env: ProxemicEnv) -> dict[str, float]:
     return {k: statistics.median(v) for k, v in res.items()}
 
 
+def mean_step_us(env: ProxemicEnv) -> float:
+    """The median over ``TRIALS`` of the mean ``env.step`` CPU time over ``SOCIAL_STEPS`` steps (resets untimed)."""
+    zero = np.zeros(3, np.float32)
+    means = []
+    for trial in range(TRIALS):
+        env.reset(seed=1000 + trial)
+        total = 0.0
+        for _ in range(SOCIAL_STEPS):
+            t0 = time.thread_time_ns()
+            _, _, te, tr, _ = env.step(zero)
+            total += (time.thread_time_ns() - t0) / 1e3
+            if te or tr:
+                env.reset()
+        means.append(total / SOCIAL_STEPS)
+    return statistics.median(means)
+
+
 def bench_render(env: ProxemicEnv) -> dict[str, tuple[float, float]]:
     env.reset(seed=0)
     zero = np.zeros(3, np.float32)
@@ -510,6 +528,15 @@ def main() -> int:
         f"{pol['env.step'] / pol['matched']:5.2f}x bare MuJoCo matched "
         f"(bare matched {pol['matched']:.1f} us, contacts on in {100 * pol['contact share']:.0f}%)"
     )
+    learned_env = ProxemicEnv(scenario, autopilot=True, planner="learned")
+    orca_env = ProxemicEnv(scenario, autopilot=True, planner="astar_orca")
+    learned_us, orca_us = mean_step_us(learned_env), mean_step_us(orca_env)
+    learned_env.close()
+    orca_env.close()
+    print(
+        f"  {'env.step (autopilot: learned)':40s} {learned_us:8.1f} us  mean over {SOCIAL_STEPS} steps, "
+        f"{learned_us / orca_us:4.2f}x astar_orca's {orca_us:.1f} us (same seeds, same run)"
+    )
     reset_ms = med["env.reset"] / 1e3
     checks = {
         ">= 3000 steps/s (plain A*)": rate >= 3000,
@@ -517,6 +544,7 @@ def main() -> int:
         "<= 1.5x the physics model (plain A*)": med["env.step"] / with_people <= 1.5,
         "<= 2.0x the physics model (social, mean)": soc["mean"] / soc_people <= 2.0,
         "reset <= 1 ms": reset_ms <= 1.0,
+        "<= 1.5x astar_orca (learned, mean)": learned_us / orca_us <= 1.5,
     }
     print("  targets: " + ", ".join(f"{k} {'met' if ok else 'MISSED'}" for k, ok in checks.items()))
     mu, steps = med["episode_metrics"], med["episode steps"]

@@ -269,6 +269,37 @@ def train(
     return path
 
 
+def input_scale(scenario: str) -> np.ndarray:
+    """The divisors :class:`FlatObservation` applies to `scenario`'s observation, flattened in its key order."""
+    from proxemic.env import ProxemicEnv
+    from proxemic.scenarios import generated_name
+
+    name = generated_name(0, **GENERATED_SIZE) if scenario == GENERATED_SET else scenario
+    env = ProxemicEnv(name)
+    flat = FlatObservation(env.observation_space)
+    env.close()
+    return np.concatenate([np.broadcast_to(flat.scales[k], env.observation_space[k].shape).ravel() for k in flat.keys])
+
+
+def export_policy(model: Any, scenario: str, path: Path) -> Path:
+    """Writes `model`'s deterministic policy as the ``.npz`` array file the core's ``learned`` planner reads.
+
+    Arrays (float32): ``input_scale`` (the training scenes' observation divisors), then per layer
+    ``w<k>`` (outputs x inputs) and ``b<k>``: SB3's ``MlpPolicy`` policy net (tanh after each
+    hidden layer) followed by its linear action head.
+    """
+    policy = model.policy
+    linears = [m for m in policy.mlp_extractor.policy_net if hasattr(m, "weight")]
+    linears.append(policy.action_net)
+    arrays = {"input_scale": input_scale(scenario).astype(np.float32)}
+    for k, layer in enumerate(linears):
+        arrays[f"w{k}"] = layer.weight.detach().cpu().numpy().astype(np.float32)
+        arrays[f"b{k}"] = layer.bias.detach().cpu().numpy().astype(np.float32)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, **arrays)
+    return path
+
+
 def mean_return(policy: Callable[[np.ndarray], Any], scenario: str, seeds: Iterable[int]) -> float:
     """The mean undiscounted episode return of `policy` (flat observation in) over episode `seeds`."""
     env = make_env(scenario)
@@ -319,6 +350,9 @@ def main() -> None:
     ap.add_argument("--n-envs", type=int, default=2, help="env copies stepped together (default: 2)")
     ap.add_argument("--episodes", type=int, default=20, help="evaluation episodes per policy (default: 20)")
     ap.add_argument("--out", default="out/ppo")
+    ap.add_argument(
+        "--export", metavar="NPZ", help="also write the policy as the learned planner's array file (docs/training.md)"
+    )
     args = ap.parse_args()
     import proxemic
     from proxemic.errors import MissingExtraError
@@ -329,6 +363,9 @@ def main() -> None:
     except MissingExtraError as e:
         sys.exit(f"{e}\nFrom the repository root: pip install '.[rl]' (stable-baselines3, which brings torch)")
     path = train(args.scenario, args.steps, Path(args.out), seed=args.seed, n_envs=args.n_envs)
+    if args.export:
+        ppo = require_extra("stable_baselines3", "rl", "examples/train_ppo.py").PPO
+        print(f"exported {export_policy(ppo.load(path, device='cpu'), args.scenario, Path(args.export))}")
     if args.scenario == GENERATED_SET or args.episodes == 0:
         return  # a scene set: evaluate with `proxemic eval` on the test split's generated scenes
     os.environ["PROXEMIC_PPO_MODEL"] = str(path.resolve())

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -288,6 +289,26 @@ def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_sam
         assert kinds.count((True, True)) > 30
 
 
+def _drive_at_people(env: Any, sim: Any, rng_seed: int, reset_seed: int, steps: int) -> list[np.ndarray]:
+    """Every robot of a parallel env driven at its nearest person for `steps` steps; the physics state after each."""
+    rng = np.random.default_rng(rng_seed)
+    env.reset(seed=reset_seed)
+    states = []
+    for _ in range(steps):
+        if not env.agents:
+            env.reset()
+        obs = env.ws.observations(robots=True)
+        actions = {}
+        for a in env.agents:
+            o = obs[int(a.split("_")[1])]
+            x, y = o["people"][0][:2] if o["people_mask"][0] else (1.0, 0.0)
+            scale = max(1.0, abs(float(x)), abs(float(y)))
+            actions[a] = np.array([x / scale, y / scale, rng.uniform(-0.3, 0.3)], np.float32)
+        env.step(actions)
+        states.append(np.concatenate([sim.data.qpos, sim.data.qvel, sim.contacts]))
+    return states
+
+
 def test_periods_with_a_few_people_in_reach_on_the_crowd_models_end_in_the_same_states(tmp_path):
     """Eleven robots driving at the nearest person they see in the museum (whose people do not make
     way for robots, so that up to 16 are in reach at once): the env stepping its
@@ -319,21 +340,7 @@ def test_periods_with_a_few_people_in_reach_on_the_crowd_models_end_in_the_same_
             touched[0] += int(on_crowd and bool((sim.contacts & _core.CONTACT_PERSON).any()))
 
         sim.step = step  # type: ignore[method-assign]
-        rng = np.random.default_rng(3)
-        env.reset(seed=5)
-        states = []
-        for _ in range(400):
-            if not env.agents:
-                env.reset()
-            obs = env.ws.observations(robots=True)
-            actions = {}
-            for a in env.agents:
-                o = obs[int(a.split("_")[1])]
-                x, y = o["people"][0][:2] if o["people_mask"][0] else (1.0, 0.0)
-                scale = max(1.0, abs(float(x)), abs(float(y)))
-                actions[a] = np.array([x / scale, y / scale, rng.uniform(-0.3, 0.3)], np.float32)
-            env.step(actions)
-            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, sim.contacts]))
+        states = _drive_at_people(env, sim, rng_seed=3, reset_seed=5, steps=400)
         return states, sizes, touched[0], reassigned[0]
 
     envs = Path(proxemic.__file__).parent / "data" / "envs"
@@ -460,21 +467,7 @@ def test_a_crowd_left_out_of_the_physics_model_steps_like_the_physics_model_with
                 touched[0] += int(bool((sim.contacts & _core.CONTACT_PERSON).any()))
 
         sim.step = step  # type: ignore[method-assign]
-        rng = np.random.default_rng(4)
-        env.reset(seed=6)
-        states = []
-        for _ in range(300):
-            if not env.agents:
-                env.reset()
-            obs = env.ws.observations(robots=True)
-            actions = {}
-            for a in env.agents:
-                o = obs[int(a.split("_")[1])]
-                x, y = o["people"][0][:2] if o["people_mask"][0] else (1.0, 0.0)
-                scale = max(1.0, abs(float(x)), abs(float(y)))
-                actions[a] = np.array([x / scale, y / scale, rng.uniform(-0.3, 0.3)], np.float32)
-            env.step(actions)
-            states.append(np.concatenate([sim.data.qpos, sim.data.qvel, sim.contacts]))
+        states = _drive_at_people(env, sim, rng_seed=4, reset_seed=6, steps=300)
         if standins_only:
             assert sim.model.nmocap == 0 and max(sim._crowds) >= most[0] > 0
         return states, touched[0], most[0]

@@ -51,6 +51,11 @@ FRANCIS2023_ARCHETYPES: list[str]
 
 def generate(spec: str) -> tuple[Scenario, str]: ...
 
+CROWDNAV_PLANNERS: list[str]
+CROWDNAV_FAMILIES: list[str]
+
+def crowdnav_episodes(specs: list[str], planner: str) -> list[dict[str, Any]]: ...
+
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""
 

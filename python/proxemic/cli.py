@@ -219,11 +219,37 @@ def _eval_suite(args: argparse.Namespace) -> int:
     return 0
 
 
+def _eval_crowdnav(args: argparse.Namespace) -> int:
+    """``eval --suite crowdnav``: the four settings of CrowdNav's protocol beside CrowdNav's own run."""
+    from proxemic import crowdnav
+
+    if args.policy or args.video or args.scenario is not None or args.archetype or args.max_time is not None:
+        print(
+            "proxemic: error: --suite crowdnav runs its own scenes with built-in planners "
+            f"({', '.join(crowdnav.PLANNERS)}): no --policy, --video, --scenario, --archetype or --max-time",
+            file=sys.stderr,
+        )
+        return 2
+    t0 = time.perf_counter()
+    rows = crowdnav.run_suite(args.planner, args.episodes, seed=args.seed)
+    print(crowdnav.table_text(rows))
+    print()
+    print(f"{len(rows) * args.episodes} episodes in {time.perf_counter() - t0:.1f} s")
+    return 0
+
+
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
     from proxemic.evaluation import EvalConfig, policy_robot_note, robots_note, run_evaluation
     from proxemic.policy import PolicyRef
 
+    crowd = args.suite == "crowdnav"
+    if args.episodes is None:
+        args.episodes = 500 if crowd else 20
+    if args.seed is None:
+        args.seed = 10_000 if crowd else 0
+    if crowd:
+        return _eval_crowdnav(args)
     args.out = str(_fresh_out(Path("out/eval")) if args.out is None else Path(args.out))
     _clear_old_videos(Path(args.out))
     if args.suite:
@@ -550,10 +576,11 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--scenario", default=None, help=f"{SCENARIO_HELP} (default: museum; not with --suite)")
     e.add_argument(
         "--suite",
-        choices=["francis2023"],
+        choices=["francis2023", "crowdnav"],
         default=None,
         help="run a scenario suite instead of one scenario: francis2023 (every archetype of Francis et al. 2023, "
-        "episode k on the scene of seed k; a table per archetype)",
+        "episode k on the scene of seed k; a table per archetype); crowdnav (CrowdNav's circle and square "
+        "crossing, four settings, beside CrowdNav's own measured figures and the literature's)",
     )
     e.add_argument(
         "--archetype", action="append", default=None, help="with --suite: run only this archetype (repeat for more)"
@@ -581,8 +608,19 @@ def build_parser() -> argparse.ArgumentParser:
         "callable obs -> action or an object with predict(obs, deterministic=True) (e.g. examples.my_policy:make)",
     )
     e.add_argument("--policy-name", default=None, help="the policy's label in tables and plots (default: its module)")
-    e.add_argument("--episodes", type=_positive_int, default=20, help="episodes per planner (default: 20)")
-    e.add_argument("--seed", type=int, default=0, help="first seed; every planner runs the same seeds (default: 0)")
+    e.add_argument(
+        "--episodes",
+        type=_positive_int,
+        default=None,
+        help="episodes per planner (default: 20; with --suite crowdnav: 500 per setting, CrowdNav's test size)",
+    )
+    e.add_argument(
+        "--seed",
+        type=int,
+        default=None,
+        help="first seed; every planner runs the same seeds (default: 0; with --suite crowdnav: 10000, the test "
+        "split's first scene seed)",
+    )
     e.add_argument(
         "--out",
         default=None,
@@ -722,7 +760,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``proxemic`` command."""
     args = build_parser().parse_args(argv)
-    if getattr(args, "episodes", 1) < 1:
+    if (getattr(args, "episodes", 1) or 1) < 1:
         print("proxemic: error: --episodes must be at least 1", file=sys.stderr)
         return 2
     if getattr(args, "video", 0) < 0:

@@ -192,3 +192,21 @@ pub(crate) fn generate(py: Python<'_>, spec: &str) -> PyResult<(PyScenario, Stri
 pub(crate) fn scenario_schema(py: Python<'_>) -> PyResult<String> {
     to_json_text(py, "the scenario schema", &proxemic_core::scenario::json_schema())
 }
+
+/// The CrowdNav protocol's kinematic episodes of the `crowdnav/<family>[?...]` specs with the
+/// built-in `planner` (one of `CROWDNAV_PLANNERS`): one dict per spec (`spec`, `outcome`
+/// "success" / "collision" / "timeout", `time` s, `discomfort_steps`, `discomfort_dist_sum` m,
+/// `min_dist` m). Raises `ScenarioError` for a bad spec, `InputError` naming `planner`.
+#[pyfunction]
+pub(crate) fn crowdnav_episodes<'py>(
+    py: Python<'py>,
+    specs: Vec<String>,
+    planner: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    use proxemic_core::world::crowdnav::run_episode;
+    let planner = planner.to_string();
+    let episodes = enter_core(py, move || {
+        specs.iter().map(|s| run_episode(s, &planner)).collect::<Result<Vec<_>, CoreError>>()
+    })?;
+    crate::conversions::to_py(py, "the CrowdNav episodes", &episodes)
+}

@@ -14,7 +14,8 @@
 //! the `daza2021` and `sousa2022` planners), [`orca`], [`social_momentum`] and [`eband`] (the local planners),
 //! [`orca_crowd`] (ORCA as the robots run it among people), [`progress`] (the progress monitor
 //! and recovery every built-in planner runs), [`stop_and_wait`] (the `astar_stop` baseline's
-//! rule: stop for whoever is in the way, re-plan around them after a wait) and [`yielding`]
+//! rule: stop for whoever is in the way, re-plan around them after a wait), [`learned`] (the
+//! `learned` planner's policy network, read from its array file) and [`yielding`]
 //! (predictive yielding: rollouts against the people's predicted motion with a hard body gap,
 //! the `social` planner's last word on its commands, `crate::world`'s yield step).
 //!
@@ -23,6 +24,7 @@
 
 pub mod daza2021;
 pub mod eband;
+pub mod learned;
 pub mod mode_switch;
 pub mod orca;
 pub mod orca_crowd;

@@ -30,6 +30,10 @@
 //! [`ReactionParams`]): `ignore` (the robot is invisible), `aware` (the default), `yield`,
 //! `curious`, `cautious`; all but `ignore` never step to within a hard gap of a robot's body.
 //!
+//! ORCA people (`orca.rs`, [`orca::OrcaPeople`]) are the other pedestrian model: CrowdNav's, each
+//! person running ORCA toward its goal; the CrowdNav protocol's scenes use it
+//! ([`crate::world::crowdnav`]).
+//!
 //! Recorded people (`[[replay]]` tracks) follow their tracks exactly, present only between their
 //! first and last samples, and walk with the same forces once a robot comes near
 //! ([`replay`]).
@@ -49,6 +53,7 @@ mod counterfactual;
 mod crowd;
 mod follow;
 mod force;
+pub mod orca;
 mod react;
 pub mod replay;
 pub mod rimea;

@@ -85,6 +85,7 @@ impl World {
             started: false,
             scratch_people: Vec::new(),
             scratch_discs: Vec::new(),
+            learned: None,
             scanners: vec![Scanner::default(); scenario.robots.len()],
             ended: vec![false; scenario.robots.len()],
             planning: vec![true; scenario.robots.len()],

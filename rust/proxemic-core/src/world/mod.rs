@@ -30,6 +30,7 @@
 mod access;
 pub mod batch;
 mod build;
+pub mod crowdnav;
 mod daza;
 pub mod layout;
 pub mod observe;
@@ -175,6 +176,8 @@ pub struct World {
     started: bool,
     scratch_people: Vec<(f64, usize)>,
     scratch_discs: Vec<(Vec2, f64)>,
+    /// The `learned` planner's policy, once a robot runs it ([`crate::control::learned::shipped`]).
+    learned: Option<&'static crate::control::learned::LearnedPolicy>,
     /// Per robot, its lidar (buffers, and the static part of its last scan).
     scanners: Vec<Scanner>,
     /// Per robot, whether its episode had ended before the current step (its observation is
@@ -375,6 +378,22 @@ impl World {
     /// The planners' state at the start of an episode: the elastic bands, and the first social
     /// paths (with the people as perceived at the start).
     fn start_planners(&mut self) -> Result<()> {
+        if self.learned.is_none() && self.statics.iter().any(|st| st.planner == PlannerKind::Learned) {
+            let policy = crate::control::learned::shipped()?;
+            let lay = self.layout;
+            let inputs = lay.obs_lidar.len + lay.obs_people.len + lay.obs_people_mask.len + lay.obs_robot.len;
+            if policy.inputs() != inputs {
+                return Err(CoreError::input(
+                    "planner learned: sensors",
+                    format!(
+                        "the observation the shipped policy was trained on ({} values: lidar_rays 72, k_nearest 8)",
+                        policy.inputs()
+                    ),
+                    format!("{inputs} values from this scenario's [sensors]"),
+                ));
+            }
+            self.learned = Some(policy);
+        }
         for i in 0..self.robots.len() {
             if self.statics[i].planner == PlannerKind::Eband {
                 self.robots[i].band =
@@ -414,15 +433,11 @@ impl World {
             if a.iter().all(|v| v.is_nan()) {
                 continue;
             }
-            let st = &self.statics[i];
-            let rb = &mut self.robots[i];
-            if rb.outcome != Outcome::Running {
+            if self.robots[i].outcome != Outcome::Running {
                 continue;
             }
-            let body = Vec2::new(a[0].clamp(-1.0, 1.0), a[1].clamp(-1.0, 1.0)) * st.limits.max_speed;
-            let wz = a[2].clamp(-1.0, 1.0) * st.limits.max_angular_speed;
-            let desired = body_to_world(body, rb.pose[2]);
-            let (v, w) = st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt);
+            let (v, w) = self.limited_action(i, [a[0], a[1], a[2]], dt);
+            let rb = &mut self.robots[i];
             rb.proposed_v = v;
             rb.proposed_wz = w;
             rb.user_command = true;
@@ -433,6 +448,15 @@ impl World {
             row[cmd + 2] = w;
         }
         Ok(())
+    }
+
+    /// Robot `i`'s world-frame command `(v, wz)` for a normalised robot-frame action `a` (each
+    /// value clipped to [-1, 1], scaled by the robot's maximum speeds), within its limits.
+    pub(super) fn limited_action(&self, i: usize, a: [f64; 3], dt: f64) -> (Vec2, f64) {
+        let (st, rb) = (&self.statics[i], &self.robots[i]);
+        let body = Vec2::new(a[0].clamp(-1.0, 1.0), a[1].clamp(-1.0, 1.0)) * st.limits.max_speed;
+        let wz = a[2].clamp(-1.0, 1.0) * st.limits.max_angular_speed;
+        st.limits.apply(body_to_world(body, rb.pose[2]), wz, rb.exec_v, rb.exec_wz, dt)
     }
 
     /// Checks [`World::command`]'s arguments (after a reset, 3 values per robot, each robot's

@@ -335,10 +335,17 @@ impl World {
         // The people as the local planners see them, built once per robot radius this step: the
         // loop below changes neither the people, the perception nor any robot's pose or velocity.
         let mut people_of_radius: Vec<(u64, Vec<ControllerPerson>)> = Vec::new();
+        // The `learned` planner's actions: its policy drives the robot (no path, no recovery).
+        let mut learned: Vec<Option<[f64; 3]>> = vec![None; n];
         for i in 0..n {
             if self.robots[i].outcome != Outcome::Running || !self.planning[i] {
                 self.robots[i].mode = Mode::FollowPath;
                 self.robots[i].recovering = false;
+                continue;
+            }
+            if self.statics[i].planner == PlannerKind::Learned {
+                self.robots[i].mode = Mode::FollowPath;
+                learned[i] = Some(self.learned_action(i, out));
                 continue;
             }
             self.watch_progress(i, dt);
@@ -405,8 +412,29 @@ impl World {
         }
         let stride = self.layout.stride;
         for (i, &d) in desired.iter().enumerate() {
-            self.write_command(i, d, dt, &mut out[i * stride..(i + 1) * stride]);
+            let row = &mut out[i * stride..(i + 1) * stride];
+            match learned[i] {
+                Some(a) => {
+                    let (v, w) = self.limited_action(i, a, dt);
+                    self.emit_command(i, v, w, row);
+                }
+                None => self.write_command(i, d, dt, row),
+            }
         }
+    }
+
+    /// The `learned` policy's action for robot `i`, from the observation just written to its
+    /// row of `out`: the sections in the env's sorted key order (lidar, people, people mask,
+    /// robot), as the policy was trained on them ([`crate::control::learned`]).
+    fn learned_action(&self, i: usize, out: &[f64]) -> [f64; 3] {
+        let lay = self.layout;
+        let row = &out[i * lay.stride..(i + 1) * lay.stride];
+        let obs: Vec<f64> = [lay.obs_lidar, lay.obs_people, lay.obs_people_mask, lay.obs_robot]
+            .iter()
+            .flat_map(|s| row[s.range()].iter().copied())
+            .collect();
+        // `start_planners` checked the policy against the layout; a failure cannot happen here.
+        self.learned.and_then(|p| p.act(&obs).ok()).unwrap_or([0.0; 3])
     }
 
     /// Robot `i`'s path following this step (after the elastic band's update, eband planner):
@@ -519,7 +547,6 @@ impl World {
     /// Limits robot `i`'s `desired` velocity (a stop once its episode has ended), turns it by
     /// the heading policy, and writes the command, the planner action and the mode into `row`.
     fn write_command(&mut self, i: usize, desired: Vec2, dt: f64, row: &mut [f64]) {
-        let lay = self.layout;
         let st = &self.statics[i];
         let rb = &mut self.robots[i];
         let (v, w) = if rb.outcome == Outcome::Running {
@@ -530,6 +557,15 @@ impl World {
             // Finished robots are commanded to stop (within the deceleration limit).
             st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
         };
+        self.emit_command(i, v, w, row);
+    }
+
+    /// Writes robot `i`'s limited world-frame command `(v, w)` as its proposal, its robot-frame
+    /// `command`, the same as a normalised `planner_action`, and its `mode`.
+    fn emit_command(&mut self, i: usize, v: Vec2, w: f64, row: &mut [f64]) {
+        let lay = self.layout;
+        let st = &self.statics[i];
+        let rb = &mut self.robots[i];
         rb.proposed_v = v;
         rb.proposed_wz = w;
         let b = world_to_body(v, rb.pose[2]);

@@ -22,6 +22,7 @@
 //! centimetres (angles to hundredths of a radian) before it is written, so the text holds exactly
 //! the numbers drawn. Same seed and parameters, same text, bit for bit.
 
+pub mod crowdnav;
 pub mod francis2023;
 mod furnish;
 mod layout;
@@ -93,8 +94,12 @@ pub fn spec(seed: u64, p: &GenParams) -> String {
 }
 
 /// The scene of any generator spec: `generated/<seed>[?...]` ([`parse_spec`], [`generate`]) or
-/// `francis2023/<archetype>[?seed=N&max_time=T]` ([`francis2023::generate`]).
+/// `francis2023/<archetype>[?seed=N&max_time=T]` ([`francis2023::generate`]) or
+/// `crowdnav/<family>[?humans=N&visible=B&seed=S]` ([`crowdnav::generate`]).
 pub fn generate_spec(spec: &str) -> Result<Generated> {
+    if spec.starts_with(crowdnav::PREFIX) {
+        return crowdnav::generate(spec);
+    }
     if spec.starts_with(francis2023::PREFIX) {
         return francis2023::generate(spec);
     }

@@ -61,6 +61,11 @@ pub enum PlannerKind {
     /// band (`k_c`, `k_r`, §5.3) deforming that path, re-planned when the agenda or the people
     /// raise its cost ([`crate::plan::social`]).
     Calderita,
+    /// A policy learned with PPO on generated scenes of the tuning split
+    /// (`examples/train_ppo.py`, `docs/training.md`), shipped as an array file and run by
+    /// [`crate::control::learned`]: the observation in, the normalised action out, with no
+    /// global path, local planner or recovery of ours.
+    Learned,
 }
 
 impl PlannerKind {
@@ -78,6 +83,7 @@ impl PlannerKind {
             "sousa2022" => Some(PlannerKind::Sousa2022),
             "sousa2022_astar" => Some(PlannerKind::Sousa2022Astar),
             "calderita" => Some(PlannerKind::Calderita),
+            "learned" => Some(PlannerKind::Learned),
             _ => None,
         }
     }
@@ -95,6 +101,7 @@ impl PlannerKind {
         "sousa2022",
         "sousa2022_astar",
         "calderita",
+        "learned",
     ];
 
     /// Whether the planner runs Daza et al. 2021 Algorithm 1 as published (with Sousa 2022's

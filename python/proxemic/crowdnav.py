@@ -1,0 +1,241 @@
+"""CrowdNav's protocol, run and counted as CrowdNav's code does, beside its measured figures.
+
+Circle- and square-crossing scenes with ORCA people, run and counted as CrowdNav's own code runs and
+counts them, beside CrowdNav's measured figures and the literature's.
+
+Chen, Liu, Kreiss, Alahi, "Crowd-robot interaction: crowd-aware robot navigation with
+attention-based deep reinforcement learning", ICRA 2019 (https://github.com/vita-epfl/CrowdNav).
+
+A scene is named ``crowdnav/<family>`` with ``?humans=N&visible=true|false&seed=S`` (family
+``circle_crossing`` or ``square_crossing``; defaults 5 people, robot invisible, seed 0); the core
+generates it (``rust/proxemic-core/src/scenario/generate/crowdnav``) and runs its episode
+kinematically as CrowdNav does (``rust/proxemic-core/src/world/crowdnav.rs``): ORCA people, time
+step 0.25 s, CrowdNav's order of timeout, collision, goal and discomfort checks. The suite
+(:func:`run_suite`, ``proxemic eval --suite crowdnav``) runs the four settings of
+:data:`SETTINGS` on scene seeds ``seed, seed + 1, ...``, and :func:`table_text` prints the result
+beside CrowdNav's own run (``data/crowdnav/reference.json``, measured with its code; provenance in
+the file) and the literature's figures. See ``docs/crowdnav.md``.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from proxemic import _core, markdown
+from proxemic.errors import input_error
+
+#: Prefix of a CrowdNav scene's name.
+PREFIX = "crowdnav/"
+#: The suite's name for ``proxemic eval --suite``.
+SUITE = "crowdnav"
+#: The planners the protocol's kinematic episodes run.
+PLANNERS: tuple[str, ...] = tuple(_core.CROWDNAV_PLANNERS)
+#: First scene seed of the suite's default run: the test split's first generated scene seed
+#: (``proxemic.splits.TEST_SCENE_SEEDS``); nothing was tuned on these scenes.
+TEST_SEED = 10_000
+#: Episodes per setting of CrowdNav's test phase.
+EPISODES = 500
+
+_REFERENCE = Path(__file__).parent / "data" / "crowdnav" / "reference.json"
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One of the protocol's four settings."""
+
+    #: Key in the reference data.
+    key: str
+    #: Scene family.
+    family: str
+    #: People.
+    humans: int
+    #: Whether the people see the robot.
+    visible: bool
+
+    @property
+    def label(self) -> str:
+        """A short label: family, people, visibility."""
+        return f"{self.family.split('_')[0]} {self.humans}, robot {'visible' if self.visible else 'invisible'}"
+
+    def spec(self, seed: int) -> str:
+        """The scene name of this setting with scene seed `seed`."""
+        vis = "&visible=true" if self.visible else ""
+        return f"{PREFIX}{self.family}?humans={self.humans}{vis}&seed={seed}"
+
+
+#: The settings of the agreement check: circle crossing with 5 people (robot invisible and
+#: visible), with 20 (invisible), square crossing with 5 (invisible).
+SETTINGS: tuple[Setting, ...] = (
+    Setting("circle5_invisible", "circle_crossing", 5, False),
+    Setting("circle5_visible", "circle_crossing", 5, True),
+    Setting("circle20_invisible", "circle_crossing", 20, False),
+    Setting("square5_invisible", "square_crossing", 5, False),
+)
+
+#: The agreement required with CrowdNav's own run: success and collision rates within this.
+RATE_TOLERANCE = 0.06
+#: ... and the mean navigation time of successes within this fraction.
+TIME_TOLERANCE = 0.10
+
+#: The setup differences that remain between our run and CrowdNav's (shown beside the table).
+DIFFERENCES: tuple[str, ...] = (
+    "scenes: the same distributions drawn from our seeds (ChaCha8), not CrowdNav's numpy test cases one for one",
+    "positions rounded to centimetres in the scene file (CrowdNav keeps full precision)",
+    "ORCA: proxemic's own implementation (plain RVO2 settings: no perturbation, no passing-side tilt), "
+    "not the RVO2 library",
+    "only astar_orca runs the kinematic protocol; the other built-in planners need the MuJoCo world",
+)
+
+
+@functools.cache
+def _reference_text() -> str:
+    return _REFERENCE.read_text(encoding="utf-8")
+
+
+def reference() -> dict[str, Any]:
+    """CrowdNav's measured figures and the literature's (``data/crowdnav/reference.json``, a fresh copy)."""
+    data: dict[str, Any] = json.loads(_reference_text())
+    return data
+
+
+def episodes(setting: Setting, seeds: Sequence[int], planner: str = "astar_orca") -> list[dict[str, Any]]:
+    """The episode records of `setting` on scene seeds `seeds` with `planner`.
+
+    Raises:
+        InputError: `planner` is not one of :data:`PLANNERS`.
+    """
+    if planner not in PLANNERS:
+        raise input_error("planner", f"one of {list(PLANNERS)}", planner)
+    return _core.crowdnav_episodes([setting.spec(s) for s in seeds], planner)
+
+
+def summarise(records: Sequence[dict[str, Any]]) -> dict[str, Any]:
+    """CrowdNav's explorer's figures over episode records.
+
+    Counts, rates, mean navigation time of successes (the time limit 25 s when there is none),
+    discomfort frequency (discomfort steps over the episodes' total time in steps, a timeout
+    counting 25 s).
+    """
+    n = len(records)
+    if n == 0:
+        raise input_error("records", "at least one episode record", "none")
+    by = {o: [r for r in records if r["outcome"] == o] for o in ("success", "collision", "timeout")}
+    times = [r["time"] for r in by["success"]]
+    steps = sum(r["time"] for r in records) / 0.25
+    danger = sum(r["discomfort_steps"] for r in records)
+    return {
+        "episodes": n,
+        "success": len(by["success"]),
+        "collision": len(by["collision"]),
+        "timeout": len(by["timeout"]),
+        "success_rate": len(by["success"]) / n,
+        "collision_rate": len(by["collision"]) / n,
+        "mean_nav_time_s": sum(times) / len(times) if times else 25.0,
+        "discomfort_frequency": danger / steps,
+    }
+
+
+def measured(key: str) -> dict[str, Any]:
+    """CrowdNav's own run of a setting (rates added to the reference's counts)."""
+    m = dict(reference()["measured"][key])
+    m["success_rate"] = m["success"] / m["episodes"]
+    m["collision_rate"] = m["collision"] / m["episodes"]
+    return m
+
+
+def agreement(ours: dict[str, Any], theirs: dict[str, Any]) -> dict[str, bool]:
+    """Which figures agree with CrowdNav's.
+
+    Success and collision rates within :data:`RATE_TOLERANCE`, mean navigation time of successes
+    within :data:`TIME_TOLERANCE` of CrowdNav's.
+    """
+    t0 = theirs["mean_nav_time_s"]
+    return {
+        "success": abs(ours["success_rate"] - theirs["success_rate"]) <= RATE_TOLERANCE,
+        "collision": abs(ours["collision_rate"] - theirs["collision_rate"]) <= RATE_TOLERANCE,
+        "nav_time": abs(ours["mean_nav_time_s"] - t0) <= TIME_TOLERANCE * t0,
+    }
+
+
+def run_suite(
+    planners: Sequence[str] | None = None, episodes_per_setting: int = EPISODES, seed: int = TEST_SEED
+) -> list[dict[str, Any]]:
+    """Every setting of :data:`SETTINGS` with every planner (default :data:`PLANNERS`).
+
+    Runs scene seeds ``seed .. seed + episodes_per_setting - 1``: one summary row per (setting,
+    planner), with ``setting``, ``planner`` and ``seeds`` added.
+    """
+    if isinstance(episodes_per_setting, bool) or not isinstance(episodes_per_setting, int) or episodes_per_setting < 1:
+        raise input_error("episodes", "a positive integer", episodes_per_setting)
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise input_error("seed", "a non-negative integer", seed)
+    seeds = range(seed, seed + episodes_per_setting)
+    rows = []
+    for setting in SETTINGS:
+        for planner in planners or PLANNERS:
+            row = summarise(episodes(setting, seeds, planner))
+            rows.append({"setting": setting.key, "planner": planner, "seeds": f"{seeds[0]}-{seeds[-1]}", **row})
+    return rows
+
+
+def table_text(rows: Sequence[dict[str, Any]]) -> str:
+    """The suite's report as markdown.
+
+    Ours beside CrowdNav's own run with the agreement verdicts, the literature's figures and the
+    remaining setup differences.
+    """
+    ref = reference()
+    labels = {s.key: s.label for s in SETTINGS}
+    out = []
+    for r in rows:
+        theirs = measured(r["setting"])
+        ok = agreement(r, theirs)
+        mark = {True: "ok", False: "DIFFERS"}
+        out.append(
+            [
+                labels[r["setting"]],
+                r["planner"],
+                f"{r['episodes']}",
+                f"{r['success_rate']:.3f} / {theirs['success_rate']:.3f} ({mark[ok['success']]})",
+                f"{r['collision_rate']:.3f} / {theirs['collision_rate']:.3f} ({mark[ok['collision']]})",
+                f"{r['mean_nav_time_s']:.2f} / {theirs['mean_nav_time_s']:.2f} ({mark[ok['nav_time']]})",
+                f"{r['discomfort_frequency']:.3f} / {theirs['discomfort_frequency']:.3f}",
+            ]
+        )
+    head = [
+        "setting",
+        "planner",
+        "episodes",
+        "success ours / CrowdNav",
+        "collision ours / CrowdNav",
+        "nav time (s) ours / CrowdNav",
+        "discomfort freq. ours / CrowdNav",
+    ]
+    prov = ref["provenance"]
+    lines = [
+        "CrowdNav protocol: proxemic beside CrowdNav's own ORCA robot "
+        f"(CrowdNav {prov['crowdnav_commit'][:10]}, {prov['episodes_per_setting']} test episodes per setting, "
+        f"measured {prov['date']}; agreement: rates within {RATE_TOLERANCE}, nav time within "
+        f"{TIME_TOLERANCE:.0%})",
+        "",
+        markdown.table(head, out),
+        "",
+        f"Literature ({ref['literature']['setting']}; {ref['literature']['source']}):",
+        "",
+        markdown.table(
+            ["policy", "success", "collision", "intrusion (%)"],
+            [
+                [k, f"{v['success']:.2f}", f"{v['collision']:.2f}", f"{v['intrusion_percent']:.2f}"]
+                for k, v in ref["literature"]["rows"].items()
+            ],
+        ),
+        "",
+        "Remaining setup differences:",
+        *[f"- {d}" for d in DIFFERENCES],
+    ]
+    return "\n".join(lines)

@@ -1,0 +1,203 @@
+//! The CrowdNav protocol's episodes: CrowdNav's kinematic simulation of its scenes
+//! ([`crate::scenario::generate::crowdnav`]) and its counting of outcomes, as its code does them
+//! (`crowd_sim.py`'s `step` and `crowd_nav/utils/explorer.py`, read, not copied;
+//! `docs/crowdnav.md`).
+//!
+//! One step of `dt` (0.25 s), from the state at time `t`:
+//! 1. every person's velocity for the step: ORCA toward its goal ([`OrcaPeople`]), seeing the
+//!    other people and, when the robot is visible, the robot;
+//! 2. the robot's velocity for the step, from its planner (`astar_orca`: ORCA toward the goal with
+//!    CrowdNav's robot parameters, holonomic, preferred velocity capped at 1 m/s; in these open
+//!    scenes the A* path is the straight line to the goal);
+//! 3. the swept closest distance to each person: the distance from the robot to the segment the
+//!    person sweeps relative to the robot over the step, using the person's velocity *of the last
+//!    step* and the robot's new one, minus both radii; below 0 is a collision (the scan stops at
+//!    the first), and `dmin` is the least over the people scanned;
+//! 4. the robot reaches its goal when its position after the step is within its radius of it;
+//! 5. the step's outcome, first that holds: timeout when `t >= time_limit - 1 s` (CrowdNav
+//!    compares with `time_limit - 1`), collision, goal reached, discomfort when `dmin` < 0.2 m
+//!    (counted, the episode goes on); people's contacts with each other are not counted;
+//! 6. everyone moves by its velocity times `dt`, and `t += dt` (also on the last step).
+//!
+//! The summary ([`CrowdNavSummary`]) counts as CrowdNav's explorer does: rates over episodes, the
+//! mean navigation time over successes (the time limit when there is none), and the discomfort
+//! frequency: discomfort steps over `sum(episode times) / dt`, where a timeout's time is the time
+//! limit.
+
+use serde::Serialize;
+
+use crate::error::{CoreError, Result};
+use crate::geom::distance_point_segment;
+use crate::math::Vec2;
+use crate::pedestrians::orca::{OrcaBody, OrcaPeople};
+use crate::scenario::generate::crowdnav::{self, DISCOMFORT_DIST, Spec, TIME_LIMIT, TIME_STEP};
+
+/// The planners the protocol's kinematic episodes run.
+pub const PLANNERS: [&str; 1] = ["astar_orca"];
+
+/// How a CrowdNav episode ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CrowdNavOutcome {
+    /// The robot reached its goal (CrowdNav's `ReachGoal`).
+    Success,
+    /// The swept distance to a person fell below 0 (`Collision`).
+    Collision,
+    /// The time ran out (`Timeout`).
+    Timeout,
+}
+
+/// One episode's record.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CrowdNavEpisode {
+    /// The scene's spec.
+    pub spec: String,
+    /// How it ended.
+    pub outcome: CrowdNavOutcome,
+    /// The time at the end (s): after the last step for a success or collision, the time limit for
+    /// a timeout (as the explorer records it).
+    pub time: f64,
+    /// Steps that ended in discomfort (`dmin` < 0.2 m, not the last step).
+    pub discomfort_steps: usize,
+    /// Sum of `dmin` over those steps (m).
+    pub discomfort_dist_sum: f64,
+    /// Least swept distance over the episode (m, body edge to body edge; negative at a collision).
+    pub min_dist: f64,
+}
+
+/// Runs the episode of a `crowdnav/...` spec with `planner` (one of [`PLANNERS`]). Errors:
+/// [`CoreError::Scenario`] for a bad spec, [`CoreError::Input`] naming `planner` when it is not
+/// one of [`PLANNERS`].
+pub fn run_episode(spec: &str, planner: &str) -> Result<CrowdNavEpisode> {
+    if !PLANNERS.contains(&planner) {
+        return Err(CoreError::input("planner", format!("one of {PLANNERS:?}"), format!("{planner:?}")));
+    }
+    let s: Spec = crowdnav::parse_spec(spec)?;
+    let people = crowdnav::draw_people(&s)?;
+    simulate(s.text(), &people, s.visible)
+}
+
+/// The episode of the people `(start, goal)` and the robot from CrowdNav's start to its goal;
+/// `visible`: the people see the robot.
+fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Result<CrowdNavEpisode> {
+    let body = |pos: [f64; 2], goal: [f64; 2]| OrcaBody {
+        pos: Vec2::new(pos[0], pos[1]),
+        vel: Vec2::zeros(),
+        goal: Vec2::new(goal[0], goal[1]),
+        radius: crowdnav::RADIUS,
+        v_pref: crowdnav::V_PREF,
+    };
+    let mut robot = body(crowdnav::ROBOT_START, crowdnav::ROBOT_GOAL);
+    let mut humans: Vec<OrcaBody> = people.iter().map(|(p, g)| body(*p, *g)).collect();
+    let mut orca = OrcaPeople::new()?;
+    let n = humans.len();
+    let everyone: Vec<usize> = (0..n).collect();
+    let mut bodies: Vec<OrcaBody> = Vec::with_capacity(n + 1);
+    let dt = TIME_STEP;
+    let mut t = 0.0;
+    let mut rec = CrowdNavEpisode {
+        spec,
+        outcome: CrowdNavOutcome::Timeout,
+        time: TIME_LIMIT,
+        discomfort_steps: 0,
+        discomfort_dist_sum: 0.0,
+        min_dist: f64::INFINITY,
+    };
+    loop {
+        // 1. The people's velocities: each sees the others and, if visible, the robot.
+        bodies.clear();
+        bodies.extend_from_slice(&humans);
+        if visible {
+            bodies.push(robot);
+        }
+        let human_vel = orca.velocities(&bodies, &everyone, dt)?;
+        // 2. The robot's velocity: ORCA with every person as a neighbour.
+        bodies.clear();
+        bodies.push(robot);
+        bodies.extend_from_slice(&humans);
+        let action = orca.velocities(&bodies, &[0], dt)?[0];
+        // 3. Swept closest distance, with each person's velocity of the last step.
+        let mut dmin = f64::INFINITY;
+        let mut collision = false;
+        for h in &humans {
+            let p = h.pos - robot.pos;
+            let e = p + (h.vel - action) * dt;
+            let d = distance_point_segment(Vec2::zeros(), p, e) - h.radius - robot.radius;
+            rec.min_dist = rec.min_dist.min(d);
+            if d < 0.0 {
+                collision = true;
+                break;
+            }
+            dmin = dmin.min(d);
+        }
+        // 4-5. Goal, then the outcome in CrowdNav's order.
+        let reached = (robot.pos + action * dt - robot.goal).norm() < robot.radius;
+        let done = if t >= TIME_LIMIT - 1.0 {
+            Some(CrowdNavOutcome::Timeout)
+        } else if collision {
+            Some(CrowdNavOutcome::Collision)
+        } else if reached {
+            Some(CrowdNavOutcome::Success)
+        } else {
+            if dmin < DISCOMFORT_DIST {
+                rec.discomfort_steps += 1;
+                rec.discomfort_dist_sum += dmin;
+            }
+            None
+        };
+        // 6. Move.
+        robot.pos += action * dt;
+        robot.vel = action;
+        for (h, v) in humans.iter_mut().zip(&human_vel) {
+            h.pos += *v * dt;
+            h.vel = *v;
+        }
+        t += dt;
+        if let Some(outcome) = done {
+            rec.outcome = outcome;
+            rec.time = if outcome == CrowdNavOutcome::Timeout { TIME_LIMIT } else { t };
+            return Ok(rec);
+        }
+    }
+}
+
+/// The figures CrowdNav's explorer prints, over a set of episodes.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CrowdNavSummary {
+    /// Episodes.
+    pub episodes: usize,
+    /// Successes, collisions and timeouts.
+    pub success: usize,
+    /// Collisions.
+    pub collision: usize,
+    /// Timeouts.
+    pub timeout: usize,
+    /// Mean time of the successes (s); the time limit when there is none (CrowdNav's rule).
+    pub mean_nav_time: f64,
+    /// Discomfort steps over `sum(episode times) / dt` (a timeout counts the time limit).
+    pub discomfort_frequency: f64,
+    /// Mean `dmin` over the discomfort steps (m; 0 when there is none).
+    pub mean_min_dist_in_discomfort: f64,
+}
+
+/// Summarises episodes as CrowdNav's explorer does.
+pub fn summarize(episodes: &[CrowdNavEpisode]) -> CrowdNavSummary {
+    let count = |o| episodes.iter().filter(|e| e.outcome == o).count();
+    let success = count(CrowdNavOutcome::Success);
+    let times: f64 = episodes.iter().filter(|e| e.outcome == CrowdNavOutcome::Success).map(|e| e.time).sum();
+    let steps: f64 = episodes.iter().map(|e| e.time).sum::<f64>() / TIME_STEP;
+    let danger: usize = episodes.iter().map(|e| e.discomfort_steps).sum();
+    let danger_sum: f64 = episodes.iter().map(|e| e.discomfort_dist_sum).sum();
+    CrowdNavSummary {
+        episodes: episodes.len(),
+        success,
+        collision: count(CrowdNavOutcome::Collision),
+        timeout: count(CrowdNavOutcome::Timeout),
+        mean_nav_time: if success > 0 { times / success as f64 } else { TIME_LIMIT },
+        discomfort_frequency: if steps > 0.0 { danger as f64 / steps } else { 0.0 },
+        mean_min_dist_in_discomfort: if danger > 0 { danger_sum / danger as f64 } else { 0.0 },
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,76 @@
+use super::*;
+
+const FAR: ([f64; 2], [f64; 2]) = ([100.0, 100.0], [100.0, 100.0]);
+
+#[test]
+fn an_unobstructed_robot_arrives_on_crowdnavs_step() {
+    // 1 m/s until the goal is 1 m away (28 steps of 0.25 m), then the preferred velocity is the
+    // vector to the goal: the distance left goes 1, 0.75, 0.5625, 0.4219, 0.3164 and the 33rd
+    // step ends 0.2373 m from the goal (< 0.3 m), at t = 33 x 0.25 s.
+    let e = simulate("t".into(), &[FAR], false).expect("ok");
+    assert_eq!(e.outcome, CrowdNavOutcome::Success);
+    assert_eq!(e.time, 33.0 * TIME_STEP);
+    assert_eq!(e.discomfort_steps, 0);
+}
+
+#[test]
+fn a_collision_is_checked_before_the_goal_and_a_visible_person_is_passed_clear() {
+    // Overlapping bodies at the start: a collision on the first step, at t = 0.25 s.
+    let e = simulate("t".into(), &[([0.0, -3.8], [0.0, -3.8])], false).expect("ok");
+    assert_eq!((e.outcome, e.time), (CrowdNavOutcome::Collision, TIME_STEP), "{e:?}");
+    // Exactly head on with a person who sees the robot: both run ORCA, so nobody touches; without
+    // a perturbation (CrowdNav has it commented out) the symmetric pair stalls face to face.
+    let head_on = [([0.0, 4.0], [0.0, -4.0])];
+    let seen = simulate("t".into(), &head_on, true).expect("ok");
+    assert_eq!(seen.outcome, CrowdNavOutcome::Timeout, "{seen:?}");
+    assert!(seen.min_dist >= 0.0);
+    // Slightly off the line, the pair passes and the robot arrives.
+    let off = simulate("t".into(), &[([0.05, 4.0], [0.05, -4.0])], true).expect("ok");
+    assert_eq!(off.outcome, CrowdNavOutcome::Success, "{off:?}");
+    assert!(off.min_dist >= 0.0);
+}
+
+#[test]
+fn a_person_standing_on_the_goal_makes_a_timeout_at_crowdnavs_limit() {
+    let e = simulate("t".into(), &[([0.0, 4.0], [0.0, 4.0])], false).expect("ok");
+    assert_eq!(e.outcome, CrowdNavOutcome::Timeout, "{e:?}");
+    assert_eq!(e.time, TIME_LIMIT);
+    assert!(e.discomfort_steps > 0);
+}
+
+#[test]
+fn the_summary_counts_as_crowdnavs_explorer() {
+    let rec = |outcome, time, steps: usize, sum: f64| CrowdNavEpisode {
+        spec: String::new(),
+        outcome,
+        time,
+        discomfort_steps: steps,
+        discomfort_dist_sum: sum,
+        min_dist: 0.0,
+    };
+    let s = summarize(&[
+        rec(CrowdNavOutcome::Success, 10.0, 2, 0.2),
+        rec(CrowdNavOutcome::Collision, 5.0, 0, 0.0),
+        rec(CrowdNavOutcome::Timeout, 25.0, 2, 0.2),
+    ]);
+    assert_eq!((s.success, s.collision, s.timeout), (1, 1, 1));
+    assert_eq!(s.mean_nav_time, 10.0);
+    assert_eq!(s.discomfort_frequency, 4.0 / (40.0 / TIME_STEP));
+    assert!((s.mean_min_dist_in_discomfort - 0.1).abs() < 1e-12);
+    assert_eq!(summarize(&[rec(CrowdNavOutcome::Timeout, 25.0, 0, 0.0)]).mean_nav_time, TIME_LIMIT);
+}
+
+#[test]
+fn unknown_planners_and_bad_specs_are_named() {
+    let e = run_episode("crowdnav/circle_crossing", "social").expect_err("an error").to_string();
+    assert!(e.contains("planner"), "{e}");
+    let e = run_episode("crowdnav/circle_crossing?humans=x", "astar_orca").expect_err("an error").to_string();
+    assert!(e.contains("humans"), "{e}");
+}
+
+#[test]
+fn episodes_are_deterministic() {
+    let a = run_episode("crowdnav/circle_crossing?humans=20&seed=3", "astar_orca").expect("ok");
+    let b = run_episode("crowdnav/circle_crossing?humans=20&seed=3", "astar_orca").expect("ok");
+    assert_eq!(a, b);
+}
