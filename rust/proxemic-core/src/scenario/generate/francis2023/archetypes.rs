@@ -372,11 +372,11 @@ fn robot_crowding(d: &mut Draft) {
     let size = 2.0 * far + 3.0;
     let c = [size / 2.0, size / 2.0];
     d.room(0.0, 0.0, size, size);
-    // Evenly round the ring, each jittered by up to 0.15 rad: neighbours at least
-    // 2 ring sin(pi/n - 0.15) apart, centre to centre (0.93 m at the tightest draw: a gap of 0.53 m
-    // between two people of 0.2 m for the robot's 0.48 m).
+    // Evenly round the ring, each jittered by up to 0.05 rad: neighbours at least
+    // 2 ring sin(pi/n - 0.05) apart, centre to centre (1.01 m at the tightest draw, 7 people on a
+    // ring of 1.3 m: a gap of 0.61 m between two people of radius 0.2 m for the robot's 0.48 m).
     for k in 0..n {
-        let a = a0 + std::f64::consts::TAU * k as f64 / n as f64 + d.jitter(0.15);
+        let a = a0 + std::f64::consts::TAU * k as f64 / n as f64 + d.jitter(0.05);
         d.person(Ped::Stand { pose: [c[0] + ring * a.cos(), c[1] + ring * a.sin(), a + PI], group: None });
     }
     let goal = [c[0] + far * bearing.cos(), c[1] + far * bearing.sin()];

@@ -417,7 +417,7 @@ fn robot_crowding_surrounds_the_robot_with_people_with_a_way_out() {
         for k in 0..bearings.len() {
             let next =
                 if k + 1 < bearings.len() { bearings[k + 1] } else { bearings[0] + std::f64::consts::TAU };
-            let chord = 2.0 * (ring - 0.4) * ((next - bearings[k]) / 2.0).sin();
+            let chord = 2.0 * ring * ((next - bearings[k]) / 2.0).sin();
             assert!(chord - 2.0 * s.persons[0].radius > 2.0 * r.radius, "seed {seed}: gap {chord} m");
         }
         let far = (v(r.goal) - c).norm();
@@ -475,9 +475,13 @@ fn intersections_person_crosses_first_or_waits_at_the_edge() {
                     "{arch} seed {seed}: not facing the crossing"
                 );
             }
-            // The crossing corridor: open through the robot's, walls beyond its ends.
-            let xc = frame(o, u, v(s.persons[0].route.first().copied().unwrap_or([p.pose[0], p.pose[1]]))).0;
-            let across = width_across(&g, o + u * xc, Vec2::new(0.0, 1.0));
+            // The crossing corridor's width, in its arm where the person starts.
+            let at = v(s.persons[0].route.first().copied().unwrap_or([p.pose[0], p.pose[1]]));
+            assert!(
+                frame(o, u, at).1.abs() > cw / 2.0,
+                "{arch} seed {seed}: the person starts in the robot's corridor"
+            );
+            let across = width_across(&g, at, Vec2::new(0.0, 1.0));
             assert!((2.0 - 1e-6..=3.0 + 1e-6).contains(&across), "{arch} seed {seed}: {across}");
         }
     }
@@ -493,12 +497,21 @@ fn elevators_robot_enters_past_a_person_or_leaves_after_one() {
             let (start, goal) = (Vec2::new(r.start[0], r.start[1]), v(r.goal));
             let (car, lobby) = if entering { (goal, start) } else { (start, goal) };
             // The car is beyond the lobby's east wall, through a door 0.9-1.1 m wide.
-            assert!(car.x > lobby.x + 2.0 && g.segment_hits(lobby, car), "{arch} seed {seed}");
-            let wall_x = (0..400)
-                .map(|k| lobby.x + k as f64 * 0.02)
-                .find(|&x| g.cast_ray(Vec2::new(x, lobby.y), Vec2::new(1.0, 0.0), 50.0) < 0.05)
-                .unwrap_or(f64::NAN);
-            assert!(wall_x.is_finite(), "{arch} seed {seed}");
+            assert!(car.x > lobby.x + 2.0, "{arch} seed {seed}");
+            // The wall east of the lobby, on two rows 1.5 m either side of the robot's lobby end
+            // (one of them misses the door; the nearer wall is the lobby's).
+            let wall_x = [-1.5, 1.5]
+                .iter()
+                .filter_map(|dy| {
+                    (0..400)
+                        .map(|k| lobby.x + k as f64 * 0.02)
+                        .find(|&x| g.cast_ray(Vec2::new(x, lobby.y + dy), Vec2::new(1.0, 0.0), 50.0) < 0.05)
+                })
+                .fold(f64::NAN, f64::min);
+            assert!(
+                wall_x.is_finite() && car.x > wall_x,
+                "{arch} seed {seed}: the car is not beyond the wall"
+            );
             let narrowest = (0..200)
                 .map(|k| {
                     let y = car.y - 2.0 + 0.02 * k as f64;
