@@ -2,16 +2,18 @@
 
 Francis et al. 2023, "Principles and guidelines for evaluating social robot navigation algorithms".
 
-Each archetype (frontal approach, pedestrian obstruction, overtaking both ways, crossings at 90 and
-45 degrees, narrow hallway and doorway, blind corner, entering and exiting a room, joining and
-leaving a group, following and accompanying a person, a dense crowd, robot crowding) is a scene
-family of the core's generator: its widths, lengths, speeds, angles and offsets are drawn from a
+Each archetype (the 25 panels of the paper's Fig. 7: frontal approach, pedestrian obstruction,
+overtaking both ways, down path, intersections (crossings at 90 and 45 degrees, waiting and
+proceeding), blind corner, narrow hallway and doorway, entering and exiting a room and an elevator,
+joining and leaving a group, following, leading and accompanying a person, a dense crowd, parallel
+and perpendicular traffic, circular crossing, robot crowding) is a scene family of the core's
+generator: its widths, lengths, speeds, angles and offsets are drawn from a
 seed within ranges written beside the code (``rust/proxemic-core/src/scenario/generate/francis2023``).
 
 A scene is named ``francis2023/<archetype>`` (seed 0) or ``francis2023/<archetype>?seed=N`` (and
 ``&max_time=T`` to shorten or lengthen the episode, seconds in [5, 600]); the name works wherever a
 scenario name does (``gym.make("proxemic/Generated-v3", scenario=...)``, ``proxemic.parallel_env``,
-``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v3", archetype=..., scene_seed=N)``
+``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v4", archetype=..., scene_seed=N)``
 is the same env. The suite (:func:`run_suite`, ``proxemic eval --suite francis2023``) runs episode
 ``k`` of every archetype on the scene of seed ``seed + k``, with episode seed ``seed + k``: the
 scene's parameters vary from episode to episode, and every planner meets the same scenes.
@@ -73,7 +75,7 @@ def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) 
 def make_env(
     archetype: str = "frontal_approach", scene_seed: int = 0, max_time: float | None = None, **kwargs: Any
 ) -> Any:
-    """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v3", archetype=...)``).
+    """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v4", archetype=...)``).
 
     Args:
         archetype: One of :data:`ARCHETYPES`.
@@ -301,8 +303,9 @@ def summary_markdown(
 def plot_archetype(archetype: str, path: str | Path, seed: int = 0) -> Path:
     """A top-down picture of an archetype's scene of `seed`, written to `path` (PNG).
 
-    Walls, every person where they start (a walk as a dashed line with an arrow; conversation
-    groups as their members), every robot's start (with its heading) and goal, the straight line
+    Walls, every person where they start (a walk as a dashed line with an arrow; a follower of the
+    robot behind it, an arrow its way; conversation groups as their members), every robot's start
+    (with its heading) and goal, the straight line
     between them dotted.
     """
     import matplotlib
@@ -330,6 +333,18 @@ def plot_archetype(archetype: str, path: str | Path, seed: int = 0) -> Path:
                     arrowprops={"arrowstyle": "->", "color": "tab:orange", "lw": 1.2},
                     zorder=5,
                 )
+        elif p["behaviour"] == "follower" and p.get("guide_robot") is not None and len(p["tour"]) > 1:
+            # A follower of a robot starts gathered behind the robot's start, away from where it goes.
+            (sx, sy), (nx, ny) = p["tour"][0], p["tour"][1]
+            d = math.hypot(nx - sx, ny - sy)
+            x, y = sx - (nx - sx) / d * p["gather_radius"], sy - (ny - sy) / d * p["gather_radius"]
+            ax.annotate(
+                "",
+                xy=(x + (nx - sx) / d * 0.6, y + (ny - sy) / d * 0.6),
+                xytext=(x, y),
+                arrowprops={"arrowstyle": "->", "color": "tab:orange", "lw": 1.2},
+                zorder=5,
+            )
         else:
             x, y = (p.get("home") or p["pose"][:2])[:2]
         ax.add_patch(Circle((x, y), p["radius"], color="tab:orange", zorder=6))

@@ -27,7 +27,7 @@ GENERATED_ENV_ID = "proxemic/Generated-v3"
 
 #: The environment id of the Francis et al. 2023 archetypes:
 #: ``gym.make(FRANCIS2023_ENV_ID, archetype="crossing_90", scene_seed=3)`` (see :mod:`proxemic.francis2023`).
-FRANCIS2023_ENV_ID = "proxemic/Francis2023-v3"
+FRANCIS2023_ENV_ID = "proxemic/Francis2023-v4"
 
 
 def register_envs() -> None:

@@ -31,24 +31,35 @@ use crate::scenario::Scenario;
 /// The prefix of a Francis et al. 2023 scene's spec.
 pub const PREFIX: &str = "francis2023/";
 
-/// The archetypes, in the order the suite runs them.
-pub const ARCHETYPES: [&str; 17] = [
+/// The archetypes, in the order the suite runs them: the 25 panels (a)-(y) of the paper's Fig. 7
+/// in its order, panel (f) "Intersection No Gesture" twice (`crossing_90`, and `crossing_45` with
+/// the paths at 45 deg).
+pub const ARCHETYPES: [&str; 26] = [
     "frontal_approach",
     "pedestrian_obstruction",
-    "robot_overtaking",
     "pedestrian_overtaking",
+    "robot_overtaking",
+    "down_path",
     "crossing_90",
     "crossing_45",
+    "intersection_wait",
+    "intersection_proceed",
+    "blind_corner",
     "narrow_hallway",
     "narrow_doorway",
-    "blind_corner",
     "entering_room",
     "exiting_room",
+    "entering_elevator",
+    "exiting_elevator",
     "joining_group",
     "leaving_group",
     "following_person",
+    "leading_person",
     "accompanying_person",
     "dense_crowd",
+    "parallel_traffic",
+    "perpendicular_traffic",
+    "circular_crossing",
     "robot_crowding",
 ];
 
@@ -155,6 +166,10 @@ pub(crate) enum Ped {
     Loop { route: Vec<[f64; 2]>, speed: f64 },
     /// Stands at `pose` ([x, y, theta]), a member of ground-truth group `group` if given.
     Stand { pose: [f64; 3], group: Option<u32> },
+    /// Follows robot 0 (the `follower` script with `guide = "robot:robot_0"`): starts
+    /// `gather` metres behind the robot's start, walks its trail up to the follow gap behind it
+    /// and gathers `gather` metres behind it where it stops.
+    FollowRobot { speed: f64, gather: f64 },
 }
 
 /// A robot's task: a goal point, or joining a conversation group (an approach task).
@@ -326,6 +341,14 @@ impl Draft {
                     if let Some(g) = group {
                         let _ = writeln!(t, "group = {g}");
                     }
+                }
+                Ped::FollowRobot { speed, gather } => {
+                    let _ = writeln!(
+                        t,
+                        "behaviour = \"follower\"\nguide = \"robot:robot_0\"\nspeed = {:?}\ngather_radius = {:?}",
+                        round2(*speed),
+                        round2(*gather)
+                    );
                 }
             }
             t.push('\n');

@@ -393,25 +393,220 @@ fn dense_crowd_has_at_least_one_person_per_square_metre_where_the_robot_passes()
 }
 
 #[test]
-fn robot_crowding_puts_several_robots_in_one_passage_both_ways() {
+fn robot_crowding_surrounds_the_robot_with_people_with_a_way_out() {
     for seed in 0..SEEDS {
         let s = scene("robot_crowding", seed);
-        assert!(s.robots.len() >= 3, "seed {seed}: {} robots", s.robots.len());
-        let g = geometry(&s);
-        let (o, u0, _) = robot_line(&s, 0);
-        let (mut east, mut west) = (0, 0);
-        for i in 0..s.robots.len() {
-            let (a, u, _) = robot_line(&s, i);
-            if dot(u, u0) > 0.999 {
-                east += 1
-            } else if dot(u, u0) < -0.999 {
-                west += 1
-            }
-            // All in the same hallway: the same clear width across, through each start.
-            let w = width_across(&g, a, u0);
-            assert!((2.4 - 1e-6..=3.2 + 1e-6).contains(&w), "seed {seed}: robot {i} in a passage {w} m wide");
-            assert!((w - width_across(&g, o, u0)).abs() < 1e-6, "seed {seed}");
+        assert_eq!(s.robots.len(), 1, "seed {seed}");
+        assert!((5..=7).contains(&s.persons.len()), "seed {seed}: {} people", s.persons.len());
+        let r = &s.robots[0];
+        let c = Vec2::new(r.start[0], r.start[1]);
+        let mut bearings = Vec::new();
+        for p in &s.persons {
+            assert_eq!(p.behaviour, Behaviour::Standing, "seed {seed}");
+            let at = Vec2::new(p.pose[0], p.pose[1]);
+            let d = (at - c).norm();
+            assert!((1.3 - CM..=1.7 + CM).contains(&d), "seed {seed}: a person {d} m from the robot");
+            // Facing the robot.
+            let facing = Vec2::new(p.pose[2].cos(), p.pose[2].sin());
+            assert!(dot(unit(at, c), facing) > 0.99, "seed {seed}: a person faces away");
+            bearings.push((at.y - c.y).atan2(at.x - c.x));
         }
-        assert!(east >= 2 && west >= 1 && east + west == s.robots.len(), "seed {seed}");
+        // A way out: every gap between neighbours round the ring lets the robot's body through.
+        bearings.sort_by(f64::total_cmp);
+        let ring = (Vec2::new(s.persons[0].pose[0], s.persons[0].pose[1]) - c).norm();
+        for k in 0..bearings.len() {
+            let next =
+                if k + 1 < bearings.len() { bearings[k + 1] } else { bearings[0] + std::f64::consts::TAU };
+            let chord = 2.0 * ring * ((next - bearings[k]) / 2.0).sin();
+            assert!(chord - 2.0 * s.persons[0].radius > 2.0 * r.radius, "seed {seed}: gap {chord} m");
+        }
+        let far = (v(r.goal) - c).norm();
+        assert!((4.0 - CM..=6.0 + CM).contains(&far), "seed {seed}: goal {far} m away");
     }
+}
+
+#[test]
+fn down_path_person_walks_the_robot_s_way_four_metres_aside() {
+    for seed in 0..SEEDS {
+        let s = scene("down_path", seed);
+        let (o, u, _) = robot_line(&s, 0);
+        let (p, dir) = first_leg(&s, 0);
+        let (along, across) = frame(o, u, p);
+        assert!((3.5 - CM..=4.5 + CM).contains(&across.abs()), "seed {seed}: {across} m aside");
+        assert!((-1.0 - CM..=2.0 + CM).contains(&along), "seed {seed}: {along} m ahead");
+        assert!(dot(dir, u) > 0.999, "seed {seed}: not the robot's way");
+        let sp = s.persons[0].speed;
+        assert!((0.45 - CM..=0.65 + CM).contains(&sp), "seed {seed}: {sp} m/s");
+    }
+}
+
+#[test]
+fn intersections_person_crosses_first_or_waits_at_the_edge() {
+    for seed in 0..SEEDS {
+        for wait in [true, false] {
+            let arch = if wait { "intersection_wait" } else { "intersection_proceed" };
+            let s = scene(arch, seed);
+            let (o, u, len) = robot_line(&s, 0);
+            let g = geometry(&s);
+            let cw = width_across(&g, o, u);
+            assert!((2.0 - 1e-6..=3.0 + 1e-6).contains(&cw), "{arch} seed {seed}: corridor {cw} m");
+            let p = &s.persons[0];
+            if wait {
+                let (a, dir) = first_leg(&s, 0);
+                assert!(dot(dir, u).abs() < 1e-6, "{arch} seed {seed}: not across the robot's way");
+                let (pa, pc) = frame(o, u, a);
+                // The person reaches the robot's line first: 0.5-0.8 of the robot's time.
+                let ratio = (pc.abs() / p.speed) / (pa / s.robots[0].max_speed);
+                assert!((0.45..=0.85).contains(&ratio), "{arch} seed {seed}: arrival ratio {ratio}");
+                let (_, ec) = frame(o, u, walk_end(&s));
+                assert!(ec * pc < 0.0 && pa < len, "{arch} seed {seed}: the person does not cross");
+                // The crossing corridor is open across the robot's: the person's walk is clear.
+                assert!(!g.segment_hits(a, walk_end(&s)), "{arch} seed {seed}");
+            } else {
+                assert_eq!(p.behaviour, Behaviour::Standing);
+                let at = Vec2::new(p.pose[0], p.pose[1]);
+                let (pa, pc) = frame(o, u, at);
+                assert!(pa > 0.0 && pa < len, "{arch} seed {seed}");
+                let edge = pc.abs() - cw / 2.0;
+                assert!((0.4 - CM..=0.8 + CM).contains(&edge), "{arch} seed {seed}: {edge} m from the edge");
+                let facing = Vec2::new(p.pose[2].cos(), p.pose[2].sin());
+                assert!(
+                    facing.x.abs() < 1e-3 && facing.y * pc < 0.0,
+                    "{arch} seed {seed}: not facing the crossing"
+                );
+            }
+            // The crossing corridor's width, in its arm where the person starts.
+            let at = v(s.persons[0].route.first().copied().unwrap_or([p.pose[0], p.pose[1]]));
+            assert!(
+                frame(o, u, at).1.abs() > cw / 2.0,
+                "{arch} seed {seed}: the person starts in the robot's corridor"
+            );
+            let across = width_across(&g, at, Vec2::new(0.0, 1.0));
+            assert!((2.0 - 1e-6..=3.0 + 1e-6).contains(&across), "{arch} seed {seed}: {across}");
+        }
+    }
+}
+
+#[test]
+fn elevators_robot_enters_past_a_person_or_leaves_after_one() {
+    for (arch, entering) in [("entering_elevator", true), ("exiting_elevator", false)] {
+        for seed in 0..SEEDS {
+            let s = scene(arch, seed);
+            let g = geometry(&s);
+            let r = &s.robots[0];
+            let (start, goal) = (Vec2::new(r.start[0], r.start[1]), v(r.goal));
+            let (car, lobby) = if entering { (goal, start) } else { (start, goal) };
+            // The car is beyond the lobby's east wall, through a door 0.9-1.1 m wide.
+            assert!(car.x > lobby.x + 2.0, "{arch} seed {seed}");
+            // The wall east of the lobby, on two rows 1.5 m either side of the robot's lobby end
+            // (one of them misses the door; the nearer wall is the lobby's).
+            let wall_x = [-1.5, 1.5]
+                .iter()
+                .filter_map(|dy| {
+                    (0..400)
+                        .map(|k| lobby.x + k as f64 * 0.02)
+                        .find(|&x| g.cast_ray(Vec2::new(x, lobby.y + dy), Vec2::new(1.0, 0.0), 50.0) < 0.05)
+                })
+                .fold(f64::NAN, f64::min);
+            assert!(
+                wall_x.is_finite() && car.x > wall_x,
+                "{arch} seed {seed}: the car is not beyond the wall"
+            );
+            let narrowest = (0..200)
+                .map(|k| {
+                    let y = car.y - 2.0 + 0.02 * k as f64;
+                    (
+                        g.cast_ray(Vec2::new(wall_x + 0.1, y), Vec2::new(0.0, 1.0), 50.0)
+                            + g.cast_ray(Vec2::new(wall_x + 0.1, y), Vec2::new(0.0, -1.0), 50.0),
+                        y,
+                    )
+                })
+                .filter(|(w, y)| {
+                    g.cast_ray(Vec2::new(wall_x - 0.5, *y), Vec2::new(1.0, 0.0), 50.0) > 1.0 && *w < 5.0
+                })
+                .map(|(w, _)| w)
+                .fold(f64::INFINITY, f64::min);
+            assert!((0.9 - 1e-6..=1.1 + 1e-6).contains(&narrowest), "{arch} seed {seed}: door {narrowest} m");
+            let p = &s.persons[0];
+            if entering {
+                assert_eq!(p.behaviour, Behaviour::Standing, "{arch} seed {seed}");
+                let at = Vec2::new(p.pose[0], p.pose[1]);
+                assert!(
+                    at.x > wall_x && (at - goal).norm() > 0.8,
+                    "{arch} seed {seed}: the person is not in the car"
+                );
+            } else {
+                let (a, end) = (v(p.route[0]), walk_end(&s));
+                assert!(
+                    a.x > wall_x && end.x < wall_x,
+                    "{arch} seed {seed}: the person does not leave the car"
+                );
+                assert!((a - start).norm() < (v(p.route[0]) - goal).norm(), "{arch} seed {seed}");
+            }
+        }
+    }
+}
+
+#[test]
+fn leading_person_follows_the_robot() {
+    for seed in 0..SEEDS {
+        let s = scene("leading_person", seed);
+        let p = &s.persons[0];
+        assert_eq!(p.behaviour, Behaviour::Follower, "seed {seed}");
+        assert_eq!(p.guide_robot, Some(0), "seed {seed}: not the robot's follower");
+        assert!((1.2 - CM..=1.8 + CM).contains(&p.gather_radius), "seed {seed}");
+        assert!(p.speed > s.robots[0].max_speed, "seed {seed}: the person cannot keep up");
+    }
+}
+
+/// Every person of the traffic archetypes walks along (parallel) or across (perpendicular) the
+/// robot's line, both ways in each lane.
+fn lanes(arch: &str, seed: u64, along: bool) {
+    let s = scene(arch, seed);
+    let (o, u, len) = robot_line(&s, 0);
+    assert!(s.persons.len() >= 6, "{arch} seed {seed}");
+    for p in &s.persons {
+        let (a, dir) = first_leg(&s, s.persons.iter().position(|q| std::ptr::eq(q, p)).unwrap_or(0));
+        let c = dot(dir, u).abs();
+        assert!(if along { c > 0.999 } else { c < 1e-3 }, "{arch} seed {seed}: lane direction");
+        let (pa, pc) = frame(o, u, a);
+        if along {
+            assert!((1.0 - CM..=1.4 + CM).contains(&pc.abs()), "{arch} seed {seed}: lane {pc} m aside");
+        } else {
+            assert!(pa > 1.0 && pa < len, "{arch} seed {seed}: lane off the robot's way");
+        }
+    }
+}
+
+#[test]
+fn traffic_lanes_run_along_or_across_the_robot_s_way() {
+    for seed in 0..SEEDS {
+        lanes("parallel_traffic", seed, true);
+        lanes("perpendicular_traffic", seed, false);
+    }
+}
+
+#[test]
+fn circular_crossing_people_cross_the_circle_through_the_robot_s_path() {
+    for seed in 0..SEEDS {
+        let s = scene("circular_crossing", seed);
+        let (o, u, len) = robot_line(&s, 0);
+        let centre = o + u * (len / 2.0);
+        assert!((4..=6).contains(&s.persons.len()), "seed {seed}");
+        for (k, p) in s.persons.iter().enumerate() {
+            let (a, b) = (v(p.route[0]), walk_end(&s_person(&s, k)));
+            let (ra, rb) = ((a - centre).norm(), (b - centre).norm());
+            assert!((3.0 - CM..=4.0 + CM).contains(&ra) && (ra - rb).abs() < 2.0 * CM, "seed {seed}");
+            assert!(((a + b) * 0.5 - centre).norm() < 2.0 * CM, "seed {seed}: not across the centre");
+            let (_, pc) = frame(o, u, a);
+            assert!(pc.abs() > 0.3, "seed {seed}: a person starts on the robot's line");
+        }
+    }
+}
+
+/// A scene with only person `k` (for [`walk_end`], which reads the first person).
+fn s_person(s: &Scenario, k: usize) -> Scenario {
+    let mut t = s.clone();
+    t.persons = vec![s.persons[k].clone()];
+    t
 }
