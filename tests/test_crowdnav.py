@@ -147,3 +147,17 @@ def test_cli_runs_planners_and_a_policy_and_names_bad_ones() -> None:
     assert bad.returncode == 2 and "--planner 'rrt'" in bad.stderr, bad.stderr
     bad = _cli("--policy", "no_such_module:make", "--episodes", "1")
     assert bad.returncode != 0 and "policy" in bad.stderr, bad.stderr
+
+
+def test_docs_table_is_what_the_code_gives() -> None:
+    """docs/crowdnav.md's generated table (every planner, 500 test seeds per setting) has the rows
+    a fresh run gives for astar_orca (CrowdNav's ORCA robot) and learned (the shipped policy)."""
+    docs = (ROOT / "docs" / "crowdnav.md").read_text(encoding="utf-8")
+    block = docs.partition(crowdnav.DOCS_BEGIN)[2].partition(crowdnav.DOCS_END)[0]
+    for planner in crowdnav.PLANNERS:
+        assert block.count(f"| {planner} | {crowdnav.EPISODES} |") == len(crowdnav.SETTINGS), planner
+    fresh = crowdnav.table_text(crowdnav.run_suite(["astar_orca", "learned"], crowdnav.EPISODES))
+    rows = [line for line in fresh.splitlines() if "| astar_orca |" in line or "| learned |" in line]
+    assert len(rows) == 2 * len(crowdnav.SETTINGS)
+    for line in rows:
+        assert line in block, line

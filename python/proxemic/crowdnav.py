@@ -310,3 +310,46 @@ def table_text(rows: Sequence[dict[str, Any]]) -> str:
         *[f"- {d}" for d in DIFFERENCES],
     ]
     return "\n".join(lines)
+
+
+#: The generated block of ``docs/crowdnav.md`` (every planner's figures), between these lines.
+DOCS_BEGIN = "<!-- BEGIN GENERATED: python -m proxemic.crowdnav docs/crowdnav.md (do not edit by hand) -->"
+#: ... and this one.
+DOCS_END = "<!-- END GENERATED -->"
+
+
+def write_docs(path: Path, episodes_per_setting: int = EPISODES, seed: int = TEST_SEED) -> list[dict[str, Any]]:
+    """Runs the suite with every built-in planner and writes its report into `path`'s generated block.
+
+    Returns the rows. Raises :class:`InputError` when `path` has no block (the two marker lines
+    :data:`DOCS_BEGIN` and :data:`DOCS_END`).
+    """
+    text = path.read_text(encoding="utf-8")
+    if DOCS_BEGIN not in text or DOCS_END not in text.partition(DOCS_BEGIN)[2]:
+        raise input_error(str(path), f"a block between {DOCS_BEGIN!r} and {DOCS_END!r}", "no such block")
+    rows = run_suite(None, episodes_per_setting, seed)
+    head, _, rest = text.partition(DOCS_BEGIN)
+    _, _, tail = rest.partition(DOCS_END)
+    block = (
+        f"Every built-in planner, scene seeds {seed}-{seed + episodes_per_setting - 1} of each setting "
+        f"(`proxemic eval --suite crowdnav --episodes {episodes_per_setting}` prints the same table):\n\n"
+        f"{table_text(rows)}\n"
+    )
+    path.write_text(f"{head}{DOCS_BEGIN}\n{block}{DOCS_END}{tail}", encoding="utf-8")
+    return rows
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m proxemic.crowdnav docs/crowdnav.md``: regenerates the docs' table of every planner."""
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m proxemic.crowdnav", description=main.__doc__)
+    parser.add_argument("page", type=Path, help="the docs page with the generated block (docs/crowdnav.md)")
+    parser.add_argument("--episodes", type=int, default=EPISODES, help=f"episodes per setting (default {EPISODES})")
+    args = parser.parse_args(argv)
+    write_docs(args.page, args.episodes)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
