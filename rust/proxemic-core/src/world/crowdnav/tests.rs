@@ -130,3 +130,29 @@ fn a_policy_drives_through_the_observation_every_step() {
     let bad = run_policy_episode(spec, |_: &[f64]| Ok::<_, CoreError>([f64::NAN, 0.0, 0.0]));
     assert!(bad.expect_err("an error").to_string().contains("action"));
 }
+
+#[test]
+fn the_kinematic_world_names_bad_states() {
+    let s = crowdnav::parse_spec("crowdnav/circle_crossing?humans=2&seed=10000").expect("spec");
+    let scenario = crowdnav::build(&s).expect("scene").scenario;
+    let mut fresh = World::new(scenario).expect("world");
+    let robot = KinematicRobot { pose: [0.0, -4.0, 1.57], velocity: Vec2::zeros(), wz: 0.0 };
+    let mut out = vec![0.0; fresh.layout().stride];
+    let people = [(Vec2::new(1.0, 1.0), Vec2::zeros()); 2];
+    let e = fresh.kinematic_observe(robot, &people, false, &mut out).expect_err("before reset");
+    assert!(e.to_string().contains("reset"), "{e}");
+    let mut d = WorldDriver::new(&s, PlannerKind::Social, true).expect("world");
+    let w = &mut d.world;
+    let e = w.kinematic_observe(robot, &people[..1], true, &mut out).expect_err("one person short");
+    assert!(e.to_string().contains("people"), "{e}");
+    let nan = KinematicRobot { velocity: Vec2::new(f64::NAN, 0.0), ..robot };
+    let e = w.kinematic_observe(nan, &people, true, &mut out).expect_err("not finite");
+    assert!(e.to_string().contains("robot"), "{e}");
+    let e = w.kinematic_observe(robot, &people, true, &mut out[1..]).expect_err("short buffer");
+    assert!(e.to_string().contains("out"), "{e}");
+    w.kinematic_observe(robot, &people, true, &mut out).expect("ok");
+    let e = w.kinematic_command(Some([f64::INFINITY, 0.0, 0.0]), &mut out).expect_err("not finite");
+    assert!(e.to_string().contains("action"), "{e}");
+    let (v, _) = w.kinematic_command(Some([1.0, 1.0, 0.0]), &mut out).expect("ok");
+    assert!(v.norm() <= V_PREF + 1e-12, "{v:?}");
+}
