@@ -623,7 +623,7 @@ def build_parser() -> argparse.ArgumentParser:
         help=_planner_help(
             "a built-in planner; repeat to compare (default without --policy: the non-social baselines "
             + ", ".join(BASELINE_PLANNERS)
-            + ")"
+            + "; with --suite crowdnav: every planner)"
         ),
     )
     e.add_argument(
