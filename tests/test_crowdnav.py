@@ -3,10 +3,18 @@
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
 from proxemic import _core, crowdnav, splits
+from proxemic.errors import InputError
+from proxemic.policy import PolicyRef
+
+ROOT = Path(__file__).resolve().parents[1]
 
 #: Scene seeds of the agreement check: the test split's first generated scene seed on. Nothing of the
 #: family was tuned (its constants are CrowdNav's); these seeds were not looked at before the check.
@@ -40,7 +48,9 @@ def test_suite_seeds_are_outside_the_tuning_split() -> None:
 
 def test_unknown_planner_is_named() -> None:
     with pytest.raises(Exception, match="planner"):
-        crowdnav.episodes(crowdnav.SETTINGS[0], [0], "social")
+        crowdnav.episodes(crowdnav.SETTINGS[0], [0], "rrt")
+    with pytest.raises(InputError, match="planner"):
+        crowdnav.run_suite(["astar", "rrt"], 1)
 
 
 @pytest.mark.parametrize("setting", crowdnav.SETTINGS, ids=lambda s: s.key)
@@ -56,9 +66,98 @@ def test_astar_orca_agrees_with_crowdnavs_orca_robot(setting: crowdnav.Setting) 
     )
 
 
-def test_suite_table_prints_ours_beside_crowdnavs_and_the_literature() -> None:
-    rows = crowdnav.run_suite(episodes_per_setting=4)
+def test_every_built_in_planner_runs_the_suite() -> None:
+    """Every planner of eval's list drives the protocol's episodes, counted as CrowdNav counts them."""
+    assert set(crowdnav.PLANNERS) == set(_core.PLANNERS)
+    rows = crowdnav.run_suite(episodes_per_setting=3)
     assert len(rows) == len(crowdnav.SETTINGS) * len(crowdnav.PLANNERS)
+    for r in rows:
+        assert r["success"] + r["collision"] + r["timeout"] == r["episodes"] == 3, r
+        assert r["seeds"] == "10000-10002"
+    # The planners are not one another: their episodes differ.
+    circle20 = {
+        r["planner"]: (r["success"], r["collision"], r["mean_nav_time_s"])
+        for r in rows
+        if r["setting"] == "circle20_invisible"
+    }
+    assert len(set(circle20.values())) > 3, circle20
+    # Deterministic: the same seeds give the same records.
+    setting = crowdnav.SETTINGS[2]
+    for planner in ("social", "learned", "calderita"):
+        assert crowdnav.episodes(setting, range(10000, 10003), planner) == crowdnav.episodes(
+            setting, range(10000, 10003), planner
+        )
+
+
+def test_suite_table_prints_ours_beside_crowdnavs_and_the_literature() -> None:
+    rows = crowdnav.run_suite(["astar_orca", "social"], episodes_per_setting=4)
     text = crowdnav.table_text(rows)
     assert "circle 20, robot invisible" in text and "CrowdNav++ (learned)" in text and "0.92" in text
-    assert "Remaining setup differences" in text
+    assert "CrowdNav's ORCA robot (its code)" in text and "| social |" in text
+    assert "Agreement of astar_orca" in text and "Remaining setup differences" in text
+
+
+def _policy(target: str) -> PolicyRef:
+    return PolicyRef(target.rpartition(":")[2], target, str(ROOT))
+
+
+def test_a_users_policy_drives_the_protocols_episodes() -> None:
+    """The policy sees the env's observation, is reset with each scene seed, and its action is
+    applied at once: full speed straight at the goal arrives on the 31st step (8 m less the 0.3 m
+    radius at 0.25 m a step) on square crossing with one person, unless it hits the person first."""
+    import tests.crowdnav_policy as pol
+
+    pol.RESETS.clear()
+    setting = crowdnav.Setting("square1", "square_crossing", 1, False)
+    seeds = range(10000, 10010)
+    records = crowdnav.policy_episodes(setting, seeds, _policy("tests.crowdnav_policy:make"))
+    assert pol.RESETS == list(seeds)
+    assert {r["outcome"] for r in records} <= {"success", "collision"}
+    successes = [r["time"] for r in records if r["outcome"] == "success"]
+    assert successes and all(t == 31 * 0.25 for t in successes), records
+    again = crowdnav.policy_episodes(setting, seeds, _policy("tests.crowdnav_policy:make"))
+    assert again == records
+
+
+def test_bad_policies_are_named() -> None:
+    setting = crowdnav.SETTINGS[0]
+    with pytest.raises(InputError, match="action"):
+        crowdnav.policy_episodes(setting, [10000], _policy("tests/crowdnav_policy.py:nan_action"))
+    with pytest.raises(InputError, match="policy"):
+        crowdnav.policy_episodes(setting, [10000], _policy("no_such_module:make"))
+
+
+def _cli(*argv: str) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    return subprocess.run(
+        [sys.executable, "-m", "proxemic.cli", "eval", "--suite", "crowdnav", *argv],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=ROOT,
+        env=env,
+    )
+
+
+def test_cli_runs_planners_and_a_policy_and_names_bad_ones() -> None:
+    ok = _cli("--planner", "social", "--policy", "tests/crowdnav_policy.py:make", "--episodes", "2")
+    assert ok.returncode == 0, ok.stderr[-2000:]
+    assert "| social |" in ok.stdout and "| crowdnav_policy |" in ok.stdout, ok.stdout
+    bad = _cli("--planner", "rrt", "--episodes", "1")
+    assert bad.returncode == 2 and "--planner 'rrt'" in bad.stderr, bad.stderr
+    bad = _cli("--policy", "no_such_module:make", "--episodes", "1")
+    assert bad.returncode != 0 and "policy" in bad.stderr, bad.stderr
+
+
+def test_docs_table_is_what_the_code_gives() -> None:
+    """docs/crowdnav.md's generated table (every planner, 500 test seeds per setting) has the rows
+    a fresh run gives for astar_orca (CrowdNav's ORCA robot) and learned (the shipped policy)."""
+    docs = (ROOT / "docs" / "crowdnav.md").read_text(encoding="utf-8")
+    block = docs.partition(crowdnav.DOCS_BEGIN)[2].partition(crowdnav.DOCS_END)[0]
+    for planner in crowdnav.PLANNERS:
+        assert block.count(f"| {planner} | {crowdnav.EPISODES} |") == len(crowdnav.SETTINGS), planner
+    fresh = crowdnav.table_text(crowdnav.run_suite(["astar_orca", "learned"], crowdnav.EPISODES))
+    rows = [line for line in fresh.splitlines() if "| astar_orca |" in line or "| learned |" in line]
+    assert len(rows) == 2 * len(crowdnav.SETTINGS)
+    for line in rows:
+        assert line in block, line

@@ -55,6 +55,9 @@ CROWDNAV_PLANNERS: list[str]
 CROWDNAV_FAMILIES: list[str]
 
 def crowdnav_episodes(specs: list[str], planner: str) -> list[dict[str, Any]]: ...
+def crowdnav_policy_episodes(
+    specs: list[str], policy: Callable[[npt.NDArray[np.float64]], tuple[float, ...]]
+) -> list[dict[str, Any]]: ...
 
 class Scenario:
     """A validated scenario (parsed once, from a TOML file or string)."""

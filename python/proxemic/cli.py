@@ -219,19 +219,51 @@ def _eval_suite(args: argparse.Namespace) -> int:
     return 0
 
 
+def _policy_refs(args: argparse.Namespace) -> list[Any] | None:
+    """The ``--policy`` of `args` as a labelled :class:`proxemic.policy.PolicyRef` list (empty without one).
+
+    None (after printing the error) for a ``--policy-name`` without ``--policy``.
+    """
+    from proxemic.policy import PolicyRef
+
+    if args.policy:
+        module = args.policy.partition(":")[0]
+        stem = Path(module).stem if module.endswith(".py") else module.rpartition(".")[2]
+        name = args.policy_name or stem
+        return [PolicyRef(name.rpartition("/")[2], args.policy, os.getcwd())]
+    if args.policy_name:
+        print("proxemic: error: --policy-name labels a --policy; no --policy given", file=sys.stderr)
+        return None
+    return []
+
+
 def _eval_crowdnav(args: argparse.Namespace) -> int:
-    """``eval --suite crowdnav``: the four settings of CrowdNav's protocol beside CrowdNav's own run."""
+    """``eval --suite crowdnav``: the four settings of CrowdNav's protocol beside CrowdNav's own run.
+
+    Every built-in planner by default; ``--planner`` picks some, ``--policy`` adds a user's policy.
+    """
     from proxemic import crowdnav
 
-    if args.policy or args.video or args.scenario is not None or args.archetype or args.max_time is not None:
+    if args.video or args.scenario is not None or args.archetype or args.max_time is not None:
         print(
-            "proxemic: error: --suite crowdnav runs its own scenes with built-in planners "
-            f"({', '.join(crowdnav.PLANNERS)}): no --policy, --video, --scenario, --archetype or --max-time",
+            "proxemic: error: --suite crowdnav runs its own scenes and episodes (CrowdNav's 25 s): "
+            "no --video, --scenario, --archetype or --max-time",
             file=sys.stderr,
         )
         return 2
+    policies = _policy_refs(args)
+    if policies is None:
+        return 2
+    for planner in args.planner or []:
+        if planner not in crowdnav.PLANNERS:
+            print(
+                f"proxemic: error: --planner {planner!r}: not a built-in planner of the CrowdNav protocol "
+                f"(one of {', '.join(crowdnav.PLANNERS)})",
+                file=sys.stderr,
+            )
+            return 2
     t0 = time.perf_counter()
-    rows = crowdnav.run_suite(args.planner, args.episodes, seed=args.seed)
+    rows = crowdnav.run_suite(args.planner, args.episodes, seed=args.seed, policies=policies)
     print(crowdnav.table_text(rows))
     print()
     print(f"{len(rows) * args.episodes} episodes in {time.perf_counter() - t0:.1f} s")
@@ -241,7 +273,6 @@ def _eval_crowdnav(args: argparse.Namespace) -> int:
 def cmd_eval(args: argparse.Namespace) -> int:
     """Seeded comparison of planners and user policies: records, summary with confidence intervals, plots."""
     from proxemic.evaluation import EvalConfig, policy_robot_note, robots_note, run_evaluation
-    from proxemic.policy import PolicyRef
 
     crowd = args.suite == "crowdnav"
     if args.episodes is None:
@@ -264,14 +295,8 @@ def cmd_eval(args: argparse.Namespace) -> int:
             file=sys.stderr,
         )
         return 2
-    policies = []
-    if args.policy:
-        module = args.policy.partition(":")[0]
-        stem = Path(module).stem if module.endswith(".py") else module.rpartition(".")[2]
-        name = args.policy_name or stem
-        policies.append(PolicyRef(name.rpartition("/")[2], args.policy, os.getcwd()))
-    elif args.policy_name:
-        print("proxemic: error: --policy-name labels a --policy; no --policy given", file=sys.stderr)
+    policies = _policy_refs(args)
+    if policies is None:
         return 2
     cfg = EvalConfig(
         scenario=args.scenario or "museum",
@@ -580,7 +605,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="run a scenario suite instead of one scenario: francis2023 (every archetype of Francis et al. 2023, "
         "episode k on the scene of seed k; a table per archetype); crowdnav (CrowdNav's circle and square "
-        "crossing, four settings, beside CrowdNav's own measured figures and the literature's)",
+        "crossing, four settings, every built-in planner and a --policy, beside CrowdNav's own measured figures and "
+        "the literature's)",
     )
     e.add_argument(
         "--archetype", action="append", default=None, help="with --suite: run only this archetype (repeat for more)"
@@ -597,7 +623,7 @@ def build_parser() -> argparse.ArgumentParser:
         help=_planner_help(
             "a built-in planner; repeat to compare (default without --policy: the non-social baselines "
             + ", ".join(BASELINE_PLANNERS)
-            + ")"
+            + "; with --suite crowdnav: every planner)"
         ),
     )
     e.add_argument(

@@ -12,8 +12,10 @@ generates it (``rust/proxemic-core/src/scenario/generate/crowdnav``) and runs it
 kinematically as CrowdNav does (``rust/proxemic-core/src/world/crowdnav.rs``): ORCA people, time
 step 0.25 s, CrowdNav's order of timeout, collision, goal and discomfort checks. The suite
 (:func:`run_suite`, ``proxemic eval --suite crowdnav``) runs the four settings of
-:data:`SETTINGS` on scene seeds ``seed, seed + 1, ...``, and :func:`table_text` prints the result
-beside CrowdNav's own run (``data/crowdnav/reference.json``, measured with its code; provenance in
+:data:`SETTINGS` on scene seeds ``seed, seed + 1, ...`` with every built-in planner of
+:data:`PLANNERS` and a user's policies (:func:`policy_episodes`: the policy drives the robot through
+the env's observation and action spaces, in the same kinematic episodes), and :func:`table_text`
+prints the result beside CrowdNav's own run (``data/crowdnav/reference.json``, measured with its code; provenance in
 the file) and the literature's figures. See ``docs/crowdnav.md``.
 """
 
@@ -28,12 +30,15 @@ from typing import Any
 
 from proxemic import _core, markdown
 from proxemic.errors import input_error
+from proxemic.policy import PolicyRef
+from proxemic.scenarios import CROWDNAV_PREFIX
 
 #: Prefix of a CrowdNav scene's name.
-PREFIX = "crowdnav/"
+PREFIX = CROWDNAV_PREFIX
 #: The suite's name for ``proxemic eval --suite``.
 SUITE = "crowdnav"
-#: The planners the protocol's kinematic episodes run.
+#: The planners the protocol's kinematic episodes run: every built-in planner (``astar_orca`` is
+#: CrowdNav's ORCA robot; the others drive through the core's world set to each step's state).
 PLANNERS: tuple[str, ...] = tuple(_core.CROWDNAV_PLANNERS)
 #: First scene seed of the suite's default run: the test split's first generated scene seed
 #: (``proxemic.splits.TEST_SCENE_SEEDS``); nothing was tuned on these scenes.
@@ -88,7 +93,10 @@ DIFFERENCES: tuple[str, ...] = (
     "positions rounded to centimetres in the scene file (CrowdNav keeps full precision)",
     "ORCA: proxemic's own implementation (plain RVO2 settings: no perturbation, no passing-side tilt), "
     "not the RVO2 library",
-    "only astar_orca runs the kinematic protocol; the other built-in planners need the MuJoCo world",
+    "the other built-in planners and a user's policy see the robot and the people through proxemic's world "
+    "(its perception, social maps and sensors: lidar and the 8 nearest people), not CrowdNav's joint state; "
+    "their commands are limited by the robot's limits with an acceleration that reaches any velocity in one step",
+    "CrowdNav's differential-drive (unicycle) robot is not run; the robot is holonomic",
 )
 
 
@@ -104,7 +112,7 @@ def reference() -> dict[str, Any]:
 
 
 def episodes(setting: Setting, seeds: Sequence[int], planner: str = "astar_orca") -> list[dict[str, Any]]:
-    """The episode records of `setting` on scene seeds `seeds` with `planner`.
+    """The episode records of `setting` on scene seeds `seeds` with the built-in `planner`.
 
     Raises:
         InputError: `planner` is not one of :data:`PLANNERS`.
@@ -112,6 +120,35 @@ def episodes(setting: Setting, seeds: Sequence[int], planner: str = "astar_orca"
     if planner not in PLANNERS:
         raise input_error("planner", f"one of {list(PLANNERS)}", planner)
     return _core.crowdnav_episodes([setting.spec(s) for s in seeds], planner)
+
+
+def policy_episodes(setting: Setting, seeds: Sequence[int], policy: PolicyRef) -> list[dict[str, Any]]:
+    """The episode records of `setting` on scene seeds `seeds` driven by a user's `policy`.
+
+    The policy is built as ``proxemic eval --policy`` builds it (its factory called with the env's
+    observation and action spaces of the setting's scene) and drives the robot in the protocol's
+    kinematic episodes: every step it gets the env's observation of the instant and its action
+    (normalised, robot frame) is limited as the env limits it, cut to 1 m/s and applied at once.
+    ``reset(seed)`` is called with each scene seed.
+
+    Raises:
+        InputError: The policy cannot be built, or returns an action that is not 3 finite numbers.
+        PolicyError: The policy raised.
+    """
+    from proxemic.evaluation.episodes import policy_env
+
+    env, actor = policy_env(setting.spec(seeds[0]) if seeds else setting.spec(TEST_SEED), policy)
+    ws = env.unwrapped.ws
+
+    def act(row: Any) -> tuple[float, ...]:
+        ws.out[:] = row
+        return tuple(actor(ws.observation(0, robots=False)).tolist())
+
+    records = []
+    for seed in seeds:
+        actor.reset(seed)
+        records.extend(_core.crowdnav_policy_episodes([setting.spec(seed)], act))
+    return records
 
 
 def summarise(records: Sequence[dict[str, Any]]) -> dict[str, Any]:
@@ -163,67 +200,101 @@ def agreement(ours: dict[str, Any], theirs: dict[str, Any]) -> dict[str, bool]:
 
 
 def run_suite(
-    planners: Sequence[str] | None = None, episodes_per_setting: int = EPISODES, seed: int = TEST_SEED
+    planners: Sequence[str] | None = None,
+    episodes_per_setting: int = EPISODES,
+    seed: int = TEST_SEED,
+    policies: Sequence[PolicyRef] = (),
 ) -> list[dict[str, Any]]:
-    """Every setting of :data:`SETTINGS` with every planner (default :data:`PLANNERS`).
+    """Every setting of :data:`SETTINGS` with every planner and policy.
 
-    Runs scene seeds ``seed .. seed + episodes_per_setting - 1``: one summary row per (setting,
-    planner), with ``setting``, ``planner`` and ``seeds`` added.
+    Planners default to :data:`PLANNERS` (none when `policies` are given, as ``proxemic eval``
+    does). Runs scene seeds ``seed .. seed + episodes_per_setting - 1``: one summary row per
+    (setting, planner or policy), with ``setting``, ``planner`` (a policy's name) and ``seeds``
+    added.
+
+    Raises:
+        InputError: A bad episode count, seed or planner name.
     """
     if isinstance(episodes_per_setting, bool) or not isinstance(episodes_per_setting, int) or episodes_per_setting < 1:
         raise input_error("episodes", "a positive integer", episodes_per_setting)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise input_error("seed", "a non-negative integer", seed)
+    chosen = list(planners) if planners else ([] if policies else list(PLANNERS))
+    for planner in chosen:
+        if planner not in PLANNERS:
+            raise input_error("planner", f"one of {list(PLANNERS)}", planner)
     seeds = range(seed, seed + episodes_per_setting)
     rows = []
     for setting in SETTINGS:
-        for planner in planners or PLANNERS:
-            row = summarise(episodes(setting, seeds, planner))
-            rows.append({"setting": setting.key, "planner": planner, "seeds": f"{seeds[0]}-{seeds[-1]}", **row})
+        runs = [(p, episodes(setting, seeds, p)) for p in chosen]
+        runs += [(ref.name, policy_episodes(setting, seeds, ref)) for ref in policies]
+        for name, records in runs:
+            row = summarise(records)
+            rows.append({"setting": setting.key, "planner": name, "seeds": f"{seeds[0]}-{seeds[-1]}", **row})
     return rows
 
 
 def table_text(rows: Sequence[dict[str, Any]]) -> str:
     """The suite's report as markdown.
 
-    Ours beside CrowdNav's own run with the agreement verdicts, the literature's figures and the
-    remaining setup differences.
+    Every planner's and policy's figures per setting below CrowdNav's own ORCA robot's, the
+    agreement of ``astar_orca`` (CrowdNav's ORCA robot in proxemic) with CrowdNav's run, the
+    literature's figures and the remaining setup differences.
     """
     ref = reference()
     labels = {s.key: s.label for s in SETTINGS}
-    out = []
-    for r in rows:
-        theirs = measured(r["setting"])
-        ok = agreement(r, theirs)
-        mark = {True: "ok", False: "DIFFERS"}
-        out.append(
-            [
-                labels[r["setting"]],
-                r["planner"],
-                f"{r['episodes']}",
-                f"{r['success_rate']:.3f} / {theirs['success_rate']:.3f} ({mark[ok['success']]})",
-                f"{r['collision_rate']:.3f} / {theirs['collision_rate']:.3f} ({mark[ok['collision']]})",
-                f"{r['mean_nav_time_s']:.2f} / {theirs['mean_nav_time_s']:.2f} ({mark[ok['nav_time']]})",
-                f"{r['discomfort_frequency']:.3f} / {theirs['discomfort_frequency']:.3f}",
-            ]
-        )
-    head = [
-        "setting",
-        "planner",
-        "episodes",
-        "success ours / CrowdNav",
-        "collision ours / CrowdNav",
-        "nav time (s) ours / CrowdNav",
-        "discomfort freq. ours / CrowdNav",
-    ]
+    order = {s.key: k for k, s in enumerate(SETTINGS)}
+    crowdnav_orca = "CrowdNav's ORCA robot (its code)"
+
+    def figures(r: dict[str, Any]) -> list[str]:
+        return [
+            f"{r['episodes']}",
+            f"{r['success_rate']:.3f}",
+            f"{r['collision_rate']:.3f}",
+            f"{r['timeout'] / r['episodes']:.3f}",
+            f"{r['mean_nav_time_s']:.2f}",
+            f"{r['discomfort_frequency']:.3f}",
+        ]
+
+    body = []
+    agree = []
+    mark = {True: "ok", False: "DIFFERS"}
+    for key in sorted({r["setting"] for r in rows}, key=order.__getitem__):
+        theirs = measured(key)
+        body.append([labels[key], crowdnav_orca, *figures(theirs)])
+        for r in (r for r in rows if r["setting"] == key):
+            body.append([labels[key], r["planner"], *figures(r)])
+            if r["planner"] == "astar_orca":
+                ok = agreement(r, theirs)
+                agree.append(
+                    [
+                        labels[key],
+                        f"{r['success_rate']:.3f} / {theirs['success_rate']:.3f} ({mark[ok['success']]})",
+                        f"{r['collision_rate']:.3f} / {theirs['collision_rate']:.3f} ({mark[ok['collision']]})",
+                        f"{r['mean_nav_time_s']:.2f} / {theirs['mean_nav_time_s']:.2f} ({mark[ok['nav_time']]})",
+                    ]
+                )
+    head = ["setting", "planner", "episodes", "success", "collision", "timeout", "nav time (s)", "discomfort freq."]
     prov = ref["provenance"]
     lines = [
-        "CrowdNav protocol: proxemic beside CrowdNav's own ORCA robot "
+        "CrowdNav protocol: proxemic's planners beside CrowdNav's own ORCA robot "
         f"(CrowdNav {prov['crowdnav_commit'][:10]}, {prov['episodes_per_setting']} test episodes per setting, "
-        f"measured {prov['date']}; agreement: rates within {RATE_TOLERANCE}, nav time within "
-        f"{TIME_TOLERANCE:.0%})",
+        f"measured {prov['date']}); nav time: mean over successes (25 s when none)",
         "",
-        markdown.table(head, out),
+        markdown.table(head, body),
+    ]
+    if agree:
+        lines += [
+            "",
+            f"Agreement of astar_orca with CrowdNav's ORCA robot (rates within {RATE_TOLERANCE}, nav time within "
+            f"{TIME_TOLERANCE:.0%}):",
+            "",
+            markdown.table(
+                ["setting", "success ours / CrowdNav", "collision ours / CrowdNav", "nav time (s) ours / CrowdNav"],
+                agree,
+            ),
+        ]
+    lines += [
         "",
         f"Literature ({ref['literature']['setting']}; {ref['literature']['source']}):",
         "",
@@ -239,3 +310,46 @@ def table_text(rows: Sequence[dict[str, Any]]) -> str:
         *[f"- {d}" for d in DIFFERENCES],
     ]
     return "\n".join(lines)
+
+
+#: The generated block of ``docs/crowdnav.md`` (every planner's figures), between these lines.
+DOCS_BEGIN = "<!-- BEGIN GENERATED: python -m proxemic.crowdnav docs/crowdnav.md (do not edit by hand) -->"
+#: ... and this one.
+DOCS_END = "<!-- END GENERATED -->"
+
+
+def write_docs(path: Path, episodes_per_setting: int = EPISODES, seed: int = TEST_SEED) -> list[dict[str, Any]]:
+    """Runs the suite with every built-in planner and writes its report into `path`'s generated block.
+
+    Returns the rows. Raises :class:`InputError` when `path` has no block (the two marker lines
+    :data:`DOCS_BEGIN` and :data:`DOCS_END`).
+    """
+    text = path.read_text(encoding="utf-8")
+    if DOCS_BEGIN not in text or DOCS_END not in text.partition(DOCS_BEGIN)[2]:
+        raise input_error(str(path), f"a block between {DOCS_BEGIN!r} and {DOCS_END!r}", "no such block")
+    rows = run_suite(None, episodes_per_setting, seed)
+    head, _, rest = text.partition(DOCS_BEGIN)
+    _, _, tail = rest.partition(DOCS_END)
+    block = (
+        f"Every built-in planner, scene seeds {seed}-{seed + episodes_per_setting - 1} of each setting "
+        f"(`proxemic eval --suite crowdnav --episodes {episodes_per_setting}` prints the same table):\n\n"
+        f"{table_text(rows)}\n"
+    )
+    path.write_text(f"{head}{DOCS_BEGIN}\n{block}{DOCS_END}{tail}", encoding="utf-8")
+    return rows
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m proxemic.crowdnav docs/crowdnav.md``: regenerates the docs' table of every planner."""
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m proxemic.crowdnav", description=main.__doc__)
+    parser.add_argument("page", type=Path, help="the docs page with the generated block (docs/crowdnav.md)")
+    parser.add_argument("--episodes", type=int, default=EPISODES, help=f"episodes per setting (default {EPISODES})")
+    args = parser.parse_args(argv)
+    write_docs(args.page, args.episodes)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

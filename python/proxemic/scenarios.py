@@ -102,6 +102,10 @@ GENERATED_PREFIX = "generated/"
 #: (see :mod:`proxemic.francis2023`).
 FRANCIS2023_PREFIX = "francis2023/"
 
+#: Prefix of a CrowdNav protocol scene: ``crowdnav/<family>[?humans=N&visible=B&seed=S]`` (see
+#: :mod:`proxemic.crowdnav`).
+CROWDNAV_PREFIX = "crowdnav/"
+
 #: Parameters of :func:`generate` (and of a ``generated/<seed>?...`` name), in the core's order.
 GENERATE_PARAMS: tuple[str, ...] = tuple(_core.GENERATE_PARAMS)
 
@@ -184,7 +188,9 @@ def load(
         scenario: Bundled name or path of a scenario file, a generated scene's name
             (``generated/<seed>`` or ``generated/<seed>?key=value&...``, see :func:`generate`), a
             Francis et al. 2023 archetype's scene (``francis2023/<archetype>[?seed=N&max_time=T]``, see
-            :mod:`proxemic.francis2023`), or an already validated scenario.
+            :mod:`proxemic.francis2023`), a CrowdNav protocol scene
+            (``crowdnav/<family>[?humans=N&visible=B&seed=S]``, see :mod:`proxemic.crowdnav`), or an
+            already validated scenario.
         planner: If given, every robot uses this built-in planner (one of ``PLANNERS``) instead of the file's.
         eband: If given, every robot's elastic-band gains (``contraction_gain``,
             ``repulsion_gain``, ``social_gain``; dimensionless, in [0, 100]) are replaced by these.
@@ -192,7 +198,7 @@ def load(
     """
     if isinstance(scenario, _core.Scenario):
         core = scenario
-    elif str(scenario).startswith((GENERATED_PREFIX, FRANCIS2023_PREFIX)):
+    elif str(scenario).startswith((GENERATED_PREFIX, FRANCIS2023_PREFIX, CROWDNAV_PREFIX)):
         core, _text = _core.generate(str(scenario))
     else:
         core = _core.Scenario.from_file(str(resolve(scenario)))

@@ -103,6 +103,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(scenario::scenario_schema, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::generate, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::crowdnav_episodes, m)?)?;
+    m.add_function(wrap_pyfunction!(scenario::crowdnav_policy_episodes, m)?)?;
     m.add("CROWDNAV_PLANNERS", proxemic_core::world::crowdnav::PLANNERS.to_vec())?;
     m.add("CROWDNAV_FAMILIES", proxemic_core::scenario::generate::crowdnav::FAMILIES.to_vec())?;
     validation::register(m)?;

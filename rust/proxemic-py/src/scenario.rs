@@ -210,3 +210,49 @@ pub(crate) fn crowdnav_episodes<'py>(
     })?;
     crate::conversions::to_py(py, "the CrowdNav episodes", &episodes)
 }
+
+/// A failure of a policy-driven episode: the core's, or the policy's Python exception.
+enum PolicyFail {
+    Core(CoreError),
+    Py(PyErr),
+}
+
+impl From<CoreError> for PolicyFail {
+    fn from(e: CoreError) -> Self {
+        PolicyFail::Core(e)
+    }
+}
+
+/// The CrowdNav protocol's kinematic episodes of the specs driven by `policy`, a callable given
+/// the robot's output row (a float64 array of the world's `stride` values, the observation in
+/// its `obs_*` sections as the env builds it) and returning a normalised action (3 floats, vx,
+/// vy, wz in [-1, 1], robot frame), once per step. Records as `crowdnav_episodes`. Raises
+/// `ScenarioError` for a bad spec, `InputError` for a non-finite action; an exception raised by
+/// `policy` propagates.
+#[pyfunction]
+pub(crate) fn crowdnav_policy_episodes<'py>(
+    py: Python<'py>,
+    specs: Vec<String>,
+    policy: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use proxemic_core::world::crowdnav::run_policy_episode;
+    use std::panic::{AssertUnwindSafe, catch_unwind};
+    let act = |row: &[f64]| -> Result<[f64; 3], PolicyFail> {
+        let arr = numpy::PyArray1::from_slice(py, row);
+        let a: (f64, f64, f64) = policy.call1((arr,)).and_then(|r| r.extract()).map_err(PolicyFail::Py)?;
+        Ok([a.0, a.1, a.2])
+    };
+    let run = || specs.iter().map(|s| run_policy_episode(s, act)).collect::<Result<Vec<_>, PolicyFail>>();
+    let episodes = match catch_unwind(AssertUnwindSafe(run)) {
+        Ok(Ok(e)) => e,
+        Ok(Err(PolicyFail::Core(e))) => return Err(crate::errors::to_py_err(py, e)),
+        Ok(Err(PolicyFail::Py(e))) => return Err(e),
+        Err(_) => {
+            return Err(crate::errors::internal_error(
+                py,
+                "internal error in the Rust core (a bug: please report it)",
+            ));
+        }
+    };
+    crate::conversions::to_py(py, "the CrowdNav episodes", &episodes)
+}

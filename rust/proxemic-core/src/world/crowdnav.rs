@@ -6,9 +6,13 @@
 //! One step of `dt` (0.25 s), from the state at time `t`:
 //! 1. every person's velocity for the step: ORCA toward its goal ([`OrcaPeople`]), seeing the
 //!    other people and, when the robot is visible, the robot;
-//! 2. the robot's velocity for the step, from its planner (`astar_orca`: ORCA toward the goal with
-//!    CrowdNav's robot parameters, holonomic, preferred velocity capped at 1 m/s; in these open
-//!    scenes the A* path is the straight line to the goal);
+//! 2. the robot's velocity for the step, from the same instant: `astar_orca` is CrowdNav's ORCA
+//!    robot (ORCA toward the goal with CrowdNav's robot parameters, holonomic, preferred velocity
+//!    capped at 1 m/s; in these open scenes the A* path is the straight line to the goal); every
+//!    other built-in planner, and a user's policy, drives through the core's [`World`], set to the
+//!    instant's robot and people ([`World::kinematic_observe`]): its command (or the policy's
+//!    action on the env's observation), limited by the robot's limits with the acceleration
+//!    [`INSTANT_ACCEL`], cut to 1 m/s, applied at once (holonomic, as CrowdNav's robot);
 //! 3. the swept closest distance to each person: the distance from the robot to the segment the
 //!    person sweeps relative to the robot over the step, using the person's velocity *of the last
 //!    step* and the robot's new one, minus both radii; below 0 is a collision (the scan stops at
@@ -26,14 +30,26 @@
 
 use serde::Serialize;
 
+use super::World;
+use super::kinematic::KinematicRobot;
+use crate::control::clamp_norm;
 use crate::error::{CoreError, Result};
 use crate::geom::distance_point_segment;
 use crate::math::Vec2;
 use crate::pedestrians::orca::{OrcaBody, OrcaPeople};
-use crate::scenario::generate::crowdnav::{self, DISCOMFORT_DIST, Spec, TIME_LIMIT, TIME_STEP};
+use crate::scenario::PlannerKind;
+use crate::scenario::generate::crowdnav::{self, DISCOMFORT_DIST, Spec, TIME_LIMIT, TIME_STEP, V_PREF};
+use crate::world::PERSON_OUT;
 
-/// The planners the protocol's kinematic episodes run.
-pub const PLANNERS: [&str; 1] = ["astar_orca"];
+/// The planners the protocol's kinematic episodes run: every built-in planner. `astar_orca` is
+/// CrowdNav's ORCA robot (its own solver call, as CrowdNav's `ORCA` policy); the others drive
+/// through the core's [`World`] set kinematically every step ([`super::kinematic`]).
+pub const PLANNERS: &[&str] = PlannerKind::NAMES;
+
+/// The robot's linear acceleration limit in the protocol's worlds (m/s²): any velocity within
+/// the 1 m/s cap is reached in one step of 0.25 s (`2 × 1 m/s / 0.25 s`), so a planner's desired
+/// velocity is applied at once, as CrowdNav applies its robot's action (holonomic, no dynamics).
+pub const INSTANT_ACCEL: f64 = 2.0 * V_PREF / TIME_STEP;
 
 /// How a CrowdNav episode ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -65,21 +81,120 @@ pub struct CrowdNavEpisode {
     pub min_dist: f64,
 }
 
-/// Runs the episode of a `crowdnav/...` spec with `planner` (one of [`PLANNERS`]). Errors:
-/// [`CoreError::Scenario`] for a bad spec, [`CoreError::Input`] naming `planner` when it is not
-/// one of [`PLANNERS`].
+/// The state of an episode at the start of a step, as the robot's driver sees it.
+struct Instant<'a> {
+    /// Steps taken so far.
+    step: usize,
+    /// The robot (its velocity is its last action).
+    robot: &'a OrcaBody,
+    /// Its heading (rad) and angular velocity (rad/s).
+    theta: f64,
+    wz: f64,
+    /// The people (each one's velocity is its last action).
+    humans: &'a [OrcaBody],
+}
+
+/// Runs the episode of a `crowdnav/...` spec with the built-in `planner` (one of [`PLANNERS`]).
+/// Errors: [`CoreError::Scenario`] for a bad spec, [`CoreError::Input`] naming `planner` when it
+/// is not one of [`PLANNERS`], the world's errors for a scene it cannot build.
 pub fn run_episode(spec: &str, planner: &str) -> Result<CrowdNavEpisode> {
-    if !PLANNERS.contains(&planner) {
-        return Err(CoreError::input("planner", format!("one of {PLANNERS:?}"), format!("{planner:?}")));
-    }
+    let kind = PlannerKind::parse(planner)
+        .ok_or_else(|| CoreError::input("planner", format!("one of {PLANNERS:?}"), format!("{planner:?}")))?;
     let s: Spec = crowdnav::parse_spec(spec)?;
     let people = crowdnav::draw_people(&s)?;
-    simulate(s.text(), &people, s.visible)
+    if kind == PlannerKind::AstarOrca {
+        let mut orca = OrcaPeople::new()?;
+        let mut bodies: Vec<OrcaBody> = Vec::with_capacity(people.len() + 1);
+        return simulate(s.text(), &people, s.visible, |now| {
+            // CrowdNav's ORCA robot: every person a reciprocal neighbour.
+            bodies.clear();
+            bodies.push(*now.robot);
+            bodies.extend_from_slice(now.humans);
+            Ok((orca.velocities(&bodies, &[0], TIME_STEP)?[0], 0.0))
+        });
+    }
+    let mut driver = WorldDriver::new(&s, kind, true)?;
+    simulate(s.text(), &people, s.visible, |now| driver.drive(&now, None::<&mut NoPolicy>))
+}
+
+/// No user policy (the built-in planner drives).
+type NoPolicy = fn(&[f64]) -> Result<[f64; 3]>;
+
+/// Runs the episode of a `crowdnav/...` spec driven by a user's policy: `act` gets the robot's
+/// row of the world's output ([`super::Layout`]; the observation in its `obs_*` sections, as the
+/// env builds it) and returns a normalised action (vx, vy, wz in [-1, 1], robot frame), limited
+/// as the env limits it. Errors: as [`run_episode`], and `act`'s.
+pub fn run_policy_episode<E: From<CoreError>>(
+    spec: &str,
+    mut act: impl FnMut(&[f64]) -> std::result::Result<[f64; 3], E>,
+) -> std::result::Result<CrowdNavEpisode, E> {
+    let s: Spec = crowdnav::parse_spec(spec)?;
+    let people = crowdnav::draw_people(&s)?;
+    let mut driver = WorldDriver::new(&s, PlannerKind::Astar, false)?;
+    simulate(s.text(), &people, s.visible, |now| driver.drive(&now, Some(&mut act)))
+}
+
+/// A world of the scene whose robot is driven kinematically ([`World::kinematic_observe`]).
+struct WorldDriver {
+    world: World,
+    out: Vec<f64>,
+    people: Vec<(Vec2, Vec2)>,
+}
+
+impl WorldDriver {
+    /// The world of spec `s` with the robot on `planner` (its planner off without `planning`: a
+    /// user's policy drives), the acceleration limit [`INSTANT_ACCEL`], reset with the scene's
+    /// seed.
+    fn new(s: &Spec, planner: PlannerKind, planning: bool) -> Result<Self> {
+        let mut scenario = crowdnav::build(s)?.scenario;
+        for r in &mut scenario.robots {
+            r.planner = planner;
+            r.max_accel = INSTANT_ACCEL;
+        }
+        let mut world = World::new(scenario)?;
+        if !planning {
+            world.set_planning(&[false])?;
+        }
+        let mut out = vec![0.0; world.layout().stride];
+        let mut people_out = vec![0.0; world.num_people() * PERSON_OUT];
+        world.reset(s.seed, &mut out, &mut people_out)?;
+        Ok(WorldDriver { world, out, people: Vec::new() })
+    }
+
+    /// The robot's velocity and angular velocity for the step from `now`: the world set to
+    /// `now`, then its planner's command or `act`'s action on the observation, the speed cut to
+    /// CrowdNav's 1 m/s.
+    fn drive<E: From<CoreError>>(
+        &mut self,
+        now: &Instant<'_>,
+        act: Option<&mut impl FnMut(&[f64]) -> std::result::Result<[f64; 3], E>>,
+    ) -> std::result::Result<(Vec2, f64), E> {
+        self.people.clear();
+        self.people.extend(now.humans.iter().map(|h| (h.pos, h.vel)));
+        let robot = KinematicRobot {
+            pose: [now.robot.pos.x, now.robot.pos.y, now.theta],
+            velocity: now.robot.vel,
+            wz: now.wz,
+        };
+        self.world.kinematic_observe(robot, &self.people, now.step > 0, &mut self.out)?;
+        let action = match act {
+            Some(act) => Some(act(&self.out)?),
+            None => None,
+        };
+        let (v, wz) = self.world.kinematic_command(action, &mut self.out)?;
+        Ok((clamp_norm(v, V_PREF), wz))
+    }
 }
 
 /// The episode of the people `(start, goal)` and the robot from CrowdNav's start to its goal;
-/// `visible`: the people see the robot.
-fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Result<CrowdNavEpisode> {
+/// `visible`: the people see the robot. `drive` gives the robot's velocity and angular velocity
+/// for each step.
+fn simulate<E: From<CoreError>>(
+    spec: String,
+    people: &[([f64; 2], [f64; 2])],
+    visible: bool,
+    mut drive: impl FnMut(Instant<'_>) -> std::result::Result<(Vec2, f64), E>,
+) -> std::result::Result<CrowdNavEpisode, E> {
     let body = |pos: [f64; 2], goal: [f64; 2]| OrcaBody {
         pos: Vec2::new(pos[0], pos[1]),
         vel: Vec2::zeros(),
@@ -88,6 +203,8 @@ fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Res
         v_pref: crowdnav::V_PREF,
     };
     let mut robot = body(crowdnav::ROBOT_START, crowdnav::ROBOT_GOAL);
+    let mut theta = crowdnav::ROBOT_HEADING;
+    let mut wz = 0.0;
     let mut humans: Vec<OrcaBody> = people.iter().map(|(p, g)| body(*p, *g)).collect();
     let mut orca = OrcaPeople::new()?;
     let n = humans.len();
@@ -103,7 +220,7 @@ fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Res
         discomfort_dist_sum: 0.0,
         min_dist: f64::INFINITY,
     };
-    loop {
+    for step in 0.. {
         // 1. The people's velocities: each sees the others and, if visible, the robot.
         bodies.clear();
         bodies.extend_from_slice(&humans);
@@ -111,11 +228,8 @@ fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Res
             bodies.push(robot);
         }
         let human_vel = orca.velocities(&bodies, &everyone, dt)?;
-        // 2. The robot's velocity: ORCA with every person as a neighbour.
-        bodies.clear();
-        bodies.push(robot);
-        bodies.extend_from_slice(&humans);
-        let action = orca.velocities(&bodies, &[0], dt)?[0];
+        // 2. The robot's velocity, from the same instant.
+        let (action, turn) = drive(Instant { step, robot: &robot, theta, wz, humans: &humans })?;
         // 3. Swept closest distance, with each person's velocity of the last step.
         let mut dmin = f64::INFINITY;
         let mut collision = false;
@@ -148,6 +262,8 @@ fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Res
         // 6. Move.
         robot.pos += action * dt;
         robot.vel = action;
+        theta += turn * dt;
+        wz = turn;
         for (h, v) in humans.iter_mut().zip(&human_vel) {
             h.pos += *v * dt;
             h.vel = *v;
@@ -159,6 +275,7 @@ fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Res
             return Ok(rec);
         }
     }
+    unreachable!("the time limit ends every episode")
 }
 
 /// The figures CrowdNav's explorer prints, over a set of episodes.

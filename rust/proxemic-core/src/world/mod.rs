@@ -32,6 +32,7 @@ pub mod batch;
 mod build;
 pub mod crowdnav;
 mod daza;
+pub mod kinematic;
 pub mod layout;
 pub mod observe;
 pub mod planners;

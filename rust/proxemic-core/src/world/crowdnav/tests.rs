@@ -2,6 +2,16 @@ use super::*;
 
 const FAR: ([f64; 2], [f64; 2]) = ([100.0, 100.0], [100.0, 100.0]);
 
+/// The episode with CrowdNav's ORCA robot (`astar_orca`'s driver).
+fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Result<CrowdNavEpisode> {
+    let mut orca = OrcaPeople::new()?;
+    super::simulate(spec, people, visible, |now| {
+        let mut bodies = vec![*now.robot];
+        bodies.extend_from_slice(now.humans);
+        Ok((orca.velocities(&bodies, &[0], TIME_STEP)?[0], 0.0))
+    })
+}
+
 #[test]
 fn an_unobstructed_robot_arrives_on_crowdnavs_step() {
     // 1 m/s until the goal is 1 m away (28 steps of 0.25 m), then the preferred velocity is the
@@ -62,7 +72,7 @@ fn the_summary_counts_as_crowdnavs_explorer() {
 
 #[test]
 fn unknown_planners_and_bad_specs_are_named() {
-    let e = run_episode("crowdnav/circle_crossing", "social").expect_err("an error").to_string();
+    let e = run_episode("crowdnav/circle_crossing", "nobody").expect_err("an error").to_string();
     assert!(e.contains("planner"), "{e}");
     let e = run_episode("crowdnav/circle_crossing?humans=x", "astar_orca").expect_err("an error").to_string();
     assert!(e.contains("humans"), "{e}");
@@ -73,4 +83,76 @@ fn episodes_are_deterministic() {
     let a = run_episode("crowdnav/circle_crossing?humans=20&seed=3", "astar_orca").expect("ok");
     let b = run_episode("crowdnav/circle_crossing?humans=20&seed=3", "astar_orca").expect("ok");
     assert_eq!(a, b);
+}
+
+#[test]
+fn every_built_in_planner_drives_a_deterministic_episode() {
+    let spec = "crowdnav/circle_crossing?humans=5&seed=10003";
+    for planner in PLANNERS {
+        let a = run_episode(spec, planner).unwrap_or_else(|e| panic!("{planner}: {e}"));
+        let b = run_episode(spec, planner).unwrap_or_else(|e| panic!("{planner}: {e}"));
+        assert_eq!(a, b, "{planner}");
+        assert!(a.time > 0.0 && a.time <= TIME_LIMIT, "{planner}: {a:?}");
+    }
+}
+
+#[test]
+fn an_unobstructed_planner_arrives_at_crowdnavs_speed() {
+    // Alone, the path follower drives the 8 m at up to 1 m/s (its own slowing into the goal):
+    // it arrives, no sooner than 7.75 s (8 m less the 0.3 m radius, in whole 0.25 s steps).
+    let s = crowdnav::parse_spec("crowdnav/circle_crossing?humans=1&seed=0").expect("spec");
+    let mut d = WorldDriver::new(&s, PlannerKind::Astar, true).expect("world");
+    let e = super::simulate(s.text(), &[FAR], false, |now| d.drive(&now, None::<&mut NoPolicy>)).expect("ok");
+    assert_eq!(e.outcome, CrowdNavOutcome::Success, "{e:?}");
+    assert!(e.time >= 7.75 && e.time < 12.0, "{e:?}");
+}
+
+#[test]
+fn a_policy_drives_through_the_observation_every_step() {
+    // The policy is asked once per step, with the robot's observation row; the same policy gives
+    // the same episode.
+    let spec = "crowdnav/circle_crossing?humans=3&seed=10000";
+    let run = || {
+        let mut calls = 0usize;
+        let e = run_policy_episode(spec, |row: &[f64]| {
+            calls += 1;
+            assert!(row.iter().all(|v| v.is_finite()));
+            Ok::<_, CoreError>([1.0, 0.2, 0.0])
+        })
+        .expect("ok");
+        (e, calls)
+    };
+    let (e, calls) = run();
+    let steps =
+        if e.outcome == CrowdNavOutcome::Timeout { 97 } else { (e.time / TIME_STEP).round() as usize };
+    assert_eq!(calls, steps, "{e:?}");
+    assert_eq!(run().0, e);
+    let bad = run_policy_episode(spec, |_: &[f64]| Ok::<_, CoreError>([f64::NAN, 0.0, 0.0]));
+    assert!(bad.expect_err("an error").to_string().contains("action"));
+}
+
+#[test]
+fn the_kinematic_world_names_bad_states() {
+    let s = crowdnav::parse_spec("crowdnav/circle_crossing?humans=2&seed=10000").expect("spec");
+    let scenario = crowdnav::build(&s).expect("scene").scenario;
+    let mut fresh = World::new(scenario).expect("world");
+    let robot = KinematicRobot { pose: [0.0, -4.0, 1.57], velocity: Vec2::zeros(), wz: 0.0 };
+    let mut out = vec![0.0; fresh.layout().stride];
+    let people = [(Vec2::new(1.0, 1.0), Vec2::zeros()); 2];
+    let e = fresh.kinematic_observe(robot, &people, false, &mut out).expect_err("before reset");
+    assert!(e.to_string().contains("reset"), "{e}");
+    let mut d = WorldDriver::new(&s, PlannerKind::Social, true).expect("world");
+    let w = &mut d.world;
+    let e = w.kinematic_observe(robot, &people[..1], true, &mut out).expect_err("one person short");
+    assert!(e.to_string().contains("people"), "{e}");
+    let nan = KinematicRobot { velocity: Vec2::new(f64::NAN, 0.0), ..robot };
+    let e = w.kinematic_observe(nan, &people, true, &mut out).expect_err("not finite");
+    assert!(e.to_string().contains("robot"), "{e}");
+    let e = w.kinematic_observe(robot, &people, true, &mut out[1..]).expect_err("short buffer");
+    assert!(e.to_string().contains("out"), "{e}");
+    w.kinematic_observe(robot, &people, true, &mut out).expect("ok");
+    let e = w.kinematic_command(Some([f64::INFINITY, 0.0, 0.0]), &mut out).expect_err("not finite");
+    assert!(e.to_string().contains("action"), "{e}");
+    let (v, _) = w.kinematic_command(Some([1.0, 1.0, 0.0]), &mut out).expect("ok");
+    assert!(v.norm() <= V_PREF + 1e-12, "{v:?}");
 }

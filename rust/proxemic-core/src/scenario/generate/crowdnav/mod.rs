@@ -150,6 +150,10 @@ pub const ROBOT_START: [f64; 2] = [0.0, -CIRCLE_RADIUS];
 /// The robot's goal (m).
 pub const ROBOT_GOAL: [f64; 2] = [0.0, CIRCLE_RADIUS];
 
+/// The robot's start heading (rad): toward its goal, π/2 written to two decimals as the scene file
+/// writes it.
+pub const ROBOT_HEADING: f64 = 1.57;
+
 /// The people's starts and goals of a parsed spec, `(start, goal)` per person, rounded to
 /// centimetres. Errors: no room for a person after many draws.
 pub fn draw_people(s: &Spec) -> Result<Vec<([f64; 2], [f64; 2])>> {
@@ -235,11 +239,7 @@ pub fn build(s: &Spec) -> Result<Generated> {
     let _ = writeln!(
         t,
         "[[robot]]\nname = \"robot_0\"\nstart = [{:?}, {:?}, {:?}]\ngoal = [{:?}, {:?}]\nradius = {RADIUS:?}\nmax_speed = {V_PREF:?}\nplanner = \"astar_orca\"\n",
-        ROBOT_START[0],
-        ROBOT_START[1],
-        round2(std::f64::consts::FRAC_PI_2),
-        ROBOT_GOAL[0],
-        ROBOT_GOAL[1]
+        ROBOT_START[0], ROBOT_START[1], ROBOT_HEADING, ROBOT_GOAL[0], ROBOT_GOAL[1]
     );
     let _ = writeln!(t, "[episode]\nmax_time = {TIME_LIMIT:?}\nsuccess_radius = {RADIUS:?}\n");
     let _ = writeln!(
