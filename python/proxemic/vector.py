@@ -204,8 +204,11 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         if not self.autopilot:
             a = _check_actions(actions, n)
             self._actions[:, :3] = a
-        resetting = [k for k in range(n) if self._autoreset[k]]
-        stepping = [k for k in range(n) if not self._autoreset[k]] if resetting else self._all
+        if self._autoreset.any():
+            resetting: list[int] = np.flatnonzero(self._autoreset).tolist()
+            stepping: list[int] = np.flatnonzero(~self._autoreset).tolist()
+        else:
+            resetting, stepping = [], self._all
         for k in resetting:
             self._reset_world(k, None)
             self._seeds[k] = (self._seeds[k][0], self._seeds[k][1] + 1)
@@ -219,8 +222,9 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             rewards[resetting] = 0.0
             terminated[resetting] = False
             truncated[resetting] = False
-        ended = [k for k in stepping if terminated[k] or truncated[k]]
-        self._autoreset[:] = terminated | truncated
+        done = terminated | truncated
+        ended: list[int] = np.flatnonzero(done).tolist()  # resetting worlds are not done
+        self._autoreset[:] = done
         return self._observations(), rewards, terminated, truncated, self._infos(self._all, ended)
 
     def close_extras(self, **kwargs: Any) -> None:
@@ -333,33 +337,37 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
     def _infos(self, present: list[int], ended: list[int]) -> dict[str, Any]:
         """The plain env's info keys as batched arrays with ``_key`` masks (worlds `present`).
 
-        The metrics of the worlds in `ended` are added under ``metrics`` (masked).
+        Worlds not present hold zeros (None for ``planner_mode``). The metrics of the worlds in
+        `ended` are added under ``metrics`` (masked).
         """
         n = self.num_envs
-        mask = np.zeros(n, dtype=bool)
-        mask[present] = True
-        vals = self._out[:, self._info_cols]
+        everyone = len(present) == n
+        mask = np.ones(n, dtype=bool) if everyone else np.zeros(n, dtype=bool)
+        if not everyone:
+            mask[present] = True
+        # Every info column of every world in one copy, one row per column (the infos' arrays
+        # are its rows).
+        vals = self._out[:, self._info_cols].T.copy()
+        if not everyone:
+            vals[:, ~mask] = 0.0
         nterms = len(REWARD_KEYS)
         infos: dict[str, Any] = {}
-
-        def put(key: str, value: np.ndarray) -> None:
-            if len(present) < n:
-                value = np.where(mask.reshape(-1, *([1] * (value.ndim - 1))), value, np.zeros_like(value))
-            infos[key] = value
-            infos[f"_{key}"] = mask.copy()
-
         for j, key in enumerate(REWARD_KEYS):
-            put(key, vals[:, j].copy())
-        put("is_success", vals[:, nterms] != 0.0)
-        put("collision", vals[:, nterms + 1] != 0.0)
+            infos[key], infos[f"_{key}"] = vals[j], mask.copy()
+        infos["is_success"], infos["_is_success"] = vals[nterms] != 0.0, mask.copy()
+        infos["collision"], infos["_collision"] = vals[nterms + 1] != 0.0, mask.copy()
         if self._planning:
             off, length = self._layout["planner_action"]
-            put("planner_action", self._out[:, off : off + length].astype(np.float32))
+            actions = self._out[:, off : off + length].astype(np.float32)
+            if not everyone:
+                actions[~mask] = 0.0
+            infos["planner_action"], infos["_planner_action"] = actions, mask.copy()
             modes = np.full(n, None, dtype=object)
+            codes = vals[nterms + 2].tolist()
             for k in present:
-                modes[k] = PLANNER_MODES[int(vals[k, nterms + 2])]
+                modes[k] = PLANNER_MODES[int(codes[k])]
             infos["planner_mode"], infos["_planner_mode"] = modes, mask.copy()
-        put("time_of_day", vals[:, nterms + 3].copy())
+        infos["time_of_day"], infos["_time_of_day"] = vals[nterms + 3], mask.copy()
         for k in ended:
             infos = self._add_info(infos, {"metrics": self._metrics(k)}, k)
         return infos
