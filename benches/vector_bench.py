@@ -10,18 +10,19 @@ episode ends. The async mode runs one subprocess per sub-env, so it only gains w
 
 Training throughput (issue 45): ``TRAIN_ENVS`` (8) policy-driven museum worlds (the actions of a
 policy, here uniform random from a seeded action space and drawn before the clock starts, not the
-autopilot) as
-``proxemic.vector_env(..., threads=os.cpu_count())`` against one env and against
+autopilot) as ``proxemic.vector_env(..., threads=os.cpu_count())`` against one env playing the
+same 8 episodes with the same actions one after the other, and against
 ``gymnasium.vector.SyncVectorEnv`` of the same worlds (and the vector env on one thread),
 interleaved over ``TRAIN_TRIALS`` trials (wall time). Target: the vector env at least
 ``TRAIN_TARGET`` (2.5) times one env's steps/s, the median of per-trial ratios; a miss prints
 ``MISSED`` and the bench exits with status 1. Beside it: the cores the vector env's process used
 (process CPU time over wall time: below 2 on a 2-core machine means other work held a core), the
 best ratio all the cores would give (one env's CPU time per env step over the vector env's, times
-the threads), and where one env step spends its time (thread CPU, the same env and actions): the
-Python env around the core call, the core (people, metrics, observations), MuJoCo's calls
-(``mj_step``, ``mj_getState``, ``mj_setState``) and the Python of the physics callback around
-them (the timing wrappers add about a microsecond per wrapped call).
+the threads; also with the one-thread vector env's CPU time, as if the threads added no work),
+and where one env step spends its time (thread CPU, the same env and actions): the Python env
+around the core call, the core (people, metrics, observations), MuJoCo's calls (``mj_step``,
+``mj_getState``, ``mj_setState``) and the Python of the physics callback around them (the timing
+wrappers add about a microsecond per wrapped call).
 
 Run: ``python benches/vector_bench.py [--num-envs 2 4] [--steps 300]`` (``make bench`` does);
 ``--train-only`` runs only the training-throughput rows.
@@ -39,6 +40,7 @@ from typing import Any
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 import gymnasium as gym
+import numpy as np
 
 import proxemic
 
@@ -46,7 +48,7 @@ ENV_ID = "proxemic/Museum-v3"
 TRIALS = 3
 #: Worlds of the training-throughput rows, their trials and vector steps per trial.
 TRAIN_ENVS = 8
-TRAIN_TRIALS = 5
+TRAIN_TRIALS = 7
 TRAIN_STEPS = 150
 #: The vector env's target: at least this many times one env's steps/s (issue 45).
 TRAIN_TARGET = 2.5
@@ -64,24 +66,37 @@ def steps_per_second(env: Any, steps: int, num_envs: int) -> float:
     return steps * max(num_envs, 1) / (time.perf_counter() - t0)
 
 
-def policy_steps_per_second(env: Any, steps: int, num_envs: int) -> tuple[float, float]:
-    """Sub-env steps per second (wall) and process CPU seconds per sub-env step, actions given.
+def policy_steps_per_second(env: Any, actions: np.ndarray) -> tuple[float, float]:
+    """Env steps per second (wall) and process CPU seconds per env step of `n` worlds' episodes.
 
-    The actions of `steps` (vector or plain) steps are drawn from the seeded action space before
-    the clock starts, so that neither side pays for its policy (gymnasium's ``Box.sample`` costs
-    as much per call as a third of an env step, and the vector env draws one call for all worlds).
+    `actions` is (steps, n, 3), drawn before the clock starts (neither side pays for a policy).
+    A vector env (``num_envs`` n) steps them as they are, its worlds reset with seeds 0 to n - 1
+    and autoreset; a plain env plays the same n episodes one after the other (world k: reset with
+    seed k, then its actions, an ended episode reset in place of the next step as the vector
+    envs' autoreset does), so that every row does the same work, step for step.
     """
-    env.reset(seed=0)
-    env.action_space.seed(0)
-    actions = [env.action_space.sample() for _ in range(steps)]
-    c0, t0 = time.process_time(), time.perf_counter()
-    for a in actions:
-        _, _, terminated, truncated, _ = env.step(a)
-        if num_envs == 0 and (terminated or truncated):
-            env.reset()
-    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-    done = steps * max(num_envs, 1)
-    return done / wall, cpu / done
+    steps, n, _ = actions.shape
+    if getattr(env, "num_envs", None) == n:
+        env.reset(seed=0)
+        c0, t0 = time.process_time(), time.perf_counter()
+        for a in actions:
+            env.step(a)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+    else:
+        wall = cpu = 0.0
+        for k in range(n):
+            env.reset(seed=k)
+            done = False
+            c0, t0 = time.process_time(), time.perf_counter()
+            for a in actions[:, k]:
+                if done:
+                    env.reset()
+                    done = False
+                else:
+                    _, _, terminated, truncated, _ = env.step(a)
+                    done = terminated or truncated
+            wall, cpu = wall + time.perf_counter() - t0, cpu + time.process_time() - c0
+    return steps * n / wall, cpu / (steps * n)
 
 
 def step_breakdown(steps: int = 2000) -> dict[str, float]:
@@ -151,25 +166,27 @@ def training_throughput() -> bool:
     from proxemic.env import ProxemicEnv
 
     n, threads = TRAIN_ENVS, os.cpu_count() or 1
-    envs: dict[str, tuple[Any, int]] = {
-        "single env": (gym.make(ENV_ID), 0),
-        f"SyncVectorEnv x{n}": (gym.vector.SyncVectorEnv([lambda: ProxemicEnv("museum")] * n), n),
-        f"vector_env 1 thread x{n}": (proxemic.vector_env(ENV_ID, num_envs=n), n),
-        f"vector_env {threads} threads x{n}": (proxemic.vector_env(ENV_ID, num_envs=n, threads=threads), n),
+    envs: dict[str, Any] = {
+        "single env": gym.make(ENV_ID),
+        f"SyncVectorEnv x{n}": gym.vector.SyncVectorEnv([lambda: ProxemicEnv("museum")] * n),
+        f"vector_env 1 thread x{n}": proxemic.vector_env(ENV_ID, num_envs=n),
+        f"vector_env {threads} threads x{n}": proxemic.vector_env(ENV_ID, num_envs=n, threads=threads),
     }
     vec = f"vector_env {threads} threads x{n}"
     results: dict[str, list[float]] = {k: [] for k in envs}
     cpu: dict[str, list[float]] = {k: [] for k in envs}  # process CPU seconds per env step
     cores: list[float] = []
+    space = envs["single env"].action_space
+    space.seed(0)
+    actions = np.array([[space.sample() for _ in range(n)] for _ in range(TRAIN_STEPS)])
     for _ in range(TRAIN_TRIALS):
-        for name, (env, k) in envs.items():
-            steps = TRAIN_STEPS * n if k == 0 else TRAIN_STEPS  # as many env steps for one env
-            rate, per_step = policy_steps_per_second(env, steps, k)
+        for name, env in envs.items():
+            rate, per_step = policy_steps_per_second(env, actions)
             results[name].append(rate)
             cpu[name].append(per_step)
             if name == vec:
                 cores.append(rate * per_step)  # CPU seconds per wall second
-    for env, _ in envs.values():
+    for env in envs.values():
         env.close()
     parts = step_breakdown()
     base = results["single env"]
@@ -187,11 +204,15 @@ def training_throughput() -> bool:
     ratio = statistics.median([v / b for v, b in zip(results[vec], base, strict=True)])
     sync = statistics.median([v / s for v, s in zip(results[vec], results[f"SyncVectorEnv x{n}"], strict=True)])
     # What all the cores, free, would give at best: one env's CPU per step over the vector env's,
-    # times the threads (the Python parts hold the GIL, so even that is not reached).
-    bound = threads * statistics.median(cpu["single env"]) / statistics.median(cpu[vec])
+    # times the threads, with the CPU the threaded vector env spent and with the one-thread
+    # vector env's (the threads adding no work of their own). The Python parts hold the GIL, so
+    # even that is not reached.
+    single_cpu = statistics.median(cpu["single env"])
+    bounds = [threads * single_cpu / statistics.median(cpu[k]) for k in (vec, f"vector_env 1 thread x{n}")]
     print(
         f"  {vec} / SyncVectorEnv x{n}: {sync:.2f}x; cores used by the vector env: {statistics.median(cores):.2f}; "
-        f"with {threads} free cores at most {bound:.2f}x one env (CPU per env step)"
+        f"with {threads} free cores at most {bounds[0]:.2f}x one env ({bounds[1]:.2f}x at one thread's CPU per "
+        "env step)"
     )
     total = sum(parts.values())
     print(
