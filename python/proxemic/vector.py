@@ -274,8 +274,8 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             except BaseException as e:  # the other groups are still waited for
                 errors.append(e)
             for f in futures:
-                if (e := f.exception()) is not None:
-                    errors.append(e)
+                if (failed := f.exception()) is not None:
+                    errors.append(failed)
             if errors:
                 raise errors[0]
 
