@@ -84,9 +84,11 @@ def test_vector_env_is_a_gymnasium_vector_env_with_batched_spaces():
         envs.close()
 
 
-def test_vector_env_world_k_is_the_plain_env_seeded_seed_plus_k():
+@pytest.mark.parametrize("threads", [1, 2])
+def test_vector_env_world_k_is_the_plain_env_seeded_seed_plus_k(threads):
+    """Bit for bit, also with the worlds stepped in groups on two threads (groups [0, 1] and [2])."""
     actions = _actions(3)
-    envs = proxemic.vector_env("museum", num_envs=3)
+    envs = proxemic.vector_env("museum", num_envs=3, threads=threads)
     obs, _ = envs.reset(seed=7)
     vec = [(obs, None, None, None)]
     for a in actions:
@@ -126,25 +128,38 @@ def _same(a, b, where):
             np.testing.assert_array_equal(a, b, err_msg=where)
 
 
-@pytest.mark.parametrize("threads", [1, 2])
-def test_vector_env_autoresets_as_the_sync_vector_env(tmp_path, threads):
+@pytest.mark.parametrize(("num_envs", "threads"), [(2, 1), (2, 2), (4, 2)])
+def test_vector_env_autoresets_as_the_sync_vector_env(tmp_path, num_envs, threads):
     """Episodes of 3 s (30 steps) end within 70 steps: the NEXT_STEP autoreset, rewards, flags,
-    observations and infos (metrics included) equal gymnasium's sync vector env's."""
+    observations and infos (metrics included) equal gymnasium's sync vector env's.
+
+    With 4 worlds on 2 threads, world 1 is reset alone at step 10 (``reset_mask``), so that its
+    episode ends after the others' and the autoreset leaves a thread a group of worlds that are
+    not consecutive (0 and 2), stepped on copies of their rows.
+    """
     from proxemic.env import ProxemicEnv
 
     path = _short_scene(tmp_path)
-    ours = proxemic.vector_env(path, num_envs=2, threads=threads)
-    sync = gym.vector.SyncVectorEnv([lambda: ProxemicEnv(path)] * 2)
-    actions = np.random.default_rng(3).uniform(-1, 1, size=(70, 2, 3)).astype(np.float32)
+    ours = proxemic.vector_env(path, num_envs=num_envs, threads=threads)
+    groups: list[list[int]] = []
+    step_group = ours._step_group
+    ours._step_group = lambda idx: (groups.append(list(idx)), step_group(idx))[1]  # type: ignore[method-assign]
+    sync = gym.vector.SyncVectorEnv([lambda: ProxemicEnv(path)] * num_envs)
+    actions = np.random.default_rng(3).uniform(-1, 1, size=(70, num_envs, 3)).astype(np.float32)
     try:
         a, b = ours.reset(seed=5), sync.reset(seed=5)
         _same(a, b, "reset")
         ends = 0
         for t, act in enumerate(actions):
+            if num_envs == 4 and t == 10:
+                mask = np.array([False, True, False, False])
+                _same(ours.reset(options={"reset_mask": mask}), sync.reset(options={"reset_mask": mask}), "mask")
             a, b = ours.step(act), sync.step(act)
             _same(a, b, f"step {t}")
             ends += int(np.sum(a[2] | a[3]))
         assert ends >= 2  # episodes did end (and the worlds were reset on the next step)
+        if num_envs == 4:
+            assert any(g != list(range(g[0], g[-1] + 1)) for g in groups), "no group of scattered worlds"
         # reset(seed=None) continues each world's stream, as the sync env's sub-envs do
         _same(ours.reset(), sync.reset(), "reset without seed")
     finally:

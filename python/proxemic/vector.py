@@ -6,16 +6,22 @@
 gymnasium's ``NEXT_STEP`` mode), but a vector step is one call into the Rust core
 (``proxemic._core.step_worlds``): it turns the N worlds' actions into commands, calls back the
 MuJoCo physics of every world (Python, one world after the other), then moves the people and
-computes the metrics, rewards, observations and planners of the N worlds (in parallel threads
-with ``threads=``). The outputs land in one float64 buffer of N rows, from which the batched
-observations, rewards, flags and infos are sliced without a per-world Python loop: that, not the
-threads, is what makes it faster than the sync vector env on a busy machine
-(``benches/vector_bench.py``).
+computes the metrics, rewards, observations and planners of the N worlds. The outputs land in
+one float64 buffer of N rows, from which the batched observations, rewards, flags and infos are
+sliced without a per-world Python loop.
+
+With ``threads=T`` the worlds are split into T groups of consecutive worlds, each stepped by one
+such call on its own thread (the calling thread and T - 1 kept threads). The core runs without
+the GIL and MuJoCo's ``mj_step`` releases it, so the groups' MuJoCo stepping and core steps run
+in parallel while one group at a time runs the Python parts of its physics. Each world is stepped
+by one thread with its own buffers, so the episodes are those of one thread, bit for bit
+(``benches/vector_bench.py`` measures both against one env and the sync vector env).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -28,6 +34,7 @@ from gymnasium.vector.utils import batch_space
 from proxemic import _core, scenarios
 from proxemic.errors import REAL_KINDS, InvariantError, NeedsResetError, input_error, invariant_in
 from proxemic.records import EpisodeMetrics
+from proxemic.sim import timer_off
 from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_reset_args
 
 __all__ = ["MAX_NUM_ENVS", "ProxemicVectorEnv", "vector_env"]
@@ -85,10 +92,11 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             planner: Replace the scenario's planner (one of ``proxemic.PLANNERS``).
             eband: Elastic-band gains by name.
             goal: The robot's goal (x, y) in metres instead of the scenario's.
-            threads: Threads of the core's step (at most `num_envs` are used). The default, 1,
-                steps the worlds one after the other on the calling thread: on a shared 2-core
-                machine more threads measured slower (``benches/vector_bench.py``); try
-                ``os.cpu_count()`` on free cores. Results are the same for any count.
+            threads: Threads stepping the worlds, each a group of consecutive worlds (physics
+                and core; at most `num_envs` are used). The default, 1, steps the worlds one
+                after the other on the calling thread; ``os.cpu_count()`` uses free cores
+                (``benches/vector_bench.py``; on a machine whose cores are busy with other work
+                more threads only add their switching). Results are the same for any count.
 
         Raises:
             InputError: A bad `num_envs` or `threads`; ScenarioError / UnknownNameError for a bad
@@ -142,6 +150,8 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         self._autoreset = np.zeros(n, dtype=bool)
         self._started = False
         self._all = list(range(n))
+        # The threads of the other groups of worlds (threads > 1), started at the first step.
+        self._pool: ThreadPoolExecutor | None = None
 
     # ------------------------------------------------------------------ gymnasium API
     def reset(
@@ -194,8 +204,11 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         if not self.autopilot:
             a = _check_actions(actions, n)
             self._actions[:, :3] = a
-        resetting = [k for k in range(n) if self._autoreset[k]]
-        stepping = [k for k in range(n) if not self._autoreset[k]] if resetting else self._all
+        if self._autoreset.any():
+            resetting: list[int] = np.flatnonzero(self._autoreset).tolist()
+            stepping: list[int] = np.flatnonzero(~self._autoreset).tolist()
+        else:
+            resetting, stepping = [], self._all
         for k in resetting:
             self._reset_world(k, None)
             self._seeds[k] = (self._seeds[k][0], self._seeds[k][1] + 1)
@@ -209,12 +222,16 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             rewards[resetting] = 0.0
             terminated[resetting] = False
             truncated[resetting] = False
-        ended = [k for k in stepping if terminated[k] or truncated[k]]
-        self._autoreset[:] = terminated | truncated
+        done = terminated | truncated
+        ended: list[int] = np.flatnonzero(done).tolist()  # resetting worlds are not done
+        self._autoreset[:] = done
         return self._observations(), rewards, terminated, truncated, self._infos(self._all, ended)
 
     def close_extras(self, **kwargs: Any) -> None:
-        """Releases the worlds' rendering resources."""
+        """Releases the worlds' rendering resources and the stepping threads."""
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
         for ws in self.sims:
             ws.close()
 
@@ -228,46 +245,78 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         self.sims[k].reset(int(rng.integers(0, 2**63 - 1)))
 
     def _step_worlds(self, idx: list[int]) -> None:
-        """Steps the worlds `idx` in one core call (their physics called back one by one)."""
+        """Steps the worlds `idx`: in one core call, or in `threads` groups on as many threads.
+
+        Each group is one ``_core.step_worlds`` call (its worlds' commands, their physics called
+        back one by one, then their people, metrics and observations). The core runs without the
+        GIL and MuJoCo's ``mj_step`` releases it too, so while one thread runs the Python parts of
+        its group's physics the others step MuJoCo or the core. MuJoCo's timer callback is
+        switched off once around all of it (``proxemic.sim.timer``: a process-wide setting the
+        threads must not toggle each on its own).
+        """
+        groups = min(self.threads, len(idx))
+        with timer_off():
+            if groups == 1:
+                self._step_group(idx)
+                return
+            size, extra = divmod(len(idx), groups)
+            parts, start = [], 0
+            for g in range(groups):
+                stop = start + size + (g < extra)
+                parts.append(idx[start:stop])
+                start = stop
+            if self._pool is None:
+                self._pool = ThreadPoolExecutor(max_workers=self.threads - 1, thread_name_prefix="proxemic-vector")
+            futures = [self._pool.submit(self._step_group, part) for part in parts[1:]]
+            errors: list[BaseException] = []
+            try:
+                self._step_group(parts[0])
+            except BaseException as e:  # the other groups are still waited for
+                errors.append(e)
+            for f in futures:
+                if (failed := f.exception()) is not None:
+                    errors.append(failed)
+            if errors:
+                raise errors[0]
+
+    def _step_group(self, idx: list[int]) -> None:
+        """Steps the worlds `idx` in one core call (their physics called back one by one).
+
+        A run of consecutive worlds is stepped on views of the batch buffers' rows; any other
+        set (some worlds are being reset) on copies of its rows, written back after.
+        """
         sims = self.sims
-        if len(idx) == self.num_envs:
-            acts, state, contacts, out, people = (
-                self._actions.reshape(-1),
-                self._state.reshape(-1),
-                self._contacts.reshape(-1),
-                self._out.reshape(-1),
-                self._people.reshape(-1),
-            )
-            scatter = False
-        else:  # some worlds are being reset: step the others through copies of their rows
-            acts, state, contacts = self._actions[idx].reshape(-1), self._state[idx], self._contacts[idx]
-            out, people = self._out[idx].reshape(-1), self._people[idx].reshape(-1)
-            scatter = True
-        state2d = state.reshape(len(idx), -1)
-        contacts2d = contacts.reshape(len(idx), -1)
+        lo, hi = idx[0], idx[-1] + 1
+        scatter = hi - lo != len(idx)
+        if not scatter:
+            acts, state, contacts = self._actions[lo:hi], self._state[lo:hi], self._contacts[lo:hi]
+            out, people = self._out[lo:hi], self._people[lo:hi]
+        else:  # step the others through copies of their rows
+            acts, state, contacts = self._actions[idx], self._state[idx], self._contacts[idx]
+            out, people = self._out[idx], self._people[idx]
 
         def physics() -> None:
             if scatter:  # the commands were written into the copy: the worlds' views read them
-                self._out[idx] = out.reshape(len(idx), -1)
+                self._out[idx] = out
             for j, k in enumerate(idx):
                 ws = sims[k]
                 ws._physics()
-                state2d[j] = ws.sim.state
-                contacts2d[j] = ws.sim.contacts
+                state[j] = ws.sim.state
+                contacts[j] = ws.sim.contacts
 
         _core.step_worlds(
             [sims[k].world for k in idx],
-            acts,
+            acts.reshape(-1),
             physics,
             state.reshape(-1),
             contacts.reshape(-1),
-            out,
-            people,
-            threads=self.threads,
+            out.reshape(-1),
+            people.reshape(-1),
+            threads=1,
         )
         if scatter:
-            self._out[idx] = out.reshape(len(idx), -1)
-            self._people[idx] = people.reshape(len(idx), -1)
+            self._out[idx] = out
+            self._people[idx] = people
 
     def _observations(self) -> dict[str, np.ndarray]:
         """Every world's robot-0 observation, batched (float32, one fresh copy)."""
@@ -288,33 +337,37 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
     def _infos(self, present: list[int], ended: list[int]) -> dict[str, Any]:
         """The plain env's info keys as batched arrays with ``_key`` masks (worlds `present`).
 
-        The metrics of the worlds in `ended` are added under ``metrics`` (masked).
+        Worlds not present hold zeros (None for ``planner_mode``). The metrics of the worlds in
+        `ended` are added under ``metrics`` (masked).
         """
         n = self.num_envs
-        mask = np.zeros(n, dtype=bool)
-        mask[present] = True
-        vals = self._out[:, self._info_cols]
+        everyone = len(present) == n
+        mask = np.ones(n, dtype=bool) if everyone else np.zeros(n, dtype=bool)
+        if not everyone:
+            mask[present] = True
+        # Every info column of every world in one copy, one row per column (the infos' arrays
+        # are its rows).
+        vals = self._out[:, self._info_cols].T.copy()
+        if not everyone:
+            vals[:, ~mask] = 0.0
         nterms = len(REWARD_KEYS)
         infos: dict[str, Any] = {}
-
-        def put(key: str, value: np.ndarray) -> None:
-            if len(present) < n:
-                value = np.where(mask.reshape(-1, *([1] * (value.ndim - 1))), value, np.zeros_like(value))
-            infos[key] = value
-            infos[f"_{key}"] = mask.copy()
-
         for j, key in enumerate(REWARD_KEYS):
-            put(key, vals[:, j].copy())
-        put("is_success", vals[:, nterms] != 0.0)
-        put("collision", vals[:, nterms + 1] != 0.0)
+            infos[key], infos[f"_{key}"] = vals[j], mask.copy()
+        infos["is_success"], infos["_is_success"] = vals[nterms] != 0.0, mask.copy()
+        infos["collision"], infos["_collision"] = vals[nterms + 1] != 0.0, mask.copy()
         if self._planning:
             off, length = self._layout["planner_action"]
-            put("planner_action", self._out[:, off : off + length].astype(np.float32))
+            actions = self._out[:, off : off + length].astype(np.float32)
+            if not everyone:
+                actions[~mask] = 0.0
+            infos["planner_action"], infos["_planner_action"] = actions, mask.copy()
             modes = np.full(n, None, dtype=object)
+            codes = vals[nterms + 2].tolist()
             for k in present:
-                modes[k] = PLANNER_MODES[int(vals[k, nterms + 2])]
+                modes[k] = PLANNER_MODES[int(codes[k])]
             infos["planner_mode"], infos["_planner_mode"] = modes, mask.copy()
-        put("time_of_day", vals[:, nterms + 3].copy())
+        infos["time_of_day"], infos["_time_of_day"] = vals[nterms + 3], mask.copy()
         for k in ended:
             infos = self._add_info(infos, {"metrics": self._metrics(k)}, k)
         return infos
