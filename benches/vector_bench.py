@@ -8,7 +8,7 @@ call per vector step; with its default one thread, and with as many threads as c
 Actions are uniform random from a seeded action space; sub-envs reset themselves when an
 episode ends. The async mode runs one subprocess per sub-env, so it only gains with free cores.
 
-Training throughput (issue 45): ``TRAIN_ENVS`` (8) policy-driven museum worlds (the actions of a
+Training throughput: ``TRAIN_ENVS`` (8) policy-driven museum worlds (the actions of a
 policy, here uniform random from a seeded action space and drawn before the clock starts, not the
 autopilot) as ``proxemic.vector_env(..., threads=os.cpu_count())`` against one env playing the
 same 8 episodes with the same actions one after the other, and against
@@ -50,7 +50,7 @@ TRIALS = 3
 TRAIN_ENVS = 8
 TRAIN_TRIALS = 7
 TRAIN_STEPS = 150
-#: The vector env's target: at least this many times one env's steps/s (issue 45).
+#: The vector env's target: at least this many times one env's steps/s.
 TRAIN_TARGET = 2.5
 
 
