@@ -4,7 +4,8 @@
 //! ([`proxemic_core::metrics::invariants`]: a [`CoreError::Invariant`] is a finding too).
 //!
 //! Three kinds of input, in turn: scenario files (TOML), the names of generated scenes
-//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T`: mutated as
+//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T`,
+//! `crowdnav/<family>?humans=N&visible=B&seed=S`, whose kinematic protocol episode also runs: mutated as
 //! text and as key=value pairs, with keys repeated, added, dropped and given extreme values), and
 //! the CSV track files of `[[replay]]` tables (written to a temporary folder beside a scenario
 //! naming them).
@@ -39,7 +40,7 @@ use std::time::{Duration, Instant};
 
 use proxemic_core::CoreError;
 use proxemic_core::math::Vec2;
-use proxemic_core::scenario::generate::{self, francis2023};
+use proxemic_core::scenario::generate::{self, crowdnav, francis2023};
 use proxemic_core::scenario::{MAX_ROBOTS, Scenario};
 use proxemic_core::world::World;
 use rand::{Rng, SeedableRng};
@@ -143,6 +144,9 @@ const SCENE_NAMES: &[&str] = &[
     "francis2023/frontal_approach",
     "francis2023/crossing_90?seed=2&max_time=30",
     "francis2023/pedestrian_obstruction?seed=5",
+    "crowdnav/circle_crossing",
+    "crowdnav/circle_crossing?humans=20&visible=true&seed=4",
+    "crowdnav/square_crossing?humans=5&seed=9",
 ];
 
 /// A scene name mutated as `prefix?key=value&...`: a pair repeated (a duplicate key, refused),
@@ -163,8 +167,11 @@ fn mutate_name(name: &str, rng: &mut StdRng) -> String {
                 pairs.insert(rng.random_range(0..=pairs.len()), p);
             }
             1 | 2 => {
-                let keys: Vec<&str> =
-                    generate::PARAM_NAMES.iter().copied().chain(["seed", "max_time", "x"]).collect();
+                let keys: Vec<&str> = generate::PARAM_NAMES
+                    .iter()
+                    .copied()
+                    .chain(["seed", "max_time", "humans", "visible", "x"])
+                    .collect();
                 let k = keys[rng.random_range(0..keys.len())];
                 let v = value(rng);
                 pairs.insert(rng.random_range(0..=pairs.len()), format!("{k}={v}"));
@@ -463,6 +470,19 @@ fn exercise(input: &Input, o: Override, seed: u64) -> Result<bool, String> {
             Input::Toml(text) => Scenario::from_toml_str(text, "fuzz.toml"),
             Input::Name(name) if name.starts_with(francis2023::PREFIX) => {
                 francis2023::generate(name).map(|g| g.scenario)
+            }
+            Input::Name(name) if name.starts_with(crowdnav::PREFIX) => {
+                // CrowdNav's own kinematic episode of the name too, with one of the planners.
+                let planner = proxemic_core::world::crowdnav::PLANNERS
+                    [seed as usize % proxemic_core::world::crowdnav::PLANNERS.len()];
+                match proxemic_core::world::crowdnav::run_episode(name, planner) {
+                    Err(e @ CoreError::Invariant { .. }) => return Err(format!("invariant broken: {e}")),
+                    Ok(ep) if !(ep.time.is_finite() && ep.time > 0.0) => {
+                        return Err(format!("{name} with {planner}: episode time {}", ep.time));
+                    }
+                    _ => {}
+                }
+                crowdnav::generate(name).map(|g| g.scenario)
             }
             Input::Name(name) => generate::parse_spec(name)
                 .and_then(|(seed, p)| generate::generate(seed, &p))

@@ -588,7 +588,7 @@ fn circular_crossing(d: &mut Draft) {
         // Evenly round the circle, off the robot's line (0.35 rad at least from its ends).
         let mut a = a0 + std::f64::consts::TAU * k as f64 / n as f64 + d.jitter(0.1);
         let off = a.sin().atan2(a.cos()).abs(); // 0 ... pi
-        if off < 0.35 || off > PI - 0.35 {
+        if !(0.35..=PI - 0.35).contains(&off) {
             a += 0.5;
         }
         let p0 = [c[0] + r * a.cos(), c[1] + r * a.sin()];
