@@ -65,6 +65,13 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     infinity raises :class:`proxemic.InputError`. With ``autopilot=True`` the action is ignored and
     the robot's built-in planner (plain A* by default) drives.
 
+    A differential-drive robot (``drive = "differential"`` in its ``[[robot]]``) takes (v, 0, wz):
+    ``Box([-1, 0, -1], [1, 0, 1])``, the forward speed (negative: reverse) and the turn rate,
+    normalised as above; a non-zero second value raises :class:`proxemic.InputError`. Its speed and
+    turn rate are limited separately (``max_speed``, ``max_accel``, ``max_angular_speed``,
+    ``max_angular_accel``), and the base never moves sideways. Its built-in planners' holonomic
+    commands are turned into (v, wz) by one rule (``docs/scenarios.md``, differential drive).
+
     ## Observation Space
 
     A ``Dict`` of float32 arrays:
@@ -173,7 +180,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             "render_fps": round(self.scenario["scene"]["control_hz"]),
         }
         self.observation_space = self.ws.observation_space(robots=False)
-        self.action_space = action_space()
+        self.action_space = action_space(self.scenario["robots"][0].get("drive", "holonomic"))
         # The core's buffers (written in place; other robots, if any, keep their built-in planners).
         self._out, self._people = self.ws.out, self.ws.people
         if not (autopilot or planner_actions):

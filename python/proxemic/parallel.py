@@ -167,7 +167,10 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             self.ws.set_planning([a in self.autopilot for a in names])
         obs_space = self.ws.observation_space(robots=True)
         self.observation_spaces: dict[AgentID, spaces.Space[Any]] = {a: obs_space for a in names}
-        self.action_spaces: dict[AgentID, spaces.Space[Any]] = {a: action_space() for a in names}
+        drives = [r.get("drive", "holonomic") for r in self.ws.scenario["robots"]]
+        self.action_spaces: dict[AgentID, spaces.Space[Any]] = {
+            a: action_space(d) for a, d in zip(names, drives, strict=True)
+        }
         self._np_random: np.random.Generator | None = None
         self._reset_seed: int | None = None  # the seed given to the last reset(), for error messages
         self._live: frozenset[str] = frozenset()

@@ -38,8 +38,15 @@ REWARD_KEYS = tuple(f"reward_{t}" for t in _core.REWARD_TERMS)
 RENDER_MODES = ("rgb_array", "topdown", "human")
 
 
-def action_space() -> spaces.Box:
-    """A robot's action space: the normalised robot-frame command (vx, vy, wz) in [-1, 1]."""
+def action_space(drive: str = "holonomic") -> spaces.Box:
+    """A robot's action space: the normalised robot-frame command (vx, vy, wz) in [-1, 1].
+
+    For a differential-drive robot (``drive = "differential"``) the action is (v, 0, wz): the
+    forward speed (negative: reverse) and the turn rate; its ``vy`` bound is [0, 0] and a
+    non-zero ``vy`` is refused with an :class:`~proxemic.InputError`.
+    """
+    if drive == "differential":
+        return spaces.Box(np.array([-1, 0, -1], np.float32), np.array([1, 0, 1], np.float32), dtype=np.float32)
     return spaces.Box(-1.0, 1.0, (3,), dtype=np.float32)
 
 

@@ -21,6 +21,17 @@
 //!
 //! Heading policy of the built-in follower: face the direction of motion (turn toward the
 //! velocity's direction with a proportional gain); when nearly stopped, keep the heading.
+//!
+//! A differential-drive robot ([`Drive::Differential`]) is commanded `(v, wz)`: a forward speed
+//! along its heading and a turn rate, never a sideways velocity. Every built-in planner still
+//! computes a holonomic world-frame velocity `u` and the heading policy's turn rate; one rule
+//! ([`Limits::unicycle_from_holonomic`]) turns them into the unicycle's command: the turn rate is
+//! the heading policy's (a proportional turn toward `u`'s direction, gain
+//! [`FollowerParams::heading_gain`]), the forward speed is `u`'s projection on the heading,
+//! `v = max(0, u . h) = |u| max(0, cos e)` with `e` the heading error (the usual
+//! holonomic-to-unicycle tracking: full speed when facing `u`, none when `u` is at or behind the
+//! robot's side, which then turns in place). Then [`Limits::apply_unicycle`] limits `v` and `wz`
+//! (speed, acceleration, angular speed, angular acceleration).
 
 pub mod daza2021;
 pub mod eband;
@@ -39,6 +50,27 @@ use crate::math::{Vec2, rotate, wrap_angle};
 /// social force: in a perfectly symmetric encounter both parties pass on their own right
 /// (right-hand traffic), so head-on meetings resolve the same way every time.
 pub const PASS_ON_RIGHT: bool = true;
+
+/// How a robot base moves: the robot's `drive` in a scenario's `[[robot]]`.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Drive {
+    /// Omnidirectional (Pepper): any velocity `(vx, vy)` in the plane and a turn rate `wz`.
+    #[default]
+    Holonomic,
+    /// Differential drive (unicycle kinematics: TurtleBot, Jackal, a wheelchair): a forward
+    /// speed `v` along the heading (negative: reverse) and a turn rate `wz`; no sideways motion.
+    Differential,
+}
+
+impl Drive {
+    /// Whether this is [`Drive::Holonomic`] (the default, left out of a serialised robot).
+    pub fn is_holonomic(&self) -> bool {
+        *self == Drive::Holonomic
+    }
+}
 
 /// Motion limits of a robot base.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,6 +111,67 @@ impl Limits {
         let wz = (prev_wz + dw).clamp(-self.max_angular_speed, self.max_angular_speed);
         (v, wz)
     }
+
+    /// Limits a unicycle's desired command, forward speed `desired_v` (m/s, negative: reverse)
+    /// and turn rate `desired_wz` (rad/s), given the previous command `(prev_v, prev_wz)`, over
+    /// `dt`: `|v| <= max_speed`, `|v - prev_v| <= max_accel * dt`, and `wz` as [`Limits::apply`]
+    /// limits it. Non-finite desired values are a request to stop.
+    pub fn apply_unicycle(
+        &self,
+        desired_v: f64,
+        desired_wz: f64,
+        prev_v: f64,
+        prev_wz: f64,
+        dt: f64,
+    ) -> (f64, f64) {
+        let desired_v = if desired_v.is_finite() { desired_v } else { 0.0 };
+        let desired_wz = if desired_wz.is_finite() { desired_wz } else { 0.0 };
+        let v = desired_v.clamp(-self.max_speed, self.max_speed);
+        let dv = (v - prev_v).clamp(-self.max_accel * dt, self.max_accel * dt);
+        let v = (prev_v + dv).clamp(-self.max_speed, self.max_speed);
+        let wz = desired_wz.clamp(-self.max_angular_speed, self.max_angular_speed);
+        let dw = (wz - prev_wz).clamp(-self.max_angular_accel * dt, self.max_angular_accel * dt);
+        let wz = (prev_wz + dw).clamp(-self.max_angular_speed, self.max_angular_speed);
+        (v, wz)
+    }
+
+    /// The one rule turning a built-in planner's holonomic command into a differential-drive
+    /// robot's (see the module docs): world-frame velocity `u` (m/s) and the heading policy's
+    /// turn rate `wz` (rad/s) for a robot with heading `theta` (rad) whose previous world-frame
+    /// command was `(prev_v, prev_wz)`; returns the limited world-frame command, which is always
+    /// along the heading (`v = s (cos theta, sin theta)`, `s` the limited forward speed).
+    pub fn unicycle_from_holonomic(
+        &self,
+        u: Vec2,
+        wz: f64,
+        theta: f64,
+        prev_v: Vec2,
+        prev_wz: f64,
+        dt: f64,
+    ) -> (Vec2, f64) {
+        let h = Vec2::new(theta.cos(), theta.sin());
+        let u = if u.x.is_finite() && u.y.is_finite() { u } else { Vec2::zeros() };
+        self.unicycle_world(u.dot(&h).max(0.0), wz, theta, prev_v, prev_wz, dt)
+    }
+
+    /// A unicycle's limited command as a world-frame command: forward speed `s` (m/s) and turn
+    /// rate `wz` (rad/s) limited by [`Limits::apply_unicycle`] against the previous world-frame
+    /// command `(prev_v, prev_wz)` (its forward speed: its norm, negative when it pointed behind
+    /// the heading `theta`), returned as `(s (cos theta, sin theta), wz)`.
+    pub fn unicycle_world(
+        &self,
+        s: f64,
+        wz: f64,
+        theta: f64,
+        prev_v: Vec2,
+        prev_wz: f64,
+        dt: f64,
+    ) -> (Vec2, f64) {
+        let h = Vec2::new(theta.cos(), theta.sin());
+        let prev_s = if prev_v.dot(&h) < 0.0 { -prev_v.norm() } else { prev_v.norm() };
+        let (s, wz) = self.apply_unicycle(s, wz, prev_s, prev_wz, dt);
+        (h * s, wz)
+    }
 }
 
 /// Scales `v` down to norm `max` if it is longer.
@@ -90,6 +183,17 @@ pub fn clamp_norm(v: Vec2, max: f64) -> Vec2 {
 /// World-frame velocity to robot-frame velocity for a robot with heading `theta`.
 pub fn world_to_body(v: Vec2, theta: f64) -> Vec2 {
     rotate(v, -theta)
+}
+
+/// The robot-frame command `(vx, vy)` the base executes for a world-frame command `v` at heading
+/// `theta`: [`world_to_body`]; for a differential drive (whose commands are along the heading
+/// by construction) `vy` is exactly 0, not the rotation's rounding.
+pub fn body_command(drive: Drive, v: Vec2, theta: f64) -> Vec2 {
+    let b = world_to_body(v, theta);
+    match drive {
+        Drive::Holonomic => b,
+        Drive::Differential => Vec2::new(b.x, 0.0),
+    }
 }
 
 /// Robot-frame velocity to world-frame velocity.
@@ -424,5 +528,38 @@ mod tests {
         let mut f = PathFollower::new(path, FollowerParams::default());
         let out = f.step(Vec2::new(0.5, 0.25), 0.0, 0.55, 0.55, 0.1);
         assert!(out.velocity.x > 0.0, "{out:?}");
+    }
+
+    #[test]
+    fn unicycle_rule_moves_along_the_heading_only() {
+        let l = Limits::PEPPER;
+        let th: f64 = 0.3;
+        let h = Vec2::new(th.cos(), th.sin());
+        // Asked to go 45 degrees off the heading at full speed: forward at |u| cos(45 deg), within
+        // the acceleration limit from rest (0.055 m/s in 0.1 s), along the heading.
+        let u = rotate(Vec2::new(0.55, 0.0), th + std::f64::consts::FRAC_PI_4);
+        let (v, w) = l.unicycle_from_holonomic(u, 1.0, th, Vec2::zeros(), 0.0, 0.1);
+        assert!((v.norm() - 0.055).abs() < 1e-12 && (v.dot(&h) - 0.055).abs() < 1e-12, "{v:?}");
+        assert!((w - 0.3).abs() < 1e-12, "{w}"); // angular acceleration 3 rad/s^2 * 0.1 s
+        // Already at 0.35 m/s forward: 0.55 cos 45 = 0.389 is within reach.
+        let (v, _) = l.unicycle_from_holonomic(u, 1.0, th, h * 0.35, 0.0, 0.1);
+        assert!((v.dot(&h) - 0.55 * std::f64::consts::FRAC_1_SQRT_2).abs() < 1e-12, "{v:?}");
+        // Asked to go backwards: no reverse, it slows down (and turns, by the given rate).
+        let (v, _) = l.unicycle_from_holonomic(-u, 1.0, th, h * 0.3, 0.0, 0.1);
+        assert!((v.dot(&h) - 0.245).abs() < 1e-12, "{v:?}");
+        // The robot-frame command of a differential drive has no sideways part at all.
+        assert_eq!(body_command(Drive::Differential, v, th).y, 0.0);
+    }
+
+    #[test]
+    fn unicycle_limits_reverse_and_speed() {
+        let l = Limits::PEPPER;
+        let (s, _) = l.apply_unicycle(-5.0, 0.0, -0.5, 0.0, 0.1);
+        assert_eq!(s, -0.55);
+        let th: f64 = 1.0;
+        let h = Vec2::new(th.cos(), th.sin());
+        // A previous command pointing behind the heading counts as reverse speed.
+        let (v, _) = l.unicycle_world(0.0, 0.0, th, h * -0.2, 0.0, 0.1);
+        assert!((v.dot(&h) + 0.145).abs() < 1e-12, "{v:?}");
     }
 }

@@ -471,7 +471,8 @@ pub(super) struct RawPerson {
 
 #[derive(Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
-/// A robot (`[[robot]]`): a Pepper-like holonomic base.
+/// A robot (`[[robot]]`): a Pepper-like holonomic base, or a differential-drive base
+/// (`drive = "differential"`).
 pub(super) struct RawRobot {
     /// Unique name (default `robot_<index>`).
     pub(super) name: Option<String>,
@@ -500,6 +501,13 @@ pub(super) struct RawRobot {
     /// Maximum linear acceleration (m/s²).
     #[serde(default = "d_max_accel")]
     pub(super) max_accel: f64,
+    /// Maximum angular acceleration (rad/s²), in (0, 100] (default 3.0, Pepper's).
+    #[serde(default = "d_max_angular_accel")]
+    pub(super) max_angular_accel: f64,
+    /// How the base moves: `holonomic` (default; any planar velocity) or `differential`
+    /// (unicycle kinematics: forward speed and turn rate, no sideways motion).
+    #[serde(default)]
+    pub(super) drive: crate::control::Drive,
     /// Extra clearance added to the radius when inflating the map (metres).
     #[serde(default = "d_inflation_margin")]
     pub(super) inflation_margin: f64,
@@ -641,6 +649,9 @@ pub(super) fn d_max_angular_speed() -> f64 {
 }
 pub(super) fn d_max_accel() -> f64 {
     0.55
+}
+pub(super) fn d_max_angular_accel() -> f64 {
+    crate::control::Limits::PEPPER.max_angular_accel
 }
 pub(super) fn d_inflation_margin() -> f64 {
     0.06

@@ -224,13 +224,14 @@ fn robot_static(
         max_speed: r.max_speed,
         max_angular_speed: r.max_angular_speed,
         max_accel: r.max_accel,
-        max_angular_accel: Limits::PEPPER.max_angular_accel,
+        max_angular_accel: r.max_angular_accel,
     };
     Ok(RobotStatic {
         planner: r.planner,
         eband: r.eband.params(),
         face: r.approach.as_ref().map(|a| v2(a.face)),
         limits,
+        drive: r.drive,
         radius: r.radius,
         goal,
         grid_index,

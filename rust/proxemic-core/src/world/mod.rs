@@ -50,7 +50,7 @@ use crate::control::mode_switch::{Mode, ModeSwitchParams};
 use crate::control::orca::{ObstacleSet, Orca};
 use crate::control::progress::ProgressMonitor;
 use crate::control::stop_and_wait::StopAndWait;
-use crate::control::{FollowerParams, Limits, PathFollower, body_to_world, world_to_body};
+use crate::control::{Drive, FollowerParams, Limits, PathFollower, body_command, body_to_world};
 use crate::error::{CoreError, Result};
 use crate::map::CostGrid;
 use crate::map::geometry::StaticGeometry;
@@ -83,6 +83,9 @@ struct RobotStatic {
     /// For approach tasks, the point to face near the goal (the person approached).
     face: Option<Vec2>,
     limits: Limits,
+    /// How the base moves: a differential drive's commands are turned into `(v, wz)` along the
+    /// heading ([`Limits::unicycle_from_holonomic`]).
+    drive: crate::control::Drive,
     radius: f64,
     goal: Vec2,
     grid_index: usize,
@@ -442,7 +445,7 @@ impl World {
             rb.proposed_v = v;
             rb.proposed_wz = w;
             rb.user_command = true;
-            let b = world_to_body(v, rb.pose[2]);
+            let b = body_command(self.statics[i].drive, v, rb.pose[2]);
             let row = &mut out[i * self.layout.stride..];
             row[cmd] = b.x;
             row[cmd + 1] = b.y;
@@ -452,12 +455,22 @@ impl World {
     }
 
     /// Robot `i`'s world-frame command `(v, wz)` for a normalised robot-frame action `a` (each
-    /// value clipped to [-1, 1], scaled by the robot's maximum speeds), within its limits.
+    /// value clipped to [-1, 1], scaled by the robot's maximum speeds), within its limits. A
+    /// differential-drive robot's action is `(v, 0, wz)`: `a[0]` its forward speed (negative:
+    /// reverse), `a[1]` (zero, checked by [`World::command`]) unused.
     pub(super) fn limited_action(&self, i: usize, a: [f64; 3], dt: f64) -> (Vec2, f64) {
         let (st, rb) = (&self.statics[i], &self.robots[i]);
-        let body = Vec2::new(a[0].clamp(-1.0, 1.0), a[1].clamp(-1.0, 1.0)) * st.limits.max_speed;
         let wz = a[2].clamp(-1.0, 1.0) * st.limits.max_angular_speed;
-        st.limits.apply(body_to_world(body, rb.pose[2]), wz, rb.exec_v, rb.exec_wz, dt)
+        match st.drive {
+            Drive::Holonomic => {
+                let body = Vec2::new(a[0].clamp(-1.0, 1.0), a[1].clamp(-1.0, 1.0)) * st.limits.max_speed;
+                st.limits.apply(body_to_world(body, rb.pose[2]), wz, rb.exec_v, rb.exec_wz, dt)
+            }
+            Drive::Differential => {
+                let s = a[0].clamp(-1.0, 1.0) * st.limits.max_speed;
+                st.limits.unicycle_world(s, wz, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
+            }
+        }
     }
 
     /// Checks [`World::command`]'s arguments (after a reset, 3 values per robot, each robot's
@@ -484,6 +497,13 @@ impl World {
                     format!("action[{i}]"),
                     "3 finite numbers in [-1, 1] (vx, vy, wz normalised), or 3 NaN (autopilot)",
                     format!("[{}, {}, {}]", a[0], a[1], a[2]),
+                ));
+            }
+            if self.statics[i].drive == Drive::Differential && a[1].is_finite() && a[1] != 0.0 {
+                return Err(CoreError::input(
+                    format!("action[{i}][1]"),
+                    "0 for a differential-drive robot (its action is (v, 0, wz): no sideways motion)",
+                    format!("{}", a[1]),
                 ));
             }
         }

@@ -7,7 +7,7 @@ use crate::control::mode_switch::{
     LocalPlanner, Mode, OtherRobot, Person as CtlPerson, select_mode, social_momentum_step,
 };
 use crate::control::orca_crowd::{OrcaPeople, OrcaRobot, orca_among_people};
-use crate::control::{FollowerParams, PathFollower, heading_rate, world_to_body};
+use crate::control::{Drive, FollowerParams, PathFollower, body_command, heading_rate};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
 use crate::map::CostGrid;
@@ -552,10 +552,20 @@ impl World {
         let (v, w) = if rb.outcome == Outcome::Running {
             let p = Vec2::new(rb.pose[0], rb.pose[1]);
             let wz = heading_rate(p, rb.pose[2], desired, st.face, st.goal, &FollowerParams::default());
-            st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt)
+            match st.drive {
+                Drive::Holonomic => st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt),
+                Drive::Differential => {
+                    st.limits.unicycle_from_holonomic(desired, wz, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
+                }
+            }
         } else {
             // Finished robots are commanded to stop (within the deceleration limit).
-            st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt)
+            match st.drive {
+                Drive::Holonomic => st.limits.apply(Vec2::zeros(), 0.0, rb.exec_v, rb.exec_wz, dt),
+                Drive::Differential => {
+                    st.limits.unicycle_world(0.0, 0.0, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
+                }
+            }
         };
         self.emit_command(i, v, w, row);
     }
@@ -568,7 +578,7 @@ impl World {
         let rb = &mut self.robots[i];
         rb.proposed_v = v;
         rb.proposed_wz = w;
-        let b = world_to_body(v, rb.pose[2]);
+        let b = body_command(st.drive, v, rb.pose[2]);
         let (cmd, act) = (lay.command.offset, lay.planner_action.offset);
         row[cmd] = b.x;
         row[cmd + 1] = b.y;

@@ -44,6 +44,7 @@ fn build_robot(
     ck.range(&format!("{f}.max_speed"), r.max_speed, 0.0, 5.0, true)?;
     ck.range(&format!("{f}.max_angular_speed"), r.max_angular_speed, 0.0, 10.0, true)?;
     ck.range(&format!("{f}.max_accel"), r.max_accel, 0.0, 20.0, true)?;
+    ck.range(&format!("{f}.max_angular_accel"), r.max_angular_accel, 0.0, 100.0, true)?;
     ck.range(&format!("{f}.inflation_margin"), r.inflation_margin, 0.0, 1.0, false)?;
     let (goal, approach) = match (&r.goal, &r.approach) {
         (Some(g), None) => {
@@ -90,6 +91,8 @@ fn build_robot(
         max_speed: r.max_speed,
         max_angular_speed: r.max_angular_speed,
         max_accel: r.max_accel,
+        max_angular_accel: r.max_angular_accel,
+        drive: r.drive,
         inflation_margin: r.inflation_margin,
         eband: EbandGains::default().merged(
             file,

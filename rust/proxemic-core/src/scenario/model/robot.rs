@@ -149,6 +149,14 @@ pub struct Robot {
     pub max_angular_speed: f64,
     /// Maximum linear acceleration (m/s^2); default 0.55 (Pepper).
     pub max_accel: f64,
+    /// Maximum angular acceleration (rad/s^2), in (0, 100]; default 3.0 (Pepper, NAOqi
+    /// `MaxAccTheta`). Left out of the serialised robot at its default.
+    #[serde(skip_serializing_if = "is_pepper_angular_accel")]
+    pub max_angular_accel: f64,
+    /// How the base moves ([`crate::control::Drive`]); default holonomic (left out of the
+    /// serialised robot then).
+    #[serde(skip_serializing_if = "crate::control::Drive::is_holonomic")]
+    pub drive: crate::control::Drive,
     /// Extra clearance added to the radius when inflating the map (metres); default 0.06.
     pub inflation_margin: f64,
     /// Gains of the elastic band (used by the `eband` planner); file table `eband = { ... }`.
@@ -163,6 +171,11 @@ pub struct Robot {
     /// The built-in planner's progress monitor (defaults: on, 0.5 m in 15 s); file table
     /// `progress = { enabled, distance, window }`.
     pub progress: crate::control::progress::ProgressParams,
+}
+
+/// Whether `a` is Pepper's angular acceleration limit (the default, not serialised).
+fn is_pepper_angular_accel(a: &f64) -> bool {
+    *a == crate::control::Limits::PEPPER.max_angular_accel
 }
 
 /// The elastic band's force gains (dimensionless, each in `[0, EbandGains::MAX]`), as tuned by
