@@ -104,7 +104,7 @@ def _docs_params() -> dict[str, tuple[float, float, float]]:
 def test_the_docs_parameter_table_is_the_cores() -> None:
     """docs/generated.md lists every generator parameter with the core's default and range."""
     table = _docs_params()
-    assert list(table) == [k for k in scenarios.GENERATE_PARAMS if k != "reaction"]
+    assert list(table) == [k for k in scenarios.GENERATE_PARAMS if k not in ("reaction", "drive")]
     default_toml = scenarios.generate_toml(3)
     for name, row in table.items():
         integer = name in ("objects_per_room", "robots", "encounters")
@@ -151,3 +151,35 @@ def test_the_docs_example_runs(capsys) -> None:
     (block,) = re.findall(r"```python\n(.*?)```", text, flags=re.S)
     exec(compile(block, "docs/generated.md", "exec"), {})
     assert capsys.readouterr().out.count(" ran\n") == 3
+
+
+def test_the_drive_parameter_is_a_name_documented_with_its_values() -> None:
+    """``drive`` takes the names of docs/generated.md's row, on every family's scene name; others are errors."""
+    import re
+    from pathlib import Path
+
+    from proxemic import francis2023
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "generated.md").read_text()
+    row = re.search(r"^\| `drive` \| name \| `holonomic` \| ([^|]+) \|", text, flags=re.M)
+    assert row is not None
+    names = re.findall(r"`(\w+)`", row.group(1))
+    assert names == ["holonomic", "differential"]
+    assert scenarios.generate_toml(3, drive="holonomic") == scenarios.generate_toml(3)
+    for name in names:
+        scene = proxemic.generate(3, drive=name, robots=2)
+        assert {r.get("drive", "holonomic") for r in json.loads(scene.to_json())["robots"]} == {name}
+    francis = francis2023.scenario_name("crossing_90", 3, drive="differential")
+    assert francis == "francis2023/crossing_90?seed=3&drive=differential"
+    crowdnav = "crowdnav/square_crossing?seed=3&drive=differential"
+    for name in (francis, crowdnav):
+        _core_scene, desc = scenarios.load(name)
+        assert [r["drive"] for r in desc["robots"]] == ["differential"], name
+    with pytest.raises(ScenarioError, match="drive"):
+        proxemic.generate(3, drive="tank")
+    with pytest.raises(ScenarioError, match="drive"):
+        scenarios.load("crowdnav/square_crossing?drive=differential&drive=differential")
+    with pytest.raises(InputError, match="drive"):
+        proxemic.generate(3, drive=1.0)
+    with pytest.raises(InputError, match="drive"):
+        francis2023.scenario_name("crossing_90", drive=1)  # type: ignore[arg-type]

@@ -744,6 +744,11 @@ def build_parser() -> argparse.ArgumentParser:
         choices=["ignore", "aware", "yield", "curious", "cautious"],
         help="the people's reaction to robots (default aware; docs/people.md)",
     )
+    g.add_argument(
+        "--drive",
+        choices=["holonomic", "differential"],
+        help="every robot's drive (default holonomic; docs/scenarios.md)",
+    )
     g.add_argument("--objects-per-room", dest="objects_per_room", type=int, help="objects per room (default 3)")
     for key, unit in [
         ("width", "m"),

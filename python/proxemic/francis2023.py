@@ -11,7 +11,8 @@ generator: its widths, lengths, speeds, angles and offsets are drawn from a
 seed within ranges written beside the code (``rust/proxemic-core/src/scenario/generate/francis2023``).
 
 A scene is named ``francis2023/<archetype>`` (seed 0) or ``francis2023/<archetype>?seed=N`` (and
-``&max_time=T`` to shorten or lengthen the episode, seconds in [5, 600]); the name works wherever a
+``&max_time=T`` to shorten or lengthen the episode, seconds in [5, 600], and ``&drive=differential``
+for a differential-drive robot, same scene otherwise); the name works wherever a
 scenario name does (``gym.make("proxemic/Generated-v3", scenario=...)``, ``proxemic.parallel_env``,
 ``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v4", archetype=..., scene_seed=N)``
 is the same env. The suite (:func:`run_suite`, ``proxemic eval --suite francis2023``) runs episode
@@ -43,12 +44,16 @@ ARCHETYPES: tuple[str, ...] = tuple(_core.FRANCIS2023_ARCHETYPES)
 SUITE = "francis2023"
 
 
-def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) -> str:
-    """The scene name ``francis2023/<archetype>[?seed=N&max_time=T]``.
+def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None, drive: str = "holonomic") -> str:
+    """The scene name ``francis2023/<archetype>[?seed=N&max_time=T&drive=D]``.
+
+    `drive` is every robot's drive (``holonomic``, the default and left out of the name, or
+    ``differential``; the core checks the name).
 
     Raises:
         UnknownNameError: `archetype` is not one of :data:`ARCHETYPES` (with a suggestion).
-        InputError: `archetype` not a string, `seed` not a non-negative integer, `max_time` not a number.
+        InputError: `archetype` not a string, `seed` not a non-negative integer, `max_time` not a
+            number, `drive` not a string.
     """
     from proxemic.errors import UnknownNameError
 
@@ -69,11 +74,19 @@ def scenario_name(archetype: str, seed: int = 0, max_time: float | None = None) 
         if isinstance(max_time, bool) or not isinstance(max_time, (int, float)):
             raise input_error("max_time", "a number of seconds", max_time)
         pairs.append(f"max_time={float(max_time):g}")
+    if not isinstance(drive, str):
+        raise input_error("drive", "a drive name (holonomic or differential)", typed_repr(drive))
+    if drive != "holonomic":
+        pairs.append(f"drive={drive}")
     return f"{PREFIX}{archetype}" + ("?" + "&".join(pairs) if pairs else "")
 
 
 def make_env(
-    archetype: str = "frontal_approach", scene_seed: int = 0, max_time: float | None = None, **kwargs: Any
+    archetype: str = "frontal_approach",
+    scene_seed: int = 0,
+    max_time: float | None = None,
+    drive: str = "holonomic",
+    **kwargs: Any,
 ) -> Any:
     """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v4", archetype=...)``).
 
@@ -81,11 +94,12 @@ def make_env(
         archetype: One of :data:`ARCHETYPES`.
         scene_seed: The scene's seed (its drawn parameters); the episode seed is ``reset(seed=...)``'s.
         max_time: Episode length (s) instead of the archetype's own.
+        drive: The robot's drive, ``holonomic`` (default) or ``differential``.
         **kwargs: Passed on to :class:`proxemic.env.ProxemicEnv` (``planner``, ``render_mode``, ...).
     """
     from proxemic.env import ProxemicEnv
 
-    return ProxemicEnv(scenario_name(archetype, scene_seed, max_time), **kwargs)
+    return ProxemicEnv(scenario_name(archetype, scene_seed, max_time, drive), **kwargs)
 
 
 @dataclass(frozen=True)

@@ -98,16 +98,23 @@ def check_planner(name: str) -> None:
 #: Prefix of a generated scene's name: ``generated/<seed>`` or ``generated/<seed>?key=value&...``.
 GENERATED_PREFIX = "generated/"
 
-#: Prefix of a Francis et al. 2023 archetype's scene: ``francis2023/<archetype>[?seed=N&max_time=T]``
-#: (see :mod:`proxemic.francis2023`).
+#: Prefix of a Francis et al. 2023 archetype's scene:
+#: ``francis2023/<archetype>[?seed=N&max_time=T&drive=D]`` (see :mod:`proxemic.francis2023`).
 FRANCIS2023_PREFIX = "francis2023/"
 
-#: Prefix of a CrowdNav protocol scene: ``crowdnav/<family>[?humans=N&visible=B&seed=S]`` (see
-#: :mod:`proxemic.crowdnav`).
+#: Prefix of a CrowdNav protocol scene: ``crowdnav/<family>[?humans=N&visible=B&seed=S&drive=D]``
+#: (see :mod:`proxemic.crowdnav`).
 CROWDNAV_PREFIX = "crowdnav/"
 
 #: Parameters of :func:`generate` (and of a ``generated/<seed>?...`` name), in the core's order.
 GENERATE_PARAMS: tuple[str, ...] = tuple(_core.GENERATE_PARAMS)
+
+
+#: The generator parameters whose values are names, and what they expect.
+_NAMED = {
+    "reaction": "a reaction name (ignore, aware, yield, curious, cautious)",
+    "drive": "a drive name (holonomic or differential)",
+}
 
 
 def generated_name(seed: int, **params: float | str) -> str:
@@ -115,7 +122,7 @@ def generated_name(seed: int, **params: float | str) -> str:
 
     Raises:
         InputError: `seed` not a non-negative integer, a parameter value not a number (for
-            ``reaction``, not a string; an unknown name is the core's ScenarioError).
+            ``reaction`` and ``drive``, not a string; an unknown name is the core's ScenarioError).
         UnknownNameError: a parameter name not in ``GENERATE_PARAMS``.
     """
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
@@ -129,9 +136,9 @@ def generated_name(seed: int, **params: float | str) -> str:
                 expected=f"one of {list(GENERATE_PARAMS)}",
                 found=key,
             )
-        if key == "reaction":
+        if key in _NAMED:
             if not isinstance(value, str):
-                raise input_error(key, "a reaction name (ignore, aware, yield, curious, cautious)", value)
+                raise input_error(key, _NAMED[key], value)
             pairs.append(f"{key}={value}")
             continue
         pairs.append(
@@ -152,7 +159,8 @@ def generate(seed: int, **params: float | str) -> _core.Scenario:
     100 m^2, 1.5, [0, 6]), ``group_share`` (0.3), ``walker_share`` (0.4), ``seated_share`` (0.2),
     ``objects_per_room`` (3, [0, 8]), ``robots`` (1, [1, 8]), ``max_time`` (s, 180, [30, 3600]),
     ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way),
-    ``reaction`` (the people's reaction to robots, default ``aware``; ``docs/people.md``).
+    ``reaction`` (the people's reaction to robots, default ``aware``; ``docs/people.md``),
+    ``drive`` (every robot's drive, ``holonomic`` by default or ``differential``; ``docs/scenarios.md``).
     The same scene is ``gym.make("proxemic/Generated-v3", scenario=generated_name(seed, ...))``.
 
     Raises:
@@ -187,9 +195,9 @@ def load(
 
         scenario: Bundled name or path of a scenario file, a generated scene's name
             (``generated/<seed>`` or ``generated/<seed>?key=value&...``, see :func:`generate`), a
-            Francis et al. 2023 archetype's scene (``francis2023/<archetype>[?seed=N&max_time=T]``, see
-            :mod:`proxemic.francis2023`), a CrowdNav protocol scene
-            (``crowdnav/<family>[?humans=N&visible=B&seed=S]``, see :mod:`proxemic.crowdnav`), or an
+            Francis et al. 2023 archetype's scene (``francis2023/<archetype>[?seed=N&max_time=T&drive=D]``,
+            see :mod:`proxemic.francis2023`), a CrowdNav protocol scene
+            (``crowdnav/<family>[?humans=N&visible=B&seed=S&drive=D]``, see :mod:`proxemic.crowdnav`), or an
             already validated scenario.
         planner: If given, every robot uses this built-in planner (one of ``PLANNERS``) instead of the file's.
         eband: If given, every robot's elastic-band gains (``contraction_gain``,

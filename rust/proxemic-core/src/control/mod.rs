@@ -66,9 +66,26 @@ pub enum Drive {
 }
 
 impl Drive {
+    /// The names accepted in scenario files and in scene names' `drive=` key.
+    pub const NAMES: [&'static str; 2] = ["holonomic", "differential"];
+
     /// Whether this is [`Drive::Holonomic`] (the default, left out of a serialised robot).
     pub fn is_holonomic(&self) -> bool {
         *self == Drive::Holonomic
+    }
+
+    /// Parses a name of [`Drive::NAMES`].
+    pub fn parse(name: &str) -> Option<Self> {
+        match name {
+            "holonomic" => Some(Drive::Holonomic),
+            "differential" => Some(Drive::Differential),
+            _ => None,
+        }
+    }
+
+    /// The drive's name (as in [`Drive::NAMES`]).
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
     }
 }
 

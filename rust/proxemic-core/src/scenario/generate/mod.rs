@@ -86,6 +86,9 @@ pub fn spec(seed: u64, p: &GenParams) -> String {
     if p.reaction != d.reaction {
         pairs.push(format!("reaction={}", p.reaction.name()));
     }
+    if p.drive != d.drive {
+        pairs.push(format!("drive={}", p.drive.name()));
+    }
     if pairs.is_empty() {
         format!("generated/{seed}")
     } else {
@@ -216,6 +219,12 @@ fn agenda(rng: &mut ChaCha8Rng, objects: &[GObject], p: &GenParams) -> Vec<Activ
         .collect()
 }
 
+/// A robot's `drive = "..."` line (with its newline), empty for the default holonomic drive (so
+/// a holonomic scene's text is unchanged).
+pub(crate) fn drive_line(drive: crate::control::Drive) -> String {
+    if drive.is_holonomic() { String::new() } else { format!("drive = \"{}\"\n", drive.name()) }
+}
+
 fn pt(p: [f64; 2]) -> String {
     format!("[{:?}, {:?}]", p[0], p[1])
 }
@@ -314,11 +323,12 @@ fn render(
     for (k, (start, goal)) in robots.iter().enumerate() {
         let _ = writeln!(
             t,
-            "[[robot]]\nname = \"robot_{k}\"\nstart = [{:?}, {:?}, {:?}]\ngoal = {}\nplanner = \"astar\"\n",
+            "[[robot]]\nname = \"robot_{k}\"\nstart = [{:?}, {:?}, {:?}]\ngoal = {}\nplanner = \"astar\"\n{}",
             start[0],
             start[1],
             start[2],
-            pt(*goal)
+            pt(*goal),
+            drive_line(p.drive)
         );
     }
     let _ = writeln!(t, "[episode]\nmax_time = {:?}\nsuccess_radius = 0.3\n", p.max_time);

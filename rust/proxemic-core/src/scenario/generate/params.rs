@@ -1,5 +1,6 @@
 //! The generator's parameters: defaults, ranges, and the `generated/<seed>?key=value&...` spec.
 
+use crate::control::Drive;
 use crate::error::{CoreError, Result};
 use crate::scenario::model::Reaction;
 
@@ -40,6 +41,8 @@ pub struct GenParams {
     /// The people's reaction to robots (the scene's `reaction`): `ignore`, `aware`, `yield`,
     /// `curious` or `cautious`; default `aware`.
     pub reaction: Reaction,
+    /// Every robot's `drive`: `holonomic` or `differential`; default `holonomic`.
+    pub drive: Drive,
 }
 
 impl Default for GenParams {
@@ -58,6 +61,7 @@ impl Default for GenParams {
             max_time: 180.0,
             encounters: 0,
             reaction: Reaction::Aware,
+            drive: Drive::Holonomic,
         }
     }
 }
@@ -66,7 +70,7 @@ impl Default for GenParams {
 pub(super) const MIN_ROOM_DEPTH: f64 = 3.5;
 
 /// The parameter names a spec or `proxemic.generate` accepts.
-pub const PARAM_NAMES: [&str; 13] = [
+pub const PARAM_NAMES: [&str; 14] = [
     "width",
     "height",
     "corridor_width",
@@ -80,6 +84,7 @@ pub const PARAM_NAMES: [&str; 13] = [
     "max_time",
     "encounters",
     "reaction",
+    "drive",
 ];
 
 /// Hands each `key=value` pair of the spec `spec`'s `query` (the part after `?`, pairs joined by
@@ -103,6 +108,12 @@ pub(super) fn each_parameter<'q>(
     Ok(())
 }
 
+/// The value of a spec's `drive` key (a name of [`Drive::NAMES`]); errors name `drive`.
+pub(super) fn parse_drive(source: &str, value: &str) -> Result<Drive> {
+    Drive::parse(value.trim())
+        .ok_or_else(|| perr(source, "drive", format!("one of {:?}", Drive::NAMES), format!("{value:?}")))
+}
+
 /// A scenario error of the spec `source` naming `field`.
 pub(super) fn perr(
     source: &str,
@@ -120,7 +131,7 @@ pub(super) fn perr(
 
 impl GenParams {
     /// Sets parameter `key` from its text `value` (a number; an integer for `objects_per_room`
-    /// and `robots`; a name of [`Reaction::NAMES`] for `reaction`). Errors name `key` (unknown names list [`PARAM_NAMES`]); `source` names the
+    /// and `robots`; a name of [`Reaction::NAMES`] for `reaction`, of [`Drive::NAMES`] for `drive`). Errors name `key` (unknown names list [`PARAM_NAMES`]); `source` names the
     /// spec in the error.
     pub fn set(&mut self, source: &str, key: &str, value: &str) -> Result<()> {
         let number = || -> Result<f64> {
@@ -155,6 +166,7 @@ impl GenParams {
                     perr(source, key, format!("one of {:?}", Reaction::NAMES), format!("{value:?}"))
                 })?;
             }
+            "drive" => self.drive = parse_drive(source, value)?,
             _ => {
                 return Err(perr(
                     source,

@@ -169,3 +169,49 @@ fn the_reaction_parameter_sets_every_person_s_and_a_bad_one_is_named() {
         other => panic!("expected a scenario error, got {other:?}"),
     }
 }
+
+/// `drive=differential` on every family's scene name makes every robot a differential-drive base
+/// and changes nothing else of the scene (the draws are the same; the file gains the `drive`
+/// line); the default is holonomic, the canonical name keeps the key, a bad value names `drive`,
+/// and the key given twice is refused.
+#[test]
+fn the_drive_key_sets_every_robot_s_drive_on_every_family() {
+    use crate::control::Drive;
+    for name in
+        ["generated/3?robots=2", "francis2023/crossing_90?seed=4", "crowdnav/circle_crossing?humans=3&seed=2"]
+    {
+        let holo = generate_spec(name).expect("holonomic");
+        let diff_name = format!("{name}&drive=differential");
+        let diff = generate_spec(&diff_name).expect("differential");
+        assert!(holo.scenario.robots.iter().all(|r| r.drive == Drive::Holonomic), "{name}");
+        assert!(diff.scenario.robots.iter().all(|r| r.drive == Drive::Differential), "{name}");
+        assert!(!holo.toml.contains("drive ="), "{name}: a holonomic file has no drive line");
+        let without: String = diff
+            .toml
+            .lines()
+            .filter(|l| *l != "drive = \"differential\"")
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert_eq!(without.replace(&diff_name, name), holo.toml, "{name}: only the drive differs");
+        assert_eq!(diff.scenario.source, diff_name, "{name}: the canonical name keeps the key");
+        assert_eq!(
+            generate_spec(&format!("{name}&drive=holonomic")).expect("explicit default").toml,
+            holo.toml
+        );
+        for (bad, field, found) in [
+            (format!("{name}&drive=tank"), "drive", "tank"),
+            (format!("{name}&drive=differential&drive=holonomic"), "drive", "twice"),
+        ] {
+            match generate_spec(&bad) {
+                Err(CoreError::Scenario { field: f, found: fd, expected, .. }) => {
+                    assert_eq!(f, field, "{bad}");
+                    assert!(fd.contains(found), "{bad}: {fd}");
+                    if found == "tank" {
+                        assert!(expected.contains("differential"), "{expected}");
+                    }
+                }
+                other => panic!("{bad}: expected a scenario error, got {:?}", other.map(|g| g.toml.len())),
+            }
+        }
+    }
+}

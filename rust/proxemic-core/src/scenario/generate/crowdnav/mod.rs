@@ -21,8 +21,9 @@
 //! people are written as one-way walkers (they stay at their goal); the CrowdNav protocol's own
 //! kinematic episodes ([`crate::world::crowdnav`]) run them with ORCA as CrowdNav does.
 //!
-//! Spec: `crowdnav/<family>[?humans=N&visible=true|false&seed=S]`, defaults 5 humans, robot
-//! invisible (the people ignore it, `reaction = "ignore"`), seed 0.
+//! Spec: `crowdnav/<family>[?humans=N&visible=true|false&seed=S&drive=D]`, defaults 5 humans,
+//! robot invisible (the people ignore it, `reaction = "ignore"`), seed 0, holonomic robot
+//! (`drive=differential`: CrowdNav's unicycle robot, [`crate::world::crowdnav`]).
 
 use std::fmt::Write as _;
 
@@ -31,7 +32,8 @@ use rand_chacha::ChaCha8Rng;
 
 use super::Generated;
 use super::layout::round2;
-use super::params::{each_parameter, perr};
+use super::params::{each_parameter, parse_drive, perr};
+use crate::control::Drive;
 use crate::error::Result;
 use crate::scenario::Scenario;
 
@@ -73,11 +75,13 @@ pub struct Spec {
     pub visible: bool,
     /// The scene seed; default 0.
     pub seed: u64,
+    /// The robot's drive: holonomic (default) or differential (CrowdNav's `unicycle` kinematics).
+    pub drive: Drive,
 }
 
 impl Spec {
     /// The canonical spec text (parameters that differ from the defaults, in the order humans,
-    /// visible, seed).
+    /// visible, seed, drive).
     pub fn text(&self) -> String {
         let mut pairs = Vec::new();
         if self.humans != 5 {
@@ -89,22 +93,31 @@ impl Spec {
         if self.seed != 0 {
             pairs.push(format!("seed={}", self.seed));
         }
+        if !self.drive.is_holonomic() {
+            pairs.push(format!("drive={}", self.drive.name()));
+        }
         let q = if pairs.is_empty() { String::new() } else { format!("?{}", pairs.join("&")) };
         format!("{PREFIX}{}{q}", self.family)
     }
 }
 
-/// Parses `crowdnav/<family>[?humans=N&visible=B&seed=S]`. Errors are
+/// Parses `crowdnav/<family>[?humans=N&visible=B&seed=S&drive=D]`. Errors are
 /// [`crate::CoreError::Scenario`] naming the spec and the part that is wrong.
 pub fn parse_spec(spec: &str) -> Result<Spec> {
     let rest = spec.strip_prefix(PREFIX).ok_or_else(|| {
-        perr(spec, "<spec>", "crowdnav/<family>[?humans=N&visible=true|false&seed=S]", format!("{spec:?}"))
+        perr(
+            spec,
+            "<spec>",
+            "crowdnav/<family>[?humans=N&visible=true|false&seed=S&drive=D]",
+            format!("{spec:?}"),
+        )
     })?;
     let (name, query) = rest.split_once('?').map_or((rest, None), |(n, q)| (n, Some(q)));
     if !FAMILIES.contains(&name) {
         return Err(perr(spec, "family", format!("one of {FAMILIES:?}"), format!("{name:?}")));
     }
-    let mut out = Spec { family: name.to_string(), humans: 5, visible: false, seed: 0 };
+    let mut out =
+        Spec { family: name.to_string(), humans: 5, visible: false, seed: 0, drive: Drive::Holonomic };
     each_parameter(spec, query.unwrap_or(""), |k, v| {
         match k {
             "humans" => {
@@ -126,11 +139,12 @@ pub fn parse_spec(spec: &str) -> Result<Spec> {
                     .parse::<u64>()
                     .map_err(|_| perr(spec, "seed", "a non-negative integer seed", format!("{v:?}")))?;
             }
+            "drive" => out.drive = parse_drive(spec, v)?,
             _ => {
                 return Err(perr(
                     spec,
                     k,
-                    "a parameter among [\"humans\", \"visible\", \"seed\"]",
+                    "a parameter among [\"humans\", \"visible\", \"seed\", \"drive\"]",
                     format!("{k:?}"),
                 ));
             }
@@ -238,8 +252,13 @@ pub fn build(s: &Spec) -> Result<Generated> {
     }
     let _ = writeln!(
         t,
-        "[[robot]]\nname = \"robot_0\"\nstart = [{:?}, {:?}, {:?}]\ngoal = [{:?}, {:?}]\nradius = {RADIUS:?}\nmax_speed = {V_PREF:?}\nplanner = \"astar_orca\"\n",
-        ROBOT_START[0], ROBOT_START[1], ROBOT_HEADING, ROBOT_GOAL[0], ROBOT_GOAL[1]
+        "[[robot]]\nname = \"robot_0\"\nstart = [{:?}, {:?}, {:?}]\ngoal = [{:?}, {:?}]\nradius = {RADIUS:?}\nmax_speed = {V_PREF:?}\nplanner = \"astar_orca\"\n{}",
+        ROBOT_START[0],
+        ROBOT_START[1],
+        ROBOT_HEADING,
+        ROBOT_GOAL[0],
+        ROBOT_GOAL[1],
+        super::drive_line(s.drive)
     );
     let _ = writeln!(t, "[episode]\nmax_time = {TIME_LIMIT:?}\nsuccess_radius = {RADIUS:?}\n");
     let _ = writeln!(

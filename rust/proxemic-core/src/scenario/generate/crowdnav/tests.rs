@@ -1,4 +1,5 @@
 use super::*;
+use crate::control::Drive;
 
 #[test]
 fn specs_round_trip_and_bad_parameters_are_named() {
@@ -24,7 +25,13 @@ fn people_follow_crowdnavs_rules() {
     let min = 2.0 * RADIUS + DISCOMFORT_DIST - 0.011; // centimetre rounding of both points
     for family in FAMILIES {
         for seed in 0..30 {
-            let s = Spec { family: family.to_string(), humans: 20, visible: false, seed };
+            let s = Spec {
+                family: family.to_string(),
+                humans: 20,
+                visible: false,
+                seed,
+                drive: Drive::Holonomic,
+            };
             let people = draw_people(&s).expect("ok");
             assert_eq!(people.len(), 20);
             let d = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);

@@ -6,7 +6,9 @@
 //! (widths, lengths, speeds, angles, offsets) from the seed, within ranges written beside it,
 //! lays out walls, people and robots, and writes a scenario file; the file loads like any other.
 //! The spec naming a scene is `francis2023/<archetype>` (seed 0) or
-//! `francis2023/<archetype>?seed=N&max_time=T` ([`parse_spec`]); same spec, same text, bit for bit.
+//! `francis2023/<archetype>?seed=N&max_time=T&drive=D` ([`parse_spec`]); same spec, same text, bit
+//! for bit. `drive=differential` makes every robot a differential-drive base (the scene's draws
+//! are the same).
 //!
 //! Conventions shared by every archetype: the robot drives from west to east unless the archetype
 //! says otherwise; people's walks are one way (`walker` with a stop of an hour at the end of the
@@ -24,7 +26,8 @@ use rand_chacha::ChaCha8Rng;
 
 use super::Generated;
 use super::layout::round2;
-use super::params::{each_parameter, perr};
+use super::params::{each_parameter, parse_drive, perr};
+use crate::control::Drive;
 use crate::error::Result;
 use crate::scenario::Scenario;
 
@@ -81,11 +84,13 @@ pub struct Spec {
     pub seed: u64,
     /// Episode length (s), in [5, 600]; default: the archetype's own (long enough for its task).
     pub max_time: Option<f64>,
+    /// Every robot's drive; default holonomic.
+    pub drive: Drive,
 }
 
 impl Spec {
-    /// The canonical spec text: `francis2023/<archetype>` plus `?seed=N&max_time=T` for the values
-    /// that differ from the defaults.
+    /// The canonical spec text: `francis2023/<archetype>` plus `?seed=N&max_time=T&drive=D` for
+    /// the values that differ from the defaults.
     pub fn text(&self) -> String {
         let mut pairs = Vec::new();
         if self.seed != 0 {
@@ -94,16 +99,19 @@ impl Spec {
         if let Some(t) = self.max_time {
             pairs.push(format!("max_time={t}"));
         }
+        if !self.drive.is_holonomic() {
+            pairs.push(format!("drive={}", self.drive.name()));
+        }
         let q = if pairs.is_empty() { String::new() } else { format!("?{}", pairs.join("&")) };
         format!("{PREFIX}{}{q}", self.archetype)
     }
 }
 
-/// Parses `francis2023/<archetype>[?seed=N&max_time=T]`. Errors are [`crate::CoreError::Scenario`] naming
+/// Parses `francis2023/<archetype>[?seed=N&max_time=T&drive=D]`. Errors are [`crate::CoreError::Scenario`] naming
 /// the spec and the part that is wrong (an unknown archetype lists them all).
 pub fn parse_spec(spec: &str) -> Result<Spec> {
     let rest = spec.strip_prefix(PREFIX).ok_or_else(|| {
-        perr(spec, "<spec>", "francis2023/<archetype>[?seed=N&max_time=T]", format!("{spec:?}"))
+        perr(spec, "<spec>", "francis2023/<archetype>[?seed=N&max_time=T&drive=D]", format!("{spec:?}"))
     })?;
     let (name, query) = match rest.split_once('?') {
         Some((n, q)) => (n, Some(q)),
@@ -112,7 +120,7 @@ pub fn parse_spec(spec: &str) -> Result<Spec> {
     if !ARCHETYPES.contains(&name) {
         return Err(perr(spec, "archetype", format!("one of {ARCHETYPES:?}"), format!("{name:?}")));
     }
-    let mut out = Spec { archetype: name.to_string(), seed: 0, max_time: None };
+    let mut out = Spec { archetype: name.to_string(), seed: 0, max_time: None, drive: Drive::Holonomic };
     each_parameter(spec, query.unwrap_or(""), |k, v| {
         match k {
             "seed" => {
@@ -127,14 +135,22 @@ pub fn parse_spec(spec: &str) -> Result<Spec> {
                     perr(spec, "max_time", "a number of seconds in [5, 600]", format!("{v:?}"))
                 })?);
             }
-            _ => return Err(perr(spec, k, "a parameter among [\"seed\", \"max_time\"]", format!("{k:?}"))),
+            "drive" => out.drive = parse_drive(spec, v)?,
+            _ => {
+                return Err(perr(
+                    spec,
+                    k,
+                    "a parameter among [\"seed\", \"max_time\", \"drive\"]",
+                    format!("{k:?}"),
+                ));
+            }
         }
         Ok(())
     })?;
     Ok(out)
 }
 
-/// Generates the scene of a spec `francis2023/<archetype>[?seed=N&max_time=T]`.
+/// Generates the scene of a spec `francis2023/<archetype>[?seed=N&max_time=T&drive=D]`.
 pub fn generate(spec: &str) -> Result<Generated> {
     let s = parse_spec(spec)?;
     build(&s)
@@ -359,6 +375,7 @@ impl Draft {
                 "[[robot]]\nname = \"robot_{k}\"\nstart = [{:?}, {:?}, {:?}]\nplanner = \"astar\"",
                 start[0], start[1], start[2]
             );
+            t.push_str(&super::drive_line(s.drive));
             match goal {
                 Goal::Point(g) => {
                     let _ = writeln!(t, "goal = {}\n", pt(*g));
