@@ -33,7 +33,13 @@ $(VENV)/.deps: pyproject.toml Makefile
 
 # The `rl` extra (stable-baselines3 and torch: about 5.4 GB with torch's CUDA libraries, the only
 # torch build PyPI has for Linux; docs/training.md): only `make test` and the training example need it.
+# pip needs the wheels and the installed files at once: about 8 GB free, checked first so a full
+# disk says so instead of failing half-way through torch's install.
+RL_FREE_GB := 8
 $(VENV)/.rl-deps: $(VENV)/.deps
+	@free=$$(df -Pk $(VENV) | awk 'NR==2 {print int($$4 / 1048576)}'); \
+	if [ "$$free" -lt $(RL_FREE_GB) ]; then \
+	  echo "error: the rl extra (stable-baselines3, torch) needs about $(RL_FREE_GB) GB free on the disk of $(VENV); $$free GB are free" >&2; exit 1; fi
 	$(PIP) install -q "stable-baselines3>=2.3"
 	@touch $@
 

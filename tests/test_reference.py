@@ -10,9 +10,10 @@ import gymnasium as gym
 import pytest
 
 import proxemic  # noqa: F401  (registers the envs)
-from proxemic import _core, reference, scenarios
+from proxemic import _core, markdown, reference, scenarios
 from proxemic.cli import main
 from proxemic.env import flatten_metrics
+from proxemic.errors import InputError
 from proxemic.evaluation import HEADLINE, METRICS, headline_markdown, summarise
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
@@ -108,3 +109,13 @@ def test_proxemic_schema_prints_the_json_schema(capsys):
 def test_replace_generated_needs_the_markers():
     with pytest.raises(ValueError, match="markers"):
         reference.replace_generated("no markers here", "x")
+
+
+def test_replace_block_keeps_what_lies_outside_the_markers():
+    page = "intro\n<!-- a -->\nold\n<!-- b -->\noutro\n"
+    assert markdown.replace_block(page, "<!-- a -->", "<!-- b -->", "new\n", source="p.md") == (
+        "intro\n<!-- a -->\nnew\n<!-- b -->\noutro\n"
+    )
+    # the end marker must follow the begin marker; the error names the page
+    with pytest.raises(InputError, match=r"p\.md: expected a block between the markers"):
+        markdown.replace_block("<!-- b -->\n<!-- a -->\n", "<!-- a -->", "<!-- b -->", "x\n", source="p.md")

@@ -227,14 +227,10 @@ def write_docs(path: Path, episodes: int = EPISODES, francis_episodes: int = FRA
         InputError: `path` has no block (the marker lines :data:`DOCS_BEGIN` and :data:`DOCS_END`),
             or a bad episode count.
     """
-    text = path.read_text(encoding="utf-8")
-    if DOCS_BEGIN not in text or DOCS_END not in text.partition(DOCS_BEGIN)[2]:
-        raise input_error(str(path), f"a block between {DOCS_BEGIN!r} and {DOCS_END!r}", "no such block")
+    markdown.check_block(path, DOCS_BEGIN, DOCS_END)
     summaries, francis = run(episodes, francis_episodes, workers)
     block = block_text(summaries, francis, episodes, francis_episodes)
-    head, _, rest = text.partition(DOCS_BEGIN)
-    _, _, tail = rest.partition(DOCS_END)
-    path.write_text(f"{head}{DOCS_BEGIN}\n{block}{DOCS_END}{tail}", encoding="utf-8")
+    markdown.write_block(path, DOCS_BEGIN, DOCS_END, block)
     return block
 
 

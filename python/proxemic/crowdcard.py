@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from proxemic import _core
+from proxemic.markdown import check_block, write_block
 
 SAMPLE_DT = 0.4
 """Time between samples of the ETH/UCY recordings (s)."""
@@ -597,16 +598,7 @@ def write_docs(cards: Sequence[dict[str, Any]], out: str | Path, page: str | Pat
     import shutil
 
     page, out = Path(page), Path(out)
-    text = page.read_text()
-    if DOCS_BEGIN not in text or DOCS_END not in text:
-        from proxemic.errors import InputError
-
-        raise InputError(
-            f"{page}: expected the markers {DOCS_BEGIN!r} and {DOCS_END!r}, got a page without them",
-            field="docs",
-            expected="a page with the crowd-card markers",
-            found="no markers",
-        )
+    check_block(page, DOCS_BEGIN, DOCS_END)
     parts = []
     for c in cards:
         src = out / c["recording"] if len(cards) > 1 else out
@@ -615,6 +607,4 @@ def write_docs(cards: Sequence[dict[str, Any]], out: str | Path, page: str | Pat
         for png in src.glob("*.png"):
             shutil.copyfile(png, page.parent / images / png.name)
         parts.append(markdown(c, images.as_posix()))
-    head, rest = text.split(DOCS_BEGIN, 1)
-    tail = rest.split(DOCS_END, 1)[1]
-    page.write_text(head + DOCS_BEGIN + "\n\n" + "\n".join(parts) + "\n" + DOCS_END + tail)
+    write_block(page, DOCS_BEGIN, DOCS_END, "\n" + "\n".join(parts) + "\n")

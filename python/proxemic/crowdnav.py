@@ -324,18 +324,14 @@ def write_docs(path: Path, episodes_per_setting: int = EPISODES, seed: int = TES
     Returns the rows. Raises :class:`InputError` when `path` has no block (the two marker lines
     :data:`DOCS_BEGIN` and :data:`DOCS_END`).
     """
-    text = path.read_text(encoding="utf-8")
-    if DOCS_BEGIN not in text or DOCS_END not in text.partition(DOCS_BEGIN)[2]:
-        raise input_error(str(path), f"a block between {DOCS_BEGIN!r} and {DOCS_END!r}", "no such block")
+    markdown.check_block(path, DOCS_BEGIN, DOCS_END)
     rows = run_suite(None, episodes_per_setting, seed)
-    head, _, rest = text.partition(DOCS_BEGIN)
-    _, _, tail = rest.partition(DOCS_END)
     block = (
         f"Every built-in planner, scene seeds {seed}-{seed + episodes_per_setting - 1} of each setting "
         f"(`proxemic eval --suite crowdnav --episodes {episodes_per_setting}` prints the same table):\n\n"
         f"{table_text(rows)}\n"
     )
-    path.write_text(f"{head}{DOCS_BEGIN}\n{block}{DOCS_END}{tail}", encoding="utf-8")
+    markdown.write_block(path, DOCS_BEGIN, DOCS_END, block)
     return rows
 
 

@@ -218,12 +218,9 @@ def replace_generated(page: str, generated: str) -> str:
     """`page` with the text between :data:`BEGIN` and :data:`END` replaced by `generated`.
 
     Raises:
-        ValueError: The page lacks the markers.
+        InputError: The page lacks the markers (:func:`proxemic.markdown.replace_block`).
     """
-    start, end = page.find(BEGIN), page.find(END)
-    if start < 0 or end < start:
-        raise ValueError(f"the page lacks the markers {BEGIN!r} ... {END!r}")
-    return page[: start + len(BEGIN)] + "\n\n" + generated + "\n" + page[end:]
+    return markdown.replace_block(page, BEGIN, END, f"\n{generated}\n", source="the metrics page")
 
 
 def generated_files(docs: Path) -> dict[Path, str]:

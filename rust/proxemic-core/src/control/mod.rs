@@ -119,14 +119,10 @@ impl Limits {
     ) -> (Vec2, f64) {
         let desired_v =
             if desired_v.x.is_finite() && desired_v.y.is_finite() { desired_v } else { Vec2::zeros() };
-        let desired_wz = if desired_wz.is_finite() { desired_wz } else { 0.0 };
         let v = clamp_norm(desired_v, self.max_speed);
         let dv = clamp_norm(v - prev_v, self.max_accel * dt);
         let v = clamp_norm(prev_v + dv, self.max_speed);
-        let wz = desired_wz.clamp(-self.max_angular_speed, self.max_angular_speed);
-        let dw = (wz - prev_wz).clamp(-self.max_angular_accel * dt, self.max_angular_accel * dt);
-        let wz = (prev_wz + dw).clamp(-self.max_angular_speed, self.max_angular_speed);
-        (v, wz)
+        (v, self.limit_turn(desired_wz, prev_wz, dt))
     }
 
     /// Limits a unicycle's desired command, forward speed `desired_v` (m/s, negative: reverse)
@@ -142,14 +138,20 @@ impl Limits {
         dt: f64,
     ) -> (f64, f64) {
         let desired_v = if desired_v.is_finite() { desired_v } else { 0.0 };
-        let desired_wz = if desired_wz.is_finite() { desired_wz } else { 0.0 };
         let v = desired_v.clamp(-self.max_speed, self.max_speed);
         let dv = (v - prev_v).clamp(-self.max_accel * dt, self.max_accel * dt);
         let v = (prev_v + dv).clamp(-self.max_speed, self.max_speed);
+        (v, self.limit_turn(desired_wz, prev_wz, dt))
+    }
+
+    /// The turn rate (rad/s) both drives execute for a desired `desired_wz` after `prev_wz`
+    /// over `dt`: within `max_angular_speed`, changed by at most `max_angular_accel * dt`; a
+    /// non-finite request is a request to stop turning.
+    fn limit_turn(&self, desired_wz: f64, prev_wz: f64, dt: f64) -> f64 {
+        let desired_wz = if desired_wz.is_finite() { desired_wz } else { 0.0 };
         let wz = desired_wz.clamp(-self.max_angular_speed, self.max_angular_speed);
         let dw = (wz - prev_wz).clamp(-self.max_angular_accel * dt, self.max_angular_accel * dt);
-        let wz = (prev_wz + dw).clamp(-self.max_angular_speed, self.max_angular_speed);
-        (v, wz)
+        (prev_wz + dw).clamp(-self.max_angular_speed, self.max_angular_speed)
     }
 
     /// The one rule turning a built-in planner's holonomic command into a differential-drive

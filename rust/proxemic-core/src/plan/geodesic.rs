@@ -4,11 +4,8 @@
 //! Used for the progress reward (decrease of the geodesic distance to the goal), and as the
 //! shortest-path length `l*` of the path-length ratio and SPL metrics.
 
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
-use crate::map::CostGrid;
 use crate::map::grid::GridSpec;
+use crate::map::{CostGrid, INSCRIBED};
 use crate::math::Vec2;
 
 /// Distance (metres) from every passable cell centre to the goal cell centre along 8-connected
@@ -19,68 +16,95 @@ pub struct GoalField {
     dist: Vec<f64>,
 }
 
-#[derive(PartialEq)]
-struct Entry(f64, usize);
-
-impl Eq for Entry {}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // min-heap on distance, then on index for determinism
-        other.0.total_cmp(&self.0).then_with(|| other.1.cmp(&self.1))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
 impl GoalField {
     /// Runs Dijkstra from `goal` (a passable cell) over `grid`.
+    ///
+    /// The cells are settled from a bucket queue (Dial's form of Dijkstra) of buckets half a
+    /// cell's width deep: an edge is at least one cell long, so a cell's neighbours are relaxed
+    /// into later buckets only, and the cells of one bucket cannot improve each other; the order
+    /// within a bucket is free. Every order that settles a cell only once no cell can improve it
+    /// leaves each cell's distance the least of its passable neighbours' distances plus the
+    /// edge, summed in floating point, and that fixpoint is unique (each edge adds a positive
+    /// length), so the distances are those of a binary heap's order, bit for bit, in a fraction
+    /// of its time on a large grid (6 million cells: 1.6 s with the heap).
     pub fn compute(grid: &CostGrid, goal: (usize, usize)) -> Self {
         let spec = grid.spec;
         let (w, h) = (spec.width, spec.height);
         let mut dist = vec![f64::INFINITY; spec.len()];
-        let mut heap = BinaryHeap::new();
-        if goal.0 < w && goal.1 < h && grid.passable(goal.0, goal.1) {
-            let gi = spec.index(goal.0, goal.1);
-            dist[gi] = 0.0;
-            heap.push(Entry(0.0, gi));
+        let free = |i: usize| grid.cost.get(i).is_some_and(|&c| c < INSCRIBED);
+        if !(goal.0 < w && goal.1 < h && grid.passable(goal.0, goal.1)) {
+            return GoalField { spec, dist };
         }
         let res = spec.resolution;
         let diag = std::f64::consts::SQRT_2 * res;
-        while let Some(Entry(d, idx)) = heap.pop() {
-            if d > dist[idx] {
-                continue;
-            }
-            let (x, y) = ((idx % w) as isize, (idx / w) as isize);
-            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)] {
-                let (nx, ny) = (x + dx, y + dy);
-                if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
+        // Buckets `floor(d / depth)`: a relaxation lands 1 to 3 buckets after its cell's (edges
+        // of 2 and 2.83 depths, rounding aside), so a ring of 8 holds every pending bucket.
+        let depth = 0.5 * res;
+        let bucket = |d: f64| (d / depth) as usize;
+        const RING: usize = 8;
+        let mut ring: [Vec<u32>; RING] = Default::default();
+        let mut done = vec![false; spec.len()];
+        let gi = spec.index(goal.0, goal.1);
+        dist[gi] = 0.0;
+        ring[0].push(gi as u32);
+        let mut pending = 1usize;
+        let mut current = Vec::new();
+        let mut k = 0usize;
+        while pending > 0 {
+            std::mem::swap(&mut current, &mut ring[k % RING]);
+            pending -= current.len();
+            for &i in &current {
+                let idx = i as usize;
+                if done[idx] {
                     continue;
                 }
-                let (ux, uy) = (nx as usize, ny as usize);
-                if !grid.passable(ux, uy) {
-                    continue;
-                }
-                let step = if dx != 0 && dy != 0 {
-                    // no corner cutting: both orthogonal neighbours must be passable
-                    if !grid.passable(ux, y as usize) || !grid.passable(x as usize, uy) {
-                        continue;
+                done[idx] = true;
+                let d = dist[idx];
+                debug_assert_eq!(bucket(d), k);
+                let (x, y) = (idx % w, idx / w);
+                let (left, right, down, up) = (x > 0, x + 1 < w, y > 0, y + 1 < h);
+                // The orthogonal neighbours' passability, for the corner-cutting rule.
+                let fl = left && free(idx - 1);
+                let fr = right && free(idx + 1);
+                let fd = down && free(idx - w);
+                let fu = up && free(idx + w);
+                let mut relax = |ni: usize, step: f64| {
+                    let nd = d + step;
+                    if nd < dist[ni] {
+                        dist[ni] = nd;
+                        ring[bucket(nd) % RING].push(ni as u32);
+                        pending += 1;
                     }
-                    diag
-                } else {
-                    res
                 };
-                let ni = spec.index(ux, uy);
-                let nd = d + step;
-                if nd < dist[ni] {
-                    dist[ni] = nd;
-                    heap.push(Entry(nd, ni));
+                // The heap version's neighbour order (any order gives the same distances).
+                if fr {
+                    relax(idx + 1, res);
+                }
+                if fl {
+                    relax(idx - 1, res);
+                }
+                if fu {
+                    relax(idx + w, res);
+                }
+                if fd {
+                    relax(idx - w, res);
+                }
+                // No corner cutting: a diagonal needs both orthogonal neighbours passable.
+                if fr && fu && free(idx + w + 1) {
+                    relax(idx + w + 1, diag);
+                }
+                if fr && fd && free(idx - w + 1) {
+                    relax(idx - w + 1, diag);
+                }
+                if fl && fu && free(idx + w - 1) {
+                    relax(idx + w - 1, diag);
+                }
+                if fl && fd && free(idx - w - 1) {
+                    relax(idx - w - 1, diag);
                 }
             }
+            current.clear();
+            k += 1;
         }
         GoalField { spec, dist }
     }
@@ -149,6 +173,71 @@ mod tests {
         let a = f.distance(Vec2::new(0.449, 0.05));
         let b = f.distance(Vec2::new(0.451, 0.05));
         assert!((a - b).abs() < 0.01, "{a} {b}");
+    }
+
+    /// Dijkstra with a binary heap, the field's former computation: the reference its bucket
+    /// queue must match bit for bit.
+    fn heap_dijkstra(grid: &CostGrid, goal: (usize, usize)) -> Vec<f64> {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        let spec = grid.spec;
+        let (w, h) = (spec.width as isize, spec.height as isize);
+        let mut dist = vec![f64::INFINITY; spec.len()];
+        let mut heap = BinaryHeap::new();
+        let gi = spec.index(goal.0, goal.1);
+        dist[gi] = 0.0;
+        heap.push(Reverse((0u64, gi)));
+        let res = spec.resolution;
+        while let Some(Reverse((bits, idx))) = heap.pop() {
+            let d = f64::from_bits(bits);
+            if d > dist[idx] {
+                continue;
+            }
+            let (x, y) = ((idx % spec.width) as isize, (idx / spec.width) as isize);
+            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)] {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w || ny >= h || !grid.passable(nx as usize, ny as usize) {
+                    continue;
+                }
+                let diagonal = dx != 0 && dy != 0;
+                if diagonal
+                    && !(grid.passable(nx as usize, y as usize) && grid.passable(x as usize, ny as usize))
+                {
+                    continue;
+                }
+                let nd = d + if diagonal { std::f64::consts::SQRT_2 * res } else { res };
+                let ni = spec.index(nx as usize, ny as usize);
+                if nd < dist[ni] {
+                    dist[ni] = nd;
+                    // Non-negative floats order as their bits.
+                    heap.push(Reverse((nd.to_bits(), ni)));
+                }
+            }
+        }
+        dist
+    }
+
+    #[test]
+    fn bucket_queue_matches_a_binary_heap_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for (w, h, res) in [(120, 80, 0.1), (97, 131, 0.05), (60, 60, 0.3)] {
+            let mut g = open_grid(w, h);
+            g.spec.resolution = res;
+            for c in g.cost.iter_mut() {
+                *c = match rng.random_range(0..10) {
+                    0 | 1 => crate::map::LETHAL,
+                    2 => 100,
+                    _ => 0,
+                };
+            }
+            let goal = (w / 2, h / 3);
+            g.cost[g.spec.index(goal.0, goal.1)] = 0;
+            let f = GoalField::compute(&g, goal);
+            let reference = heap_dijkstra(&g, goal);
+            assert!(f.dist.iter().zip(&reference).all(|(a, b)| a.to_bits() == b.to_bits()));
+            assert!(f.dist.iter().filter(|d| d.is_finite()).count() > w * h / 2);
+        }
     }
 
     #[test]

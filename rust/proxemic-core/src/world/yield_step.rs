@@ -71,6 +71,22 @@ impl World {
                 }
             }
         }
+        // The cost field is read at the robot's position now and along its rollouts, at most
+        // `t_end` seconds ahead (the rollouts' last instant) and `reach` metres away (their speed
+        // is clamped to the limit): an individual whose bounds, moved along its velocity over
+        // that time, stay farther than `reach` from the robot never holds a point the field is
+        // read at, and is left out of the field (it would add nothing to a maximum). With
+        // thousands of people this is most of them. Non-finite bounds or limits leave no one out.
+        let t_end = (params.horizon / params.step).ceil() * params.step;
+        let reach = st.limits.max_speed * t_end;
+        let out_of_reach = |ind: &Individual, vel: Vec2| {
+            let lim = (reach + vel.norm() * t_end) * (1.0 + 1e-9) + 1e-6;
+            let [x0, y0, x1, y1] = ind.bounds();
+            x0 - robot.pos.x > lim
+                || robot.pos.x - x1 > lim
+                || y0 - robot.pos.y > lim
+                || robot.pos.y - y1 > lim
+        };
         let mut individuals = Vec::new();
         if let Some(per) = self.social.perception() {
             for ind in &per.individuals {
@@ -79,7 +95,9 @@ impl World {
                 }
                 let vel =
                     ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k]) / ind.members.len() as f64;
-                individuals.push((ind, vel));
+                if !out_of_reach(ind, vel) {
+                    individuals.push((ind, vel));
+                }
                 if ind.members.len() + ind.robots.len() >= 2 {
                     // A group's o-space: the mean distance of its members from its centre, kept
                     // clear by the robot's body (gap 0).

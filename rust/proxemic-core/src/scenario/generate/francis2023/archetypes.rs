@@ -532,14 +532,7 @@ fn parallel_traffic(d: &mut Draft) {
     d.room(0.0, 0.0, l, w);
     let y = round2(w / 2.0); // on the centimetre grid, as every drawn value
     for ly in [y - lane, y + lane] {
-        let spacing = (l - 4.0) / per_lane as f64;
-        for k in 0..per_lane {
-            let x = 3.0 + (k as f64 + 0.5) * spacing + d.jitter(0.3);
-            let east = d.jitter(1.0) >= 0.0; // each person's own way
-            let (first, second) = if east { (l - 0.6, 0.6) } else { (0.6, l - 0.6) };
-            let speed = 1.0 + d.jitter(0.2);
-            d.person(Ped::Loop { route: vec![[x, ly], [first, ly], [second, ly]], speed });
-        }
+        lane_walkers(d, per_lane, 3.0, l - 4.0, l, |x| [x, ly]);
     }
     d.robot_to([1.0, y], [l - 1.0, y]);
     d.time_for(l - 2.0);
@@ -559,18 +552,34 @@ fn perpendicular_traffic(d: &mut Draft) {
     d.room(0.0, 0.0, l, width);
     let y = round2(width / 2.0); // on the centimetre grid, as every drawn value
     for lx in [1.0 + to_lanes, 1.0 + to_lanes + gap] {
-        let spacing = (width - 1.2) / per_lane as f64;
-        for k in 0..per_lane {
-            let py = 0.6 + (k as f64 + 0.5) * spacing + d.jitter(0.3);
-            let north = d.jitter(1.0) >= 0.0; // each person's own way
-            let (first, second) = if north { (width - 0.6, 0.6) } else { (0.6, width - 0.6) };
-            let speed = 1.0 + d.jitter(0.2);
-            d.person(Ped::Loop { route: vec![[lx, py], [lx, first], [lx, second]], speed });
-        }
+        lane_walkers(d, per_lane, 0.6, width - 1.2, width, |py| [lx, py]);
     }
     d.robot_to([1.0, y], [l - 1.0, y]);
     d.time_for(l - 2.0);
     d.what = format!("the robot crosses two lanes of {per_lane} people walking across its path, both ways");
+}
+
+/// A lane of `per_lane` people walking back and forth along it, the traffic of "Parallel
+/// Traffic" and "Perpendicular Traffic": evenly spread over `span` m from `start` m along the
+/// lane (±0.3 m), each walking its own way (a fair draw) between the lane's ends, 0.6 m from the
+/// walls of a room `length` m along the lane, at 1 ± 0.2 m/s. `at(s)` is the lane's point `s` m
+/// along it.
+fn lane_walkers(
+    d: &mut Draft,
+    per_lane: usize,
+    start: f64,
+    span: f64,
+    length: f64,
+    at: impl Fn(f64) -> [f64; 2],
+) {
+    let spacing = span / per_lane as f64;
+    for k in 0..per_lane {
+        let s = start + (k as f64 + 0.5) * spacing + d.jitter(0.3);
+        let forward = d.jitter(1.0) >= 0.0; // each person's own way
+        let (first, second) = if forward { (length - 0.6, 0.6) } else { (0.6, length - 0.6) };
+        let speed = 1.0 + d.jitter(0.2);
+        d.person(Ped::Loop { route: vec![at(s), at(first), at(second)], speed });
+    }
 }
 
 /// Francis et al. 2023, "Circular Crossing" (Fig. 7 (x)): people on a circle round the middle of
