@@ -70,15 +70,16 @@ def test_every_built_in_planner_runs_the_suite() -> None:
     """Every planner of eval's list drives the protocol's episodes, counted as CrowdNav counts them."""
     assert set(crowdnav.PLANNERS) == set(_core.PLANNERS)
     rows = crowdnav.run_suite(episodes_per_setting=3)
-    assert len(rows) == len(crowdnav.SETTINGS) * len(crowdnav.PLANNERS)
+    assert len(rows) == len(crowdnav.SETTINGS) * len(crowdnav.DRIVES) * len(crowdnav.PLANNERS)
     for r in rows:
         assert r["success"] + r["collision"] + r["timeout"] == r["episodes"] == 3, r
         assert r["seeds"] == "10000-10002"
+        assert r["drive"] in crowdnav.DRIVES
     # The planners are not one another: their episodes differ.
     circle20 = {
         r["planner"]: (r["success"], r["collision"], r["mean_nav_time_s"])
         for r in rows
-        if r["setting"] == "circle20_invisible"
+        if r["setting"] == "circle20_invisible" and r["drive"] == "holonomic"
     }
     assert len(set(circle20.values())) > 3, circle20
     # Deterministic: the same seeds give the same records.
@@ -95,6 +96,31 @@ def test_suite_table_prints_ours_beside_crowdnavs_and_the_literature() -> None:
     assert "circle 20, robot invisible" in text and "CrowdNav++ (learned)" in text and "0.92" in text
     assert "CrowdNav's ORCA robot (its code)" in text and "| social |" in text
     assert "Agreement of astar_orca" in text and "Remaining setup differences" in text
+    # CrowdNav's ORCA robot has no unicycle: its row is beside the holonomic settings only, and
+    # the agreement check compares the holonomic astar_orca alone.
+    assert text.count("| CrowdNav's ORCA robot (its code) |") == len(crowdnav.SETTINGS)
+    assert text.count("circle 20, robot invisible, unicycle | astar_orca |") == 1
+    agreement = text.split("Agreement of astar_orca")[1].split("Literature")[0]
+    assert agreement.count("| circle") == 3 and "unicycle" not in agreement
+
+
+def test_the_unicycle_robot_runs_every_setting_and_is_not_the_holonomic_one() -> None:
+    """drive=differential is in each setting's scene name and changes the episodes: a robot that
+    turns at most π/4 a step and never moves sideways does not drive the holonomic robot's paths."""
+    setting = crowdnav.SETTINGS[0].with_drive("differential")
+    assert setting.spec(10_001).endswith("&seed=10001&drive=differential")
+    assert "unicycle" in setting.label and "unicycle" not in crowdnav.SETTINGS[0].label
+    seeds = range(10_000, 10_020)
+    for planner in ("astar_orca", "social"):
+        uni = crowdnav.episodes(setting, seeds, planner)
+        holo = crowdnav.episodes(crowdnav.SETTINGS[0], seeds, planner)
+        assert all(r["spec"].endswith(f"seed={s}&drive=differential") for r, s in zip(uni, seeds, strict=True))
+        assert [(r["outcome"], r["time"]) for r in uni] != [(r["outcome"], r["time"]) for r in holo], planner
+        assert any(r["outcome"] == "success" for r in uni), planner
+    with pytest.raises(InputError, match="drive"):
+        crowdnav.SETTINGS[0].with_drive("tracked")
+    with pytest.raises(InputError, match="drive"):
+        crowdnav.run_suite(["astar"], 1, drives=["holonomic", "tracked"])
 
 
 def _policy(target: str) -> PolicyRef:
@@ -117,6 +143,13 @@ def test_a_users_policy_drives_the_protocols_episodes() -> None:
     assert successes and all(t == 31 * 0.25 for t in successes), records
     again = crowdnav.policy_episodes(setting, seeds, _policy("tests.crowdnav_policy:make"))
     assert again == records
+    # The unicycle: the policy gets the differential action space, turns to the goal, then drives.
+    uni = crowdnav.policy_episodes(setting.with_drive("differential"), seeds, _policy("tests.crowdnav_policy:make"))
+    assert {r["outcome"] for r in uni} <= {"success", "collision"}
+    assert [r["time"] for r in uni if r["outcome"] == "success"] == successes, uni
+    # A sideways action is refused for the unicycle, by name.
+    with pytest.raises(InputError, match=r"action\[0\]\[1\]"):
+        crowdnav.policy_episodes(setting.with_drive("differential"), seeds, _policy("tests.crowdnav_policy:sideways"))
 
 
 def test_bad_policies_are_named() -> None:
@@ -155,9 +188,9 @@ def test_docs_table_is_what_the_code_gives() -> None:
     docs = (ROOT / "docs" / "crowdnav.md").read_text(encoding="utf-8")
     block = docs.partition(crowdnav.DOCS_BEGIN)[2].partition(crowdnav.DOCS_END)[0]
     for planner in crowdnav.PLANNERS:
-        assert block.count(f"| {planner} | {crowdnav.EPISODES} |") == len(crowdnav.SETTINGS), planner
+        assert block.count(f"| {planner} | {crowdnav.EPISODES} |") == len(crowdnav.SETTINGS) * len(crowdnav.DRIVES)
     fresh = crowdnav.table_text(crowdnav.run_suite(["astar_orca", "learned"], crowdnav.EPISODES))
     rows = [line for line in fresh.splitlines() if "| astar_orca |" in line or "| learned |" in line]
-    assert len(rows) == 2 * len(crowdnav.SETTINGS)
+    assert len(rows) == 2 * len(crowdnav.SETTINGS) * len(crowdnav.DRIVES)
     for line in rows:
         assert line in block, line

@@ -238,7 +238,7 @@ def _policy_refs(args: argparse.Namespace) -> list[Any] | None:
 
 
 def _eval_crowdnav(args: argparse.Namespace) -> int:
-    """``eval --suite crowdnav``: the four settings of CrowdNav's protocol beside CrowdNav's own run.
+    """``eval --suite crowdnav``: the four settings of CrowdNav's protocol, both robots, beside CrowdNav's own run.
 
     Every built-in planner by default; ``--planner`` picks some, ``--policy`` adds a user's policy.
     """
@@ -605,8 +605,8 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="run a scenario suite instead of one scenario: francis2023 (every archetype of Francis et al. 2023, "
         "episode k on the scene of seed k; a table per archetype); crowdnav (CrowdNav's circle and square "
-        "crossing, four settings, every built-in planner and a --policy, beside CrowdNav's own measured figures and "
-        "the literature's)",
+        "crossing, four settings with its holonomic and its unicycle robot, every built-in planner and a "
+        "--policy, beside CrowdNav's own measured figures and the literature's)",
     )
     e.add_argument(
         "--archetype", action="append", default=None, help="with --suite: run only this archetype (repeat for more)"

@@ -6,21 +6,23 @@ counts them, beside CrowdNav's measured figures and the literature's.
 Chen, Liu, Kreiss, Alahi, "Crowd-robot interaction: crowd-aware robot navigation with
 attention-based deep reinforcement learning", ICRA 2019 (https://github.com/vita-epfl/CrowdNav).
 
-A scene is named ``crowdnav/<family>`` with ``?humans=N&visible=true|false&seed=S`` (family
-``circle_crossing`` or ``square_crossing``; defaults 5 people, robot invisible, seed 0); the core
-generates it (``rust/proxemic-core/src/scenario/generate/crowdnav``) and runs its episode
-kinematically as CrowdNav does (``rust/proxemic-core/src/world/crowdnav.rs``): ORCA people, time
-step 0.25 s, CrowdNav's order of timeout, collision, goal and discomfort checks. The suite
-(:func:`run_suite`, ``proxemic eval --suite crowdnav``) runs the four settings of
-:data:`SETTINGS` on scene seeds ``seed, seed + 1, ...`` with every built-in planner of
-:data:`PLANNERS` and a user's policies (:func:`policy_episodes`: the policy drives the robot through
-the env's observation and action spaces, in the same kinematic episodes), and :func:`table_text`
-prints the result beside CrowdNav's own run (``data/crowdnav/reference.json``, measured with its code; provenance in
-the file) and the literature's figures. See ``docs/crowdnav.md``.
+A scene is named ``crowdnav/<family>`` with ``?humans=N&visible=true|false&seed=S&drive=D``
+(family ``circle_crossing`` or ``square_crossing``; defaults 5 people, robot invisible, seed 0, the
+holonomic robot; ``drive=differential`` is CrowdNav's unicycle robot); the core generates it
+(``rust/proxemic-core/src/scenario/generate/crowdnav``) and runs its episode kinematically as
+CrowdNav does (``rust/proxemic-core/src/world/crowdnav.rs``): ORCA people, time step 0.25 s,
+CrowdNav's order of timeout, collision, goal and discomfort checks. The suite (:func:`run_suite`,
+``proxemic eval --suite crowdnav``) runs the four settings of :data:`SETTINGS`, with the holonomic
+and the unicycle robot (:data:`DRIVES`), on scene seeds ``seed, seed + 1, ...`` with every built-in
+planner of :data:`PLANNERS` and a user's policies (:func:`policy_episodes`: the policy drives the
+robot through the env's observation and action spaces, in the same kinematic episodes), and
+:func:`table_text` prints the result beside CrowdNav's own run (``data/crowdnav/reference.json``,
+measured with its code; provenance in the file) and the literature's figures. See ``docs/crowdnav.md``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 from collections.abc import Sequence
@@ -45,6 +47,9 @@ PLANNERS: tuple[str, ...] = tuple(_core.CROWDNAV_PLANNERS)
 TEST_SEED = 10_000
 #: Episodes per setting of CrowdNav's test phase.
 EPISODES = 500
+#: The robot's drives the suite runs: CrowdNav's holonomic robot (its figures, the agreement check)
+#: and its unicycle (``drive=differential``: a speed and a turn of at most π/4 per step, turn first).
+DRIVES: tuple[str, ...] = ("holonomic", "differential")
 
 _REFERENCE = Path(__file__).parent / "data" / "crowdnav" / "reference.json"
 
@@ -61,16 +66,31 @@ class Setting:
     humans: int
     #: Whether the people see the robot.
     visible: bool
+    #: The robot's drive, one of :data:`DRIVES`.
+    drive: str = "holonomic"
 
     @property
     def label(self) -> str:
-        """A short label: family, people, visibility."""
-        return f"{self.family.split('_')[0]} {self.humans}, robot {'visible' if self.visible else 'invisible'}"
+        """A short label: family, people, visibility, and the unicycle when it is one."""
+        unicycle = ", unicycle" if self.drive == "differential" else ""
+        seen = "visible" if self.visible else "invisible"
+        return f"{self.family.split('_')[0]} {self.humans}, robot {seen}{unicycle}"
 
     def spec(self, seed: int) -> str:
         """The scene name of this setting with scene seed `seed`."""
         vis = "&visible=true" if self.visible else ""
-        return f"{PREFIX}{self.family}?humans={self.humans}{vis}&seed={seed}"
+        drive = f"&drive={self.drive}" if self.drive != "holonomic" else ""
+        return f"{PREFIX}{self.family}?humans={self.humans}{vis}&seed={seed}{drive}"
+
+    def with_drive(self, drive: str) -> Setting:
+        """This setting with the robot's `drive`.
+
+        Raises:
+            InputError: `drive` is not one of :data:`DRIVES`.
+        """
+        if drive not in DRIVES:
+            raise input_error("drive", f"one of {list(DRIVES)}", drive)
+        return dataclasses.replace(self, drive=drive)
 
 
 #: The settings of the agreement check: circle crossing with 5 people (robot invisible and
@@ -96,7 +116,9 @@ DIFFERENCES: tuple[str, ...] = (
     "the other built-in planners and a user's policy see the robot and the people through proxemic's world "
     "(its perception, social maps and sensors: lidar and the 8 nearest people), not CrowdNav's joint state; "
     "their commands are limited by the robot's limits with an acceleration that reaches any velocity in one step",
-    "CrowdNav's differential-drive (unicycle) robot is not run; the robot is holonomic",
+    "the unicycle: CrowdNav's ORCA robot is holonomic only, so its rows have no CrowdNav figures; astar_orca's "
+    "unicycle turns toward ORCA's velocity by at most π/4 a step and moves at its projection on the new heading "
+    "(proxemic's rule)",
 )
 
 
@@ -204,16 +226,17 @@ def run_suite(
     episodes_per_setting: int = EPISODES,
     seed: int = TEST_SEED,
     policies: Sequence[PolicyRef] = (),
+    drives: Sequence[str] = DRIVES,
 ) -> list[dict[str, Any]]:
-    """Every setting of :data:`SETTINGS` with every planner and policy.
+    """Every setting of :data:`SETTINGS` with every planner and policy, for each of `drives`.
 
     Planners default to :data:`PLANNERS` (none when `policies` are given, as ``proxemic eval``
     does). Runs scene seeds ``seed .. seed + episodes_per_setting - 1``: one summary row per
-    (setting, planner or policy), with ``setting``, ``planner`` (a policy's name) and ``seeds``
-    added.
+    (setting, drive, planner or policy), with ``setting``, ``drive``, ``planner`` (a policy's name)
+    and ``seeds`` added. A policy is built for each drive with that drive's action space.
 
     Raises:
-        InputError: A bad episode count, seed or planner name.
+        InputError: A bad episode count, seed, planner or drive name.
     """
     if isinstance(episodes_per_setting, bool) or not isinstance(episodes_per_setting, int) or episodes_per_setting < 1:
         raise input_error("episodes", "a positive integer", episodes_per_setting)
@@ -223,27 +246,40 @@ def run_suite(
     for planner in chosen:
         if planner not in PLANNERS:
             raise input_error("planner", f"one of {list(PLANNERS)}", planner)
+    if isinstance(drives, str) or not drives:
+        raise input_error("drives", f"a non-empty sequence of names among {list(DRIVES)}", drives)
+    settings = [s.with_drive(d) for d in drives for s in SETTINGS]
     seeds = range(seed, seed + episodes_per_setting)
     rows = []
-    for setting in SETTINGS:
+    for setting in settings:
         runs = [(p, episodes(setting, seeds, p)) for p in chosen]
         runs += [(ref.name, policy_episodes(setting, seeds, ref)) for ref in policies]
         for name, records in runs:
             row = summarise(records)
-            rows.append({"setting": setting.key, "planner": name, "seeds": f"{seeds[0]}-{seeds[-1]}", **row})
+            rows.append(
+                {
+                    "setting": setting.key,
+                    "drive": setting.drive,
+                    "planner": name,
+                    "seeds": f"{seeds[0]}-{seeds[-1]}",
+                    **row,
+                }
+            )
     return rows
 
 
 def table_text(rows: Sequence[dict[str, Any]]) -> str:
     """The suite's report as markdown.
 
-    Every planner's and policy's figures per setting below CrowdNav's own ORCA robot's, the
-    agreement of ``astar_orca`` (CrowdNav's ORCA robot in proxemic) with CrowdNav's run, the
-    literature's figures and the remaining setup differences.
+    Every planner's and policy's figures per setting and drive, the holonomic robot's below
+    CrowdNav's own ORCA robot's (it has no unicycle mode), the agreement of ``astar_orca``
+    (CrowdNav's ORCA robot in proxemic) with CrowdNav's run, the literature's figures and the
+    remaining setup differences.
     """
     ref = reference()
-    labels = {s.key: s.label for s in SETTINGS}
-    order = {s.key: k for k, s in enumerate(SETTINGS)}
+    groups = [s.with_drive(d) for d in DRIVES for s in SETTINGS]
+    labels = {(s.key, s.drive): s.label for s in groups}
+    order = {(s.key, s.drive): k for k, s in enumerate(groups)}
     crowdnav_orca = "CrowdNav's ORCA robot (its code)"
 
     def figures(r: dict[str, Any]) -> list[str]:
@@ -259,12 +295,14 @@ def table_text(rows: Sequence[dict[str, Any]]) -> str:
     body = []
     agree = []
     mark = {True: "ok", False: "DIFFERS"}
-    for key in sorted({r["setting"] for r in rows}, key=order.__getitem__):
-        theirs = measured(key)
-        body.append([labels[key], crowdnav_orca, *figures(theirs)])
-        for r in (r for r in rows if r["setting"] == key):
+    for key in sorted({(r["setting"], r.get("drive", "holonomic")) for r in rows}, key=order.__getitem__):
+        holonomic = key[1] == "holonomic"
+        theirs = measured(key[0])
+        if holonomic:
+            body.append([labels[key], crowdnav_orca, *figures(theirs)])
+        for r in (r for r in rows if (r["setting"], r.get("drive", "holonomic")) == key):
             body.append([labels[key], r["planner"], *figures(r)])
-            if r["planner"] == "astar_orca":
+            if r["planner"] == "astar_orca" and holonomic:
                 ok = agreement(r, theirs)
                 agree.append(
                     [
@@ -279,7 +317,8 @@ def table_text(rows: Sequence[dict[str, Any]]) -> str:
     lines = [
         "CrowdNav protocol: proxemic's planners beside CrowdNav's own ORCA robot "
         f"(CrowdNav {prov['crowdnav_commit'][:10]}, {prov['episodes_per_setting']} test episodes per setting, "
-        f"measured {prov['date']}); nav time: mean over successes (25 s when none)",
+        f"measured {prov['date']}; its ORCA robot is holonomic only, so the unicycle's settings have no row of "
+        "its own); nav time: mean over successes (25 s when none)",
         "",
         markdown.table(head, body),
     ]
@@ -319,7 +358,7 @@ DOCS_END = "<!-- END GENERATED -->"
 
 
 def write_docs(path: Path, episodes_per_setting: int = EPISODES, seed: int = TEST_SEED) -> list[dict[str, Any]]:
-    """Runs the suite with every built-in planner and writes its report into `path`'s generated block.
+    """Runs the suite with every built-in planner and both drives and writes its report into `path`'s generated block.
 
     Returns the rows. Raises :class:`InputError` when `path` has no block (the two marker lines
     :data:`DOCS_BEGIN` and :data:`DOCS_END`).

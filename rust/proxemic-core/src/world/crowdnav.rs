@@ -13,6 +13,7 @@
 //!    instant's robot and people ([`World::kinematic_observe`]): its command (or the policy's
 //!    action on the env's observation), limited by the robot's limits with the acceleration
 //!    [`INSTANT_ACCEL`], cut to 1 m/s, applied at once (holonomic, as CrowdNav's robot);
+//!    with `drive=differential` the robot is CrowdNav's unicycle (below);
 //! 3. the swept closest distance to each person: the distance from the robot to the segment the
 //!    person sweeps relative to the robot over the step, using the person's velocity *of the last
 //!    step* and the robot's new one, minus both radii; below 0 is a collision (the scan stops at
@@ -23,6 +24,18 @@
 //!    (counted, the episode goes on); people's contacts with each other are not counted;
 //! 6. everyone moves by its velocity times `dt`, and `t += dt` (also on the last step).
 //!
+//! **The unicycle robot** (`drive=differential`, CrowdNav's `kinematics = 'unicycle'`): its action
+//! is a speed `v` and a rotation `r` for the step; it turns first, then moves `v dt` along its new
+//! heading (`agent.py`'s `compute_position` and `step`), and the swept distance of step 3 uses that
+//! post-turn velocity (`crowd_sim.py`'s unicycle branch). CrowdNav's simulator takes any `r`; its
+//! unicycle policies choose `r` in `[-π/4, π/4]` (`cadrl.py`'s action space), and so does the
+//! robot here ([`MAX_TURN`]). CrowdNav's ORCA robot is holonomic only (`orca.py` has no unicycle
+//! mode); `astar_orca`'s unicycle turns toward ORCA's velocity `u` by at most [`MAX_TURN`], then
+//! moves at `u`'s projection on its new heading, never backwards ([`unicycle_step`]). The world's
+//! planners and a user's policy drive a differential robot of the world (the robot's turn rate at
+//! most `MAX_TURN / dt`, reached in one step): their forward speed and turn rate become `v` and
+//! `r = wz dt`.
+//!
 //! The summary ([`CrowdNavSummary`]) counts as CrowdNav's explorer does: rates over episodes, the
 //! mean navigation time over successes (the time limit when there is none), and the discomfort
 //! frequency: discomfort steps over `sum(episode times) / dt`, where a timeout's time is the time
@@ -32,10 +45,10 @@ use serde::Serialize;
 
 use super::World;
 use super::kinematic::KinematicRobot;
-use crate::control::clamp_norm;
+use crate::control::{Drive, clamp_norm};
 use crate::error::{CoreError, Result};
 use crate::geom::distance_point_segment;
-use crate::math::Vec2;
+use crate::math::{Vec2, wrap_angle};
 use crate::pedestrians::orca::{OrcaBody, OrcaPeople};
 use crate::scenario::PlannerKind;
 use crate::scenario::generate::crowdnav::{self, DISCOMFORT_DIST, Spec, TIME_LIMIT, TIME_STEP, V_PREF};
@@ -50,6 +63,50 @@ pub const PLANNERS: &[&str] = PlannerKind::NAMES;
 /// the 1 m/s cap is reached in one step of 0.25 s (`2 × 1 m/s / 0.25 s`), so a planner's desired
 /// velocity is applied at once, as CrowdNav applies its robot's action (holonomic, no dynamics).
 pub const INSTANT_ACCEL: f64 = 2.0 * V_PREF / TIME_STEP;
+
+/// The unicycle robot's largest turn in one step (rad): π/4, the bound of CrowdNav's unicycle
+/// policies' rotations (`cadrl.py`'s action space; its simulator sets none).
+pub const MAX_TURN: f64 = std::f64::consts::FRAC_PI_4;
+
+/// The unicycle robot's angular acceleration limit in the world (rad/s²): any turn rate within
+/// `MAX_TURN / dt` is reached in one step (`2 × (MAX_TURN / dt) / dt`), as CrowdNav applies its
+/// robot's rotation.
+pub const INSTANT_ANGULAR_ACCEL: f64 = 2.0 * MAX_TURN / (TIME_STEP * TIME_STEP);
+
+/// The robot's motion over one step: the velocity it moves at (m/s, world frame) and its turn
+/// (rad), taken before it moves (CrowdNav's unicycle turns, then moves; a holonomic robot's
+/// motion does not depend on its heading).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Motion {
+    vel: Vec2,
+    turn: f64,
+}
+
+impl Motion {
+    /// A holonomic robot's motion: velocity `vel`, turning at `wz` (rad/s).
+    fn holonomic(vel: Vec2, wz: f64) -> Self {
+        Motion { vel, turn: wz * TIME_STEP }
+    }
+
+    /// The unicycle's motion from heading `theta` (rad): turn `r` (rad), then forward speed `v`
+    /// (m/s; negative: reverse) along the new heading.
+    fn unicycle(v: f64, r: f64, theta: f64) -> Self {
+        let heading = theta + r;
+        Motion { vel: Vec2::new(heading.cos(), heading.sin()) * v, turn: r }
+    }
+}
+
+/// `astar_orca`'s unicycle step from heading `theta` (rad) toward ORCA's holonomic velocity `u`
+/// (m/s): the turn toward `u`'s direction, at most [`MAX_TURN`] either way (none when `u` is 0),
+/// then the forward speed `max(0, u · h')` with `h'` the new heading; returns `(v, r)`.
+pub fn unicycle_step(u: Vec2, theta: f64) -> (f64, f64) {
+    if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
+        return (0.0, 0.0);
+    }
+    let r = wrap_angle(u.y.atan2(u.x) - theta).clamp(-MAX_TURN, MAX_TURN);
+    let heading = theta + r;
+    (u.dot(&Vec2::new(heading.cos(), heading.sin())).max(0.0), r)
+}
 
 /// How a CrowdNav episode ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -110,7 +167,14 @@ pub fn run_episode(spec: &str, planner: &str) -> Result<CrowdNavEpisode> {
             bodies.clear();
             bodies.push(*now.robot);
             bodies.extend_from_slice(now.humans);
-            Ok((orca.velocities(&bodies, &[0], TIME_STEP)?[0], 0.0))
+            let u = orca.velocities(&bodies, &[0], TIME_STEP)?[0];
+            Ok(match s.drive {
+                Drive::Holonomic => Motion::holonomic(u, 0.0),
+                Drive::Differential => {
+                    let (v, r) = unicycle_step(u, now.theta);
+                    Motion::unicycle(v, r, now.theta)
+                }
+            })
         });
     }
     let mut driver = WorldDriver::new(&s, kind, true)?;
@@ -137,19 +201,24 @@ pub fn run_policy_episode<E: From<CoreError>>(
 /// A world of the scene whose robot is driven kinematically ([`World::kinematic_observe`]).
 struct WorldDriver {
     world: World,
+    drive: Drive,
     out: Vec<f64>,
     people: Vec<(Vec2, Vec2)>,
 }
 
 impl WorldDriver {
     /// The world of spec `s` with the robot on `planner` (its planner off without `planning`: a
-    /// user's policy drives), the acceleration limit [`INSTANT_ACCEL`], reset with the scene's
-    /// seed.
+    /// user's policy drives), the acceleration limit [`INSTANT_ACCEL`] (a unicycle's turn rate at
+    /// most [`MAX_TURN`] per step, reached at once), reset with the scene's seed.
     fn new(s: &Spec, planner: PlannerKind, planning: bool) -> Result<Self> {
         let mut scenario = crowdnav::build(s)?.scenario;
         for r in &mut scenario.robots {
             r.planner = planner;
             r.max_accel = INSTANT_ACCEL;
+            if s.drive == Drive::Differential {
+                r.max_angular_speed = MAX_TURN / TIME_STEP;
+                r.max_angular_accel = INSTANT_ANGULAR_ACCEL;
+            }
         }
         let mut world = World::new(scenario)?;
         if !planning {
@@ -158,17 +227,17 @@ impl WorldDriver {
         let mut out = vec![0.0; world.layout().stride];
         let mut people_out = vec![0.0; world.num_people() * PERSON_OUT];
         world.reset(s.seed, &mut out, &mut people_out)?;
-        Ok(WorldDriver { world, out, people: Vec::new() })
+        Ok(WorldDriver { world, drive: s.drive, out, people: Vec::new() })
     }
 
-    /// The robot's velocity and angular velocity for the step from `now`: the world set to
-    /// `now`, then its planner's command or `act`'s action on the observation, the speed cut to
-    /// CrowdNav's 1 m/s.
+    /// The robot's motion for the step from `now`: the world set to `now`, then its planner's
+    /// command or `act`'s action on the observation, the speed cut to CrowdNav's 1 m/s; a
+    /// unicycle's forward speed and turn rate `wz` become its speed and its turn `wz dt`.
     fn drive<E: From<CoreError>>(
         &mut self,
         now: &Instant<'_>,
         act: Option<&mut impl FnMut(&[f64]) -> std::result::Result<[f64; 3], E>>,
-    ) -> std::result::Result<(Vec2, f64), E> {
+    ) -> std::result::Result<Motion, E> {
         self.people.clear();
         self.people.extend(now.humans.iter().map(|h| (h.pos, h.vel)));
         let robot = KinematicRobot {
@@ -182,18 +251,24 @@ impl WorldDriver {
             None => None,
         };
         let (v, wz) = self.world.kinematic_command(action, &mut self.out)?;
-        Ok((clamp_norm(v, V_PREF), wz))
+        Ok(match self.drive {
+            Drive::Holonomic => Motion::holonomic(clamp_norm(v, V_PREF), wz),
+            Drive::Differential => {
+                // The world's unicycle command is along the heading: its signed forward speed.
+                let speed = v.dot(&Vec2::new(now.theta.cos(), now.theta.sin())).clamp(-V_PREF, V_PREF);
+                Motion::unicycle(speed, (wz * TIME_STEP).clamp(-MAX_TURN, MAX_TURN), now.theta)
+            }
+        })
     }
 }
 
 /// The episode of the people `(start, goal)` and the robot from CrowdNav's start to its goal;
-/// `visible`: the people see the robot. `drive` gives the robot's velocity and angular velocity
-/// for each step.
+/// `visible`: the people see the robot. `drive` gives the robot's motion for each step.
 fn simulate<E: From<CoreError>>(
     spec: String,
     people: &[([f64; 2], [f64; 2])],
     visible: bool,
-    mut drive: impl FnMut(Instant<'_>) -> std::result::Result<(Vec2, f64), E>,
+    mut drive: impl FnMut(Instant<'_>) -> std::result::Result<Motion, E>,
 ) -> std::result::Result<CrowdNavEpisode, E> {
     let body = |pos: [f64; 2], goal: [f64; 2]| OrcaBody {
         pos: Vec2::new(pos[0], pos[1]),
@@ -229,8 +304,10 @@ fn simulate<E: From<CoreError>>(
         }
         let human_vel = orca.velocities(&bodies, &everyone, dt)?;
         // 2. The robot's velocity, from the same instant.
-        let (action, turn) = drive(Instant { step, robot: &robot, theta, wz, humans: &humans })?;
-        // 3. Swept closest distance, with each person's velocity of the last step.
+        let Motion { vel: action, turn } =
+            drive(Instant { step, robot: &robot, theta, wz, humans: &humans })?;
+        // 3. Swept closest distance, with each person's velocity of the last step and the
+        //    robot's velocity of this one (a unicycle's after its turn).
         let mut dmin = f64::INFINITY;
         let mut collision = false;
         for h in &humans {
@@ -262,8 +339,8 @@ fn simulate<E: From<CoreError>>(
         // 6. Move.
         robot.pos += action * dt;
         robot.vel = action;
-        theta += turn * dt;
-        wz = turn;
+        theta = wrap_angle(theta + turn);
+        wz = turn / dt;
         for (h, v) in humans.iter_mut().zip(&human_vel) {
             h.pos += *v * dt;
             h.vel = *v;

@@ -8,7 +8,18 @@ fn simulate(spec: String, people: &[([f64; 2], [f64; 2])], visible: bool) -> Res
     super::simulate(spec, people, visible, |now| {
         let mut bodies = vec![*now.robot];
         bodies.extend_from_slice(now.humans);
-        Ok((orca.velocities(&bodies, &[0], TIME_STEP)?[0], 0.0))
+        Ok(Motion::holonomic(orca.velocities(&bodies, &[0], TIME_STEP)?[0], 0.0))
+    })
+}
+
+/// The episode with `astar_orca`'s unicycle.
+fn simulate_unicycle(people: &[([f64; 2], [f64; 2])], visible: bool) -> Result<CrowdNavEpisode> {
+    let mut orca = OrcaPeople::new()?;
+    super::simulate("t".into(), people, visible, |now| {
+        let mut bodies = vec![*now.robot];
+        bodies.extend_from_slice(now.humans);
+        let (v, r) = unicycle_step(orca.velocities(&bodies, &[0], TIME_STEP)?[0], now.theta);
+        Ok(Motion::unicycle(v, r, now.theta))
     })
 }
 
@@ -155,4 +166,82 @@ fn the_kinematic_world_names_bad_states() {
     assert!(e.to_string().contains("action"), "{e}");
     let (v, _) = w.kinematic_command(Some([1.0, 1.0, 0.0]), &mut out).expect("ok");
     assert!(v.norm() <= V_PREF + 1e-12, "{v:?}");
+}
+
+#[test]
+fn the_unicycle_turns_at_most_a_quarter_turn_then_moves_along_its_new_heading() {
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    // Straight ahead: no turn, full speed.
+    let (v, r) = unicycle_step(Vec2::new(1.0, 0.0), 0.0);
+    assert!(close(v, 1.0) && close(r, 0.0), "{v} {r}");
+    // 30 degrees left: turns all of it and goes at full speed.
+    let a = std::f64::consts::FRAC_PI_6;
+    let (v, r) = unicycle_step(Vec2::new(a.cos(), a.sin()) * 0.8, 0.0);
+    assert!(close(v, 0.8) && close(r, a), "{v} {r}");
+    // Square to the right: a quarter turn only, at cos(π/4) of the speed.
+    let (v, r) = unicycle_step(Vec2::new(0.0, -1.0), 0.0);
+    assert!(close(v, FRAC_PI_4.cos()) && close(r, -FRAC_PI_4), "{v} {r}");
+    // Behind: turns, does not move (never reverses); nothing asked, nothing done.
+    let (v, r) = unicycle_step(Vec2::new(-1.0, -0.1), FRAC_PI_2 - 1.0);
+    assert_eq!(v, 0.0);
+    assert!(close(r.abs(), FRAC_PI_4), "{r}");
+    assert_eq!(unicycle_step(Vec2::zeros(), 1.0), (0.0, 0.0));
+    // Turn, then move: the velocity is along the heading after the turn (CrowdNav's agent.py).
+    let m = Motion::unicycle(0.5, FRAC_PI_4, 0.0);
+    assert!(close(m.vel.x, 0.5 * FRAC_PI_4.cos()) && close(m.vel.y, 0.5 * FRAC_PI_4.sin()), "{m:?}");
+    assert!(close(m.turn, FRAC_PI_4));
+}
+
+#[test]
+fn an_unobstructed_unicycle_arrives_with_the_holonomic_robot_and_a_visible_person_is_passed_clear() {
+    // Facing its goal from the start, the unicycle's ORCA velocity is along its heading: the same
+    // 33 steps as the holonomic robot (up to the start heading's 0.0008 rad, written 1.57).
+    let e = simulate_unicycle(&[FAR], false).expect("ok");
+    assert_eq!((e.outcome, e.time), (CrowdNavOutcome::Success, 33.0 * TIME_STEP), "{e:?}");
+    // A person crossing square to its path, who sees it: it turns away and still arrives, clear.
+    let e = simulate_unicycle(&[([-3.0, 0.0], [3.0, 0.0])], true).expect("ok");
+    assert_eq!(e.outcome, CrowdNavOutcome::Success, "{e:?}");
+    assert!(e.min_dist >= 0.0, "{e:?}");
+}
+
+#[test]
+fn every_planner_drives_the_unicycle_by_its_kinematics() {
+    // Every step of every planner on a crowded scene: the turn within a quarter turn, the
+    // velocity along the heading after the turn, at most 1 m/s.
+    let s =
+        crowdnav::parse_spec("crowdnav/circle_crossing?humans=10&seed=3&drive=differential").expect("spec");
+    let people = crowdnav::draw_people(&s).expect("people");
+    for &name in PLANNERS {
+        let kind = PlannerKind::parse(name).expect("a planner");
+        let mut steps = 0;
+        let mut check = |now: &Instant<'_>, m: Motion| {
+            steps += 1;
+            assert!(m.turn.abs() <= MAX_TURN + 1e-12, "{name}: turn {}", m.turn);
+            let h = Vec2::new((now.theta + m.turn).cos(), (now.theta + m.turn).sin());
+            assert!((h.x * m.vel.y - h.y * m.vel.x).abs() < 1e-9, "{name}: sideways {m:?} at {}", now.theta);
+            assert!(m.vel.norm() <= V_PREF + 1e-12, "{name}: {m:?}");
+        };
+        if kind == PlannerKind::AstarOrca {
+            let mut orca = OrcaPeople::new().expect("orca");
+            super::simulate(s.text(), &people, s.visible, |now| {
+                let mut bodies = vec![*now.robot];
+                bodies.extend_from_slice(now.humans);
+                let (v, r) = unicycle_step(orca.velocities(&bodies, &[0], TIME_STEP)?[0], now.theta);
+                let m = Motion::unicycle(v, r, now.theta);
+                check(&now, m);
+                Ok::<_, CoreError>(m)
+            })
+            .expect("episode");
+        } else {
+            let mut driver = WorldDriver::new(&s, kind, true).expect("world");
+            super::simulate(s.text(), &people, s.visible, |now| {
+                let m = driver.drive(&now, None::<&mut NoPolicy>)?;
+                check(&now, m);
+                Ok::<_, CoreError>(m)
+            })
+            .expect("episode");
+        }
+        assert!(steps > 4, "{name}: {steps} steps");
+    }
 }
