@@ -42,6 +42,33 @@ def test_body_frame_velocity_servo_tracks_commands(small_room):
     assert abs(vy - 0.4) < 0.02 and abs(vx) < 0.02
 
 
+def test_a_robot_faster_and_wider_than_pepper_gets_its_own_servo_ranges_and_footprint(small_room):
+    """pepper.xml's servos are Pepper's (0.55 m/s per axis, 2 rad/s): a robot with other limits gets
+    its own, so the physics executes what the core allowed, and its footprint is its radius."""
+    import json
+
+    from proxemic.sim.model import build_spec
+
+    limits = "\nmax_speed = 1.0\nmax_angular_speed = 3.0\nradius = 0.3"
+    fast = small_room.replace("goal = [8.5, 4]", "goal = [8.5, 4]" + limits)
+    desc = json.loads(_core.Scenario.from_toml(fast, "test.toml").to_json())
+    for visual in (False, True):
+        model = build_spec(desc, visual=visual).compile()
+        ranges = {model.actuator(k).name: tuple(model.actuator_ctrlrange[k]) for k in range(model.nu)}
+        assert ranges == {"robot_0/vx": (-1.0, 1.0), "robot_0/vy": (-1.0, 1.0), "robot_0/wz": (-3.0, 3.0)}
+        assert model.geom("robot_0/base").size[0] == 0.3
+    sim = _sim(fast)
+    sim.reset(np.array([[3.0, 4.0, 0.0]]), np.array([[2.0, 2.0, 0.0]]))
+    for _ in range(10):
+        sim.step(np.array([0.9, 0.0, 2.5]))
+    sim.read()
+    *_, vx, vy, wz = sim.state
+    assert abs(np.hypot(vx, vy) - 0.9) < 0.03 and abs(wz - 2.5) < 0.1, sim.state
+    # Pepper's own robot keeps Pepper's servos.
+    pepper = _sim(small_room).model
+    assert tuple(pepper.actuator_ctrlrange[0]) == (-0.55, 0.55) and pepper.geom("robot_0/base").size[0] == 0.24
+
+
 def test_wall_contact_is_reported_as_static(small_room):
     sim = _sim(small_room)
     sim.reset(np.array([[9.3, 4.0, 0.0]]), np.array([[2.0, 2.0, 0.0]]))

@@ -179,10 +179,11 @@ def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpe
     # The physics model attaches models already stripped of their visual parts: deleting them
     # from the assembled spec costs a pass over the whole spec per deletion (minutes at 500 people).
     robot_model = _asset(assets / "pepper.xml", visual)
-    for i, _r in enumerate(scenario["robots"]):
+    for i, r in enumerate(scenario["robots"]):
         # Attached at the origin: the joints' values are the world pose (x, y, yaw).
         frame = wb.add_frame(pos=[0.0, 0.0, 0.0])
         spec.attach(robot_model, frame=frame, prefix=f"robot_{i}/")
+        _fit_robot(spec, f"robot_{i}/", r, visual)
         if not visual:
             continue
         colour = list(ROBOT_COLOURS[i % len(ROBOT_COLOURS)])
@@ -224,6 +225,25 @@ def build_spec(scenario: dict[str, Any], *, visual: bool = True) -> mujoco.MjSpe
     if not visual:
         _strip_to_physics(spec)
     return spec
+
+
+def _fit_robot(spec: mujoco.MjSpec, prefix: str, robot: dict[str, Any], visual: bool) -> None:
+    """Fits an attached base to its scenario robot: the servos' ranges and the footprint.
+
+    ``pepper.xml`` is Pepper (0.55 m/s per axis, 2 rad/s, radius 0.24 m); a robot with other limits
+    or another radius gets its own, so the physics neither caps a faster robot's commands (the core
+    has already limited them to the robot's limits) nor gives it Pepper's footprint. The base
+    cylinder keeps its mass; the coloured shell follows the footprint.
+    """
+    speed, turn, radius = float(robot["max_speed"]), float(robot["max_angular_speed"]), float(robot["radius"])
+    for axis in ("vx", "vy"):
+        spec.actuator(prefix + axis).ctrlrange = [-speed, speed]
+    spec.actuator(prefix + "wz").ctrlrange = [-turn, turn]
+    base = spec.geom(prefix + "base")
+    base.size = [radius, base.size[1], 0.0]
+    if visual:
+        shell = spec.geom(prefix + "shell")
+        shell.size = [radius + 0.005, shell.size[1], 0.0]
 
 
 def _asset(path: Path, visual: bool) -> mujoco.MjSpec:
