@@ -208,3 +208,26 @@ def test_vector_env_bad_input_is_a_clear_error():
         envs.step(np.zeros((2, 3)))  # still usable after refused input
     finally:
         envs.close()
+
+
+def test_a_differential_robot_s_vector_env_has_its_action_space_and_steps_like_its_plain_env():
+    """The batched action space is the differential robot's (v, 0, wz); world k is the plain env."""
+    name = "francis2023/frontal_approach?seed=3&drive=differential"
+    envs = proxemic.vector_env(name, num_envs=2)
+    single = proxemic.ProxemicEnv(name)
+    try:
+        assert envs.single_action_space == single.action_space
+        assert envs.single_action_space.high[1] == 0.0 and envs.action_space.shape == (2, 3)
+        actions = np.stack([envs.action_space.sample() for _ in range(10)])
+        assert (actions[:, :, 1] == 0.0).all()
+        obs, _ = envs.reset(seed=5)
+        o, _ = single.reset(seed=6)
+        for a in actions:
+            obs, *_ = envs.step(a)
+            o, *_ = single.step(a[1])
+        np.testing.assert_array_equal(obs["robot"][1], o["robot"])
+        with pytest.raises(proxemic.InputError, match=r"action"):
+            envs.step(np.array([[0.5, 0.5, 0.0], [0.5, 0.0, 0.0]], np.float32))
+    finally:
+        envs.close()
+        single.close()

@@ -136,7 +136,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             "render_fps": round(desc["scene"]["control_hz"]),
         }
         self.single_observation_space = self.sims[0].observation_space(robots=False)
-        self.single_action_space = action_space()
+        self.single_action_space = action_space(desc["robots"][0].get("drive", "holonomic"))
         self.observation_space = batch_space(self.single_observation_space, n)
         self.action_space = batch_space(self.single_action_space, n)
         lay = self.sims[0].layout
