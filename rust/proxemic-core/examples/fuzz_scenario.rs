@@ -4,8 +4,8 @@
 //! ([`proxemic_core::metrics::invariants`]: a [`CoreError::Invariant`] is a finding too).
 //!
 //! Three kinds of input, in turn: scenario files (TOML), the names of generated scenes
-//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T`,
-//! `crowdnav/<family>?humans=N&visible=B&seed=S`, whose kinematic protocol episode also runs: mutated as
+//! (`generated/<seed>?key=value&...`, `francis2023/<archetype>?seed=N&max_time=T&drive=D`,
+//! `crowdnav/<family>?humans=N&visible=B&seed=S&drive=D`, whose kinematic protocol episode also runs: mutated as
 //! text and as key=value pairs, with keys repeated, added, dropped and given extreme values), and
 //! the CSV track files of `[[replay]]` tables (written to a temporary folder beside a scenario
 //! naming them).
@@ -127,6 +127,8 @@ const NAMES: &[&str] = &[
     "polygon",
     "10:00",
     "25:61",
+    "holonomic",
+    "differential",
     "",
     "robot:r0",
     "fast",
@@ -147,6 +149,9 @@ const SCENE_NAMES: &[&str] = &[
     "crowdnav/circle_crossing",
     "crowdnav/circle_crossing?humans=20&visible=true&seed=4",
     "crowdnav/square_crossing?humans=5&seed=9",
+    "generated/5?drive=differential",
+    "francis2023/crossing_90?seed=2&drive=differential",
+    "crowdnav/square_crossing?humans=5&seed=3&drive=differential",
 ];
 
 /// A scene name mutated as `prefix?key=value&...`: a pair repeated (a duplicate key, refused),
@@ -159,7 +164,13 @@ fn mutate_name(name: &str, rng: &mut StdRng) -> String {
     let (head, query) = name.split_once('?').unwrap_or((name, ""));
     let mut head = head.to_string();
     let mut pairs: Vec<String> = query.split('&').filter(|p| !p.is_empty()).map(str::to_string).collect();
-    let value = |rng: &mut StdRng| NUMBERS[rng.random_range(0..NUMBERS.len())].trim_matches('"').to_string();
+    let value = |rng: &mut StdRng| {
+        if rng.random_bool(0.2) {
+            NAMES[rng.random_range(0..NAMES.len())].to_string()
+        } else {
+            NUMBERS[rng.random_range(0..NUMBERS.len())].trim_matches('"').to_string()
+        }
+    };
     for _ in 0..rng.random_range(1..=3) {
         match rng.random_range(0..6) {
             0 if !pairs.is_empty() => {
@@ -213,6 +224,9 @@ fn corpus(root: &Path) -> Vec<String> {
             .to_string(),
         String::new(),
         "[[robot]]\nstart = [1, 1, 0]\ngoal = [3, 3]\n".to_string(),
+        "[scene]\nname = \"d\"\nbounds = [0, 0, 6, 4]\n[[person]]\nroute = [[5, 2], [1, 2]]\n[[robot]]\nstart = [1, 1, 0]\n\
+         goal = [5, 3]\ndrive = \"differential\"\nmax_angular_accel = 5.0\nplanner = \"social\"\n"
+            .to_string(),
     ];
     let mut files: Vec<PathBuf> = std::fs::read_dir(root)
         .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
