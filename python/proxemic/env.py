@@ -121,6 +121,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     | ``planner`` | ``None`` | replace the scenario's planner (one of ``proxemic._core.PLANNERS``: ``astar``, ``social_astar``, ``social``, the non-social baselines ``astar_orca`` and ``astar_stop``, ``social_momentum``, ``eband``, and the papers' own ``daza2021``, ``sousa2022`` (with ``sousa2022_astar``, its figures' pairing) and ``calderita``; docs: planners.md) |
     | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
     | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
+    | ``drive`` | ``None`` | every robot's drive, ``"holonomic"`` or ``"differential"``, instead of the scenario's (``None``: the scenario's own; it overrides a ``drive=`` key of a generated scene's name); the action space follows |
     | ``width``, ``height`` | ``FRAME_SIZE`` | frame size (``proxemic.viz.topdown.FRAME_SIZE``) |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
     | ``overlays`` | ``("path",)`` | what the ``"topdown"`` view draws over the scene: any of ``"zones"``, ``"groups"``, ``"object_spaces"``, ``"path"`` (see :meth:`set_overlays`) |
@@ -143,6 +144,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         planner: str | None = None,
         eband: Mapping[str, float] | None = None,
         goal: Sequence[float] | None = None,
+        drive: str | None = None,
         width: int = FRAME_SIZE[0],
         height: int = FRAME_SIZE[1],
         camera: str = "top",
@@ -159,6 +161,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             "planner": planner,
             "eband": eband,
             "goal": goal,
+            "drive": drive,
             "width": width,
             "height": height,
             "camera": camera,
@@ -171,7 +174,9 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         self.set_overlays(overlays)
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
-        self.core_scenario, self.scenario = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)
+        self.core_scenario, self.scenario = scenarios.load(
+            scenario, planner=planner, eband=eband, goal=goal, drive=drive
+        )
         self.ws = WorldSim(self.core_scenario, self.scenario)
         self.world, self.sim = self.ws.world, self.ws.sim
         self.metadata = {

@@ -83,6 +83,10 @@ def resolve(scenario: str | Path) -> Path:
     )
 
 
+DRIVES: tuple[str, ...] = ("holonomic", "differential")
+"""The robots' drive names (the core's ``Drive::NAMES``): the ``drive=`` keyword's values."""
+
+
 def check_planner(name: str) -> None:
     """Raises :class:`ScenarioError` for a planner name that is not one of ``PLANNERS``, with a suggestion."""
     if name not in _core.PLANNERS:
@@ -183,6 +187,7 @@ def load(
     planner: str | None = None,
     eband: Mapping[str, float] | None = None,
     goal: Sequence[float] | None = None,
+    drive: str | None = None,
 ) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
@@ -203,7 +208,11 @@ def load(
         eband: If given, every robot's elastic-band gains (``contraction_gain``,
             ``repulsion_gain``, ``social_gain``; dimensionless, in [0, 100]) are replaced by these.
         goal: If given, the first robot's goal (x, y in metres) instead of the file's.
+        drive: If given, every robot's drive (``"holonomic"`` or ``"differential"``) instead of the
+            scenario's. It overrides a ``drive=`` key of a generated scene's name.
     """
+    if drive is not None and (not isinstance(drive, str) or drive not in DRIVES):
+        raise input_error("drive", f"one of {list(DRIVES)}", drive)
     if isinstance(scenario, _core.Scenario):
         core = scenario
     elif str(scenario).startswith((GENERATED_PREFIX, FRANCIS2023_PREFIX, CROWDNAV_PREFIX)):
@@ -213,6 +222,8 @@ def load(
     if planner is not None:
         check_planner(planner)
         core = core.with_planner(planner)
+    if drive is not None:
+        core = core.with_drive(drive)
     if eband:
         if not isinstance(eband, Mapping):
             raise input_error("eband", "a mapping of gain names to numbers", eband)

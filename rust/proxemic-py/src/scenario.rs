@@ -40,6 +40,12 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose robots all have the drive `name` (`"holonomic"` or `"differential"`).
+    fn with_drive(&self, py: Python<'_>, name: &str) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_drive(name))?;
+        Ok(PyScenario { inner })
+    }
+
     /// A copy whose robot `index` uses the built-in planner `name` (see `PLANNERS`).
     fn with_robot_planner(
         &self,

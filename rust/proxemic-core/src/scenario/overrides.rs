@@ -25,6 +25,21 @@ impl Scenario {
         Ok(s)
     }
 
+    /// A copy with every robot's drive replaced by `name` (one of
+    /// [`Drive::NAMES`](crate::control::Drive::NAMES)): `"differential"` makes every robot a
+    /// unicycle base, `"holonomic"` every robot a holonomic one. Errors name the field `drive`.
+    pub fn with_drive(&self, name: &str) -> Result<Self> {
+        use crate::control::Drive;
+        let drive = Drive::parse(name).ok_or_else(|| {
+            err(&self.source, "drive", format!("one of {:?}", Drive::NAMES), format!("{name:?}"))
+        })?;
+        let mut s = self.clone();
+        for r in &mut s.robots {
+            r.drive = drive;
+        }
+        Ok(s)
+    }
+
     /// A copy with robot `index`'s planner replaced by `name` (one of [`PlannerKind::NAMES`]).
     pub fn with_robot_planner(&self, index: usize, name: &str) -> Result<Self> {
         let field = format!("robot[{index}].planner");

@@ -207,6 +207,29 @@ fn robot_subsets_and_per_robot_planners() {
 }
 
 #[test]
+fn with_drive_sets_every_robot_and_names_the_field() {
+    use crate::control::Drive;
+    let two = format!("{MINIMAL}\n[[robot]]\nstart = [1, 6, 0]\ngoal = [9, 6]\n");
+    let s = parse(&two).expect("valid");
+    assert!(s.robots.iter().all(|r| r.drive == Drive::Holonomic));
+    let d = s.with_drive("differential").expect("known drive");
+    assert!(d.robots.iter().all(|r| r.drive == Drive::Differential));
+    let back = d.with_drive("holonomic").expect("known drive");
+    assert!(back.robots.iter().all(|r| r.drive == Drive::Holonomic));
+    // The description the Python side reads says it.
+    assert!(d.to_json().expect("serialises").contains("differential"));
+    assert!(!s.to_json().expect("serialises").contains("differential"));
+    match s.with_drive("tank") {
+        Err(CoreError::Scenario { field, expected, found, .. }) => {
+            assert_eq!(field, "drive");
+            assert_eq!(expected, format!("one of {:?}", Drive::NAMES));
+            assert_eq!(found, "\"tank\"");
+        }
+        other => panic!("expected a scenario error, got {other:?}"),
+    }
+}
+
+#[test]
 fn out_of_bounds_goal_is_rejected() {
     let text = MINIMAL.replace("goal = [9, 4]", "goal = [19, 4]");
     let (_, field, expected, found) = scenario_err(&text);
