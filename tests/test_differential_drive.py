@@ -145,3 +145,120 @@ def test_action_spaces_say_the_drive(tmp_path: Path) -> None:
     holonomic = tmp_path / "museum.toml"
     holonomic.write_text(_museum("astar", extra=""))
     assert ProxemicEnv(str(holonomic)).action_space.low.tolist() == [-1.0, -1.0, -1.0]
+
+
+# --- any scene differential: `drive=` of the env, `Scenario.with_drive` of the core ---------------
+
+
+def test_with_drive_round_trip_and_errors() -> None:
+    core = _core.Scenario.from_file(str(resources.files("proxemic") / "data" / "envs" / "museum.toml"))
+    diff = core.with_drive("differential")
+    assert all(r["drive"] == "differential" for r in json.loads(diff.to_json())["robots"])
+    back = diff.with_drive("holonomic")
+    assert all(r.get("drive", "holonomic") == "holonomic" for r in json.loads(back.to_json())["robots"])
+    with pytest.raises(ScenarioError, match="drive") as err:
+        core.with_drive("tank")
+    assert "differential" in str(err.value) and "tank" in str(err.value)
+
+
+@pytest.mark.parametrize("scene", ["museum", "care_center"])
+def test_drive_kwarg_sets_action_space_and_robot(scene: str) -> None:
+    env = ProxemicEnv(scene, drive="differential")
+    try:
+        assert env.scenario["robots"][0]["drive"] == "differential"
+        assert env.action_space == spaces.Box(np.array([-1, 0, -1]), np.array([1, 0, 1]), dtype=np.float32)
+    finally:
+        env.close()
+    env = ProxemicEnv(scene)
+    try:
+        assert env.scenario["robots"][0].get("drive", "holonomic") == "holonomic"
+        assert env.action_space.shape == (3,) and float(env.action_space.high[1]) == 1.0
+    finally:
+        env.close()
+
+
+def test_drive_kwarg_through_gym_make() -> None:
+    import gymnasium as gym
+
+    import proxemic  # noqa: F401  (registers the ids)
+
+    env = gym.make("proxemic/Museum-v3", drive="differential")
+    try:
+        assert env.unwrapped.scenario["robots"][0]["drive"] == "differential"  # type: ignore[attr-defined]
+        assert float(env.action_space.high[1]) == 0.0  # type: ignore[index]
+    finally:
+        env.close()
+
+
+@pytest.mark.parametrize("bad", ["tank", "", "Differential", 1])
+def test_drive_kwarg_bad_values_name_the_field(bad: object) -> None:
+    from proxemic.errors import InputError
+
+    with pytest.raises(InputError, match="drive") as err:
+        ProxemicEnv("museum", drive=bad)  # type: ignore[arg-type]
+    assert err.value.field == "drive"
+
+
+def test_drive_kwarg_overrides_the_scene_names_key() -> None:
+    name = "francis2023/crossing_90?seed=10000&drive=differential"
+    for drive, high in (("holonomic", 1.0), ("differential", 0.0), (None, 0.0)):
+        env = ProxemicEnv(name, drive=drive)
+        try:
+            assert float(env.action_space.high[1]) == high, drive
+        finally:
+            env.close()
+
+
+GOAL_CASES = [
+    ("museum", 1000),
+    ("care_center", 1000),
+    ("francis2023/crossing_90?seed=10000", 1000),
+    ("francis2023/frontal_approach?seed=10000", 1000),
+    ("francis2023/down_path?seed=10000", 1000),
+]
+
+
+@pytest.mark.parametrize("planner", ["astar_orca", "social"])
+@pytest.mark.parametrize(("scene", "seed"), GOAL_CASES)
+def test_differential_robot_reaches_its_goal(scene: str, seed: int, planner: str) -> None:
+    from proxemic import differential
+
+    assert differential.success(scene, seed, planner, "differential")
+
+
+def _docs_rows() -> list[list[str]]:
+    from proxemic import differential
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "scenarios.md").read_text(encoding="utf-8")
+    begin, end = (
+        text.index(differential.DOCS_BEGIN),
+        text.index(differential.DOCS_END, text.index(differential.DOCS_BEGIN)),
+    )
+    block = text[begin:end]
+    assert "python -m proxemic.differential docs/scenarios.md" in block
+    return [[c.strip() for c in line.strip("|").split("|")] for line in block.splitlines() if line.startswith("| `")]
+
+
+def test_docs_block_covers_every_scene_and_planner() -> None:
+    from proxemic import differential
+
+    rows = _docs_rows()
+    got = {(r[0].strip("`"), r[1].strip("`")) for r in rows}
+    want = {(s, p) for s in differential.scenes() for p in differential.PLANNERS}
+    assert got == want and len(rows) == len(want)
+    assert len(differential.scenes()) == len(differential.BUILTIN_SCENES) + len(differential.francis2023.ARCHETYPES)
+    for r in rows:
+        assert 0.0 <= float(r[2]) <= 1.0 and 0.0 <= float(r[3]) <= 1.0
+        assert int(r[4]) >= 1
+
+
+@pytest.mark.full
+def test_docs_block_is_what_the_run_measures(tmp_path: Path) -> None:
+    """Regenerates the block (about a minute on 2 cores) and compares it with the page's."""
+    from proxemic import differential
+
+    page = tmp_path / "page.md"
+    page.write_text(f"{differential.DOCS_BEGIN}\n{differential.DOCS_END}\n", encoding="utf-8")
+    differential.write_docs(page)
+    src = (Path(__file__).resolve().parents[1] / "docs" / "scenarios.md").read_text(encoding="utf-8")
+    assert page.read_text(encoding="utf-8").strip() in src
