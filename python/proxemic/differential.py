@@ -117,16 +117,21 @@ def measure(
 
 def table_text(rows: Sequence[dict[str, Any]]) -> str:
     """The rows of :func:`measure` as a markdown table."""
-    lines = [
-        "| scene | planner | holonomic success | differential success | episodes | seeds |",
-        "|---|---|---|---|---|---|",
-    ]
-    for r in rows:
-        lines.append(
-            f"| `{r['scene']}` | `{r['planner']}` | {r['holonomic']:.2f} | {r['differential']:.2f} "
-            f"| {r['episodes']} | {r['seeds']} |"
-        )
-    return "\n".join(lines)
+    header = ["scene", "planner", "holonomic success", "differential success", "episodes", "seeds"]
+    return markdown.table(
+        header,
+        (
+            [
+                f"`{r['scene']}`",
+                f"`{r['planner']}`",
+                f"{r['holonomic']:.2f}",
+                f"{r['differential']:.2f}",
+                str(r["episodes"]),
+                r["seeds"],
+            ]
+            for r in rows
+        ),
+    )
 
 
 def write_docs(
