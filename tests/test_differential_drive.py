@@ -262,3 +262,17 @@ def test_docs_block_is_what_the_run_measures(tmp_path: Path) -> None:
     differential.write_docs(page)
     src = (Path(__file__).resolve().parents[1] / "docs" / "scenarios.md").read_text(encoding="utf-8")
     assert page.read_text(encoding="utf-8").strip() in src
+
+
+def test_parallel_env_drive_kwarg() -> None:
+    env = parallel_env("museum", robots=2, drive="differential")
+    try:
+        for agent in env.possible_agents:
+            assert float(env.action_space(agent).high[1]) == 0.0  # type: ignore[index]
+        assert all(r["drive"] == "differential" for r in env.scenario["robots"])
+    finally:
+        env.close()
+    from proxemic.errors import InputError
+
+    with pytest.raises(InputError, match="drive"):
+        parallel_env("museum", drive="tank")

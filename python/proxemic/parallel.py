@@ -79,6 +79,7 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
         autopilot: bool | Collection[str] = False,
         planner_actions: bool = True,
         render_mode: str | None = None,
+        drive: str | None = None,
         width: int = FRAME_SIZE[0],
         height: int = FRAME_SIZE[1],
     ) -> None:
@@ -100,6 +101,10 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
                 ``info["planner_action"]`` and ``info["planner_mode"]``. False skips their cost
                 (their infos then lack both keys).
             render_mode: ``"rgb_array"``, ``"topdown"``, ``"human"`` or None.
+            drive: Every robot's drive, ``"holonomic"`` or ``"differential"``, instead of the
+                scenario's (None: the scenario's own; it overrides a ``drive=`` key of a generated
+                scene's name); the action spaces follow. Another value raises an ``InputError``
+                naming ``drive``.
             width: Frame width (pixels).
             height: Frame height (pixels).
 
@@ -119,12 +124,13 @@ class ProxemicParallelEnv(ParallelEnv[AgentID, ObsDict, np.ndarray]):
             "autopilot": autopilot,
             "planner_actions": planner_actions,
             "render_mode": render_mode,
+            "drive": drive,
             "width": width,
             "height": height,
         }
         self.render_mode = render_mode
         self.width, self.height = width, height
-        core, _ = scenarios.load(scenario)
+        core, _ = scenarios.load(scenario, drive=drive)
         if robots is not None:
             if isinstance(robots, bool) or not isinstance(robots, (int, np.integer)):
                 most = max(core.num_robots, _core.MAX_ROBOTS)
