@@ -25,7 +25,7 @@ def test_help_lists_every_planner(command, capsys):
     listed = TUNABLE_PLANNERS if command == "tune" else proxemic.PLANNERS
     for planner in listed:
         assert planner in text, f"{command} --help does not list {planner}"
-    assert "proxemic/Museum-v3" in text  # env ids are accepted
+    assert "proxemic/Museum-v4" in text  # env ids are accepted
 
 
 def test_new_planners_show_up_in_help(monkeypatch, capsys):
@@ -43,7 +43,7 @@ def test_every_env_id_resolves_to_its_bundled_file(env_id, name):
 
 def test_eval_accepts_an_env_id(tmp_path, capsys):
     out = tmp_path / "e"
-    args = ["eval", "--scenario", "proxemic/Daza2021Path1-v3", "--episodes", "1", "--workers", "1", "--out", str(out)]
+    args = ["eval", "--scenario", "proxemic/Daza2021Path1-v4", "--episodes", "1", "--workers", "1", "--out", str(out)]
     assert main(args) == 0, capsys.readouterr().err
     with (out / "episodes.csv").open() as fh:
         rows = list(csv.DictReader(fh))
@@ -57,15 +57,15 @@ def test_eval_accepts_an_env_id(tmp_path, capsys):
 def test_tune_and_video_accept_an_env_id():
     from proxemic.tuning import TuneConfig
 
-    TuneConfig(targets=["proxemic/CalderitaExp1-v3"], planner="eband").check()  # no error
-    env = proxemic.ProxemicEnv("proxemic/CalderitaExp1-v3")
+    TuneConfig(targets=["proxemic/CalderitaExp1-v4"], planner="eband").check()  # no error
+    env = proxemic.ProxemicEnv("proxemic/CalderitaExp1-v4")
     assert env.scenario["scene"]["name"] == "calderita_exp1"
     env.close()
 
 
 @pytest.mark.parametrize(
     ("given", "suggested"),
-    [("musuem", "museum"), ("care_centre", "care_center"), ("proxemic/Musem-v3", "proxemic/Museum-v3")],
+    [("musuem", "museum"), ("care_centre", "care_center"), ("proxemic/Musem-v4", "proxemic/Museum-v4")],
 )
 def test_a_misspelt_scenario_gets_did_you_mean(given, suggested, capsys):
     assert main(["eval", "--scenario", given, "--episodes", "1"]) == 2

@@ -286,13 +286,17 @@ RELATIVE = (*REDUCTIONS, "collisions", "success", "time")
 
 #: (scene set, claim) -> the measured figure, for claims that do not hold on the test split (CI sets).
 KNOWN_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "personal_seconds"): "personal-zone time: social 57.43 s vs plain A* 65.87 s (13% less, claim 50%)",
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 3/20 episodes (seeds 1005, 1009, 1018; "
+    "centre reading: 0/20), all person-caused: people squeezing past the waiting robot in a doorway (robot-caused "
+    "0/20)",
+    ("museum", "personal_seconds"): "personal-zone time: social 59.42 s vs plain A* 87.04 s (32% less, claim 50%)",
 }
 #: The same for the full test split.
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 1/60 episodes (seed 1036; centre "
-    "reading: 0/60)",
-    ("museum", "personal_seconds"): "personal-zone time: social 161.70 s vs plain A* 176.37 s (8% less, claim 50%)",
+    ("museum", "intimate"): "social within 0.45 m body edge to body edge in 7/60 episodes (seeds 1005, 1009, 1018, "
+    "1028, 1036, 1043, 1045; centre reading: 0/60); robot-caused in 1/60 (seed 1036), the others people squeezing "
+    "past the waiting robot",
+    ("museum", "personal_seconds"): "personal-zone time: social 165.69 s vs plain A* 212.31 s (22% less, claim 50%)",
 }
 #: (scene set, claim) -> the measured figure, for claims against ``astar_orca`` that do not hold on
 #: the test split (CI sets).
@@ -349,17 +353,17 @@ KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
     "reading: 0/20)",
     ("care_center", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 20/20 episodes "
     "(centre reading: 0/20)",
-    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 15/50 scenes (centre "
+    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 16/50 scenes (centre "
     "reading: 0/50)",
-    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 37.85 s vs plain A* 65.87 s (43% "
+    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 44.84 s vs plain A* 87.04 s (48% "
     "less, claim 50% less)",
-    ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 63.09 s vs plain A* 110.30 s "
-    "(43% less, claim 50% less)",
-    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 48.88 s vs plain A* 65.31 s (25% "
+    ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 64.19 s vs plain A* 116.77 s "
+    "(45% less, claim 50% less)",
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 55.47 s vs plain A* 65.01 s (15% "
     "less, claim 50% less)",
-    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 139.17 s vs plain A* 65.87 s (111% "
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 145.38 s vs plain A* 87.04 s (67% "
     "more, claim 50% less)",
-    (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 11.96 s vs plain A* "
+    (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 11.76 s vs plain A* "
     "5.58 s (more, claim 80% less)",
 }
 KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
@@ -367,17 +371,17 @@ KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
     "reading: 0/60)",
     ("care_center", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 60/60 episodes "
     "(centre reading: 0/60)",
-    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 18/60 scenes (centre "
+    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 19/60 scenes (centre "
     "reading: 0/60)",
-    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 155.09 s vs plain A* 176.37 s (12% "
+    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 198.04 s vs plain A* 212.31 s (7% "
     "less, claim 50% less)",
-    ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 197.86 s vs plain A* 337.76 s "
-    "(41% less, claim 50% less)",
-    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 81.41 s vs plain A* 87.92 s (7% "
-    "less, claim 50% less)",
-    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 494.47 s vs plain A* 176.37 s (180% "
+    ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 202.55 s vs plain A* 346.32 s "
+    "(42% less, claim 50% less)",
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 87.91 s vs plain A* 87.63 s (0.3% "
     "more, claim 50% less)",
-    (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 16.06 s vs plain A* "
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 538.44 s vs plain A* 212.31 s (154% "
+    "more, claim 50% less)",
+    (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 15.86 s vs plain A* "
     "5.58 s (more, claim 80% less)",
 }
 
@@ -491,22 +495,22 @@ YIELD_CLAIMS: dict[str, Callable[..., None]] = {
 #: (scene set, claim) -> the measured figure, for yielding claims that do not hold on the test split
 #: (CI sets).
 KNOWN_YIELD_FAILURES: dict[tuple[str, str], str] = {
-    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 348.8 s vs astar_orca "
-    "469.0 s (26% less, claim 50%)",
-    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 156.5 s vs "
-    "astar_orca 167.9 s (7% less, claim 50%)",
-    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 109.1 s vs astar_orca "
-    "139.1 s (22% less, claim 50%)",
+    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 362.8 s vs astar_orca "
+    "475.4 s (24% less, claim 50%)",
+    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 158.7 s vs "
+    "astar_orca 168.3 s (6% less, claim 50%)",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 107.7 s vs astar_orca "
+    "138.1 s (22% less, claim 50%)",
 }
 #: The same for the full test split.
 KNOWN_FULL_YIELD_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 1/60 episodes (seed 1036), one entry",
-    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1061.7 s vs astar_orca "
-    "1383.1 s (23% less, claim 50%)",
-    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 480.4 s vs "
-    "astar_orca 468.8 s (2% more, claim 50% less)",
-    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 132.0 s vs astar_orca "
-    "184.6 s (28% less, claim 50%)",
+    ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1052.6 s vs astar_orca "
+    "1353.6 s (22% less, claim 50%)",
+    ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 484.7 s vs "
+    "astar_orca 474.1 s (2% more, claim 50% less)",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 130.6 s vs astar_orca "
+    "183.6 s (29% less, claim 50%)",
 }
 
 
@@ -571,8 +575,6 @@ def francis_records(seeds: tuple[int, ...]) -> dict[str, Records]:
 #: archetype -> the measured figure, for Francis archetypes where social's success or timeouts
 #: miss the yielding claim (CI seeds).
 KNOWN_FRANCIS_FAILURES: dict[str, str] = {
-    "narrow_hallway": "social succeeds in 0% (astar_orca 100%), times out in 100% (seeds 10000-10009): people "
-    "cannot pass a robot waiting at the wall of a hall 1.2-1.6 m wide (docs/planners.md)",
     "dense_crowd": "social succeeds in 10% (astar_orca 100%), times out in 90% (seeds 10000-10009): no opening "
     "with a 0.45 m gap on both sides in a crowd of at least 1 person/m^2 (docs/planners.md)",
     "pedestrian_obstruction": "social succeeds in 90% (astar_orca 100%), times out in 10% (seed 10000; 10/10 on "
@@ -587,11 +589,9 @@ KNOWN_FRANCIS_FAILURES: dict[str, str] = {
 }
 #: The same on the whole test split.
 KNOWN_FULL_FRANCIS_FAILURES: dict[str, str] = {
-    "narrow_hallway": "social succeeds in 0% (astar_orca 90%), times out in 100% (60 seeds)",
     "dense_crowd": "social succeeds in 6.7% (astar_orca 98.3%), times out in 93.3% (60 seeds)",
     "pedestrian_obstruction": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
     "robot_overtaking": "social succeeds in 86.7% (astar_orca 100%), times out in 13.3% (60 seeds)",
-    "blind_corner": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
     "entering_elevator": "social succeeds in 61.7% (astar_orca 100%), times out in 38.3% (60 seeds)",
     "parallel_traffic": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
     "perpendicular_traffic": "social succeeds in 36.7% (astar_orca 100%), times out in 63.3% (60 seeds)",

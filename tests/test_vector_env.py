@@ -8,7 +8,7 @@ import pytest
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v3"
+ENV_ID = "proxemic/Museum-v4"
 STEPS = 25
 
 
@@ -171,7 +171,7 @@ def test_vector_env_reset_mask_and_seed_lists():
     envs = proxemic.vector_env("daza2021_path1", num_envs=2)
     try:
         first, _ = envs.reset(seed=[4, 9])
-        single = gym.make("proxemic/Daza2021Path1-v3")
+        single = gym.make("proxemic/Daza2021Path1-v4")
         o, _ = single.reset(seed=9)
         np.testing.assert_array_equal(first["lidar"][1], o["lidar"])
         envs.step(np.zeros((2, 3)))

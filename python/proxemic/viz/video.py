@@ -242,7 +242,7 @@ def record_episode(
 
     Args:
         scenario: A bundled scenario name, a scenario TOML path or a registered env id
-            (``"proxemic/Museum-v3"``).
+            (``"proxemic/Museum-v4"``).
         planner: The robot's planner (one of ``proxemic._core.PLANNERS``); default the scenario's.
         seed: The episode seed (the same episode as ``proxemic eval`` runs with this seed).
         path: The output file.

@@ -42,6 +42,9 @@ pub struct Crowd {
     pub(super) reaction: Vec<Reaction>,
     pub(super) shift: Vec<f64>,
     pub(super) anchor: Vec<Option<Vec2>>,
+    /// Per substep: the robot (index) a person squeezes past and the hard gap it keeps to it
+    /// then (m); see `pedestrians::react`.
+    pub(super) squeeze: Vec<Option<(usize, f64)>>,
     pub(super) curious_left: Vec<f64>,
     pub(super) react_params: ReactionParams,
     pub(super) params: SocialForceParams,
@@ -215,7 +218,7 @@ impl Crowd {
         for i in 0..n {
             self.plan_step(i, h, robots);
             if !robots.is_empty() {
-                self.react(i, h, robots);
+                self.react(i, h, robots, geometry);
             }
         }
         self.time += h;
@@ -274,8 +277,25 @@ impl Crowd {
                 }
             }
             if self.reaction[i] != Reaction::Ignore {
-                for &(c, _, v) in robots {
-                    f += interaction_force(pi, vi, c, v, &p);
+                for (k, &(c, rr, v)) in robots.iter().enumerate() {
+                    match self.squeeze[i] {
+                        Some((j, hard)) if j == k => {
+                            // Squeezing past the robot (`pedestrians::react`): its body repels
+                            // as a wall does, across the person's way (a round body would also
+                            // push it back), and only nearer than the middle of the gap (twice
+                            // the squeezing hard gap).
+                            let (away, s) = (pi - c, desired.norm());
+                            let d = away.norm();
+                            let gap = d - rr - self.radius[i];
+                            if d > 1e-9 && s > 1e-9 && gap < 2.0 * hard {
+                                let u = desired / s;
+                                let a =
+                                    (away - u * away.dot(&u)).try_normalize(1e-9).unwrap_or(Vec2::zeros());
+                                f += a * (p.wall_strength * (-gap.max(0.0) / p.wall_range).exp());
+                            }
+                        }
+                        _ => f += interaction_force(pi, vi, c, v, &p),
+                    }
                 }
             }
             let gap = field.at(pi) - self.radius[i];
@@ -332,8 +352,13 @@ impl Crowd {
             // A reacting person never steps to within its hard gap of a robot's body, nor closer
             // to a robot it is already that near (it may step away).
             let here = self.pos[i];
+            let squeeze = self.squeeze[i];
             let blocked_robot = self.react_params.hard(self.reaction[i]).is_some_and(|hard| {
-                robots.iter().any(|&(c, rr, _)| {
+                robots.iter().enumerate().any(|(k, &(c, rr, _))| {
+                    let hard = match squeeze {
+                        Some((j, g)) if j == k => hard.min(g),
+                        _ => hard,
+                    };
                     let gap_next = (next - c).norm() - r - rr;
                     gap_next < hard && gap_next < (here - c).norm() - r - rr
                 })

@@ -7,6 +7,14 @@
 //!   [`ReactionParams::keep_gap`] (`cautious_gap` for `cautious`) plus
 //!   [`ReactionParams::speed_gain`] times the robot's speed, passing on the side they are
 //!   already on (at exact symmetry, on the right);
+//! - a walking person who cannot pass a robot at its hard gap, because the free width between
+//!   the robot and the walls on the side it passes is too narrow (a narrow hallway, a doorway),
+//!   squeezes through the middle of that width if the robot is not coming toward it (its
+//!   velocity toward the person at most [`ReactionParams::squeeze_approach`]) and the width
+//!   leaves at least [`ReactionParams::squeeze_gap`] on each side: it walks along its way, drawn
+//!   across it to the middle of the gap, the robot's body repels it across its way as a wall
+//!   does (instead of the robot's social force), and its hard gap to that robot is half that
+//!   gap; a follower of a robot's tour follows it and never squeezes past it;
 //! - `yield`: a person ahead of a moving robot, within its lane, steps aside out of the lane,
 //!   and waits at its edge while the robot comes on;
 //! - `curious`: walks to [`ReactionParams::curious_distance`] of the robot's centre and follows it,
@@ -26,6 +34,7 @@
 use super::Crowd;
 use super::scripts::Script;
 use super::steer::{bearing, toward};
+use crate::map::geometry::StaticGeometry;
 use crate::math::Vec2;
 use crate::scenario::{Behaviour, Reaction};
 
@@ -66,6 +75,12 @@ pub struct ReactionParams {
     pub still_speed: f64,
     /// Speed at which people standing still shift aside and back (m/s); default 0.4.
     pub shift_speed: f64,
+    /// Narrowest body gap at which a walking person squeezes past a robot that leaves it
+    /// no way at its hard gap (m); default 0.05 (the module's docs say when).
+    pub squeeze_gap: f64,
+    /// A robot whose velocity toward a person is at most this is squeezed past (m/s); default
+    /// 0.05, the rule by which the metrics call an approach the robot's.
+    pub squeeze_approach: f64,
 }
 
 impl Default for ReactionParams {
@@ -86,6 +101,8 @@ impl Default for ReactionParams {
             yield_ahead: 4.0,
             still_speed: 0.1,
             shift_speed: 0.4,
+            squeeze_gap: 0.05,
+            squeeze_approach: 0.05,
         }
     }
 }
@@ -116,8 +133,15 @@ impl ReactionParams {
 impl Crowd {
     /// Reshapes person `i`'s planned motion (`moving`, `desired`, `face_want`) for its reaction
     /// to the nearest robot within [`ReactionParams::notice`]; `robots` are (centre, radius,
-    /// velocity). Does nothing for `ignore` or with no robot near.
-    pub(super) fn react(&mut self, i: usize, h: f64, robots: &[(Vec2, f64, Vec2)]) {
+    /// velocity); `geometry` is the static world. Does nothing for `ignore` or with no robot near.
+    pub(super) fn react(
+        &mut self,
+        i: usize,
+        h: f64,
+        robots: &[(Vec2, f64, Vec2)],
+        geometry: &StaticGeometry,
+    ) {
+        self.squeeze[i] = None;
         let reaction = self.reaction[i];
         if reaction == Reaction::Ignore || !self.present[i] {
             return;
@@ -126,10 +150,11 @@ impl Crowd {
         let pos = self.pos[i];
         let near = robots
             .iter()
-            .map(|&(c, r, v)| ((c - pos).norm_squared(), c, r, v))
+            .enumerate()
+            .map(|(k, &(c, r, v))| ((c - pos).norm_squared(), c, r, v, k))
             .filter(|q| q.0 < rp.notice * rp.notice)
             .min_by(|a, b| a.0.total_cmp(&b.0));
-        let Some((d2, c, rr, v)) = near else {
+        let Some((d2, c, rr, v, k)) = near else {
             self.return_to_place(i);
             return;
         };
@@ -162,16 +187,86 @@ impl Crowd {
         if s < 1e-9 {
             return;
         }
-        let mut dir = steer_round(pos, want / s, c, keep);
+        // A robot not coming toward the person (by the metrics' rule of who approached whom); a
+        // follower of a robot's tour follows it and never squeezes past.
+        if v.dot(&(c - pos)) >= -rp.squeeze_approach * d
+            && !matches!(self.script[i], Script::RobotFollower { .. })
+            && let Some(hard) = rp.hard(reaction)
+            && let Some(g) =
+                self.passage_gap(i, want / s, (c, rr), (keep - self.radius[i] - rr, hard), geometry)
+        {
+            // Along its way, drawn across it to the middle of the gap beside the robot.
+            let u = want / s;
+            let side = if u.x * (c - pos).y - u.y * (c - pos).x >= 0.0 {
+                Vec2::new(u.y, -u.x)
+            } else {
+                Vec2::new(-u.y, u.x)
+            };
+            let off = (c + side * (rr + g + self.radius[i]) - pos).dot(&side);
+            self.squeeze[i] = Some((k, 0.5 * g));
+            self.desired[i] = (u + side * (off / 0.3).clamp(-1.0, 1.0)).normalize() * s;
+            return;
+        }
+        let dir = steer_round(pos, want / s, c, keep);
         let mut s_new = s;
         if reaction == Reaction::Cautious {
             let over = (gap - rp.cautious_gap) / rp.cautious_slow_range;
             s_new *= over.clamp(rp.cautious_min_speed, 1.0);
         }
-        if dir.norm() < 1e-9 {
-            dir = want / s;
-        }
+        let dir = if dir.norm() < 1e-9 { want / s } else { dir };
         self.desired[i] = dir * s_new;
+    }
+
+    /// The body gap at which walking person `i`, going along `dir` (unit), squeezes past a robot
+    /// at `c` (radius `rr`) that is not coming toward it: the middle of the free width between
+    /// the robot's body and the static geometry on the side it passes (the side `steer_round`
+    /// takes), when that middle is nearer the robot than `hard` (its hard gap; so it could not
+    /// pass otherwise) but not nearer than [`ReactionParams::squeeze_gap`], and the middle line
+    /// of that gap is clear of the static geometry from the person to a body length past the
+    /// robot. `None` when its way misses the keep-out disc of body gap `keep_gap` or the robot is
+    /// a body length behind it, or there is no such way.
+    fn passage_gap(
+        &self,
+        i: usize,
+        dir: Vec2,
+        (c, rr): (Vec2, f64),
+        (keep_gap, hard): (f64, f64),
+        geometry: &StaticGeometry,
+    ) -> Option<f64> {
+        let rp = self.react_params;
+        let r = self.radius[i];
+        let to = c - self.pos[i];
+        let cross = dir.x * to.y - dir.y * to.x;
+        // Until the robot is a body length behind: a person beside it is still squeezing past.
+        if to.dot(&dir) <= -(r + rr) || cross.abs() >= r + rr + keep_gap {
+            return None;
+        }
+        let side = if cross >= 0.0 { Vec2::new(dir.y, -dir.x) } else { Vec2::new(-dir.y, dir.x) };
+        // Sphere tracing from the robot's edge on the exact geometry: the distance to the nearest
+        // boundary is free way ahead.
+        let limit = 2.0 * (r + hard);
+        let mut w = 0.0;
+        while w < limit {
+            let clear = geometry.boundary_distance_within(c + side * (rr + w), 0.5);
+            if clear < 0.005 {
+                break;
+            }
+            w += clear;
+        }
+        let g = 0.5 * (w - 2.0 * r);
+        if g >= hard || g < rp.squeeze_gap {
+            return None;
+        }
+        // The way through: the middle line of the gap, from where the person is (at most 2 m
+        // back) to a body length past the robot, clear of the static geometry every 10 cm.
+        let mid = c + side * (rr + g + r);
+        let from = (-to.dot(&dir)).max(-2.0);
+        let steps = ((r + rr - from) / 0.1).ceil().max(0.0) as usize;
+        let clear = (0..=steps).all(|k| {
+            let a = (from + 0.1 * k as f64).min(r + rr);
+            geometry.boundary_distance_within(mid + dir * a, r + 0.05) > r + 0.02
+        });
+        clear.then_some(g)
     }
 
     /// `yield`: if person `i` is ahead of the moving robot at `c` (velocity `v`) within its

@@ -92,6 +92,7 @@ impl Crowd {
         let n = c.len();
         c.moving = vec![false; n];
         c.anchor = vec![None; n];
+        c.squeeze = vec![None; n];
         c.curious_left = vec![c.react_params.curious_time; n];
         c.desired = vec![Vec2::zeros(); n];
         c.face_want = vec![None; n];

@@ -318,3 +318,55 @@ fn random_phase_is_on_the_route_and_seeded() {
         || ((q.y - 0.75 * q.x).abs() < 1e-9);
     assert!(on, "{q:?}");
 }
+
+/// A hallway 12 m long and `width` wide (0.2 m walls), with its distance field.
+fn hallway(width: f64) -> Room {
+    let b = Bounds { min: Vec2::new(-1.0, -1.0), max: Vec2::new(13.0, width + 1.0) };
+    let rect = |x0: f64, y0: f64, x1: f64, y1: f64| {
+        vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)]
+    };
+    let geom = StaticGeometry::new(
+        vec![
+            rect(-0.2, -0.2, 12.2, 0.0),
+            rect(-0.2, width, 12.2, width + 0.2),
+            rect(-0.2, 0.0, 0.0, width),
+            rect(12.0, 0.0, 12.2, width),
+        ],
+        b,
+    )
+    .expect("valid hallway");
+    let spec = GridSpec::covering(geom.bounds(), 0.1).expect("valid grid");
+    let field = DistanceField::from_occupancy(&OccupancyGrid::rasterize(&geom, spec));
+    Room { geom, field }
+}
+
+#[test]
+fn a_walker_squeezes_past_a_robot_waiting_at_the_wall_of_a_narrow_hallway_but_not_one_coming_on() {
+    // 1.3 m wide: beside a robot 5 cm off the wall there are 0.77 m, 0.185 m on each side of a
+    // 0.4 m body, so no way at the hard gap (0.45 m).
+    let room = hallway(1.3);
+    let rp = ReactionParams::default();
+    let c0 = Vec2::new(6.0, 1.3 - 0.05 - 0.24);
+    let walk = |v: Vec2, steps: usize| {
+        let mut c = spawn(&[walker(&[[1.0, 0.65], [11.0, 0.65]], 1.0, 0.0)]);
+        let (mut min_gap, mut far) = (f64::INFINITY, 0.0_f64);
+        let mut robot = [(c0, 0.24, v)];
+        for _ in 0..steps {
+            room.step(&mut c, 0.1, &robot);
+            robot[0].0 += v * 0.1;
+            min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
+            far = far.max(c.pos[0].x);
+        }
+        (far, min_gap)
+    };
+    // It walks to x = 11 and back: how far it got is what counts.
+    let (far, min_gap) = walk(Vec2::zeros(), 200);
+    assert!(far > 10.0, "stuck behind the robot at x = {far}");
+    let half = 0.5 * (0.5 * (0.77 - 0.4));
+    assert!(min_gap < rp.hard_gap && min_gap >= half - 1e-9, "gap {min_gap}");
+    // The robot creeping toward the person (0.1 m/s, above `squeeze_approach`): the person
+    // keeps its hard gap and does not get past.
+    let (far, min_gap) = walk(Vec2::new(-0.1, 0.0), 60);
+    assert!(min_gap >= rp.hard_gap - 1e-9, "gap {min_gap}");
+    assert!(far < 6.0, "got past to x = {far}");
+}
