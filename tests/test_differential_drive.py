@@ -8,6 +8,9 @@ command with ``vy = 0``, which its lateral velocity servo holds.
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from importlib import resources
 from pathlib import Path
 
@@ -276,3 +279,67 @@ def test_parallel_env_drive_kwarg() -> None:
 
     with pytest.raises(InputError, match="drive"):
         parallel_env("museum", drive="tank")
+
+
+def _eval(*argv: str) -> subprocess.CompletedProcess[str]:
+    """``proxemic eval`` in a fresh process, from the repository root (user policies load from there)."""
+    root = Path(__file__).resolve().parents[1]
+    return subprocess.run(
+        [sys.executable, "-m", "proxemic.cli", "eval", *argv],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=root,
+        env={**os.environ, "PYTHONPATH": str(root)},
+    )
+
+
+def test_eval_drive_runs_the_scene_with_every_robot_differential(tmp_path: Path) -> None:
+    """``--drive differential`` gives the episodes of the scene named with ``drive=differential``."""
+    common = ["--planner", "astar", "--planner", "social", "--episodes", "2", "--workers", "1"]
+    runs = {
+        "flag": ["--scenario", "francis2023/crossing_90", "--drive", "differential"],
+        "name": ["--scenario", "francis2023/crossing_90?drive=differential"],
+        "holonomic": ["--scenario", "francis2023/crossing_90"],
+    }
+    records = {}
+    for label, argv in runs.items():
+        out = tmp_path / label
+        done = _eval(*argv, *common, "--out", str(out))
+        assert done.returncode == 0, done.stderr[-2000:]
+        records[label] = (out / "episodes.csv").read_text(encoding="utf-8")
+    assert records["flag"] == records["name"]
+    assert records["flag"] != records["holonomic"]
+    bad = _eval("--scenario", "museum", "--drive", "tank", "--episodes", "1")
+    assert bad.returncode == 2 and "--drive" in bad.stderr and "differential" in bad.stderr, bad.stderr
+
+
+def test_eval_drive_builds_a_policy_for_the_differential_action_space(tmp_path: Path) -> None:
+    """A policy asking for sideways motion runs holonomic and is refused by name on a differential robot."""
+    argv = ["--scenario", "francis2023/crossing_90", "--policy", "tests/crowdnav_policy.py:sideways"]
+    argv += ["--episodes", "1", "--workers", "1"]
+    assert _eval(*argv, "--out", str(tmp_path / "h")).returncode == 0
+    refused = _eval(*argv, "--drive", "differential", "--out", str(tmp_path / "d"))
+    assert refused.returncode != 0 and "action[" in refused.stderr, refused.stderr[-2000:]
+
+
+def test_eval_drive_picks_the_crowdnav_suite_s_robots() -> None:
+    one = ["--suite", "crowdnav", "--planner", "astar_orca", "--episodes", "1"]
+    holonomic = _eval(*one, "--drive", "holonomic")
+    assert holonomic.returncode == 0, holonomic.stderr[-2000:]
+    assert "| circle 5, robot invisible | astar_orca |" in holonomic.stdout
+    assert ", unicycle |" not in holonomic.stdout
+    unicycle = _eval(*one, "--drive", "differential")
+    assert unicycle.returncode == 0, unicycle.stderr[-2000:]
+    assert "| circle 5, robot invisible, unicycle | astar_orca |" in unicycle.stdout
+    assert "| circle 5, robot invisible | astar_orca |" not in unicycle.stdout
+
+
+def test_eval_drive_runs_the_francis_suite_differential(tmp_path: Path) -> None:
+    from proxemic import francis2023
+
+    argv = ["--suite", "francis2023", "--archetype", "crossing_90", "--planner", "astar", "--episodes", "1"]
+    done = _eval(*argv, "--drive", "differential", "--workers", "1", "--out", str(tmp_path))
+    assert done.returncode == 0, done.stderr[-2000:]
+    tasks = francis2023.suite_tasks(["astar"], 1, archetypes=["crossing_90"], drive="differential")
+    assert tasks[0][1][0] == "francis2023/crossing_90?drive=differential"

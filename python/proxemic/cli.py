@@ -207,6 +207,7 @@ def _eval_suite(args: argparse.Namespace) -> int:
         workers=args.workers,
         max_time=args.max_time,
         archetypes=args.archetype,
+        drive=args.drive or "holonomic",
     )
     print()
     print(francis2023.headline_text(result.summary))
@@ -263,7 +264,8 @@ def _eval_crowdnav(args: argparse.Namespace) -> int:
             )
             return 2
     t0 = time.perf_counter()
-    rows = crowdnav.run_suite(args.planner, args.episodes, seed=args.seed, policies=policies)
+    drives = (args.drive,) if args.drive else crowdnav.DRIVES
+    rows = crowdnav.run_suite(args.planner, args.episodes, seed=args.seed, policies=policies, drives=drives)
     print(crowdnav.table_text(rows))
     print()
     print(f"{len(rows) * args.episodes} episodes in {time.perf_counter() - t0:.1f} s")
@@ -308,6 +310,7 @@ def cmd_eval(args: argparse.Namespace) -> int:
         backend=args.backend,
         ray_address=args.ray_address,
         policies=policies,
+        drive=args.drive,
     )
     t0 = time.perf_counter()
     result = run_evaluation(cfg)
@@ -327,7 +330,14 @@ def cmd_eval(args: argparse.Namespace) -> int:
             for seed in range(cfg.seed, cfg.seed + min(args.video, cfg.episodes)):
                 mp4 = Path(args.out) / "videos" / f"{planner}_seed{seed}.mp4"
                 record_episode(
-                    cfg.scenario, planner, seed, mp4, view=args.view, overlays=args.overlay or ("path",), progress=True
+                    cfg.scenario,
+                    planner,
+                    seed,
+                    mp4,
+                    view=args.view,
+                    overlays=args.overlay or ("path",),
+                    progress=True,
+                    drive=cfg.drive,
                 )
                 print(f"wrote {mp4}")
     return 0
@@ -351,6 +361,7 @@ def cmd_video(args: argparse.Namespace) -> int:
         overlays=args.overlay or ("path",),
         progress=True,
         metrics=metrics,
+        drive=args.drive,
         field="--out",
     )
     outcome = metrics.get("outcome", "running")
@@ -618,6 +629,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="with --suite: episode length in seconds, in [5, 600] (default: each archetype's own)",
     )
     e.add_argument(
+        "--drive",
+        choices=scenarios.DRIVES,
+        default=None,
+        help="every robot's drive: holonomic (Pepper's base) or differential (unicycle, no sideways motion); "
+        "default: the scenario's own; with --suite crowdnav: both",
+    )
+    e.add_argument(
         "--planner",
         action="append",
         help=_planner_help(
@@ -667,6 +685,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--planner", default=None, help=_planner_help("the robot's built-in planner (default: the scenario's)")
     )
     v.add_argument("--seed", type=int, default=0, help="episode seed (default: 0)")
+    v.add_argument(
+        "--drive",
+        choices=scenarios.DRIVES,
+        default=None,
+        help="every robot's drive: holonomic or differential (default: the scenario's own)",
+    )
     v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
     v.add_argument("--fps", type=float, default=None, help="frames per second (default: the control rate)")
     v.add_argument("--max-steps", type=int, default=None, help="stop after this many steps (default: episode end)")

@@ -127,10 +127,11 @@ def suite_tasks(
     seed: int = 0,
     max_time: float | None = None,
     archetypes: Sequence[str] = ARCHETYPES,
+    drive: str = "holonomic",
 ) -> list[tuple[str, tuple[str, str, int]]]:
     """(archetype, (scene name, planner, episode seed)) of every episode, archetype-major."""
     return [
-        (a, (scenario_name(a, seed + k, max_time), p, seed + k))
+        (a, (scenario_name(a, seed + k, max_time, drive), p, seed + k))
         for a in archetypes
         for p in planners
         for k in range(episodes)
@@ -147,10 +148,12 @@ def run_suite(
     max_time: float | None = None,
     archetypes: Sequence[str] | None = None,
     progress: bool = True,
+    drive: str = "holonomic",
 ) -> SuiteResult:
     """Runs every archetype (or `archetypes`) with every planner, `episodes` scenes each.
 
-    Writes into `out` (if given): ``episodes.csv`` and ``.parquet`` (one row per episode and robot,
+    Every robot drives with `drive` (``holonomic``, the default, or ``differential``). Writes into
+    `out` (if given): ``episodes.csv`` and ``.parquet`` (one row per episode and robot,
     an ``archetype`` column first; the per-person and per-object columns of single scenes are left
     out, as the archetypes have different people), ``archetypes.csv`` (per archetype and planner:
     success and collision rates and the mean of every metric of the registry in the records) and
@@ -164,7 +167,7 @@ def run_suite(
 
     chosen = tuple(archetypes) if archetypes else ARCHETYPES
     for a in chosen:
-        scenario_name(a)
+        scenario_name(a, drive=drive)
     for p in planners:
         scenarios.check_planner(p)
     if not planners:
@@ -174,7 +177,7 @@ def run_suite(
     outdir = None if out is None else Path(out)
     if outdir is not None:
         evaluation.check_out_dir(outdir)
-    tasks = suite_tasks(planners, episodes, seed, max_time, chosen)
+    tasks = suite_tasks(planners, episodes, seed, max_time, chosen, drive)
     keep = set(_registry_keys()) | set(reference.RECORD_COLUMNS) | {"outcome"}
     records: list[dict[str, Any]] = []
     bar = tqdm(total=len(tasks), desc=f"{SUITE}: {', '.join(planners)}", unit="ep", disable=not progress)

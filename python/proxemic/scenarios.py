@@ -195,10 +195,7 @@ def load(
     :class:`~proxemic.errors.ScenarioError` naming it, as it would in the file.
 
     Args:
-        scenario: Bundled name, env id (``"proxemic/Museum-v4"``) or path of a scenario file, or an
-
-
-        scenario: Bundled name or path of a scenario file, a generated scene's name
+        scenario: Bundled name, env id (``"proxemic/Museum-v4"``) or path of a scenario file, a generated scene's name
             (``generated/<seed>`` or ``generated/<seed>?key=value&...``, see :func:`generate`), a
             Francis et al. 2023 archetype's scene (``francis2023/<archetype>[?seed=N&max_time=T&drive=D]``,
             see :mod:`proxemic.francis2023`), a CrowdNav protocol scene

@@ -37,16 +37,29 @@ class EvalConfig:
     keep_trajectories: int = 5
     """Episodes per planner whose trajectories are kept for the trajectory plot."""
     policies: Sequence[PolicyRef] = ()
+    drive: str | None = None
+    """Every robot's drive (``"holonomic"`` or ``"differential"``) instead of the scenario's; None keeps it."""
+
+    @property
+    def scene_label(self) -> str:
+        """The scenario as titles name it, with the drive when one is imposed."""
+        return self.scenario if self.drive is None else f"{self.scenario} ({self.drive} drive)"
 
     @property
     def labels(self) -> list[str]:
         """The label of every evaluated policy and planner, in task order."""
         return [p.name for p in self.policies] + list(self.planners)
 
-    def tasks(self) -> list[tuple[str, str | PolicyRef, int]]:
-        """(scenario, planner or policy, seed) of every episode, policies then planners, planner-major."""
+    def tasks(self) -> list[tuple[str, str | PolicyRef, int] | tuple[str, str | PolicyRef, int, str | None]]:
+        """(scenario, planner or policy, seed[, drive]) of every episode, policies then planners, planner-major.
+
+        The drive is there only when one is imposed (``drive`` not None).
+        """
         who: list[str | PolicyRef] = [*self.policies, *self.planners]
-        return [(self.scenario, p, self.seed + k) for p in who for k in range(self.episodes)]
+        seeds = [(p, self.seed + k) for p in who for k in range(self.episodes)]
+        if self.drive is None:
+            return [(self.scenario, p, s) for p, s in seeds]
+        return [(self.scenario, p, s, self.drive) for p, s in seeds]
 
 
 @dataclass

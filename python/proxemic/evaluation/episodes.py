@@ -23,16 +23,17 @@ def cached_env(
     planner: str,
     eband: Mapping[str, float] | None = None,
     goal: tuple[float, float] | None = None,
+    drive: str | None = None,
 ) -> Any:
-    """An autopilot env of (scenario, planner, eband gains, goal), cached per process."""
+    """An autopilot env of (scenario, planner, eband gains, goal, drive), cached per process."""
     from proxemic.env import ProxemicEnv
 
-    key = (scenario, planner, tuple(sorted((eband or {}).items())), goal)
+    key = (scenario, planner, tuple(sorted((eband or {}).items())), goal, drive)
     env = _ENV_CACHE.get(key)
     if env is None:
         while len(_ENV_CACHE) >= _ENV_CACHE_SIZE:
             _ENV_CACHE.pop(next(iter(_ENV_CACHE))).close()
-        env = ProxemicEnv(scenario, autopilot=True, planner=planner, eband=eband, goal=goal)
+        env = ProxemicEnv(scenario, autopilot=True, planner=planner, eband=eband, goal=goal, drive=drive)
         _ENV_CACHE[key] = env
     return env
 
@@ -40,22 +41,23 @@ def cached_env(
 #: Policy objects given to :func:`evaluate` (not import paths), by label: read in this process and
 #: in worker processes forked after they were put here.
 _LOCAL_POLICIES: dict[str, Any] = {}
-#: (scenario, policy label, import path) -> (env, actor), per process, for the run under way.
-_POLICY_CACHE: dict[tuple[str | _core.Scenario, str, str], tuple[Any, PolicyActor]] = {}
+#: (scenario, policy label, import path, drive) -> (env, actor), per process, for the run under way.
+_POLICY_CACHE: dict[tuple[str | _core.Scenario, str, str, str | None], tuple[Any, PolicyActor]] = {}
 
 
-def policy_env(scenario: str | _core.Scenario, ref: PolicyRef) -> tuple[Any, PolicyActor]:
+def policy_env(scenario: str | _core.Scenario, ref: PolicyRef, drive: str | None = None) -> tuple[Any, PolicyActor]:
     """An action-driven env of `scenario` and the policy of `ref` built for it, cached per process.
 
+    `drive` is every robot's drive (None: the scenario's); the policy is built for its action space.
     An import-path policy is built here from its factory (so every worker has its own); a policy
     object is taken from those given to :func:`evaluate`.
     """
     from proxemic.env import ProxemicEnv
 
-    key = (scenario, ref.name, ref.target)
+    key = (scenario, ref.name, ref.target, drive)
     cached = _POLICY_CACHE.get(key)
     if cached is None:
-        env = ProxemicEnv(scenario, autopilot=False)
+        env = ProxemicEnv(scenario, autopilot=False, drive=drive)
         if ref.target:
             policy = build_policy(ref.target, env.observation_space, env.action_space, ref.search_path)
         elif ref.name in _LOCAL_POLICIES:
@@ -74,8 +76,12 @@ def policy_env(scenario: str | _core.Scenario, ref: PolicyRef) -> tuple[Any, Pol
     return cached
 
 
-def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool = False) -> EpisodeResult:
-    """Runs one (scenario, planner or policy, seed) episode in this process (envs cached per process).
+#: One episode: (scenario, planner or policy, seed), optionally with every robot's drive last.
+Task = tuple[str | _core.Scenario, str | PolicyRef, int] | tuple[str | _core.Scenario, str | PolicyRef, int, str | None]
+
+
+def run_task(task: Task, keep: bool = False) -> EpisodeResult:
+    """Runs one (scenario, planner or policy, seed[, drive]) episode in this process (envs cached per process).
 
     The result is robot 0's record (column ``robot`` = 0). On a scene with several robots, a
     built-in planner drives every robot and the episode runs until every robot's episode ended;
@@ -85,13 +91,14 @@ def run_task(task: tuple[str | _core.Scenario, str | PolicyRef, int], keep: bool
     from proxemic.env import flatten_metrics
     from proxemic.runner import run_episode
 
-    scenario, planner, seed = task
+    scenario, planner, seed = task[0], task[1], task[2]
+    drive = task[3] if len(task) > 3 else None
     if isinstance(planner, PolicyRef):
-        env, actor = policy_env(scenario, planner)
+        env, actor = policy_env(scenario, planner, drive)
         rec = run_episode(scenario, seed, env=env, policy=actor)
         label = planner.name
     else:
-        env = cached_env(scenario, planner)
+        env = cached_env(scenario, planner, drive=drive)
         if env.ws.num_robots > 1:
             return _run_team(env, seed, planner, keep)
         rec = run_episode(scenario, seed, env=env)
@@ -170,13 +177,13 @@ def check_policies(cfg: EvalConfig) -> None:
                 "a policy object",
                 note=f"policy {ref.name!r} cannot be sent to backend {cfg.backend!r}",
             )
-        env, actor = policy_env(cfg.scenario, ref)
+        env, actor = policy_env(cfg.scenario, ref, cfg.drive)
         obs, _ = env.reset(seed=cfg.seed)
         actor.reset(cfg.seed)
         actor(obs)
         if cfg.workers > 1 or cfg.backend == "ray":
-            _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target))[0].close()  # the workers build their own
+            _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target, cfg.drive))[0].close()  # the workers build their own
 
 
-def _run_task_kw(args: tuple[tuple[str, str | PolicyRef, int], bool]) -> EpisodeResult:
+def _run_task_kw(args: tuple[Task, bool]) -> EpisodeResult:
     return run_task(args[0], args[1])

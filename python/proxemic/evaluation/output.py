@@ -91,7 +91,8 @@ def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dic
             for name, ms in METRIC_GROUPS
         ],
         out / "metrics.png",
-        title=f"{cfg.scenario}: {cfg.episodes} seeded episodes each (seeds {cfg.seed}-{cfg.seed + cfg.episodes - 1}); "
+        title=f"{cfg.scene_label}: {cfg.episodes} seeded episodes each "
+        f"(seeds {cfg.seed}-{cfg.seed + cfg.episodes - 1}); "
         "bars: rate or mean, whiskers: 95% interval (Wilson for rates, Student t for means),\n"
         "clipped to each metric's range (0-100% for rates and time shares, >= 0 for lengths and times)",
     )
@@ -107,7 +108,8 @@ def _write_outputs(cfg: EvalConfig, result: EvalResult, scenario: Any, kept: dic
             for i, r in enumerate(results)
         ]
         if episodes:
-            plot_episodes(scenario, episodes, out / f"trajectories_{planner}.png", title=f"{cfg.scenario}: {planner}")
+            title = f"{cfg.scene_label}: {planner}"
+            plot_episodes(scenario, episodes, out / f"trajectories_{planner}.png", title=title)
     plot_planners_on_social_map(cfg.scenario, cfg.seed, kept, out / "trajectories_social_map.png")
 
 

@@ -50,7 +50,7 @@ class EvalResult:
 
 
 def _check_config(cfg: EvalConfig) -> None:
-    core, _ = scenarios.load(cfg.scenario)
+    core, _ = scenarios.load(cfg.scenario, drive=cfg.drive)
     for p in cfg.planners:
         scenarios.check_planner(p)  # an unknown name: a ScenarioError with "did you mean"
         core.with_planner(p)
@@ -75,10 +75,10 @@ def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
     if out is not None:
         check_out_dir(out)
     check_policies(cfg)
-    _, scenario = scenarios.load(cfg.scenario)
+    _, scenario = scenarios.load(cfg.scenario, drive=cfg.drive)
     kept: dict[str, list[EpisodeResult]] = {p: [] for p in cfg.labels}
     tasks = cfg.tasks()
-    bar = tqdm(total=len(tasks), desc=f"{cfg.scenario}: {', '.join(cfg.labels)}", unit="ep", disable=not progress)
+    bar = tqdm(total=len(tasks), desc=f"{cfg.scene_label}: {', '.join(cfg.labels)}", unit="ep", disable=not progress)
     records: list[dict[str, Any]] = []
     if out is not None:
         reference.write_metrics_json(out / "metrics.json", scenario)
@@ -96,7 +96,7 @@ def run_evaluation(cfg: EvalConfig, *, progress: bool = True) -> EvalResult:
     finally:
         bar.close()
         for ref in cfg.policies:  # a later run builds its policies afresh
-            cached = _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target), None)
+            cached = _POLICY_CACHE.pop((cfg.scenario, ref.name, ref.target, cfg.drive), None)
             if cached is not None:
                 cached[0].close()
     rows = summarise(records)

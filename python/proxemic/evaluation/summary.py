@@ -113,7 +113,7 @@ def policy_robot_note(cfg: EvalConfig) -> str:
     """What an evaluation with user policies on a multi-robot scene scores (empty otherwise)."""
     if not cfg.policies:
         return ""
-    core, _ = scenarios.load(cfg.scenario)
+    core, _ = scenarios.load(cfg.scenario, drive=cfg.drive)
     if core.num_robots <= 1:
         return ""
     return (

@@ -237,6 +237,7 @@ def record_episode(
     progress: bool = False,
     metrics: dict[str, Any] | None = None,
     field: str = "out",
+    drive: str | None = None,
 ) -> Path:
     """Record one seeded episode with the robot's built-in planner driving, as an mp4.
 
@@ -255,6 +256,7 @@ def record_episode(
         progress: Show a progress bar (it ends at the episode's last frame).
         metrics: Filled with the episode's metrics (``outcome``, ``time_to_goal`` ...) once recorded.
         field: The name of `path` in error messages (``--out`` for the CLI).
+        drive: Every robot's drive (``"holonomic"`` or ``"differential"``); default the scenario's.
 
     Returns:
         The path written. The video has one frame per control step plus the starting frame.
@@ -278,7 +280,7 @@ def record_episode(
             raise input_error(side, "an even number of pixels >= 2 (H.264 in yuv420p)", value)
     check_video_path(path, field)
     name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
-    env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays)
+    env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays, drive=drive)
     try:
         episode_steps = int(env.core_scenario.max_steps)
         steps = episode_steps if max_steps is None else min(max_steps, episode_steps)
