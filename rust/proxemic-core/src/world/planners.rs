@@ -551,7 +551,10 @@ impl World {
         let rb = &mut self.robots[i];
         let (v, w) = if rb.outcome == Outcome::Running {
             let p = Vec2::new(rb.pose[0], rb.pose[1]);
-            let wz = heading_rate(p, rb.pose[2], desired, st.face, st.goal, &FollowerParams::default());
+            // A differential robot faces its way to the very goal: turned to the person a metre
+            // short of it, it could not drive the last metre (no sideways motion).
+            let face = if st.drive == Drive::Differential { None } else { st.face };
+            let wz = heading_rate(p, rb.pose[2], desired, face, st.goal, &FollowerParams::default());
             match st.drive {
                 Drive::Holonomic => st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt),
                 Drive::Differential => {
