@@ -7,6 +7,8 @@ command with ``vy = 0``, which its lateral velocity servo holds.
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 import os
 import subprocess
@@ -313,6 +315,8 @@ def test_eval_drive_runs_the_scene_with_every_robot_differential(tmp_path: Path)
         records[label] = (out / "episodes.csv").read_text(encoding="utf-8")
     assert records["flag"] == records["name"]
     assert records["flag"] != records["holonomic"]
+    drives = {k: {r["drive"] for r in csv.DictReader(io.StringIO(v))} for k, v in records.items()}
+    assert drives == {"flag": {"differential"}, "name": {"differential"}, "holonomic": {"holonomic"}}
     bad = _eval("--scenario", "museum", "--drive", "tank", "--episodes", "1")
     assert bad.returncode == 2 and "--drive" in bad.stderr and "differential" in bad.stderr, bad.stderr
 

@@ -30,6 +30,7 @@ RECORD_COLUMNS: dict[str, str] = {
     "planner": "The built-in planner or the policy's name that drove the robot.",
     "seed": "The episode's seed (the same seeds for every planner).",
     "robot": "The robot the record scores (0 for single-robot scenes; every robot of a multi-robot scene).",
+    "drive": "The robot's drive: holonomic (Pepper's base) or differential (unicycle); eval --drive sets it.",
     "reward": "The episode's return: the sum of the env's rewards (terms in docs/envs.md).",
     "max_time": "The scenario's episode time limit (s, [episode] max_time): the horizon of SNQI's normalised time.",
 }

@@ -108,6 +108,7 @@ def run_task(task: Task, keep: bool = False) -> EpisodeResult:
         "planner": label,
         "seed": seed,
         "robot": 0,
+        "drive": env.scenario["robots"][0].get("drive", "holonomic"),
         "reward": rec.total_reward,
         "max_time": float(env.scenario["episode"]["max_time"]),
     }
@@ -147,6 +148,7 @@ def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
             "planner": planner,
             "seed": seed,
             "robot": i,
+            "drive": env.scenario["robots"][i].get("drive", "holonomic"),
             "reward": float(totals[i]),
             "max_time": float(env.scenario["episode"]["max_time"]),
         }
