@@ -89,7 +89,7 @@ install-check: system-deps wheel ## the wheel into a fresh venv with no cargo on
 	  echo "no cargo or rustc on PATH: $$PATH"; \
 	  pip install -q $(CURDIR)/$(WHEEL_DIR)/proxemic-*.whl && \
 	  python -c "import gymnasium as gym, proxemic; \
-	    env = gym.make(\"proxemic/Museum-v4\"); obs, _ = env.reset(seed=0); \
+	    env = gym.make(\"proxemic/Museum-v5\"); obs, _ = env.reset(seed=0); \
 	    print(\"installed proxemic\", proxemic.__version__, \"from the wheel, runs from\", __import__(\"os\").getcwd(), {k: v.shape for k, v in obs.items()}); \
 	    penv = proxemic.parallel_env(\"daza2021_fig15\"); pobs, _ = penv.reset(seed=0); \
 	    print(\"parallel_env (PettingZoo, a core dependency):\", sorted(pobs))"'

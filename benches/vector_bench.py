@@ -44,7 +44,7 @@ import numpy as np
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v4"
+ENV_ID = "proxemic/Museum-v5"
 TRIALS = 3
 #: Worlds of the training-throughput rows, their trials and vector steps per trial.
 TRAIN_ENVS = 8

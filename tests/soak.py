@@ -1,6 +1,6 @@
 """Soak test: long runs that must neither grow the process nor produce a bad observation.
 
-1. The museum env (``proxemic/Museum-v4``), random actions, auto-reset, for ``--steps`` env steps
+1. The museum env (``proxemic/Museum-v5``), random actions, auto-reset, for ``--steps`` env steps
    (default 1,000,000); the built-in planner runs every step to fill ``info["planner_action"]``.
 2. The parallel museum (``museum_multi``, 4 robots), random actions, reset when every agent is
    done, for ``--parallel-steps`` steps (default 200,000).
@@ -69,7 +69,7 @@ class Tracker:
 
 def soak_single(steps: int) -> list[str]:
     """The single-robot museum with random actions."""
-    env = gym.make("proxemic/Museum-v4")
+    env = gym.make("proxemic/Museum-v5")
     space: Any = env.observation_space
     env.action_space.seed(0)
     obs, _ = env.reset(seed=0)

@@ -25,7 +25,7 @@ def test_help_lists_every_planner(command, capsys):
     listed = TUNABLE_PLANNERS if command == "tune" else proxemic.PLANNERS
     for planner in listed:
         assert planner in text, f"{command} --help does not list {planner}"
-    assert "proxemic/Museum-v4" in text  # env ids are accepted
+    assert "proxemic/Museum-v5" in text  # env ids are accepted
 
 
 def test_new_planners_show_up_in_help(monkeypatch, capsys):
@@ -57,15 +57,15 @@ def test_eval_accepts_an_env_id(tmp_path, capsys):
 def test_tune_and_video_accept_an_env_id():
     from proxemic.tuning import TuneConfig
 
-    TuneConfig(targets=["proxemic/CalderitaExp1-v4"], planner="eband").check()  # no error
-    env = proxemic.ProxemicEnv("proxemic/CalderitaExp1-v4")
+    TuneConfig(targets=["proxemic/CalderitaExp1-v5"], planner="eband").check()  # no error
+    env = proxemic.ProxemicEnv("proxemic/CalderitaExp1-v5")
     assert env.scenario["scene"]["name"] == "calderita_exp1"
     env.close()
 
 
 @pytest.mark.parametrize(
     ("given", "suggested"),
-    [("musuem", "museum"), ("care_centre", "care_center"), ("proxemic/Musem-v4", "proxemic/Museum-v4")],
+    [("musuem", "museum"), ("care_centre", "care_center"), ("proxemic/Musem-v4", "proxemic/Museum-v5")],
 )
 def test_a_misspelt_scenario_gets_did_you_mean(given, suggested, capsys):
     assert main(["eval", "--scenario", given, "--episodes", "1"]) == 2

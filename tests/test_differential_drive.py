@@ -187,7 +187,7 @@ def test_drive_kwarg_through_gym_make() -> None:
 
     import proxemic  # noqa: F401  (registers the ids)
 
-    env = gym.make("proxemic/Museum-v4", drive="differential")
+    env = gym.make("proxemic/Museum-v5", drive="differential")
     try:
         assert env.unwrapped.scenario["robots"][0]["drive"] == "differential"  # type: ignore[attr-defined]
         assert float(env.action_space.high[1]) == 0.0  # type: ignore[index]

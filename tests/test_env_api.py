@@ -19,7 +19,7 @@ def test_check_env_passes_for_every_registered_env():
 
 
 def test_spaces_and_observation_shapes():
-    env = gym.make("proxemic/Museum-v4")
+    env = gym.make("proxemic/Museum-v5")
     obs, _info = env.reset(seed=0)
     assert set(obs) == {"robot", "people", "people_mask", "lidar"}
     k = env.unwrapped.scenario["sensors"]["k_nearest"]
@@ -135,7 +135,7 @@ def test_planner_actions_off_skips_the_planner_and_keeps_the_episode() -> None:
     actions = rng.uniform(-1, 1, (120, 3)).astype(np.float32)
     runs = []
     for planner_actions in (True, False):
-        env = gym.make("proxemic/Museum-v4", planner_actions=planner_actions)
+        env = gym.make("proxemic/Museum-v5", planner_actions=planner_actions)
         obs, info = env.reset(seed=4)
         trace = [obs["robot"].copy()]
         for a in actions:
@@ -155,7 +155,7 @@ def test_env_pickles_as_its_arguments() -> None:
     import gymnasium as gym
     import numpy as np
 
-    env = gym.make("proxemic/Museum-v4", planner="social", width=320, height=240)
+    env = gym.make("proxemic/Museum-v5", planner="social", width=320, height=240)
     copy = pickle.loads(pickle.dumps(env))
     a, _ = env.reset(seed=2)
     b, _ = copy.reset(seed=2)
@@ -175,7 +175,7 @@ def test_env_steps_from_another_thread() -> None:
     import gymnasium as gym
     import numpy as np
 
-    env = gym.make("proxemic/Museum-v4")
+    env = gym.make("proxemic/Museum-v5")
     env.reset(seed=0)
     errors: list[BaseException] = []
     rewards: list[float] = []

@@ -53,7 +53,7 @@ def test_bad_parameters_are_typed_errors() -> None:
 
 
 def test_generated_scenes_run_in_gym_parallel_env_and_eval() -> None:
-    env = gym.make("proxemic/Generated-v4", scenario="generated/3?robots=2")
+    env = gym.make("proxemic/Generated-v5", scenario="generated/3?robots=2")
     obs, _ = env.reset(seed=0)
     obs2, *_ = env.step(env.action_space.sample())
     assert set(obs) == set(obs2)

@@ -26,7 +26,7 @@ def _run(code: str, display: str | None) -> subprocess.CompletedProcess[str]:
 @pytest.mark.parametrize("front", ["gym", "parallel"])
 def test_human_without_display_is_a_typed_error(display: str | None, front: str) -> None:
     make = (
-        "gym.make('proxemic/Museum-v4', render_mode='human')"
+        "gym.make('proxemic/Museum-v5', render_mode='human')"
         if front == "gym"
         else "proxemic.parallel_env('museum_multi', robots=2, render_mode='human')"
     )

@@ -189,7 +189,7 @@ def test_load_factory_reads_a_file_path(at_root):
     assert factory.__name__ == "make"
     import gymnasium as gym
 
-    env = gym.make("proxemic/Museum-v4")
+    env = gym.make("proxemic/Museum-v5")
     policy = build_policy("examples/my_policy.py:make", env.observation_space, env.action_space)
     obs, _ = env.reset(seed=0)
     assert env.action_space.contains(PolicyActor(policy)(obs))

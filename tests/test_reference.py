@@ -27,7 +27,7 @@ def test_generated_docs_are_up_to_date():
 
 def test_every_metric_of_an_episode_is_in_the_registry_and_back():
     """The keys of a real episode's metrics and the registry's keys are the same set."""
-    env = gym.make("proxemic/CareCenter-v4")
+    env = gym.make("proxemic/CareCenter-v5")
     env.reset(seed=0)
     for _ in range(5):
         env.step(env.action_space.sample())

@@ -92,7 +92,7 @@ def test_cli_reports_unknown_scenario(capsys):
 def test_gym_make_works_from_any_directory(tmp_path):
     """Scenario files and MJCF assets ship inside the package, not next to the working directory."""
     code = (
-        "import gymnasium as gym, proxemic; env = gym.make('proxemic/Museum-v4'); "
+        "import gymnasium as gym, proxemic; env = gym.make('proxemic/Museum-v5'); "
         "obs, _ = env.reset(seed=0); print(obs['lidar'].shape)"
     )
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}

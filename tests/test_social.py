@@ -131,6 +131,20 @@ def test_social_planner_drives_an_episode_and_replans(room):
     env.close()
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2, 5, 9])
+def test_social_enters_an_elevator_car_to_the_corner_beside_the_person_in_it(seed):
+    """The goal (the car's free back corner) lies in the standing person's personal or intimate
+    zone: only the cost beyond the goal's own counts, so ``social`` goes in rather than brake in
+    the doorway (these tuning seeds timed out before), and it never brings itself into the
+    person's intimate zone."""
+    from proxemic import francis2023
+    from proxemic.evaluation.episodes import run_task
+
+    record = run_task((francis2023.scenario_name("entering_elevator", seed=seed), "social", seed)).record
+    assert record["outcome"] == "success", record["outcome"]
+    assert record["intimate_gap_entries_robot_caused"] == 0
+
+
 def test_a_person_walking_into_the_path_triggers_a_replan(write_scenario):
     walker = "[[person]]\nroute = [[10.5, 1.2], [10.5, 6.8]]\nspeed = 0.8\naware = false\n\n[[robot]]"
     path = write_scenario(ROOM.replace("[[robot]]", walker, 1), "walker.toml")

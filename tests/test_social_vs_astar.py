@@ -289,14 +289,12 @@ KNOWN_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "intimate"): "social within 0.45 m body edge to body edge in 3/20 episodes (seeds 1005, 1009, 1018; "
     "centre reading: 0/20), all person-caused: people squeezing past the waiting robot in a doorway (robot-caused "
     "0/20)",
-    ("museum", "personal_seconds"): "personal-zone time: social 59.42 s vs plain A* 87.04 s (32% less, claim 50%)",
 }
 #: The same for the full test split.
 KNOWN_FULL_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "intimate"): "social within 0.45 m body edge to body edge in 7/60 episodes (seeds 1005, 1009, 1018, "
     "1028, 1036, 1043, 1045; centre reading: 0/60); robot-caused in 1/60 (seed 1036), the others people squeezing "
     "past the waiting robot",
-    ("museum", "personal_seconds"): "personal-zone time: social 165.69 s vs plain A* 212.31 s (22% less, claim 50%)",
 }
 #: (scene set, claim) -> the measured figure, for claims against ``astar_orca`` that do not hold on
 #: the test split (CI sets).
@@ -355,14 +353,12 @@ KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
     "(centre reading: 0/20)",
     (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 16/50 scenes (centre "
     "reading: 0/50)",
-    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 44.84 s vs plain A* 87.04 s (48% "
-    "less, claim 50% less)",
     ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 64.19 s vs plain A* 116.77 s "
     "(45% less, claim 50% less)",
-    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 55.47 s vs plain A* 65.01 s (15% "
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 55.47 s vs plain A* 67.31 s (18% "
     "less, claim 50% less)",
-    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 145.38 s vs plain A* 87.04 s (67% "
-    "more, claim 50% less)",
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 145.48 s vs plain A* 170.80 s (15% "
+    "less, claim 50% less)",
     (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 11.76 s vs plain A* "
     "5.58 s (more, claim 80% less)",
 }
@@ -373,13 +369,11 @@ KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
     "(centre reading: 0/60)",
     (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 19/60 scenes (centre "
     "reading: 0/60)",
-    ("museum", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 198.04 s vs plain A* 212.31 s (7% "
-    "less, claim 50% less)",
     ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 202.55 s vs plain A* 346.32 s "
     "(42% less, claim 50% less)",
-    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 87.91 s vs plain A* 87.63 s (0.3% "
-    "more, claim 50% less)",
-    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 538.44 s vs plain A* 212.31 s (154% "
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 87.41 s vs plain A* 89.63 s (2% "
+    "less, claim 50% less)",
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 536.35 s vs plain A* 461.30 s (16% "
     "more, claim 50% less)",
     (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 15.86 s vs plain A* "
     "5.58 s (more, claim 80% less)",
@@ -496,21 +490,21 @@ YIELD_CLAIMS: dict[str, Callable[..., None]] = {
 #: (CI sets).
 KNOWN_YIELD_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 362.8 s vs astar_orca "
-    "475.4 s (24% less, claim 50%)",
+    "490.1 s (26% less, claim 50%)",
     ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 158.7 s vs "
-    "astar_orca 168.3 s (6% less, claim 50%)",
-    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 107.7 s vs astar_orca "
-    "138.1 s (22% less, claim 50%)",
+    "astar_orca 186.5 s (15% less, claim 50%)",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 106.8 s vs astar_orca "
+    "138.1 s (23% less, claim 50%)",
 }
 #: The same for the full test split.
 KNOWN_FULL_YIELD_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 1/60 episodes (seed 1036), one entry",
     ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1052.6 s vs astar_orca "
-    "1353.6 s (22% less, claim 50%)",
+    "1443.8 s (27% less, claim 50%)",
     ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 484.7 s vs "
-    "astar_orca 474.1 s (2% more, claim 50% less)",
-    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 130.6 s vs astar_orca "
-    "183.6 s (29% less, claim 50%)",
+    "astar_orca 531.4 s (9% less, claim 50%)",
+    (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 129.7 s vs astar_orca "
+    "185.7 s (30% less, claim 50%)",
 }
 
 
@@ -581,7 +575,6 @@ KNOWN_FRANCIS_FAILURES: dict[str, str] = {
     "tuning seeds 0-9)",
     "robot_overtaking": "social succeeds in 80% (astar_orca 100%), times out in 20% (seeds 10002, 10009; 10/10 on "
     "tuning seeds 0-9)",
-    "entering_elevator": "social succeeds in 60% (astar_orca 100%), times out in 40% (seeds 10000-10002, 10004)",
     "perpendicular_traffic": "social succeeds in 30% (astar_orca 100%), times out in 70% (seeds 10000-10003, "
     "10005, 10006, 10008)",
     "robot_crowding": "social succeeds in 50% (astar_orca 100%), times out in 50% (seeds 10000, 10002, 10003, "
@@ -589,10 +582,10 @@ KNOWN_FRANCIS_FAILURES: dict[str, str] = {
 }
 #: The same on the whole test split.
 KNOWN_FULL_FRANCIS_FAILURES: dict[str, str] = {
-    "dense_crowd": "social succeeds in 6.7% (astar_orca 98.3%), times out in 93.3% (60 seeds)",
+    "dense_crowd": "social succeeds in 6.7% (astar_orca 100%), times out in 93.3% (60 seeds)",
     "pedestrian_obstruction": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
     "robot_overtaking": "social succeeds in 86.7% (astar_orca 100%), times out in 13.3% (60 seeds)",
-    "entering_elevator": "social succeeds in 61.7% (astar_orca 100%), times out in 38.3% (60 seeds)",
+    "entering_elevator": "social succeeds in 91.7% (astar_orca 100%), times out in 8.3% (60 seeds)",
     "parallel_traffic": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
     "perpendicular_traffic": "social succeeds in 36.7% (astar_orca 100%), times out in 63.3% (60 seeds)",
     "robot_crowding": "social succeeds in 61.7% (astar_orca 100%), times out in 38.3% (60 seeds)",
@@ -670,11 +663,21 @@ def _replay_cases() -> list[Any]:
     return out
 
 
-def test_recovery_claim_is_exercised() -> None:
-    """``recovery_keeps_spaces`` can fail: ``astar_orca`` enters an o-space while recovering in the museum
-    (CI seeds), and ``social`` recovers in the Francis archetypes (CI seeds), where it holds too."""
+@pytest.mark.xfail(
+    strict=True,
+    reason="no baseline recovers into an o-space or an active object space on the test split any more: astar_orca "
+    "0 entries in the museum (CI seeds; 0 on all 60 museum and care-center seeds, nor daza2021, sousa2022, "
+    "calderita), since standing people near a wall no longer shift toward a passing robot and it no longer stalls "
+    "there; the metric's own known answers are in metrics/recovery.rs",
+)
+def test_recovery_claim_can_fail() -> None:
+    """``recovery_keeps_spaces`` can fail: a baseline enters an o-space while recovering in the museum (CI seeds)."""
     museum = records("museum", _seeds("museum", False))[ASTAR_ORCA]
     assert sum(r["recovery_ospace_entries"] + r["recovery_object_entries"] for r in museum) > 0
+
+
+def test_recovery_claim_is_exercised() -> None:
+    """``social`` recovers in the Francis archetypes (CI seeds), and ``recovery_keeps_spaces`` holds there."""
     francis = francis_records(CI_FRANCIS_SEEDS)
     assert sum(r["recovery_time"] for rec in francis.values() for r in rec[SOCIAL]) > 0
     for rec in francis.values():

@@ -8,7 +8,7 @@ import pytest
 
 import proxemic
 
-ENV_ID = "proxemic/Museum-v4"
+ENV_ID = "proxemic/Museum-v5"
 STEPS = 25
 
 

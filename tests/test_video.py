@@ -21,7 +21,7 @@ def _decode(path: Path) -> np.ndarray:
 def test_record_episode_decodes_to_the_expected_frames(tmp_path: Path, view: str) -> None:
     steps = 30 if view == "topdown" else 10
     out = record_episode(
-        "proxemic/Museum-v4",
+        "proxemic/Museum-v5",
         "social_astar",
         seed=0,
         path=tmp_path / f"{view}.mp4",

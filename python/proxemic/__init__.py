@@ -8,7 +8,7 @@ Usage::
     import gymnasium as gym
     import proxemic  # registers the environments
 
-    env = gym.make("proxemic/Museum-v4")
+    env = gym.make("proxemic/Museum-v5")
     obs, info = env.reset(seed=0)
 
 Public names: the environments (:class:`ProxemicEnv`, :func:`parallel_env`,

@@ -503,7 +503,7 @@ def cmd_generate(args: argparse.Namespace) -> int:
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(text)
     name = scenarios.generated_name(args.seed, **params)
-    print(f"wrote {out} ({name}; load it with gym.make('proxemic/Generated-v4', scenario={name!r}) or by path)")
+    print(f"wrote {out} ({name}; load it with gym.make('proxemic/Generated-v5', scenario={name!r}) or by path)")
     return 0
 
 
@@ -578,7 +578,7 @@ def _planner_help(what: str) -> str:
 
 
 #: The scenario argument's help: names, env ids and paths are all accepted.
-SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v4; see `proxemic scenes`) or TOML path"
+SCENARIO_HELP = "bundled scenario name, env id (e.g. proxemic/Museum-v5; see `proxemic scenes`) or TOML path"
 
 
 def build_parser() -> argparse.ArgumentParser:

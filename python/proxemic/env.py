@@ -48,8 +48,8 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     arc facing it at every stop (Daza 2021 Fig. 11), people seated on benches and sofas, slow walkers (speed presets such as
     ``"elderly"``), and care-center residents and staff who follow the agenda (arriving before
     each activity, staying for it with the therapist facing the residents, leaving after). The
-    museum (``proxemic/Museum-v4``) has 52 people with all of these but residents; the care center
-    (``proxemic/CareCenter-v4``) runs a morning agenda whose activities end and start during the
+    museum (``proxemic/Museum-v5``) has 52 people with all of these but residents; the care center
+    (``proxemic/CareCenter-v5``) runs a morning agenda whose activities end and start during the
     episode. Recorded people (a scenario's ``[[replay]]`` track files, e.g. converted ETH/UCY
     recordings) are where their files say, present from their first sample to their last (absent
     people are parked far away and left out of observations and metrics), and react to the robot

@@ -45,7 +45,7 @@ def suggest(name: str, choices: Sequence[str]) -> str:
 
 
 def resolve(scenario: str | Path) -> Path:
-    """Path of a scenario given by bundled name (``"museum"``), env id (``"proxemic/Museum-v4"``) or file path.
+    """Path of a scenario given by bundled name (``"museum"``), env id (``"proxemic/Museum-v5"``) or file path.
 
     Raises:
         ScenarioError: A path (a name ending in ``.toml`` or with a folder) to no file: "file
@@ -76,7 +76,7 @@ def resolve(scenario: str | Path) -> Path:
     hint = suggest(text, [*names, *ENV_IDS])
     raise UnknownNameError(
         f"unknown scenario {text!r}{hint}: expected a bundled name ({', '.join(names)}), "
-        "an env id (proxemic/Museum-v4, see `proxemic scenes`) or a path to a .toml file",
+        "an env id (proxemic/Museum-v5, see `proxemic scenes`) or a path to a .toml file",
         field="scenario",
         expected=f"one of {names}, an env id or an existing .toml file",
         found=text,
@@ -165,7 +165,7 @@ def generate(seed: int, **params: float | str) -> _core.Scenario:
     ``encounters`` (0, [0, 1]: a conversation group placed on each robot's shortest way),
     ``reaction`` (the people's reaction to robots, default ``aware``; ``docs/people.md``),
     ``drive`` (every robot's drive, ``holonomic`` by default or ``differential``; ``docs/scenarios.md``).
-    The same scene is ``gym.make("proxemic/Generated-v4", scenario=generated_name(seed, ...))``.
+    The same scene is ``gym.make("proxemic/Generated-v5", scenario=generated_name(seed, ...))``.
 
     Raises:
         ScenarioError: a parameter out of its range, naming it.
@@ -195,7 +195,7 @@ def load(
     :class:`~proxemic.errors.ScenarioError` naming it, as it would in the file.
 
     Args:
-        scenario: Bundled name, env id (``"proxemic/Museum-v4"``) or path of a scenario file, a generated scene's name
+        scenario: Bundled name, env id (``"proxemic/Museum-v5"``) or path of a scenario file, a generated scene's name
             (``generated/<seed>`` or ``generated/<seed>?key=value&...``, see :func:`generate`), a
             Francis et al. 2023 archetype's scene (``francis2023/<archetype>[?seed=N&max_time=T&drive=D]``,
             see :mod:`proxemic.francis2023`), a CrowdNav protocol scene

@@ -243,7 +243,7 @@ def record_episode(
 
     Args:
         scenario: A bundled scenario name, a scenario TOML path or a registered env id
-            (``"proxemic/Museum-v4"``).
+            (``"proxemic/Museum-v5"``).
         planner: The robot's planner (one of ``proxemic._core.PLANNERS``); default the scenario's.
         seed: The episode seed (the same episode as ``proxemic eval`` runs with this seed).
         path: The output file.

@@ -163,7 +163,7 @@ impl Crowd {
         let speed = v.norm();
         if !self.moving[i] {
             if !matches!(self.script[i], Script::Replay { .. }) {
-                self.stand_aside(i, c, gap, v);
+                self.stand_aside(i, (c, gap, v), geometry);
             }
             return;
         }
@@ -294,10 +294,13 @@ impl Crowd {
         true
     }
 
-    /// A person standing still: turns toward a robot (velocity `v`) whose body is inside its
-    /// intimate zone and shifts aside within [`shift_allowed`] of its place; else goes back to
-    /// its place. Aside is [`aside_from`]: out of a moving robot's way, away from a still one.
-    fn stand_aside(&mut self, i: usize, c: Vec2, gap: f64, v: Vec2) {
+    /// A person standing still: turns toward a robot (at `c`, body gap `gap`, velocity `v`) whose
+    /// body is inside its intimate zone and shifts aside within [`shift_allowed`] of its place;
+    /// else goes back to its place. Aside is [`aside_from`]: out of a moving robot's way, away
+    /// from a still one. A person whose step aside would end where the walls push harder than the
+    /// shift drives (within 0.5 m of a wall, body edge) stays put: once moving, the walls would
+    /// push it off them, out of a corner toward the robot.
+    fn stand_aside(&mut self, i: usize, (c, gap, v): (Vec2, f64, Vec2), geometry: &StaticGeometry) {
         let rp = self.react_params;
         let pos = self.pos[i];
         let speed = v.norm();
@@ -309,7 +312,15 @@ impl Crowd {
         let place = *self.anchor[i].get_or_insert(pos);
         let away = aside_from(pos, c, v, rp.still_speed);
         let next = pos + away * (rp.shift_speed * self.params.dt);
-        if self.shift[i] > 0.0 && (next - place).norm() <= self.shift[i] {
+        // The body-edge distance within which the walls' push (F_o exp(-x / sigma_o)) outweighs
+        // the shift's drive (shift speed / tau): a shift there is pushed off the wall instead.
+        let fp = &self.params;
+        let reach = fp.wall_range * (fp.wall_strength * fp.tau / rp.shift_speed.max(1e-9)).max(1.0).ln();
+        let wall_bound = self.radius[i] + reach;
+        if self.shift[i] > 0.0
+            && (next - place).norm() <= self.shift[i]
+            && geometry.boundary_distance_within(next, wall_bound) >= wall_bound
+        {
             self.moving[i] = true;
             self.desired[i] = away * rp.shift_speed;
         }

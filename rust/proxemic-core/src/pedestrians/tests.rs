@@ -303,6 +303,41 @@ fn standing_person_stays() {
 }
 
 #[test]
+fn a_standing_person_steps_aside_for_a_passing_robot_in_the_open_but_stays_put_in_a_corner() {
+    // A robot passes 0.65 m below a standing person at 0.5 m/s, along x. In the open the person
+    // shifts up, out of its way; 0.45 m from two walls (the back corner of an elevator car) a
+    // shift would be pushed back off the walls, toward the robot, so the person stays put.
+    let room = room_with_field();
+    let pass = |at: Vec2| {
+        let p = Person {
+            name: "s".into(),
+            behaviour: Behaviour::Standing,
+            pose: [at.x, at.y, 0.0],
+            radius: 0.2,
+            reaction: Reaction::Aware,
+            ..Person::default()
+        };
+        let mut c = spawn(&[p]);
+        let v = Vec2::new(0.5, 0.0);
+        let mut robot = [(Vec2::new(at.x - 2.5, at.y - 0.65), 0.24, v)];
+        let (mut min_gap, mut still_gap) = (f64::INFINITY, f64::INFINITY);
+        for _ in 0..60 {
+            room.step(&mut c, 0.1, &robot);
+            robot[0].0 += v * 0.1;
+            min_gap = min_gap.min((c.pos[0] - robot[0].0).norm() - 0.44);
+            still_gap = still_gap.min((at - robot[0].0).norm() - 0.44);
+        }
+        (c.pos[0], min_gap, still_gap)
+    };
+    let (_, min_gap, still_gap) = pass(Vec2::new(10.0, 5.0));
+    assert!(min_gap > still_gap + 0.05, "shifted aside: gap {min_gap} against {still_gap} standing");
+    let corner = Vec2::new(20.0 - 0.45, 10.0 - 0.45);
+    let (end, min_gap, still_gap) = pass(corner);
+    assert!((end - corner).norm() < 1e-9, "moved from the corner to {end:?}");
+    assert!(min_gap >= still_gap - 1e-9, "gap {min_gap} against {still_gap} standing");
+}
+
+#[test]
 fn random_phase_is_on_the_route_and_seeded() {
     let p = walker(&[[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]], 1.0, 0.0);
     let r = Randomize::default();

@@ -97,6 +97,15 @@ impl SocialCosts {
         self.max_factor - 1.0
     }
 
+    /// Whether `p` lies inside the individual's personal zone (its zone distance below
+    /// [`Self::personal`], the intimate zone included); false where the space function is
+    /// undefined.
+    pub fn in_personal_zone<S: SpaceFunction>(&self, s: &S, p: Vec2) -> bool {
+        let q = s.exponent(p);
+        let z = s.zone_scale();
+        !q.is_nan() && 2.0 * z * z * q < self.personal * self.personal
+    }
+
     /// Factor of a point for one individual (f64::INFINITY for the forbidden intimate zone).
     pub fn factor<S: SpaceFunction>(&self, s: &S, p: Vec2) -> f64 {
         let q = s.exponent(p);

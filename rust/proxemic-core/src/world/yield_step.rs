@@ -14,12 +14,17 @@ use crate::social_cost_map::{SocialCosts, SpaceFunction};
 /// traversal factor on its space function, the individual moved along its members' mean velocity
 /// (`t` seconds ahead, the point is moved back instead: the space function is a function of the
 /// offset from the individual), capped at the map's largest factor (the intimate zone is the body
-/// gap's hard constraint, not a cost); the objects' factors at the agenda's hour, infinite for an
-/// active space during a recovery.
+/// gap's hard constraint, not a cost), less the robot's target's own factor for a standing
+/// individual whose personal zone holds the target (the target is reached through that space:
+/// the free corner of an elevator car beside the person in it); the objects' factors at the
+/// agenda's hour, infinite for an active space during a recovery.
 struct SocialField<'a> {
     world: &'a World,
     costs: &'a SocialCosts,
-    individuals: Vec<(&'a Individual, Vec2)>,
+    /// Each individual with its mean velocity and, for a standing individual whose personal zone
+    /// holds the robot's current target, the target's excess factor (`factor - 1`, capped; 0
+    /// otherwise): the cost the target itself must incur.
+    individuals: Vec<(&'a Individual, Vec2, f64)>,
     object_factors: Vec<f64>,
 }
 
@@ -27,13 +32,15 @@ impl CostField for SocialField<'_> {
     fn factor(&self, p: Vec2, t: f64) -> f64 {
         let mut f = self.world.social.object_factor_at(p, &self.object_factors);
         let cap = self.costs.max_factor;
-        for &(ind, vel) in &self.individuals {
+        for &(ind, vel, floor) in &self.individuals {
             let q = p - vel * t;
             let [x0, y0, x1, y1] = ind.bounds();
             if q.x < x0 || q.x > x1 || q.y < y0 || q.y > y1 {
                 continue;
             }
-            f = f.max(self.costs.factor(ind, q).min(cap));
+            // Only the cost beyond the target's own counts: a target inside someone's space
+            // (the free corner of an elevator car with a person in it) is reached through it.
+            f = f.max((self.costs.factor(ind, q).min(cap) - floor).max(1.0));
         }
         f
     }
@@ -88,6 +95,8 @@ impl World {
                 || robot.pos.y - y1 > lim
         };
         let mut individuals = Vec::new();
+        let target = st.route[rb.leg];
+        let cap = self.social.config().costs.max_factor;
         if let Some(per) = self.social.perception() {
             for ind in &per.individuals {
                 if ind.members.is_empty() || ind.robots.contains(&i) {
@@ -96,7 +105,17 @@ impl World {
                 let vel =
                     ind.members.iter().fold(Vec2::zeros(), |a, &k| a + c.vel[k]) / ind.members.len() as f64;
                 if !out_of_reach(ind, vel) {
-                    individuals.push((ind, vel));
+                    let [x0, y0, x1, y1] = ind.bounds();
+                    // A standing individual only (a walker's space moves on from the target),
+                    // and a target in its personal zone: a target merely in someone's social
+                    // zone is reached round them.
+                    let costs = &self.social.config().costs;
+                    let inside = vel.norm() <= params.approach_tolerance
+                        && (x0..=x1).contains(&target.x)
+                        && (y0..=y1).contains(&target.y)
+                        && costs.in_personal_zone(ind, target);
+                    let floor = if inside { costs.factor(ind, target).min(cap) - 1.0 } else { 0.0 };
+                    individuals.push((ind, vel, floor));
                 }
                 if ind.members.len() + ind.robots.len() >= 2 {
                     // A group's o-space: the mean distance of its members from its centre, kept
