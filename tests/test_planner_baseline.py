@@ -52,9 +52,10 @@ def test_rust_metrics_match_the_recorded_trajectory():
 
 
 def test_astar_ignores_people_and_collides_in_some_episodes():
-    """The baseline does not see people: over seeds it runs into some (which is why it is a baseline)."""
+    """The baseline does not see people: over seeds it runs into some (which is why it is a baseline;
+    the museum's people avoid robots, so it is rare: once in seeds 0-59, on seed 15)."""
     env = ProxemicEnv("museum", autopilot=True)
-    outcomes = [run_episode("museum", s, env=env).metrics["outcome"] for s in range(12)]
+    outcomes = [run_episode("museum", s, env=env).metrics["outcome"] for s in range(20)]
     env.close()
     assert "collision" in outcomes
     assert set(outcomes) <= {"success", "collision", "timeout"}
@@ -145,11 +146,11 @@ def test_astar_stop_stops_for_people_where_astar_runs_into_them():
     (the mode ``wait`` shows in its episode), and so it hits no one on those seeds."""
     hit: list[int] = []
     env = ProxemicEnv("museum", autopilot=True)
-    for s in range(12):
+    for s in range(20):
         if run_episode("museum", s, env=env).metrics["hc"]:
             hit.append(s)
     env.close()
-    assert hit, "plain A* hit nobody on seeds 0-11"
+    assert hit, "plain A* hit nobody on seeds 0-19"
     env = ProxemicEnv("museum", autopilot=True, planner="astar_stop")
     for s in hit:
         env.reset(seed=s)

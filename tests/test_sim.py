@@ -298,7 +298,7 @@ def test_periods_without_people_in_reach_on_the_robots_only_model_end_in_the_sam
         rng = np.random.default_rng(8)
         env.reset(seed=3)
         states = []
-        for _ in range(600):
+        for _ in range(900):
             obs, _, terminated, truncated, _ = env.step(rng.uniform(-1.0, 1.0, 3).astype(np.float32))
             states.append(np.concatenate([sim.data.qpos, sim.data.qvel, obs["lidar"], sim.contacts]))
             if terminated or truncated:
