@@ -667,8 +667,8 @@ def _replay_cases() -> list[Any]:
     strict=True,
     reason="no baseline recovers into an o-space or an active object space on the test split any more: astar_orca "
     "0 entries in the museum (CI seeds; 0 on all 60 museum and care-center seeds, nor daza2021, sousa2022, "
-    "calderita), since standing people near a wall no longer shift toward a passing robot and it no longer stalls "
-    "there; the metric's own known answers are in metrics/recovery.rs",
+    "calderita). Since standing people near a wall stay put (Museum-v5) astar_orca never recovers there (0 s); "
+    "the metric's own known answers are in metrics/recovery.rs",
 )
 def test_recovery_claim_can_fail() -> None:
     """``recovery_keeps_spaces`` can fail: a baseline enters an o-space while recovering in the museum (CI seeds)."""
