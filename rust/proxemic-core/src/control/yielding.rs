@@ -361,6 +361,17 @@ pub fn plan_with(
         .collect();
     let wall_bound = robot.radius + params.wall_margin;
     let wall_now = geometry.map_or(f64::INFINITY, |g| g.boundary_distance_within(robot.pos, wall_bound));
+    // The walls within reach of any rollout point: a point within `open` of the robot's position
+    // (outside the geometry) can neither be inside it nor within `wall_bound` of a wall, and
+    // skips the checks (the same decisions, for less work).
+    let look = limits.max_speed.max(robot.vel.norm()) * params.horizon + wall_bound + 0.1;
+    let open = geometry.map_or(f64::INFINITY, |g| {
+        if g.contains(robot.pos) {
+            0.0
+        } else {
+            g.boundary_distance_within(robot.pos, look) - wall_bound - 1e-6
+        }
+    });
     let hard_now = cost.factor(robot.pos, 0.0).is_infinite();
     let max_factor = cost.max_factor().max(1.0 + 1e-9);
     let every = ((params.cost_period / params.step).round() as usize).max(1);
@@ -373,10 +384,11 @@ pub fn plan_with(
         let Some(gap) = clearance(&pts, robot, &near, params) else { continue };
         if let Some(g) = geometry {
             let hits = pts.iter().any(|pt| {
-                g.contains(pt.pos) || {
-                    let d = g.boundary_distance_within(pt.pos, wall_bound);
-                    d < robot.radius.max(wall_bound.min(wall_now)) - 1e-9
-                }
+                (pt.pos - robot.pos).norm() >= open
+                    && (g.contains(pt.pos) || {
+                        let d = g.boundary_distance_within(pt.pos, wall_bound);
+                        d < robot.radius.max(wall_bound.min(wall_now)) - 1e-9
+                    })
             });
             if hits {
                 continue;
