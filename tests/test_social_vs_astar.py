@@ -663,17 +663,23 @@ def _replay_cases() -> list[Any]:
     return out
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="no baseline recovers into an o-space or an active object space on the test split any more: astar_orca "
-    "0 entries in the museum (CI seeds; 0 on all 60 museum and care-center seeds, nor daza2021, sousa2022, "
-    "calderita). Since standing people near a wall stay put (Museum-v5) astar_orca never recovers there (0 s); "
-    "the metric's own known answers are in metrics/recovery.rs",
-)
-def test_recovery_claim_can_fail() -> None:
-    """``recovery_keeps_spaces`` can fail: a baseline enters an o-space while recovering in the museum (CI seeds)."""
-    museum = records("museum", _seeds("museum", False))[ASTAR_ORCA]
-    assert sum(r["recovery_ospace_entries"] + r["recovery_object_entries"] for r in museum) > 0
+#: A witness scene for the recovery claim (tests/data): a baseline that keeps to its path stalls
+#: at a person in a doorway and its recovery path crosses a conversation's o-space. On the test
+#: split no baseline recovers into an o-space any more (astar_orca never recovers in the museum
+#: since standing people near a wall stay put).
+RECOVERY_WITNESS = Path(__file__).with_name("data") / "recovery_through_a_conversation.toml"
+
+
+def test_recovery_claim_can_fail_and_holds_on_the_witness_scene() -> None:
+    """``recovery_keeps_spaces`` can fail: ``astar_orca`` enters the conversation's o-space while
+    recovering on the witness scene; ``social`` recovers there too, keeping out of it."""
+    rec = _episodes(str(RECOVERY_WITNESS), 0, (SOCIAL, ASTAR_ORCA))
+    baseline = rec[ASTAR_ORCA][0]
+    assert baseline["recovery_time"] > 0 and baseline["recovery_ospace_entries"] > 0, baseline
+    with pytest.raises(AssertionError, match="while recovering"):
+        _recovery_keeps_spaces(rec, subject=ASTAR_ORCA)
+    assert rec[SOCIAL][0]["recovery_time"] > 0
+    _recovery_keeps_spaces(rec)
 
 
 def test_recovery_claim_is_exercised() -> None:
