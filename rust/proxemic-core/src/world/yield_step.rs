@@ -96,7 +96,7 @@ impl World {
         };
         let mut individuals = Vec::new();
         let target = st.route[rb.leg];
-        let cap = self.social.config().costs.max_factor;
+        let costs = &self.social.config().costs;
         if let Some(per) = self.social.perception() {
             for ind in &per.individuals {
                 if ind.members.is_empty() || ind.robots.contains(&i) {
@@ -109,12 +109,12 @@ impl World {
                     // A standing individual only (a walker's space moves on from the target),
                     // and a target in its personal zone: a target merely in someone's social
                     // zone is reached round them.
-                    let costs = &self.social.config().costs;
                     let inside = vel.norm() <= params.approach_tolerance
                         && (x0..=x1).contains(&target.x)
                         && (y0..=y1).contains(&target.y)
                         && costs.in_personal_zone(ind, target);
-                    let floor = if inside { costs.factor(ind, target).min(cap) - 1.0 } else { 0.0 };
+                    let floor =
+                        if inside { costs.factor(ind, target).min(costs.max_factor) - 1.0 } else { 0.0 };
                     individuals.push((ind, vel, floor));
                 }
                 if ind.members.len() + ind.robots.len() >= 2 {
@@ -136,8 +136,7 @@ impl World {
                 });
             }
         }
-        let field =
-            SocialField { world: self, costs: &self.social.config().costs, individuals, object_factors };
+        let field = SocialField { world: self, costs, individuals, object_factors };
         let extra = [*desired];
         let out =
             plan_with(&robot, reference, &extra, &movers, &field, Some(&self.geometry), &st.limits, params);
