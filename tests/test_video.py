@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from proxemic.cli import main
+from proxemic.env import ProxemicEnv
 from proxemic.errors import InputError
-from proxemic.viz.video import record_episode, write_video
+from proxemic.viz.video import episode_frames, record_episode, write_video
 
 
 def _decode(path: Path) -> np.ndarray:
@@ -37,6 +38,29 @@ def test_record_episode_decodes_to_the_expected_frames(tmp_path: Path, view: str
     assert frames[0].std() > 5.0  # a picture, not a blank frame
     # people walk and the robot drives: the picture changes over time
     assert np.abs(frames[0].astype(int) - frames[-1].astype(int)).mean() > 0.5
+
+
+def test_a_clip_from_start_step_is_the_same_episode_from_that_step(tmp_path: Path) -> None:
+    env = ProxemicEnv("museum", autopilot=True, planner="social", width=96, height=64)
+    try:
+        whole = list(episode_frames(env, 3, max_steps=8))
+        clip = list(episode_frames(env, 3, max_steps=8, start_step=5))
+        assert len(whole) == 9 and len(clip) == 4
+        assert all(np.array_equal(a, b) for a, b in zip(whole[5:], clip, strict=True))
+        with pytest.raises(InputError, match=r"start_step.*ended after 2 steps"):
+            list(episode_frames(env, 3, max_steps=2, start_step=5))
+    finally:
+        env.close()
+    out = record_episode(
+        "museum", "social", seed=3, path=tmp_path / "clip.mp4", max_steps=8, start_step=5, width=96, height=64
+    )
+    assert _decode(out).shape == (4, 64, 96, 3)
+    for bad, match in ((-1, ">= 0"), (2.5, "whole"), (9, r"<= max_steps \(8\)")):
+        with pytest.raises(InputError, match=match):
+            record_episode("museum", path=tmp_path / "bad.mp4", max_steps=8, start_step=bad)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="episode's limit"):
+        record_episode("museum", path=tmp_path / "bad.mp4", start_step=10**6)
+    assert not (tmp_path / "bad.mp4").exists()
 
 
 def test_write_video_round_trip_and_bad_input(tmp_path: Path) -> None:
@@ -66,6 +90,8 @@ def test_cli_video_and_eval_video(tmp_path: Path, capsys: pytest.CaptureFixture[
     argv = ["video", "--scenario", "museum", "--planner", "social_astar", "--seed", "1", "--out", str(mp4)]
     assert main([*argv, "--max-steps", "5", "--width", "96", "--height", "64", "--overlay", "zones"]) == 0
     assert _decode(mp4).shape == (6, 64, 96, 3)
+    assert main([*argv, "--max-steps", "5", "--start-step", "3", "--width", "96", "--height", "64"]) == 0
+    assert _decode(mp4).shape == (3, 64, 96, 3)
     out = tmp_path / "eval"
     argv = [
         "eval",

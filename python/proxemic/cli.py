@@ -363,6 +363,7 @@ def cmd_video(args: argparse.Namespace) -> int:
         metrics=metrics,
         drive=args.drive,
         field="--out",
+        start_step=args.start_step,
     )
     outcome = metrics.get("outcome", "running")
     steps, duration = metrics.get("steps"), metrics.get("duration")
@@ -694,6 +695,12 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--out", default="out/episode.mp4", help="output file (default: out/episode.mp4)")
     v.add_argument("--fps", type=float, default=None, help="frames per second (default: the control rate)")
     v.add_argument("--max-steps", type=int, default=None, help="stop after this many steps (default: episode end)")
+    v.add_argument(
+        "--start-step",
+        type=int,
+        default=0,
+        help="first step recorded: a clip from this step on, of the same episode (default: 0, the reset)",
+    )
     v.add_argument("--width", type=int, default=FRAME_SIZE[0], help=f"frame width, even (default: {FRAME_SIZE[0]})")
     v.add_argument("--height", type=int, default=FRAME_SIZE[1], help=f"frame height, even (default: {FRAME_SIZE[1]})")
     _add_video_view_args(v)

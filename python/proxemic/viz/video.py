@@ -198,26 +198,35 @@ def episode_frames(
     max_steps: int | None = None,
     overlays: Iterable[str] | None = None,
     metrics: dict[str, Any] | None = None,
+    start_step: int = 0,
 ) -> Iterator[np.ndarray]:
     """Yield the frames of one autopilot episode: after ``reset(seed)``, then after every step.
 
     The episode runs until it terminates, is truncated, or `max_steps` steps were taken, so it
-    yields at most ``max_steps + 1`` frames. `metrics`, if given, is filled with the robot's
-    metrics when the last frame has been yielded (``outcome`` is ``running`` if `max_steps`
-    stopped it first).
+    yields at most ``max_steps + 1`` frames. Frames before step `start_step` are neither rendered
+    nor yielded (the episode itself still runs from its reset, so it is the same episode). `metrics`,
+    if given, is filled with the robot's metrics when the last frame has been yielded (``outcome``
+    is ``running`` if `max_steps` stopped it first).
+
+    Raises:
+        InputError: The episode ended before `start_step` (named ``start_step``, with its length).
     """
     _check_view(view)
     base: ProxemicEnv = env.unwrapped
     base.reset(seed=seed)
-    yield render_frame(base, view, overlays)
+    if start_step == 0:
+        yield render_frame(base, view, overlays)
     action = np.zeros(3, dtype=np.float32)
     steps = 0
     while max_steps is None or steps < max_steps:
         _, _, terminated, truncated, _ = base.step(action)
         steps += 1
-        yield render_frame(base, view, overlays)
+        if steps >= start_step:
+            yield render_frame(base, view, overlays)
         if terminated or truncated:
             break
+    if steps < start_step:
+        raise input_error("start_step", f"a step the episode reaches (it ended after {steps} steps)", start_step)
     if metrics is not None:
         metrics.update(base.metrics())
 
@@ -238,6 +247,7 @@ def record_episode(
     metrics: dict[str, Any] | None = None,
     field: str = "out",
     drive: str | None = None,
+    start_step: int = 0,
 ) -> Path:
     """Record one seeded episode with the robot's built-in planner driving, as an mp4.
 
@@ -257,12 +267,17 @@ def record_episode(
         metrics: Filled with the episode's metrics (``outcome``, ``time_to_goal`` ...) once recorded.
         field: The name of `path` in error messages (``--out`` for the CLI).
         drive: Every robot's drive (``"holonomic"`` or ``"differential"``); default the scenario's.
+        start_step: The first step recorded (default 0, the reset): a clip of the episode from
+            ``start_step`` to its end or to `max_steps`, e.g. one encounter. The episode still runs
+            from its reset, so the clip shows the same episode as ``proxemic eval``'s.
 
     Returns:
-        The path written. The video has one frame per control step plus the starting frame.
+        The path written. The video has one frame per control step from `start_step` to the last,
+        both included (with the default `start_step` 0: every step plus the starting frame).
 
     Raises:
-        InputError: A bad view, size, fps or max_steps, or a path that cannot be written (named
+        InputError: A bad view, size, fps, max_steps or start_step (negative, beyond `max_steps` or
+            beyond the episode's end), or a path that cannot be written (named
             `field`, checked before the episode runs); ScenarioError / UnknownNameError for a bad
             scenario or planner.
         ImportError: imageio or imageio-ffmpeg is not installed.
@@ -274,18 +289,33 @@ def record_episode(
     _check_view(view)
     if max_steps is not None and max_steps < 0:
         raise input_error("max_steps", "a number >= 0", max_steps)
+    if isinstance(start_step, bool) or not isinstance(start_step, int | np.integer) or start_step < 0:
+        raise input_error("start_step", "a whole step number >= 0", start_step)
+    if max_steps is not None and start_step > max_steps:
+        raise input_error("start_step", f"a step number <= max_steps ({max_steps})", start_step)
     check_frame_size(width, height)
     for side, value in (("width", width), ("height", height)):
         if value < 2 or value % 2:
             raise input_error(side, "an even number of pixels >= 2 (H.264 in yuv420p)", value)
-    check_video_path(path, field)
-    name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
-    env = ProxemicEnv(name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays, drive=drive)
+    out = check_video_path(path, field)
     try:
-        episode_steps = int(env.core_scenario.max_steps)
-        steps = episode_steps if max_steps is None else min(max_steps, episode_steps)
-        frames = episode_frames(env, seed, view=view, max_steps=max_steps, metrics=metrics)
-        rate = float(env.metadata["render_fps"]) if fps is None else fps
-        return write_video(frames, path, rate, total=steps + 1, progress=progress, field=field)
-    finally:
-        env.close()
+        name: str | Path = ENV_IDS.get(str(scenario), str(scenario)) if isinstance(scenario, str) else Path(scenario)
+        env = ProxemicEnv(
+            name, autopilot=True, planner=planner, width=width, height=height, overlays=overlays, drive=drive
+        )
+        try:
+            episode_steps = int(env.core_scenario.max_steps)
+            steps = episode_steps if max_steps is None else min(max_steps, episode_steps)
+            if start_step > episode_steps:
+                raise input_error(
+                    "start_step", f"a step number <= the episode's limit ({episode_steps} steps)", start_step
+                )
+            frames = episode_frames(env, seed, view=view, max_steps=max_steps, metrics=metrics, start_step=start_step)
+            rate = float(env.metadata["render_fps"]) if fps is None else fps
+            return write_video(frames, out, rate, total=steps + 1 - start_step, progress=progress, field=field)
+        finally:
+            env.close()
+    except BaseException:
+        if out.is_file() and out.stat().st_size == 0:  # made by check_video_path; no frame was written
+            out.unlink()
+        raise
