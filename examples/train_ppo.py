@@ -212,10 +212,11 @@ def build_model(scenario: str, seed: int = 0, n_envs: int = 2, n_steps: int = 10
     torch: Any = require_extra("torch", "rl", "the PPO example")
     PPO = require_extra("stable_baselines3", "rl", "the PPO example").PPO
     make_vec_env = require_extra("stable_baselines3.common.env_util", "rl", "the PPO example").make_vec_env
+    Logger = require_extra("stable_baselines3.common.logger", "rl", "the PPO example").Logger
 
     torch.set_num_threads(1)  # a small MLP: threads only contend on a shared machine
     vec = make_vec_env(lambda: make_env(scenario), n_envs=n_envs, seed=seed)
-    return PPO(
+    model = PPO(
         "MlpPolicy",
         vec,
         n_steps=n_steps,
@@ -228,6 +229,10 @@ def build_model(scenario: str, seed: int = 0, n_envs: int = 2, n_steps: int = 10
         device="cpu",
         verbose=0,
     )
+    # SB3's default logger makes an empty SB3-<date> folder in the temp dir at every learn(); ours
+    # records through its own callback, so the model logs nowhere.
+    model.set_logger(Logger(folder=None, output_formats=[]))
+    return model
 
 
 def _name(scenario: str) -> str:
