@@ -4,8 +4,24 @@
 //! not run ORCA, so the robot takes the whole avoidance: van den Berg et al. 2011 with
 //! alpha = 1). The static geometry comes in as obstacle edges ([`ObstacleSet`]).
 
-use crate::control::orca::{ObstacleSet, Orca, OrcaAgent};
+use crate::control::orca::nonholonomic::{NhParams, allowed_velocity_lines};
+use crate::control::orca::{Line, ObstacleSet, Orca, OrcaAgent};
 use crate::math::Vec2;
+
+/// NH-ORCA's constants for the differential-drive robots ([`crate::control::orca::nonholonomic`]):
+/// a tracking error `E` of 0.02 m (chosen on the tuning split, see docs/choices.md) and a settle
+/// time `T` of 0.4 s, the time constant of the heading policy (1 /
+/// [`crate::control::FollowerParams::heading_gain`], 2.5 /s).
+pub const NH_PARAMS: NhParams = NhParams { tracking_error: 0.02, settle_time: 0.4 };
+
+/// A differential-drive robot's state as NH-ORCA needs it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Unicycle {
+    /// Heading (rad).
+    pub heading: f64,
+    /// Turn rate limit (rad/s).
+    pub max_turn: f64,
+}
 
 /// Added to every radius ORCA sees (metres): ORCA lets bodies touch, the physics counts a touch.
 pub const ORCA_MARGIN: f64 = 0.08;
@@ -35,6 +51,9 @@ pub struct OrcaRobot {
     pub radius: f64,
     /// Maximum speed (m/s).
     pub max_speed: f64,
+    /// `Some` for a differential-drive robot: NH-ORCA ([`NH_PARAMS`]), its radius enlarged by the
+    /// tracking error and, when it computes ORCA, its velocity kept within those it can track.
+    pub unicycle: Option<Unicycle>,
 }
 
 /// The people as ORCA sees them: positions (m), velocities (m/s) and radii (m), one entry per
@@ -57,7 +76,10 @@ pub struct OrcaPeople<'a> {
 /// `partial_goals` entry at the speed in its `desired` entry (what the path follower wanted, so
 /// it brakes at the end of the path), and its `desired` entry is replaced by ORCA's velocity;
 /// robots not active keep their executed command as preferred velocity. `step` seeds ORCA's
-/// deterministic perturbation. If ORCA reports an input error, `desired` is left unchanged.
+/// deterministic perturbation. If ORCA reports an input error, `desired` is left unchanged. A
+/// differential-drive robot ([`OrcaRobot::unicycle`]) runs NH-ORCA: its ORCA velocity is one it
+/// can track within [`NH_PARAMS`]'s error, which its caller turns into a command with
+/// [`crate::control::orca::nonholonomic::track`].
 #[allow(clippy::too_many_arguments)]
 pub fn orca_among_people(
     orca: &mut Orca,
@@ -71,7 +93,13 @@ pub fn orca_among_people(
     step: u64,
 ) {
     let mut agents: Vec<OrcaAgent> = Vec::with_capacity(robots.len() + people.pos.len());
+    let mut within: Vec<Vec<Line>> = Vec::new();
     for (j, rb) in robots.iter().enumerate() {
+        if let (Some(u), true) = (rb.unicycle, active.contains(&j)) {
+            within.resize(j + 1, Vec::new());
+            allowed_velocity_lines(u.heading, rb.max_speed, u.max_turn, NH_PARAMS, &mut within[j]);
+        }
+        let enlarged = if rb.unicycle.is_some() { NH_PARAMS.tracking_error } else { 0.0 };
         let pref = if active.contains(&j) {
             let to = partial_goals[j] - rb.pos;
             let speed = desired[j].norm().min(rb.max_speed);
@@ -83,7 +111,7 @@ pub fn orca_among_people(
             pos: rb.pos,
             vel: rb.vel,
             pref_vel: pref,
-            radius: rb.radius + ORCA_MARGIN,
+            radius: rb.radius + ORCA_MARGIN + enlarged,
             max_speed: rb.max_speed,
             // Only robots computing ORCA this step take their share of the avoidance.
             reciprocal: active.contains(&j),
@@ -102,7 +130,7 @@ pub fn orca_among_people(
         });
     }
     let mut out = vec![Vec2::zeros(); agents.len()];
-    if orca.compute(&agents, active, obstacles, dt, step, &mut out).is_ok() {
+    if orca.compute_within(&agents, active, obstacles, dt, step, &within, &mut out).is_ok() {
         for &i in active {
             desired[i] = out[i];
         }
@@ -117,8 +145,13 @@ mod tests {
     #[test]
     fn a_robot_heading_at_a_person_turns_aside_and_others_are_untouched() {
         let mut orca = Orca::new(OrcaParams::default()).expect("valid params");
-        let robot =
-            |x: f64| OrcaRobot { pos: Vec2::new(x, 0.0), vel: Vec2::zeros(), radius: 0.24, max_speed: 0.55 };
+        let robot = |x: f64| OrcaRobot {
+            pos: Vec2::new(x, 0.0),
+            vel: Vec2::zeros(),
+            radius: 0.24,
+            max_speed: 0.55,
+            unicycle: None,
+        };
         let robots = [robot(0.0), robot(-5.0)];
         let people =
             OrcaPeople { pos: &[Vec2::new(1.0, 0.0)], vel: &[Vec2::zeros()], radius: &[0.2], intimate: 0.45 };
@@ -138,5 +171,81 @@ mod tests {
         assert!(desired[0].norm() <= 0.55 + 1e-12);
         assert!(desired[0].x < 0.55, "the robot does not drive on into the person: {:?}", desired[0]);
         assert_eq!(desired[1], Vec2::new(0.3, 0.0));
+    }
+
+    #[test]
+    fn a_differential_robot_gets_a_velocity_it_can_track_and_a_body_enlarged_by_the_error() {
+        use crate::control::orca::nonholonomic::max_tracked_speed;
+        let params = OrcaParams { perturbation: 0.0, ..OrcaParams::default() };
+        let mut orca = Orca::new(params).expect("valid params");
+        // Facing +x, its goal straight to its left: the holonomic robot goes left at full speed,
+        // the differential one only as fast as it can track a quarter turn within E.
+        let goals = [Vec2::new(0.0, 3.0)];
+        let none = OrcaPeople { pos: &[], vel: &[], radius: &[], intimate: 0.0 };
+        let mut speeds = Vec::new();
+        for unicycle in [None, Some(Unicycle { heading: 0.0, max_turn: 2.0 })] {
+            let robots = [OrcaRobot {
+                pos: Vec2::zeros(),
+                vel: Vec2::zeros(),
+                radius: 0.24,
+                max_speed: 0.55,
+                unicycle,
+            }];
+            let mut desired = [Vec2::new(0.0, 0.55)];
+            orca_among_people(
+                &mut orca,
+                &ObstacleSet::empty(),
+                &robots,
+                none,
+                &[0],
+                &goals,
+                &mut desired,
+                0.1,
+                0,
+            );
+            speeds.push(desired[0]);
+        }
+        assert!((speeds[0].norm() - 0.55).abs() < 1e-9, "holonomic: {:?}", speeds[0]);
+        let u = speeds[1];
+        let angle = u.y.atan2(u.x);
+        assert!(u.norm() <= max_tracked_speed(angle, 0.55, 2.0, NH_PARAMS) + 1e-9, "untrackable {u:?}");
+        assert!(u.norm() < 0.45 && u.y > 0.0, "slower, still toward the goal: {u:?}");
+        // The other robot sees the differential one enlarged by E: a holonomic robot 0.7 m away,
+        // heading at it, is stopped sooner than by a holonomic neighbour.
+        let pair = |unicycle| {
+            let robots = [
+                OrcaRobot {
+                    pos: Vec2::zeros(),
+                    vel: Vec2::zeros(),
+                    radius: 0.24,
+                    max_speed: 0.55,
+                    unicycle: None,
+                },
+                OrcaRobot {
+                    pos: Vec2::new(0.7, 0.0),
+                    vel: Vec2::zeros(),
+                    radius: 0.24,
+                    max_speed: 0.55,
+                    unicycle,
+                },
+            ];
+            let mut desired = [Vec2::new(0.55, 0.0), Vec2::zeros()];
+            let goals = [Vec2::new(5.0, 0.0), Vec2::new(0.7, 0.0)];
+            let mut orca =
+                Orca::new(OrcaParams { perturbation: 0.0, ..OrcaParams::default() }).expect("valid");
+            orca_among_people(
+                &mut orca,
+                &ObstacleSet::empty(),
+                &robots,
+                none,
+                &[0],
+                &goals,
+                &mut desired,
+                0.1,
+                0,
+            );
+            desired[0].x
+        };
+        assert!(pair(Some(Unicycle { heading: 0.0, max_turn: 2.0 })) < pair(None));
     }
 }

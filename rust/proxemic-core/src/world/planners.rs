@@ -6,7 +6,8 @@ use crate::control::eband::{ElasticBand, PointMemo};
 use crate::control::mode_switch::{
     LocalPlanner, Mode, OtherRobot, Person as CtlPerson, select_mode, social_momentum_step,
 };
-use crate::control::orca_crowd::{OrcaPeople, OrcaRobot, orca_among_people};
+use crate::control::orca::nonholonomic::track;
+use crate::control::orca_crowd::{NH_PARAMS, OrcaPeople, OrcaRobot, Unicycle, orca_among_people};
 use crate::control::{Drive, FollowerParams, PathFollower, body_command, heading_rate};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
@@ -557,6 +558,11 @@ impl World {
             let wz = heading_rate(p, rb.pose[2], desired, face, st.goal, &FollowerParams::default());
             match st.drive {
                 Drive::Holonomic => st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt),
+                // NH-ORCA's velocity is one the robot can track: its tracking command.
+                Drive::Differential if rb.mode == Mode::Orca => {
+                    let (s, w) = track(desired, rb.pose[2], st.limits.max_angular_speed, NH_PARAMS);
+                    st.limits.unicycle_world(s, w, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
+                }
                 Drive::Differential => {
                     st.limits.unicycle_from_holonomic(desired, wz, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
                 }
@@ -611,6 +617,8 @@ impl World {
                 vel: rb.exec_v,
                 radius: st.radius,
                 max_speed: st.limits.max_speed,
+                unicycle: (st.drive == Drive::Differential)
+                    .then_some(Unicycle { heading: rb.pose[2], max_turn: st.limits.max_angular_speed }),
             })
             .collect();
         let n = if people == PeopleAs::Absent { 0 } else { self.crowd.pos.len() };

@@ -52,6 +52,7 @@
 //! as [`CoreError::Input`].
 
 mod halfplanes;
+pub mod nonholonomic;
 mod obstacles;
 mod tree;
 
@@ -291,6 +292,24 @@ impl Orca {
         step: u64,
         out: &mut [Vec2],
     ) -> Result<()> {
+        self.compute_within(agents, active, obstacles, dt, step, &[], out)
+    }
+
+    /// [`Orca::compute`] with hard velocity constraints of each agent's own: `within[i]` (when
+    /// `i < within.len()`) are half-planes agent `i`'s new velocity must satisfy, kept hard like
+    /// the obstacles' (e.g. the velocities a differential-drive robot can track,
+    /// [`nonholonomic::allowed_velocity_lines`]). They must contain the zero velocity.
+    #[allow(clippy::too_many_arguments)]
+    pub fn compute_within(
+        &mut self,
+        agents: &[OrcaAgent],
+        active: &[usize],
+        obstacles: &ObstacleSet,
+        dt: f64,
+        step: u64,
+        within: &[Vec<Line>],
+        out: &mut [Vec2],
+    ) -> Result<()> {
         if !(dt.is_finite() && dt > 0.0) {
             return Err(CoreError::input("dt", "a finite number > 0 (s)", format!("{dt}")));
         }
@@ -314,7 +333,8 @@ impl Orca {
         self.stats = OrcaStats::default();
         self.build_tree(agents);
         for &i in active {
-            out[i] = self.compute_one(agents, i, obstacles, dt, step);
+            let own = within.get(i).map_or(&[][..], |l| &l[..]);
+            out[i] = self.compute_one(agents, i, obstacles, dt, step, own);
         }
         Ok(())
     }
@@ -326,6 +346,7 @@ impl Orca {
         obstacles: &ObstacleSet,
         dt: f64,
         step: u64,
+        own: &[Line],
     ) -> Vec2 {
         let a = agents[i];
         self.lines.clear();
@@ -334,6 +355,9 @@ impl Orca {
             return Vec2::zeros();
         }
         let speed = a.max_speed;
+
+        // The agent's own hard constraints first, kept hard with the obstacles'.
+        self.lines.extend_from_slice(own);
 
         // Obstacle half-planes first.
         if obstacles.num_edges() > 0 {
