@@ -31,9 +31,9 @@
 //! `v = max(0, u . h) = |u| max(0, cos e)` with `e` the heading error (the usual
 //! holonomic-to-unicycle tracking: full speed when facing `u`, none when `u` is at or behind the
 //! robot's side, which then turns in place). Then [`Limits::apply_unicycle`] limits `v` and `wz`
-//! (speed, acceleration, angular speed, angular acceleration). The exception is ORCA mode, where
-//! the robot runs NH-ORCA ([`orca::nonholonomic`]): ORCA's velocity is one it can track, and the
-//! command is the tracking manoeuvre's.
+//! (speed, acceleration, angular speed, angular acceleration). The exception is the `astar_orca`
+//! baseline, whose robot runs NH-ORCA ([`orca::nonholonomic`]): ORCA's velocity is one it can
+//! track, and the command is the tracking manoeuvre's.
 
 pub mod daza2021;
 pub mod eband;

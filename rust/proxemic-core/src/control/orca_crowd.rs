@@ -51,8 +51,9 @@ pub struct OrcaRobot {
     pub radius: f64,
     /// Maximum speed (m/s).
     pub max_speed: f64,
-    /// `Some` for a differential-drive robot: NH-ORCA ([`NH_PARAMS`]), its radius enlarged by the
-    /// tracking error and, when it computes ORCA, its velocity kept within those it can track.
+    /// `Some` for a robot running NH-ORCA (a differential-drive `astar_orca` robot, [`NH_PARAMS`]):
+    /// its radius enlarged by the tracking error and, when it computes ORCA, its velocity kept
+    /// within those it can track.
     pub unicycle: Option<Unicycle>,
 }
 
@@ -77,8 +78,8 @@ pub struct OrcaPeople<'a> {
 /// it brakes at the end of the path), and its `desired` entry is replaced by ORCA's velocity;
 /// robots not active keep their executed command as preferred velocity. `step` seeds ORCA's
 /// deterministic perturbation. If ORCA reports an input error, `desired` is left unchanged. A
-/// differential-drive robot ([`OrcaRobot::unicycle`]) runs NH-ORCA: its ORCA velocity is one it
-/// can track within [`NH_PARAMS`]'s error, which its caller turns into a command with
+/// robot with [`OrcaRobot::unicycle`] set runs NH-ORCA: its ORCA velocity is one it can track
+/// within [`NH_PARAMS`]'s error, which its caller turns into a command with
 /// [`crate::control::orca::nonholonomic::track`].
 #[allow(clippy::too_many_arguments)]
 pub fn orca_among_people(

@@ -559,7 +559,7 @@ impl World {
             match st.drive {
                 Drive::Holonomic => st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt),
                 // NH-ORCA's velocity is one the robot can track: its tracking command.
-                Drive::Differential if rb.mode == Mode::Orca => {
+                Drive::Differential if rb.mode == Mode::Orca && nh_orca(st.drive, st.planner) => {
                     let (s, w) = track(desired, rb.pose[2], st.limits.max_angular_speed, NH_PARAMS);
                     st.limits.unicycle_world(s, w, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
                 }
@@ -617,7 +617,7 @@ impl World {
                 vel: rb.exec_v,
                 radius: st.radius,
                 max_speed: st.limits.max_speed,
-                unicycle: (st.drive == Drive::Differential)
+                unicycle: nh_orca(st.drive, st.planner)
                     .then_some(Unicycle { heading: rb.pose[2], max_turn: st.limits.max_angular_speed }),
             })
             .collect();
@@ -695,6 +695,13 @@ impl World {
             rb.follower = PathFollower::new(band.points().to_vec(), FollowerParams::default());
         }
     }
+}
+
+/// Whether a robot of `drive` and `planner` runs NH-ORCA in ORCA mode: a differential-drive
+/// `astar_orca` robot, whose local planner is ORCA. The planners that switch to ORCA as one mode
+/// among others keep the one holonomic-to-unicycle rule there (docs/choices.md).
+fn nh_orca(drive: Drive, planner: PlannerKind) -> bool {
+    drive == Drive::Differential && planner == PlannerKind::AstarOrca
 }
 
 /// Bubbles per metre of path a `calderita` band may hold: bubbles of the smallest radius
