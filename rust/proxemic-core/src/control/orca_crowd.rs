@@ -174,6 +174,12 @@ mod tests {
         assert_eq!(desired[1], Vec2::new(0.3, 0.0));
     }
 
+    /// ORCA for robot 0 among `robots`, no people, no walls.
+    fn robot_0_among_robots(orca: &mut Orca, robots: &[OrcaRobot], goals: &[Vec2], desired: &mut [Vec2]) {
+        let none = OrcaPeople { pos: &[], vel: &[], radius: &[], intimate: 0.0 };
+        orca_among_people(orca, &ObstacleSet::empty(), robots, none, &[0], goals, desired, 0.1, 0);
+    }
+
     #[test]
     fn a_differential_robot_gets_a_velocity_it_can_track_and_a_body_enlarged_by_the_error() {
         use crate::control::orca::nonholonomic::max_tracked_speed;
@@ -182,7 +188,6 @@ mod tests {
         // Facing +x, its goal straight to its left: the holonomic robot goes left at full speed,
         // the differential one only as fast as it can track a quarter turn within E.
         let goals = [Vec2::new(0.0, 3.0)];
-        let none = OrcaPeople { pos: &[], vel: &[], radius: &[], intimate: 0.0 };
         let mut speeds = Vec::new();
         for unicycle in [None, Some(Unicycle { heading: 0.0, max_turn: 2.0 })] {
             let robots = [OrcaRobot {
@@ -193,17 +198,7 @@ mod tests {
                 unicycle,
             }];
             let mut desired = [Vec2::new(0.0, 0.55)];
-            orca_among_people(
-                &mut orca,
-                &ObstacleSet::empty(),
-                &robots,
-                none,
-                &[0],
-                &goals,
-                &mut desired,
-                0.1,
-                0,
-            );
+            robot_0_among_robots(&mut orca, &robots, &goals, &mut desired);
             speeds.push(desired[0]);
         }
         assert!((speeds[0].norm() - 0.55).abs() < 1e-9, "holonomic: {:?}", speeds[0]);
@@ -234,17 +229,7 @@ mod tests {
             let goals = [Vec2::new(5.0, 0.0), Vec2::new(0.7, 0.0)];
             let mut orca =
                 Orca::new(OrcaParams { perturbation: 0.0, ..OrcaParams::default() }).expect("valid");
-            orca_among_people(
-                &mut orca,
-                &ObstacleSet::empty(),
-                &robots,
-                none,
-                &[0],
-                &goals,
-                &mut desired,
-                0.1,
-                0,
-            );
+            robot_0_among_robots(&mut orca, &robots, &goals, &mut desired);
             desired[0].x
         };
         assert!(pair(Some(Unicycle { heading: 0.0, max_turn: 2.0 })) < pair(None));
