@@ -4,7 +4,7 @@
 //! not run ORCA, so the robot takes the whole avoidance: van den Berg et al. 2011 with
 //! alpha = 1). The static geometry comes in as obstacle edges ([`ObstacleSet`]).
 
-use crate::control::orca::nonholonomic::{NhParams, allowed_velocity_lines};
+use crate::control::orca::nonholonomic::{NhParams, TrackableSet};
 use crate::control::orca::{Line, ObstacleSet, Orca, OrcaAgent};
 use crate::math::Vec2;
 
@@ -16,11 +16,11 @@ pub const NH_PARAMS: NhParams = NhParams { tracking_error: 0.02, settle_time: 0.
 
 /// A differential-drive robot's state as NH-ORCA needs it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Unicycle {
+pub struct Unicycle<'a> {
     /// Heading (rad).
     pub heading: f64,
-    /// Turn rate limit (rad/s).
-    pub max_turn: f64,
+    /// The velocities it can track (made once per robot with [`NH_PARAMS`]).
+    pub set: &'a TrackableSet,
 }
 
 /// Added to every radius ORCA sees (metres): ORCA lets bodies touch, the physics counts a touch.
@@ -42,7 +42,7 @@ const PERSON_ID_BASE: u64 = 1_000_000;
 
 /// A robot as ORCA sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OrcaRobot {
+pub struct OrcaRobot<'a> {
     /// Position (m).
     pub pos: Vec2,
     /// The command it executed last (world frame, m/s).
@@ -54,7 +54,7 @@ pub struct OrcaRobot {
     /// `Some` for a robot running NH-ORCA (a differential-drive `astar_orca` robot, [`NH_PARAMS`]):
     /// its radius enlarged by the tracking error and, when it computes ORCA, its velocity kept
     /// within those it can track.
-    pub unicycle: Option<Unicycle>,
+    pub unicycle: Option<Unicycle<'a>>,
 }
 
 /// The people as ORCA sees them: positions (m), velocities (m/s) and radii (m), one entry per
@@ -85,7 +85,7 @@ pub struct OrcaPeople<'a> {
 pub fn orca_among_people(
     orca: &mut Orca,
     obstacles: &ObstacleSet,
-    robots: &[OrcaRobot],
+    robots: &[OrcaRobot<'_>],
     people: OrcaPeople<'_>,
     active: &[usize],
     partial_goals: &[Vec2],
@@ -98,7 +98,7 @@ pub fn orca_among_people(
     for (j, rb) in robots.iter().enumerate() {
         if let (Some(u), true) = (rb.unicycle, active.contains(&j)) {
             within.resize(j + 1, Vec::new());
-            allowed_velocity_lines(u.heading, rb.max_speed, u.max_turn, NH_PARAMS, &mut within[j]);
+            u.set.lines(u.heading, &mut within[j]);
         }
         let enlarged = if rb.unicycle.is_some() { NH_PARAMS.tracking_error } else { 0.0 };
         let pref = if active.contains(&j) {
@@ -175,13 +175,14 @@ mod tests {
     }
 
     /// ORCA for robot 0 among `robots`, no people, no walls.
-    fn robot_0_among_robots(orca: &mut Orca, robots: &[OrcaRobot], goals: &[Vec2], desired: &mut [Vec2]) {
+    fn robot_0_among_robots(orca: &mut Orca, robots: &[OrcaRobot<'_>], goals: &[Vec2], desired: &mut [Vec2]) {
         let none = OrcaPeople { pos: &[], vel: &[], radius: &[], intimate: 0.0 };
         orca_among_people(orca, &ObstacleSet::empty(), robots, none, &[0], goals, desired, 0.1, 0);
     }
 
     #[test]
     fn a_differential_robot_gets_a_velocity_it_can_track_and_a_body_enlarged_by_the_error() {
+        let set = TrackableSet::new(0.55, 2.0, NH_PARAMS);
         use crate::control::orca::nonholonomic::max_tracked_speed;
         let params = OrcaParams { perturbation: 0.0, ..OrcaParams::default() };
         let mut orca = Orca::new(params).expect("valid params");
@@ -189,7 +190,7 @@ mod tests {
         // the differential one only as fast as it can track a quarter turn within E.
         let goals = [Vec2::new(0.0, 3.0)];
         let mut speeds = Vec::new();
-        for unicycle in [None, Some(Unicycle { heading: 0.0, max_turn: 2.0 })] {
+        for unicycle in [None, Some(Unicycle { heading: 0.0, set: &set })] {
             let robots = [OrcaRobot {
                 pos: Vec2::zeros(),
                 vel: Vec2::zeros(),
@@ -232,6 +233,6 @@ mod tests {
             robot_0_among_robots(&mut orca, &robots, &goals, &mut desired);
             desired[0].x
         };
-        assert!(pair(Some(Unicycle { heading: 0.0, max_turn: 2.0 })) < pair(None));
+        assert!(pair(Some(Unicycle { heading: 0.0, set: &set })) < pair(None));
     }
 }

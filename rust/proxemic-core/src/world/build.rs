@@ -232,6 +232,13 @@ fn robot_static(
         face: r.approach.as_ref().map(|a| v2(a.face)),
         limits,
         drive: r.drive,
+        nh_set: super::planners::nh_orca(r.drive, r.planner).then(|| {
+            crate::control::orca::nonholonomic::TrackableSet::new(
+                r.max_speed,
+                r.max_angular_speed,
+                crate::control::orca_crowd::NH_PARAMS,
+            )
+        }),
         radius: r.radius,
         goal,
         grid_index,

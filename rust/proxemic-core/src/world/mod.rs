@@ -86,6 +86,9 @@ struct RobotStatic {
     /// How the base moves: a differential drive's commands are turned into `(v, wz)` along the
     /// heading ([`Limits::unicycle_from_holonomic`]).
     drive: crate::control::Drive,
+    /// The velocities it can track, for a robot running NH-ORCA (a differential `astar_orca`
+    /// robot, [`planners::nh_orca`]); `None` otherwise.
+    nh_set: Option<crate::control::orca::nonholonomic::TrackableSet>,
     radius: f64,
     goal: Vec2,
     grid_index: usize,

@@ -559,7 +559,7 @@ impl World {
             match st.drive {
                 Drive::Holonomic => st.limits.apply(desired, wz, rb.exec_v, rb.exec_wz, dt),
                 // NH-ORCA's velocity is one the robot can track: its tracking command.
-                Drive::Differential if rb.mode == Mode::Orca && nh_orca(st.drive, st.planner) => {
+                Drive::Differential if rb.mode == Mode::Orca && st.nh_set.is_some() => {
                     let (s, w) = track(desired, rb.pose[2], st.limits.max_angular_speed, NH_PARAMS);
                     st.limits.unicycle_world(s, w, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
                 }
@@ -617,8 +617,7 @@ impl World {
                 vel: rb.exec_v,
                 radius: st.radius,
                 max_speed: st.limits.max_speed,
-                unicycle: nh_orca(st.drive, st.planner)
-                    .then_some(Unicycle { heading: rb.pose[2], max_turn: st.limits.max_angular_speed }),
+                unicycle: st.nh_set.as_ref().map(|set| Unicycle { heading: rb.pose[2], set }),
             })
             .collect();
         let n = if people == PeopleAs::Absent { 0 } else { self.crowd.pos.len() };
@@ -700,7 +699,7 @@ impl World {
 /// Whether a robot of `drive` and `planner` runs NH-ORCA in ORCA mode: a differential-drive
 /// `astar_orca` robot, whose local planner is ORCA. The planners that switch to ORCA as one mode
 /// among others keep the one holonomic-to-unicycle rule there (docs/choices.md).
-fn nh_orca(drive: Drive, planner: PlannerKind) -> bool {
+pub(super) fn nh_orca(drive: Drive, planner: PlannerKind) -> bool {
     drive == Drive::Differential && planner == PlannerKind::AstarOrca
 }
 

@@ -298,7 +298,7 @@ impl Orca {
     /// [`Orca::compute`] with hard velocity constraints of each agent's own: `within[i]` (when
     /// `i < within.len()`) are half-planes agent `i`'s new velocity must satisfy, kept hard like
     /// the obstacles' (e.g. the velocities a differential-drive robot can track,
-    /// [`nonholonomic::allowed_velocity_lines`]). They must contain the zero velocity.
+    /// [`nonholonomic::TrackableSet`]). They must contain the zero velocity.
     #[allow(clippy::too_many_arguments)]
     pub fn compute_within(
         &mut self,

@@ -17,7 +17,7 @@
 //!    paper's `T` is a constant; a robot turning at most `ω_max` cannot turn by `θ` in `T` when
 //!    `|θ| > ω_max T`, so here `T` becomes `T_θ = max(T, |θ| / ω_max)` for such angles (our choice:
 //!    the paper's wheel-speed bound has no separate turn-rate limit). The region is approximated
-//!    from inside by a convex polygon ([`allowed_velocity_lines`]), whose edges enter ORCA's linear
+//!    from inside by a convex polygon ([`TrackableSet`]), whose edges enter ORCA's linear
 //!    program as hard constraints (beside the obstacles').
 //! 3. **The enlarged body.** The robot is seen by everyone, and sees itself, with its radius
 //!    enlarged by `E`, so that avoidance planned for the holonomic point holds for the tracking
@@ -38,7 +38,7 @@ pub struct NhParams {
     pub settle_time: f64,
 }
 
-/// Vertices of the polygon approximating the allowed velocities ([`allowed_velocity_lines`]).
+/// Vertices of the polygon approximating the allowed velocities ([`TrackableSet`]).
 const POLYGON_VERTICES: usize = 24;
 
 /// Directions at which the polygon is checked to lie inside the allowed set.
@@ -70,43 +70,67 @@ pub fn track(u: Vec2, theta: f64, max_turn: f64, p: NhParams) -> (f64, f64) {
     (v.max(0.0), th / settle)
 }
 
-/// Appends to `out` the half-planes (feasible side on the left of each [`Line`], ORCA's
-/// convention) of a convex polygon inside the velocities [`max_tracked_speed`] allows for a robot
-/// with heading `theta` (rad), in the world frame. The polygon: 24 points on the
-/// set's boundary at evenly spaced angles, their convex hull, shrunk about the origin until it lies
-/// inside the set at 360 directions (the set need not be convex, the hull must be
-/// inside it: our choice, the paper approximates it by a polygon without saying how).
-pub fn allowed_velocity_lines(theta: f64, max_speed: f64, max_turn: f64, p: NhParams, out: &mut Vec<Line>) {
-    let boundary = |a: f64| {
-        let r = max_tracked_speed(a, max_speed, max_turn, p);
-        Vec2::new(a.cos(), a.sin()) * r
-    };
-    let pts: Vec<Vec2> = (0..POLYGON_VERTICES)
-        .map(|k| boundary(-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / POLYGON_VERTICES as f64))
-        .collect();
-    let hull = convex_hull(pts);
-    if hull.len() < 3 {
-        return;
-    }
-    // The hull's reach along each direction against the set's: the smallest ratio shrinks it.
-    let mut scale: f64 = 1.0;
-    for k in 0..CHECK_DIRECTIONS {
-        let a = -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / CHECK_DIRECTIONS as f64;
-        let d = Vec2::new(a.cos(), a.sin());
-        let reach = ray_reach(&hull, d);
-        if reach > 0.0 {
-            scale = scale.min(max_tracked_speed(a, max_speed, max_turn, p) / reach);
+/// The velocities [`max_tracked_speed`] allows a robot, as a convex polygon inside them in the
+/// robot's own frame (x along the heading): made once per robot, turned to its heading each step
+/// ([`TrackableSet::lines`]). The polygon: 24 points on the set's boundary at evenly spaced angles,
+/// their convex hull, shrunk about the origin until it lies inside the set at 360 directions (the
+/// set need not be convex, the hull must be inside it: our choice, the paper approximates it by a
+/// polygon without saying how).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackableSet {
+    /// Counter-clockwise hull of the boundary points, robot frame (m/s), before `scale`.
+    hull: Vec<Vec2>,
+    /// The shrink factor that puts the hull inside the set (<= 1).
+    scale: f64,
+}
+
+impl TrackableSet {
+    /// The set of a robot with forward speed limit `max_speed` (m/s) and turn rate limit
+    /// `max_turn` (rad/s) for the tracking error and settle time of `p`.
+    pub fn new(max_speed: f64, max_turn: f64, p: NhParams) -> Self {
+        let boundary = |a: f64| {
+            let r = max_tracked_speed(a, max_speed, max_turn, p);
+            Vec2::new(a.cos(), a.sin()) * r
+        };
+        let pts: Vec<Vec2> = (0..POLYGON_VERTICES)
+            .map(|k| {
+                boundary(-std::f64::consts::PI + std::f64::consts::TAU * k as f64 / POLYGON_VERTICES as f64)
+            })
+            .collect();
+        let hull = convex_hull(pts);
+        // The hull's reach along each direction against the set's: the smallest ratio shrinks it.
+        let mut scale: f64 = 1.0;
+        if hull.len() >= 3 {
+            for k in 0..CHECK_DIRECTIONS {
+                let a = -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / CHECK_DIRECTIONS as f64;
+                let d = Vec2::new(a.cos(), a.sin());
+                let reach = ray_reach(&hull, d);
+                if reach > 0.0 {
+                    scale = scale.min(max_tracked_speed(a, max_speed, max_turn, p) / reach);
+                }
+            }
         }
+        TrackableSet { hull, scale }
     }
-    let (s, c) = theta.sin_cos();
-    let world = |q: Vec2| Vec2::new(c * q.x - s * q.y, s * q.x + c * q.y) * scale;
-    for k in 0..hull.len() {
-        let a = world(hull[k]);
-        let b = world(hull[(k + 1) % hull.len()]);
-        let e = b - a;
-        let n = e.norm();
-        if n > 1e-12 {
-            out.push(Line { point: a, dir: e / n });
+
+    /// Appends to `out` the polygon's half-planes (feasible side on the left of each [`Line`],
+    /// ORCA's convention) for the robot at heading `theta` (rad), in the world frame; none when
+    /// the polygon is degenerate.
+    pub fn lines(&self, theta: f64, out: &mut Vec<Line>) {
+        let hull = &self.hull;
+        if hull.len() < 3 {
+            return;
+        }
+        let (s, c) = theta.sin_cos();
+        let world = |q: Vec2| Vec2::new(c * q.x - s * q.y, s * q.x + c * q.y) * self.scale;
+        for k in 0..hull.len() {
+            let a = world(hull[k]);
+            let b = world(hull[(k + 1) % hull.len()]);
+            let e = b - a;
+            let n = e.norm();
+            if n > 1e-12 {
+                out.push(Line { point: a, dir: e / n });
+            }
         }
     }
 }
@@ -203,7 +227,7 @@ mod tests {
     fn the_polygon_lies_inside_the_allowed_set_and_turns_with_the_heading() {
         for heading in [0.0, 1.0, -2.5] {
             let mut lines = Vec::new();
-            allowed_velocity_lines(heading, 0.55, 2.0, P, &mut lines);
+            TrackableSet::new(0.55, 2.0, P).lines(heading, &mut lines);
             assert!(lines.len() >= 3);
             let inside = |q: Vec2| lines.iter().all(|l| crate::geom::cross(l.dir, q - l.point) >= -1e-12);
             assert!(inside(Vec2::zeros()));
