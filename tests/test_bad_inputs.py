@@ -329,6 +329,14 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
     ),
     ("par-height-string", "proxemic.parallel_env('museum_multi', robots=2, height='480')", "InputError", "height"),
     ("par-autopilot-number", "proxemic.parallel_env('museum_multi', robots=2, autopilot=1)", "InputError", "autopilot"),
+    ("env-autopilot-string", "proxemic.ProxemicEnv('museum', autopilot='robot_0')", "InputError", "autopilot"),
+    (
+        "env-planner-actions-number",
+        "proxemic.ProxemicEnv('museum', planner_actions=0)",
+        "InputError",
+        "planner_actions",
+    ),
+    ("vec-autopilot-string", "proxemic.vector_env('museum', 2, autopilot='yes')", "InputError", "autopilot"),
     ("par-step-array", "multi().step(np.zeros((2, 3)))", "InputError", "actions"),
     # --- scenario files
     (

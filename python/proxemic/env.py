@@ -20,6 +20,7 @@ from proxemic.world import (
     WorldSim,
     action_space,
     available_render_modes,
+    check_flags,
     check_frame_size,
     check_overlays,
     check_render_mode,
@@ -153,6 +154,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         """Builds the environment. See the class docstring for the arguments."""
         check_render_mode(render_mode)
         check_frame_size(width, height)
+        check_flags(autopilot=autopilot, planner_actions=planner_actions)
         self._args: dict[str, Any] = {
             "scenario": scenario,
             "render_mode": render_mode,

@@ -35,7 +35,7 @@ from proxemic import _core, scenarios
 from proxemic.errors import REAL_KINDS, InvariantError, NeedsResetError, input_error, invariant_in
 from proxemic.records import EpisodeMetrics
 from proxemic.sim import timer_off
-from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_reset_args
+from proxemic.world import PLANNER_MODES, REWARD_KEYS, WorldSim, action_space, check_flags, check_reset_args
 
 __all__ = ["MAX_NUM_ENVS", "ProxemicVectorEnv", "vector_env"]
 
@@ -111,6 +111,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             raise input_error("num_envs", f"an integer from 1 to {MAX_NUM_ENVS}", num_envs)
         if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
             raise input_error("threads", "an integer of at least 1", threads)
+        check_flags(autopilot=autopilot, planner_actions=planner_actions)
         self.num_envs = int(num_envs)
         self.threads = min(int(threads), self.num_envs)
         self.autopilot = autopilot

@@ -110,6 +110,13 @@ def check_frame_size(width: Any, height: Any) -> None:
             raise input_error(name, f"a frame size in pixels, an integer from 1 to {MAX_FRAME}", found)
 
 
+def check_flags(**flags: Any) -> None:
+    """Raises :class:`InputError` naming the first of `flags` (name = value) that is not a bool."""
+    for name, value in flags.items():
+        if not isinstance(value, (bool, np.bool_)):
+            raise input_error(name, "True or False", typed_repr(value))
+
+
 def check_reset_args(seed: Any, options: Any, *, warn_options: bool = False) -> None:
     """Raises :class:`InputError` unless `seed` is None or an integer >= 0 and `options` is empty.
 
