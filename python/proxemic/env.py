@@ -71,7 +71,9 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     normalised as above; a non-zero second value raises :class:`proxemic.InputError`. Its speed and
     turn rate are limited separately (``max_speed``, ``max_accel``, ``max_angular_speed``,
     ``max_angular_accel``), and the base never moves sideways. Its built-in planners' holonomic
-    commands are turned into (v, wz) by one rule (``docs/scenarios.md``, differential drive).
+    commands are turned into (v, wz) by one rule, except ORCA's (``astar_orca``) and Social
+    Momentum's, which plan among the velocities the robot can track (``docs/scenarios.md``,
+    differential drive).
 
     ## Observation Space
 

@@ -189,6 +189,7 @@ fn benches(c: &mut Criterion) {
                     &Limits::PEPPER,
                     DT,
                     &params,
+                    None,
                 ))
             })
         });

@@ -22,6 +22,7 @@
 //! Where the paper is silent, each choice is documented on its parameter.
 
 use crate::control::mode_switch::in_collision_cone;
+use crate::control::orca::nonholonomic::TrackingBound;
 use crate::control::social_momentum::{
     Agent, AgentShape, GaussianSpace, SocialMomentumParams, social_momentum_shaped,
 };
@@ -347,7 +348,8 @@ pub fn daza2021_agents(
 /// [`daza2021_agents`], with [`social_momentum_params`]. `vel` is the robot's executed velocity
 /// (m/s), `geometry` the walls, `limits` and `dt` (s) bound the action set. Returns the desired
 /// velocity, or `None` when every sample collides (the robot waits) or stopping is the only
-/// safe choice.
+/// safe choice. `unicycle` is `Some` for a differential-drive robot: Social Momentum under its
+/// kinematic constraint (see [`social_momentum_shaped`]).
 #[allow(clippy::too_many_arguments)]
 pub fn daza2021_social_momentum(
     robot: &RobotState,
@@ -360,6 +362,7 @@ pub fn daza2021_social_momentum(
     limits: &Limits,
     dt: f64,
     params: &Daza2021Params,
+    unicycle: Option<TrackingBound>,
 ) -> Option<Vec2> {
     let (agents, shapes) = daza2021_agents(robot, objects, groups, decision, spaces, params);
     let sm = social_momentum_params();
@@ -374,6 +377,7 @@ pub fn daza2021_social_momentum(
         limits,
         dt,
         &sm,
+        unicycle,
     )?;
     (v.norm() > 1e-6).then(|| clamp_norm(v, limits.max_speed))
 }
@@ -644,6 +648,7 @@ mod tests {
                     &Limits::PEPPER,
                     0.1,
                     &p,
+                    None,
                 )
                 .unwrap_or_else(Vec2::zeros)
             } else {

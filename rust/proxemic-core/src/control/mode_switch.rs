@@ -16,7 +16,8 @@
 //! Whatever the mode, the command then goes through [`crate::control::Limits::apply`], so a mode
 //! switch never makes the command jump beyond the acceleration limits.
 
-use crate::control::social_momentum::{Agent, SocialMomentumParams, social_momentum};
+use crate::control::orca::nonholonomic::TrackingBound;
+use crate::control::social_momentum::{Agent, SocialMomentumParams, social_momentum_shaped};
 use crate::control::yielding::YieldParams;
 use crate::control::{Limits, clamp_norm};
 use crate::map::geometry::StaticGeometry;
@@ -152,7 +153,8 @@ pub fn choose_mode(
 /// Social Momentum toward `partial_goal` among `people` (and the other robots, as obstacles that
 /// do not take part in the momentum term). Returns the desired world velocity and the mode
 /// (`SocialMomentum`, or `Wait` with a zero velocity when every sample collides or stopping is
-/// the only safe choice).
+/// the only safe choice). `unicycle` is `Some` for a differential-drive robot: Social Momentum
+/// under its kinematic constraint ([`social_momentum_shaped`]).
 #[allow(clippy::too_many_arguments)]
 pub fn social_momentum_step(
     pos: Vec2,
@@ -165,6 +167,7 @@ pub fn social_momentum_step(
     limits: &Limits,
     dt: f64,
     params: &ModeSwitchParams,
+    unicycle: Option<TrackingBound>,
 ) -> (Vec2, Mode) {
     let mut agents: Vec<Agent> = Vec::with_capacity(people.len() + robots.len());
     for p in people {
@@ -179,7 +182,19 @@ pub fn social_momentum_step(
     for o in robots {
         agents.push(Agent { pos: o.pos, vel: o.vel, radius: o.radius, weight: 0.0, comfort: 0.0 });
     }
-    match social_momentum(pos, vel, radius, partial_goal, &agents, geometry, limits, dt, &params.sm) {
+    match social_momentum_shaped(
+        pos,
+        vel,
+        radius,
+        partial_goal,
+        &agents,
+        &[],
+        geometry,
+        limits,
+        dt,
+        &params.sm,
+        unicycle,
+    ) {
         // Standing still as the only safe choice is waiting, too.
         Some(v) if v.norm() > 1e-6 => (clamp_norm(v, limits.max_speed), Mode::SocialMomentum),
         _ => (Vec2::zeros(), Mode::Wait),
@@ -316,6 +331,7 @@ mod tests {
             &Limits::PEPPER,
             0.1,
             &params,
+            None,
         );
         assert_eq!(mode, Mode::Wait);
         assert_eq!(v, Vec2::zeros());

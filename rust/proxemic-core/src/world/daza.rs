@@ -77,6 +77,7 @@ impl World {
                     &st.limits,
                     dt,
                     &params,
+                    self.sm_unicycle(i),
                 );
                 match v {
                     Some(v) => {

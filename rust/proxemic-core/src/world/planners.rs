@@ -6,8 +6,9 @@ use crate::control::eband::{ElasticBand, PointMemo};
 use crate::control::mode_switch::{
     LocalPlanner, Mode, OtherRobot, Person as CtlPerson, select_mode, social_momentum_step,
 };
-use crate::control::orca::nonholonomic::track;
+use crate::control::orca::nonholonomic::{TrackingBound, track};
 use crate::control::orca_crowd::{NH_PARAMS, OrcaPeople, OrcaRobot, Unicycle, orca_among_people};
+use crate::control::social_momentum::UNICYCLE_TRACKING;
 use crate::control::{Drive, FollowerParams, PathFollower, body_command, heading_rate};
 use crate::error::{CoreError, Result};
 use crate::groups::RobotDisc;
@@ -513,9 +514,22 @@ impl World {
             &st.limits,
             dt,
             &self.control,
+            self.sm_unicycle(i),
         );
         *desired = v;
         m
+    }
+
+    /// Robot `i`'s kinematic constraint for Social Momentum: `Some` for a differential-drive
+    /// robot ([`UNICYCLE_TRACKING`]), `None` for a holonomic one.
+    pub(super) fn sm_unicycle(&self, i: usize) -> Option<TrackingBound> {
+        let st = &self.statics[i];
+        (st.drive == Drive::Differential).then(|| TrackingBound {
+            heading: self.robots[i].pose[2],
+            max_speed: st.limits.max_speed,
+            max_turn: st.limits.max_angular_speed,
+            params: UNICYCLE_TRACKING,
+        })
     }
 
     /// The active object spaces near `p` as Social Momentum agents of the `social` planner
@@ -561,6 +575,11 @@ impl World {
                 // NH-ORCA's velocity is one the robot can track: its tracking command.
                 Drive::Differential if rb.mode == Mode::Orca && st.nh_set.is_some() => {
                     let (s, w) = track(desired, rb.pose[2], st.limits.max_angular_speed, NH_PARAMS);
+                    st.limits.unicycle_world(s, w, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
+                }
+                // Social Momentum's velocity, too, is one the robot can track.
+                Drive::Differential if rb.mode == Mode::SocialMomentum => {
+                    let (s, w) = track(desired, rb.pose[2], st.limits.max_angular_speed, UNICYCLE_TRACKING);
                     st.limits.unicycle_world(s, w, rb.pose[2], rb.exec_v, rb.exec_wz, dt)
                 }
                 Drive::Differential => {

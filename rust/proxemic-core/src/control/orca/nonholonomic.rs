@@ -70,6 +70,36 @@ pub fn track(u: Vec2, theta: f64, max_turn: f64, p: NhParams) -> (f64, f64) {
     (v.max(0.0), th / settle)
 }
 
+/// A differential-drive robot as a sampling local planner (Social Momentum) sees it: the
+/// velocities it can track from its `heading` are [`max_tracked_speed`]'s, exactly (no polygon:
+/// the planner's samples are shortened one by one, [`TrackingBound::clip`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackingBound {
+    /// Heading (rad).
+    pub heading: f64,
+    /// Forward speed limit (m/s, `>= 0`).
+    pub max_speed: f64,
+    /// Turn rate limit (rad/s, `>= 0`; 0 means no separate limit).
+    pub max_turn: f64,
+    /// The tracking error `E` and settle time `T`.
+    pub params: NhParams,
+}
+
+impl TrackingBound {
+    /// `v` (world frame, m/s) shortened along its own direction to the largest speed the robot
+    /// can track there ([`max_tracked_speed`] at `v`'s angle from the heading); a zero or
+    /// non-finite `v` is returned as it is.
+    pub fn clip(&self, v: Vec2) -> Vec2 {
+        let n = v.norm();
+        if !(n.is_finite() && n > 0.0) {
+            return v;
+        }
+        let cap =
+            max_tracked_speed(v.y.atan2(v.x) - self.heading, self.max_speed, self.max_turn, self.params);
+        if n > cap { v * (cap / n) } else { v }
+    }
+}
+
 /// The velocities [`max_tracked_speed`] allows a robot, as a convex polygon inside them in the
 /// robot's own frame (x along the heading): made once per robot, turned to its heading each step
 /// ([`TrackableSet::lines`]). The polygon: 24 points on the set's boundary at evenly spaced angles,
@@ -243,6 +273,26 @@ mod tests {
             assert!(inside(fwd * 0.5));
             assert!(!inside(side * 0.3));
             assert!(!inside(-fwd * 0.1));
+        }
+    }
+
+    #[test]
+    fn a_clipped_velocity_keeps_its_direction_at_the_largest_trackable_speed() {
+        for heading in [0.0, 1.0, -2.5] {
+            let b = TrackingBound { heading, max_speed: 0.55, max_turn: 2.0, params: P };
+            for k in 0..72 {
+                let a = k as f64 * std::f64::consts::TAU / 72.0;
+                let d = Vec2::new((heading + a).cos(), (heading + a).sin());
+                let cap = max_tracked_speed(a, 0.55, 2.0, P);
+                let out = b.clip(d * 2.0);
+                assert!(
+                    (out.norm() - cap).abs() < 1e-12 && (out.normalize() - d).norm() < 1e-9,
+                    "{a}: {out:?}"
+                );
+                // Already trackable: unchanged.
+                assert_eq!(b.clip(d * (0.5 * cap)), d * (0.5 * cap));
+            }
+            assert_eq!(b.clip(Vec2::zeros()), Vec2::zeros());
         }
     }
 

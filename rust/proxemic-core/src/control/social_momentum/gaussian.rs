@@ -315,15 +315,28 @@ mod tests {
             let discs = vec![AgentShape::Disc; others.len()];
             let l = Limits::PEPPER;
             let a = social_momentum(Vec2::zeros(), vel, R, goal, &others, None, &l, DT, &p);
-            let b = social_momentum_shaped(Vec2::zeros(), vel, R, goal, &others, &discs, None, &l, DT, &p);
+            let b =
+                social_momentum_shaped(Vec2::zeros(), vel, R, goal, &others, &discs, None, &l, DT, &p, None);
             assert_eq!(a, b);
         }
         let one = [person(v(3.0, 0.0), Vec2::zeros())];
         let two = [AgentShape::Disc, AgentShape::Disc];
         let l = Limits::PEPPER;
         assert!(
-            social_momentum_shaped(Vec2::zeros(), Vec2::zeros(), R, v(5.0, 0.0), &one, &[], None, &l, DT, &p)
-                .is_some()
+            social_momentum_shaped(
+                Vec2::zeros(),
+                Vec2::zeros(),
+                R,
+                v(5.0, 0.0),
+                &one,
+                &[],
+                None,
+                &l,
+                DT,
+                &p,
+                None
+            )
+            .is_some()
         );
         assert_eq!(
             social_momentum_shaped(
@@ -336,7 +349,8 @@ mod tests {
                 None,
                 &l,
                 DT,
-                &p
+                &p,
+                None
             ),
             None
         );
@@ -363,7 +377,7 @@ mod tests {
         let mut min_zd = f64::INFINITY;
         for _ in 0..400 {
             let partial = pos + clamp_norm(goal - pos, 2.0);
-            let out = social_momentum_shaped(pos, vel, R, partial, &[ped], &[shape], None, &l, DT, &p)
+            let out = social_momentum_shaped(pos, vel, R, partial, &[ped], &[shape], None, &l, DT, &p, None)
                 .unwrap_or_else(|| l.apply(Vec2::zeros(), 0.0, vel, 0.0, DT).0);
             for k in 1..=10 {
                 min_zd = min_zd.min(lobe.zone_distance(pos + out * (DT * k as f64 / 10.0) - ped.pos));

@@ -75,6 +75,7 @@
 //! the function returns `None` (stop). It never panics and never returns a non-finite velocity.
 
 use crate::control::Limits;
+use crate::control::orca::nonholonomic::{NhParams, TrackingBound};
 use crate::geom::cross;
 use crate::map::StaticGeometry;
 use crate::math::Vec2;
@@ -93,6 +94,14 @@ use window::action_set;
 /// (right-hand traffic) in the REP-103 world frame: +1 (counter-clockwise). See the module docs for
 /// the derivation.
 pub const PASSING_MOMENTUM_SIGN: f64 = if crate::control::PASS_ON_RIGHT { 1.0 } else { -1.0 };
+
+/// The NH-ORCA constants with which a differential-drive robot's Social Momentum keeps to the
+/// velocities it can track ([`social_momentum_shaped`]'s `unicycle`): a tracking error `E` of
+/// 0.15 m and the settle time `T` of 0.4 s (the heading policy's time constant, as
+/// [`crate::control::orca_crowd::NH_PARAMS`]'s). `E` was chosen on the differential robot's tuning
+/// split (docs/choices.md): 0.02 m, NH-ORCA's, confined a robot dodging CrowdNav's 1 m/s walkers
+/// to within 6° of its heading at full speed, and it was run into.
+pub const UNICYCLE_TRACKING: NhParams = NhParams { tracking_error: 0.15, settle_time: 0.4 };
 
 /// Instants at which a sample's comfort intrusion is evaluated over the comfort horizon.
 pub const COMFORT_SAMPLES: usize = 6;
@@ -258,7 +267,7 @@ pub fn social_momentum(
     dt: f64,
     params: &SocialMomentumParams,
 ) -> Option<Vec2> {
-    social_momentum_shaped(pos, vel, radius, partial_goal, others, &[], geom, limits, dt, params)
+    social_momentum_shaped(pos, vel, radius, partial_goal, others, &[], geom, limits, dt, params, None)
 }
 
 /// [`social_momentum`] with a keep-out shape per agent: `shapes[i]` is the shape of `others[i]`
@@ -268,6 +277,14 @@ pub fn social_momentum(
 /// filter). An empty `shapes` means every agent is a disc, which is exactly
 /// [`social_momentum`]. Returns `None` (stop) also when `shapes` is neither empty nor as long as
 /// `others`.
+///
+/// `unicycle` is `Some` for a differential-drive robot (Social Momentum under its kinematic
+/// constraint; our extension, after NH-ORCA, Alonso-Mora et al. 2010, see
+/// [`crate::control::orca::nonholonomic`]): every sample of the action set is shortened to a
+/// velocity the robot can track within the error `E` ([`TrackingBound::clip`]), and the robot's
+/// radius is enlarged by `E` against people and walls, so that the collision filter's straight
+/// motion holds for the robot tracking the chosen velocity. A shortened sample may lie outside
+/// the acceleration window; the command's limits ([`Limits::apply_unicycle`]) bound it.
 #[allow(clippy::too_many_arguments)]
 pub fn social_momentum_shaped(
     pos: Vec2,
@@ -280,12 +297,15 @@ pub fn social_momentum_shaped(
     limits: &Limits,
     dt: f64,
     params: &SocialMomentumParams,
+    unicycle: Option<TrackingBound>,
 ) -> Option<Vec2> {
     if !inputs_valid(pos, vel, radius, partial_goal, others, limits, dt, params)
         || !(shapes.is_empty() || shapes.len() == others.len())
+        || unicycle.is_some_and(|u| !tracking_valid(&u))
     {
         return None;
     }
+    let radius = radius + unicycle.map_or(0.0, |u| u.params.tracking_error);
     let vmax = limits.max_speed;
     // Beyond |vel| + vmax the acceleration disc contains the whole speed disc: cap it there so an
     // infinite acceleration limit stays finite.
@@ -306,7 +326,12 @@ pub fn social_momentum_shaped(
     } else {
         heading.unwrap_or_else(|| Vec2::new(1.0, 0.0))
     };
-    let samples = action_set(vel, to_goal, goal_dir, reach, vmax, params);
+    let mut samples = action_set(vel, to_goal, goal_dir, reach, vmax, params);
+    if let Some(u) = unicycle {
+        for v in &mut samples {
+            *v = u.clip(*v);
+        }
+    }
     let comfort = Comfort::new(pos, vel, goal_dir, others, limits, dt, params);
     let scene = Scene { pos, partial_goal, wall_bound, edges: &edges, near: &near, reactive: &reactive };
     let feasible = feasible_samples(&scene, &samples, &comfort, params);
@@ -346,6 +371,20 @@ fn inputs_valid(
         && limits.max_accel >= 0.0 // false for NaN; +inf allowed
         && params.is_valid()
         && others.iter().all(Agent::is_valid)
+}
+
+/// A [`TrackingBound`] [`social_momentum_shaped`] accepts: finite, non-negative limits and
+/// positive NH-ORCA constants.
+fn tracking_valid(u: &TrackingBound) -> bool {
+    u.heading.is_finite()
+        && u.max_speed.is_finite()
+        && u.max_speed >= 0.0
+        && u.max_turn.is_finite()
+        && u.max_turn >= 0.0
+        && u.params.tracking_error.is_finite()
+        && u.params.tracking_error > 0.0
+        && u.params.settle_time.is_finite()
+        && u.params.settle_time > 0.0
 }
 
 /// A person in the momentum term.

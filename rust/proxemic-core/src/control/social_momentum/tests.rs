@@ -3,6 +3,7 @@
 use super::collision::segment_segment_distance;
 use super::*;
 use crate::control::clamp_norm;
+use crate::control::orca::nonholonomic::TrackingBound;
 use crate::map::Bounds;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -550,4 +551,117 @@ fn the_collision_prefilters_change_no_verdict() {
         }
     }
     assert!(hits > 1000 && total - hits > 1000, "{hits} of {total} samples collide");
+}
+
+/// A differential-drive robot's tracking bound (Pepper's limits, NH-ORCA's `T`) at `heading`.
+fn unicycle(heading: f64, e: f64) -> TrackingBound {
+    use crate::control::orca::nonholonomic::NhParams;
+    let l = Limits::PEPPER;
+    TrackingBound {
+        heading,
+        max_speed: l.max_speed,
+        max_turn: l.max_angular_speed,
+        params: NhParams { tracking_error: e, settle_time: 0.4 },
+    }
+}
+
+#[test]
+fn a_unicycle_chooses_only_velocities_it_can_track_and_keeps_clear_by_its_tracking_error() {
+    use crate::control::orca::nonholonomic::max_tracked_speed;
+    let geom = room();
+    let p = SocialMomentumParams::default();
+    let l = Limits::PEPPER;
+    let e = 0.05;
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let (mut checked, mut slowed) = (0, 0);
+    for _ in 0..400 {
+        let pos = v(rng.random_range(-4.3..4.3), rng.random_range(-4.3..4.3));
+        if geom.distance(pos) < R + e + p.safety_margin || geom.contains(pos) {
+            continue;
+        }
+        let heading: f64 = rng.random_range(-std::f64::consts::PI..std::f64::consts::PI);
+        // A unicycle moves along its heading.
+        let vel = v(heading.cos(), heading.sin()) * rng.random_range(0.0..0.55);
+        let goal = v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0));
+        let others: Vec<Agent> = (0..6)
+            .map(|_| {
+                person(
+                    v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5)),
+                    v(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2)),
+                )
+            })
+            .filter(|a| (a.pos - pos).norm() >= R + e + a.radius + p.safety_margin)
+            .collect();
+        let u = unicycle(heading, e);
+        let Some(out) =
+            social_momentum_shaped(pos, vel, R, goal, &others, &[], Some(&geom), &l, DT, &p, Some(u))
+        else {
+            continue;
+        };
+        checked += 1;
+        let cap = max_tracked_speed(out.y.atan2(out.x) - heading, l.max_speed, l.max_angular_speed, u.params);
+        assert!(out.norm() <= cap + 1e-12, "untrackable {out:?} at heading {heading}");
+        let free = social_momentum(pos, vel, R, goal, &others, Some(&geom), &l, DT, &p);
+        if free.is_some_and(|f| f.norm() > out.norm() + 1e-9) {
+            slowed += 1;
+        }
+        // The body enlarged by the tracking error stays clear of everyone over the horizon.
+        for k in 0..=200 {
+            let t = p.horizon * k as f64 / 200.0;
+            let q = pos + out * t;
+            for a in &others {
+                let d = (q - (a.pos + a.vel * t)).norm();
+                assert!(d >= R + e + a.radius + p.safety_margin - 1e-9, "person within {d} m at t={t}");
+            }
+            assert!(geom.distance(q) >= R + e + p.safety_margin - 1e-9, "wall at t={t}");
+        }
+    }
+    assert!(checked > 100, "only {checked} checked");
+    // The constraint bites: in some scenes (mostly a slow robot, whose window reaches every
+    // direction) the holonomic choice was faster.
+    assert!(slowed > 0, "none of {checked} slowed by the constraint");
+}
+
+#[test]
+fn a_unicycle_facing_away_from_its_goal_turns_before_it_goes() {
+    let p = SocialMomentumParams::default();
+    let l = Limits::PEPPER;
+    let goal = v(5.0, 0.0);
+    let go = |u: Option<TrackingBound>| {
+        social_momentum_shaped(Vec2::zeros(), Vec2::zeros(), R, goal, &[], &[], None, &l, DT, &p, u)
+            .expect("free space")
+    };
+    // Standing, facing away from the goal: the holonomic robot sets off toward it, the unicycle
+    // may only creep (the tracking command then turns it on the spot).
+    let holonomic = go(None);
+    let away = go(Some(unicycle(std::f64::consts::PI, 0.02)));
+    assert!(away.norm() < 0.5 * holonomic.norm(), "{away:?} against {holonomic:?}");
+    // Facing the goal it goes as the holonomic robot does.
+    assert_eq!(go(Some(unicycle(0.0, 0.02))), holonomic);
+}
+
+#[test]
+fn a_bad_tracking_bound_stops_the_robot() {
+    let p = SocialMomentumParams::default();
+    let l = Limits::PEPPER;
+    for u in [
+        unicycle(f64::NAN, 0.02),
+        unicycle(0.0, 0.0),
+        TrackingBound { max_turn: -1.0, ..unicycle(0.0, 0.02) },
+    ] {
+        let out = social_momentum_shaped(
+            Vec2::zeros(),
+            Vec2::zeros(),
+            R,
+            v(5.0, 0.0),
+            &[],
+            &[],
+            None,
+            &l,
+            DT,
+            &p,
+            Some(u),
+        );
+        assert_eq!(out, None, "{u:?}");
+    }
 }
