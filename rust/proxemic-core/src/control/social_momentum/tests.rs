@@ -310,6 +310,42 @@ fn room() -> StaticGeometry {
     }
 }
 
+/// Six people at random in the room (walking up to 1.2 m/s each way), those within `bound` plus
+/// their radius of `pos` left out.
+fn six_people_clear_of(rng: &mut ChaCha8Rng, pos: Vec2, bound: f64) -> Vec<Agent> {
+    (0..6)
+        .map(|_| {
+            person(
+                v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5)),
+                v(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2)),
+            )
+        })
+        .filter(|a| (a.pos - pos).norm() >= bound + a.radius)
+        .collect()
+}
+
+/// Moving at `out` from `pos` over `horizon` keeps `bound` (the robot's radius and margin) plus
+/// each person's radius from everyone and `bound` from the walls: dense time sampling,
+/// independent of the filter's closed form.
+fn assert_clear_over_horizon(
+    pos: Vec2,
+    out: Vec2,
+    others: &[Agent],
+    geom: &StaticGeometry,
+    bound: f64,
+    horizon: f64,
+) {
+    for k in 0..=400 {
+        let t = horizon * k as f64 / 400.0;
+        let q = pos + out * t;
+        for a in others {
+            let d = (q - (a.pos + a.vel * t)).norm();
+            assert!(d >= bound + a.radius - 1e-9, "person within {d} m at t={t}");
+        }
+        assert!(geom.distance(q) >= bound - 1e-9, "wall at t={t}");
+    }
+}
+
 #[test]
 fn chosen_samples_never_collide_within_the_horizon() {
     let geom = room();
@@ -326,29 +362,12 @@ fn chosen_samples_never_collide_within_the_horizon() {
         let ang: f64 = rng.random_range(0.0..std::f64::consts::TAU);
         let vel = v(ang.cos(), ang.sin()) * rng.random_range(0.0..0.55);
         let goal = v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0));
-        let others: Vec<Agent> = (0..6)
-            .map(|_| {
-                person(
-                    v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5)),
-                    v(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2)),
-                )
-            })
-            .filter(|a| (a.pos - pos).norm() >= R + a.radius + p.safety_margin)
-            .collect();
+        let others = six_people_clear_of(&mut rng, pos, R + p.safety_margin);
         match social_momentum(pos, vel, R, goal, &others, Some(&geom), &l, DT, &p) {
             None => stopped += 1,
             Some(out) => {
                 checked += 1;
-                // Dense time sampling, independent of the closed form.
-                for k in 0..=400 {
-                    let t = p.horizon * k as f64 / 400.0;
-                    let q = pos + out * t;
-                    for a in &others {
-                        let d = (q - (a.pos + a.vel * t)).norm();
-                        assert!(d >= R + a.radius + p.safety_margin - 1e-9, "person hit at t={t}: {d}");
-                    }
-                    assert!(geom.distance(q) >= R + p.safety_margin - 1e-9, "wall hit at t={t}");
-                }
+                assert_clear_over_horizon(pos, out, &others, &geom, R + p.safety_margin, p.horizon);
             }
         }
     }
@@ -583,15 +602,7 @@ fn a_unicycle_chooses_only_velocities_it_can_track_and_keeps_clear_by_its_tracki
         // A unicycle moves along its heading.
         let vel = v(heading.cos(), heading.sin()) * rng.random_range(0.0..0.55);
         let goal = v(rng.random_range(-4.0..4.0), rng.random_range(-4.0..4.0));
-        let others: Vec<Agent> = (0..6)
-            .map(|_| {
-                person(
-                    v(rng.random_range(-4.5..4.5), rng.random_range(-4.5..4.5)),
-                    v(rng.random_range(-1.2..1.2), rng.random_range(-1.2..1.2)),
-                )
-            })
-            .filter(|a| (a.pos - pos).norm() >= R + e + a.radius + p.safety_margin)
-            .collect();
+        let others = six_people_clear_of(&mut rng, pos, R + e + p.safety_margin);
         let u = unicycle(heading, e);
         let Some(out) =
             social_momentum_shaped(pos, vel, R, goal, &others, &[], Some(&geom), &l, DT, &p, Some(u))
@@ -606,15 +617,7 @@ fn a_unicycle_chooses_only_velocities_it_can_track_and_keeps_clear_by_its_tracki
             slowed += 1;
         }
         // The body enlarged by the tracking error stays clear of everyone over the horizon.
-        for k in 0..=200 {
-            let t = p.horizon * k as f64 / 200.0;
-            let q = pos + out * t;
-            for a in &others {
-                let d = (q - (a.pos + a.vel * t)).norm();
-                assert!(d >= R + e + a.radius + p.safety_margin - 1e-9, "person within {d} m at t={t}");
-            }
-            assert!(geom.distance(q) >= R + e + p.safety_margin - 1e-9, "wall at t={t}");
-        }
+        assert_clear_over_horizon(pos, out, &others, &geom, R + e + p.safety_margin, p.horizon);
     }
     assert!(checked > 100, "only {checked} checked");
     // The constraint bites: in some scenes (mostly a slow robot, whose window reaches every
