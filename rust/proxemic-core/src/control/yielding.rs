@@ -246,20 +246,48 @@ pub struct RolloutPoint {
 /// The rollout of command `command` (m/s, world frame) for `robot`: the points at every
 /// integration step up to the horizon (step 2 of the module docs).
 pub fn rollout(robot: &Robot, command: Vec2, limits: &Limits, params: &YieldParams) -> Vec<RolloutPoint> {
+    let mut out = Vec::new();
+    rollout_into(robot, command, limits, params, &mut out);
+    out
+}
+
+/// [`rollout`] into `out` (cleared first): one buffer for every candidate of a step.
+fn rollout_into(
+    robot: &Robot,
+    command: Vec2,
+    limits: &Limits,
+    params: &YieldParams,
+    out: &mut Vec<RolloutPoint>,
+) {
     let h = params.step;
     let n = (params.horizon / h).ceil() as usize;
     let dv = limits.max_accel * h;
     let command = clamp_norm(command, limits.max_speed);
     let (mut p, mut v) = (robot.pos, robot.vel);
-    let mut out = Vec::with_capacity(n);
+    let same = |a: Vec2, b: Vec2| a.x.to_bits() == b.x.to_bits() && a.y.to_bits() == b.y.to_bits();
+    // The target for which `v` is a fixed point of the update (bit for bit): while the target
+    // stays, the update would give `v` again, and is skipped.
+    let mut steady: Option<Vec2> = None;
+    out.clear();
+    out.reserve(n);
     for k in 1..=n {
         let t0 = (k - 1) as f64 * h;
-        let target = if t0 < params.commit - 1e-9 { command } else { Vec2::zeros() };
-        v = clamp_norm(v + clamp_norm(target - v, dv), limits.max_speed);
+        let braking = t0 >= params.commit - 1e-9;
+        if braking && v.x == 0.0 && v.y == 0.0 {
+            // Stopped while braking: every later step leaves `v` zero and `p` where it is (the
+            // same values the update below would compute), so the rest is the stop's.
+            out.extend((k..=n).map(|j| RolloutPoint { t: j as f64 * h, pos: p, vel: v }));
+            break;
+        }
+        let target = if braking { Vec2::zeros() } else { command };
+        if !steady.is_some_and(|s| same(s, target)) {
+            let next = clamp_norm(v + clamp_norm(target - v, dv), limits.max_speed);
+            steady = same(next, v).then_some(target);
+            v = next;
+        }
         p += v * h;
         out.push(RolloutPoint { t: k as f64 * h, pos: p, vel: v });
     }
-    out
 }
 
 /// Whether the rollout `points` of `robot` breaks a hard constraint against `movers` (step 3 of
@@ -274,26 +302,23 @@ fn clearance(points: &[RolloutPoint], robot: &Robot, movers: &[Mover], params: &
     let mut least = f64::INFINITY;
     for pt in points {
         for m in movers {
-            if intrudes(pt, robot, m, params.approach_tolerance) {
+            let q = m.pos + m.vel * pt.t;
+            let d = q - pt.pos;
+            let dist = d.norm();
+            let edge = dist - robot.radius - m.radius;
+            if edge < m.gap && intrudes(pt, robot, q, d, dist, params.approach_tolerance) {
                 return None;
             }
-            let gap = (m.pos + m.vel * pt.t - pt.pos).norm() - robot.radius - m.radius - m.gap;
-            least = least.min(gap);
+            least = least.min(edge - m.gap);
         }
     }
     Some(least)
 }
 
-/// Whether the robot at `pt` is inside mover `m`'s required gap while approaching it, or closer
-/// than it would be had it stood where it is now.
+/// Whether the robot at `pt`, inside a mover's required gap (the mover at `q`, `d = q − pt.pos`,
+/// `dist = |d|`), approaches it, or is closer than it would be had it stood where it is now.
 #[inline]
-fn intrudes(pt: &RolloutPoint, robot: &Robot, m: &Mover, tolerance: f64) -> bool {
-    let q = m.pos + m.vel * pt.t;
-    let d = q - pt.pos;
-    let dist = d.norm();
-    if dist - robot.radius - m.radius >= m.gap {
-        return false;
-    }
+fn intrudes(pt: &RolloutPoint, robot: &Robot, q: Vec2, d: Vec2, dist: f64, tolerance: f64) -> bool {
     let toward = if dist > 1e-9 { pt.vel.dot(&d) / dist } else { pt.vel.norm() };
     toward > tolerance || dist < (q - robot.pos).norm() - 1e-9
 }
@@ -376,14 +401,23 @@ pub fn plan_with(
     let max_factor = cost.max_factor().max(1.0 + 1e-9);
     let every = ((params.cost_period / params.step).round() as usize).max(1);
     let progress_of = |pts: &[RolloutPoint]| pts.last().map_or(0.0, |q| (q.pos - robot.pos).dot(&dir));
-    let reference_progress = progress_of(&rollout(robot, dir * speed, limits, params));
+    let mut pts = Vec::new();
+    rollout_into(robot, dir * speed, limits, params, &mut pts);
+    let reference_progress = progress_of(&pts);
     let v_scale = 2.0 * limits.max_speed.max(1e-9);
     let mut best: Option<(Vec2, f64)> = None;
     for c in candidates {
-        let pts = rollout(robot, c, limits, params);
+        rollout_into(robot, c, limits, params, &mut pts);
         let Some(gap) = clearance(&pts, robot, &near, params) else { continue };
         if let Some(g) = geometry {
+            // A point where the previous one was (the rollout stopped) has the previous one's
+            // answer, which was no hit: it is not tested again.
+            let mut last: Option<Vec2> = None;
             let hits = pts.iter().any(|pt| {
+                if last == Some(pt.pos) {
+                    return false;
+                }
+                last = Some(pt.pos);
                 (pt.pos - robot.pos).norm() >= open
                     && (g.contains(pt.pos) || {
                         let d = g.boundary_distance_within(pt.pos, wall_bound);

@@ -211,3 +211,63 @@ proptest! {
         }
     }
 }
+
+/// The rollout as step 2 of the module docs states it, every step updated: [`rollout`] skips the
+/// updates that cannot change anything (a velocity already at its target's fixed point, the
+/// stopped tail) and must give the same points bit for bit.
+fn rollout_by_the_book(
+    robot: &Robot,
+    command: Vec2,
+    limits: &Limits,
+    params: &YieldParams,
+) -> Vec<RolloutPoint> {
+    let h = params.step;
+    let n = (params.horizon / h).ceil() as usize;
+    let dv = limits.max_accel * h;
+    let command = clamp_norm(command, limits.max_speed);
+    let (mut p, mut v) = (robot.pos, robot.vel);
+    (1..=n)
+        .map(|k| {
+            let t0 = (k - 1) as f64 * h;
+            let target = if t0 < params.commit - 1e-9 { command } else { Vec2::zeros() };
+            v = clamp_norm(v + clamp_norm(target - v, dv), limits.max_speed);
+            p += v * h;
+            RolloutPoint { t: k as f64 * h, pos: p, vel: v }
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    /// The skipped updates change nothing: the same points, bit for bit, from any state, command
+    /// and limits (including a robot already at the command's velocity and one at rest).
+    #[test]
+    fn rollout_equals_the_step_by_step_update(
+        pos in (-5.0f64..5.0, -5.0f64..5.0),
+        vel in (-0.8f64..0.8, -0.8f64..0.8),
+        cmd in (-0.8f64..0.8, -0.8f64..0.8),
+        at_command in 0usize..3,
+        accel in 0.1f64..2.0,
+        commit in 0.0f64..3.0,
+    ) {
+        let command = v(cmd.0, cmd.1);
+        let limits = Limits { max_accel: accel, ..Limits::PEPPER };
+        let vel = match at_command {
+            0 => v(vel.0, vel.1),
+            1 => clamp_norm(command, limits.max_speed),
+            _ => Vec2::zeros(),
+        };
+        let robot = Robot { pos: v(pos.0, pos.1), vel, radius: ROBOT_R };
+        let params = YieldParams { commit, ..YieldParams::default() };
+        let bits = |pts: &[RolloutPoint]| -> Vec<[u64; 5]> {
+            pts.iter()
+                .map(|q| [q.t.to_bits(), q.pos.x.to_bits(), q.pos.y.to_bits(), q.vel.x.to_bits(), q.vel.y.to_bits()])
+                .collect()
+        };
+        prop_assert_eq!(
+            bits(&rollout(&robot, command, &limits, &params)),
+            bits(&rollout_by_the_book(&robot, command, &limits, &params))
+        );
+    }
+}
