@@ -409,6 +409,27 @@ pub fn plan_with(
     for c in candidates {
         rollout_into(robot, c, limits, params, &mut pts);
         let Some(gap) = clearance(&pts, robot, &near, params) else { continue };
+        let progress = if reference_progress > 1e-9 { progress_of(&pts) / reference_progress } else { 0.0 };
+        let accel = (c - robot.vel).norm() / v_scale;
+        let turn = if c.norm() > params.approach_tolerance && robot.vel.norm() > params.approach_tolerance {
+            let cos = (c.dot(&robot.vel) / (c.norm() * robot.vel.norm())).clamp(-1.0, 1.0);
+            cos.acos() / std::f64::consts::PI
+        } else {
+            0.0
+        };
+        let clear = (gap / params.clearance_scale).clamp(0.0, 1.0);
+        let score_with = |social: f64| {
+            params.w_progress * progress + params.w_clearance * clear
+                - params.w_social * social
+                - params.w_accel * accel
+                - params.w_turn * turn
+        };
+        // The score with no social cost bounds the score from above (the cost term is at least
+        // 0, and rounding is monotonic): a candidate whose bound does not beat the best so far
+        // cannot be chosen, and its walls and costs are not looked at (the same choice).
+        if best.is_some_and(|(_, s)| score_with(0.0).partial_cmp(&s) != Some(std::cmp::Ordering::Greater)) {
+            continue;
+        }
         if let Some(g) = geometry {
             // A point where the previous one was (the rollout stopped) has the previous one's
             // answer, which was no hit: it is not tested again.
@@ -444,19 +465,7 @@ pub fn plan_with(
             continue;
         }
         let social = if samples > 0 { social / samples as f64 } else { 0.0 };
-        let progress = if reference_progress > 1e-9 { progress_of(&pts) / reference_progress } else { 0.0 };
-        let accel = (c - robot.vel).norm() / v_scale;
-        let turn = if c.norm() > params.approach_tolerance && robot.vel.norm() > params.approach_tolerance {
-            let cos = (c.dot(&robot.vel) / (c.norm() * robot.vel.norm())).clamp(-1.0, 1.0);
-            cos.acos() / std::f64::consts::PI
-        } else {
-            0.0
-        };
-        let clear = (gap / params.clearance_scale).clamp(0.0, 1.0);
-        let score = params.w_progress * progress + params.w_clearance * clear
-            - params.w_social * social
-            - params.w_accel * accel
-            - params.w_turn * turn;
+        let score = score_with(social);
         if score.is_finite() && best.is_none_or(|(_, s)| score > s) {
             best = Some((c, score));
         }
