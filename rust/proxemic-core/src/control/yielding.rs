@@ -408,7 +408,6 @@ pub fn plan_with(
     let mut best: Option<(Vec2, f64)> = None;
     for c in candidates {
         rollout_into(robot, c, limits, params, &mut pts);
-        let Some(gap) = clearance(&pts, robot, &near, params) else { continue };
         let progress = if reference_progress > 1e-9 { progress_of(&pts) / reference_progress } else { 0.0 };
         let accel = (c - robot.vel).norm() / v_scale;
         let turn = if c.norm() > params.approach_tolerance && robot.vel.norm() > params.approach_tolerance {
@@ -417,17 +416,27 @@ pub fn plan_with(
         } else {
             0.0
         };
-        let clear = (gap / params.clearance_scale).clamp(0.0, 1.0);
-        let score_with = |social: f64| {
+        let score_of = |clear: f64, social: f64| {
             params.w_progress * progress + params.w_clearance * clear
                 - params.w_social * social
                 - params.w_accel * accel
                 - params.w_turn * turn
         };
-        // The score with no social cost bounds the score from above (the cost term is at least
-        // 0, and rounding is monotonic): a candidate whose bound does not beat the best so far
-        // cannot be chosen, and its walls and costs are not looked at (the same choice).
-        if best.is_some_and(|(_, s)| score_with(0.0).partial_cmp(&s) != Some(std::cmp::Ordering::Greater)) {
+        // Upper bounds of the score (the clearance term at most its full weight, the cost term at
+        // least 0; rounding is monotonic): a candidate whose bound does not beat the best so far
+        // cannot be chosen, and what the bound leaves out is not computed (the same choice).
+        let beaten = |bound: f64| {
+            best.is_some_and(|(_, s)| bound.partial_cmp(&s) != Some(std::cmp::Ordering::Greater))
+        };
+        if beaten(score_of(1.0, 0.0)) {
+            continue;
+        }
+        let Some(gap) = clearance(&pts, robot, &near, params) else { continue };
+        let clear = (gap / params.clearance_scale).clamp(0.0, 1.0);
+        let score_with = |social: f64| score_of(clear, social);
+        // Then with the clearance known: the walls and costs are looked at only for a candidate
+        // that can still win.
+        if beaten(score_with(0.0)) {
             continue;
         }
         if let Some(g) = geometry {
