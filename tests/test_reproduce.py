@@ -211,7 +211,8 @@ def test_daza2021_report_puts_published_beside_measured(tmp_path):
         ), exp.name
         assert float(own["smooth_rad"]) ** 2 == pytest.approx(float(own["smooth_rad2"]))
     assert "## Average over the 5 experiments" in report
-    defined = sum(bool(r["l_ratio"]) for r in rows if r["planner"] == "daza2021")
+    paths = {exp.name for exp in experiments("daza2021") if exp.published}
+    defined = sum(bool(r["l_ratio"]) for r in rows if r["planner"] == "daza2021" and r["experiment"] in paths)
     assert f"(over {defined} of 5 paths)" in report
     assert "## Why ours differ" in report
 
@@ -330,31 +331,17 @@ def _detours(runs: list[EpisodeResult], scene: str) -> list[bool]:
     "k",
     [
         1,
-        pytest.param(
-            2,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="measured on seeds 1000-1004: 2 of 5 detour to the goal; 2 collide with a "
-                "member of the group standing on the A* line (Social Momentum with the partial goal "
-                "inside the group), 1 passes with L_ratio 1.006",
-            ),
-        ),
-        pytest.param(
-            3,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="measured on seeds 1000-1004: L_ratio 0.97-1.00 (3 of 5 below 1): the A* line "
-                "runs between the two people and robot_1 of the group and the robot keeps to it "
-                "(closest person 0.6-1.0 m), a detour of under 3%",
-            ),
-        ),
+        2,
+        3,
         4,
         pytest.param(
             5,
             marks=pytest.mark.xfail(
                 strict=True,
-                reason="measured on seeds 1000-1004: 3 of 5 collide with group 2, standing on the "
-                "A* line (2 of 5 detour to the goal)",
+                reason="measured on seeds 1000-1002: seed 1001 collides (robot at fault) with group "
+                "2's south-west member: she steps 0.47 m aside as the robot nears, Social Momentum heads "
+                "into the place she left, and once no sample is safe the braking robot slides into her "
+                "(on seeds 1000-1004, 4 of 5 detour to the goal)",
             ),
         ),
     ],
@@ -401,10 +388,12 @@ def test_daza_fig15_robots_meet_without_colliding(daza_runs):
 
 @pytest.mark.xfail(
     strict=True,
-    reason="measured on seeds 1000-1004: `sousa2022_astar` comes within zone distance 0.70-0.92 m of a "
-    "group on Fig. 16 (plain A* 0.82-1.03 m) and 0.92-0.96 m on Fig. 17 (plain A* 0.78-0.85 m), under "
-    "the 1.0 m personal radius (cause not isolated: Algorithm 1's partial goal lies on the A* path, "
-    "which runs through the space); the cost-map path of `sousa2022` keeps 1.09-1.14 m",
+    reason="measured on seeds 1000-1004: `sousa2022_astar` comes within zone distance 0.36-0.68 m of a "
+    "person or group on Fig. 16 (plain A* 0.78-0.91 m) and 0.91-0.96 m on Fig. 17 (plain A* 0.75-0.81 m), "
+    "under the 1.0 m personal radius, measured on the Gaussians perceived at the start (the people "
+    "react and shift as the robot nears). Not the partial goal: moved past the keep-out regions (it "
+    "was inside them before), it gives no better figures (before: 0.56-0.78 m and 0.92-0.96 m). The cost-map path of "
+    "`sousa2022` keeps 1.09-1.14 m",
 )
 @pytest.mark.parametrize("scene", ["sousa2022_fig16", "sousa2022_fig17"])
 def test_sousa_gaussian_social_momentum_keeps_plain_astar_out_of_personal_spaces(scene):

@@ -87,6 +87,8 @@ fn scenes(geom: &StaticGeometry, n: usize, count: usize, seed: u64, min_dist: f6
 /// A scene as Daza et al. 2021's Algorithm 1 sees it, with the perception's groups and individuals.
 struct PaperScene {
     robot: RobotState,
+    /// The line-1 path the partial goal lies on.
+    path: [Vec2; 2],
     vel: Vec2,
     objects: Vec<MobileObject>,
     groups: Vec<Vec<usize>>,
@@ -167,7 +169,7 @@ fn benches(c: &mut Criterion) {
             let robot = RobotState { pos: s.pos, pref_vel: s.vel, radius: ROBOT_RADIUS };
             let path = [s.pos, s.goal + (s.goal - s.pos) * 3.0];
             let decision = daza2021_decide(&robot, &path, &objects, &groups, &params).expect("decision");
-            PaperScene { robot, vel: s.vel, objects, groups, decision, individuals: per.individuals }
+            PaperScene { robot, path, vel: s.vel, objects, groups, decision, individuals: per.individuals }
         })
         .collect();
     for (name, gaussians) in [("daza2021", false), ("sousa2022", true)] {
@@ -180,6 +182,7 @@ fn benches(c: &mut Criterion) {
                     if gaussians { PeopleSpaces::Gaussians(&s.individuals) } else { PeopleSpaces::Intimate };
                 black_box(daza2021_social_momentum(
                     &s.robot,
+                    &s.path,
                     s.vel,
                     &s.objects,
                     &s.groups,

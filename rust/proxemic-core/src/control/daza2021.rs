@@ -344,15 +344,25 @@ pub fn daza2021_agents(
     (agents, shapes)
 }
 
-/// Lines 16 and 19: one step of Social Momentum toward the decision's partial goal among
-/// [`daza2021_agents`], with [`social_momentum_params`]. `vel` is the robot's executed velocity
-/// (m/s), `geometry` the walls, `limits` and `dt` (s) bound the action set. Returns the desired
+/// Lines 16 and 19: one step of Social Momentum toward a partial goal on `path` (the plain A*
+/// path of line 1, as given to [`daza2021_decide`]) among [`daza2021_agents`], with
+/// [`social_momentum_params`]. `vel` is the robot's executed velocity (m/s), `geometry` the
+/// walls, `limits` and `dt` (s) bound the action set.
+///
+/// The partial goal: the paper sets "a point in the planned path" so that "the A* path will be
+/// retaken as conditions and social restrictions allow it" (§4.3, lines 16 and 19). Ours is the
+/// decision's partial goal ([`Daza2021Params::partial_goal_distance`] ahead) when the robot could
+/// stand there, otherwise the first point on along the path, every 0.1 m, outside every agent's
+/// keep-out region (a person's intimate disc, a group's o-space, with Sousa's Gaussians the
+/// personal contour; the collision filter's bounds): a goal inside a region the filter forbids
+/// would have Social Momentum push the robot against the people standing on the path. Returns the desired
 /// velocity, or `None` when every sample collides (the robot waits) or stopping is the only
 /// safe choice. `unicycle` is `Some` for a differential-drive robot: Social Momentum under its
 /// kinematic constraint (see [`social_momentum_shaped`]).
 #[allow(clippy::too_many_arguments)]
 pub fn daza2021_social_momentum(
     robot: &RobotState,
+    path: &[Vec2],
     vel: Vec2,
     objects: &[MobileObject],
     groups: &[Vec<usize>],
@@ -366,11 +376,16 @@ pub fn daza2021_social_momentum(
 ) -> Option<Vec2> {
     let (agents, shapes) = daza2021_agents(robot, objects, groups, decision, spaces, params);
     let sm = social_momentum_params();
+    let goal = if path.is_empty() {
+        decision.partial_goal
+    } else {
+        clear_partial_goal(path, robot, params.partial_goal_distance, &agents, &shapes, sm.safety_margin)
+    };
     let v = social_momentum_shaped(
         robot.pos,
         vel,
         robot.radius,
-        decision.partial_goal,
+        goal,
         &agents,
         &shapes,
         geometry,
@@ -408,6 +423,13 @@ fn with_singletons(objects: &[MobileObject], groups: &[Vec<usize>]) -> Vec<Vec<u
 /// The point `distance` (m) along the polyline `path` beyond the point of the path nearest `pos`
 /// (its last point when the path ends sooner).
 fn point_ahead(path: &[Vec2], pos: Vec2, distance: f64) -> Vec2 {
+    points_ahead(path, pos, distance, f64::INFINITY).next().unwrap_or(path[0])
+}
+
+/// The points of the polyline `path` from `distance` (m) beyond the point of the path nearest
+/// `pos`, then every `step` (m) on along it, ending with its last point (a path of one point
+/// gives that point).
+fn points_ahead(path: &[Vec2], pos: Vec2, distance: f64, step: f64) -> impl Iterator<Item = Vec2> + '_ {
     let (mut best_d, mut best_seg, mut best_t) = (f64::INFINITY, 0, 0.0);
     for k in 0..path.len().saturating_sub(1) {
         let (a, b) = (path[k], path[k + 1]);
@@ -419,20 +441,66 @@ fn point_ahead(path: &[Vec2], pos: Vec2, distance: f64) -> Vec2 {
             (best_d, best_seg, best_t) = (d, k, t);
         }
     }
-    if path.len() < 2 {
-        return path[0];
-    }
+    let single = path.len() < 2;
+    let mut seg = best_seg + 1;
+    let mut from =
+        if single { path[0] } else { path[best_seg] + (path[best_seg + 1] - path[best_seg]) * best_t };
     let mut left = distance;
-    let mut from = path[best_seg] + (path[best_seg + 1] - path[best_seg]) * best_t;
-    for &next in &path[best_seg + 1..] {
-        let step = (next - from).norm();
-        if step >= left {
-            return from + (next - from) * (left / step);
+    let mut done = false;
+    std::iter::from_fn(move || {
+        if done {
+            return None;
         }
-        left -= step;
-        from = next;
+        while seg < path.len() {
+            let next = path[seg];
+            let len = (next - from).norm();
+            if len >= left {
+                from += (next - from) * (left / len);
+                left = step;
+                return Some(from);
+            }
+            left -= len;
+            from = next;
+            seg += 1;
+        }
+        done = true;
+        Some(path[path.len() - 1])
+    })
+}
+
+/// How far apart (m) [`clear_partial_goal`] tries the path's points.
+const CLEAR_GOAL_STEP: f64 = 0.1;
+
+/// Lines 16 and 19's partial goal, moved on along the path past the keep-out regions of the
+/// `agents` Social Momentum avoids (module docs of [`daza2021_social_momentum`]): the first of the
+/// path's points from `distance` (m) ahead of the point nearest the robot, then every
+/// [`CLEAR_GOAL_STEP`], where the robot's centre would be outside every agent's keep-out region
+/// (the collision filter's: a disc's `radius + r_i + margin`, a Gaussian's keep-out zone distance
+/// plus `margin`); the path's last point when none is.
+fn clear_partial_goal(
+    path: &[Vec2],
+    robot: &RobotState,
+    distance: f64,
+    agents: &[Agent],
+    shapes: &[AgentShape],
+    margin: f64,
+) -> Vec2 {
+    let blocked = |p: Vec2| {
+        agents.iter().zip(shapes).any(|(a, shape)| {
+            let d = p - a.pos;
+            let bound = robot.radius + a.radius + margin;
+            d.norm_squared() < bound * bound
+                || matches!(shape, AgentShape::Gaussian(g) if g.zone_distance(d) < g.keep_out() + margin)
+        })
+    };
+    let mut last = path[path.len() - 1];
+    for p in points_ahead(path, robot.pos, distance, CLEAR_GOAL_STEP) {
+        if !blocked(p) {
+            return p;
+        }
+        last = p;
     }
-    path[path.len() - 1]
+    last
 }
 
 fn validate(
@@ -594,6 +662,40 @@ mod tests {
     }
 
     #[test]
+    fn the_social_momentum_goal_moves_on_past_a_keep_out_region_on_the_path() {
+        let p = Daza2021Params::default();
+        let margin = social_momentum_params().safety_margin;
+        let goal = |objects: &[MobileObject], groups: &[Vec<usize>]| {
+            let d = decide(objects, groups);
+            let (agents, shapes) = daza2021_agents(&me(), objects, groups, &d, PeopleSpaces::Intimate, &p);
+            clear_partial_goal(&PATH, &me(), p.partial_goal_distance, &agents, &shapes, margin)
+        };
+        // Nobody near the point 1.5 m ahead: the decision's partial goal.
+        assert_eq!(goal(&[person(1.5, 3.0)], &[]), v(1.5, 0.0));
+        // A person standing on the path at 1.65 m: her keep-out disc (0.25 + 0.25 + 0.1 m) holds
+        // the points up to 2.25 m; the goal is the first point every 0.1 m outside it.
+        let g = goal(&[person(1.65, 0.0)], &[]);
+        assert!((g - v(2.3, 0.0)).norm() < 1e-9, "{g:?}");
+        // A conversation across the path: the goal lies beyond its o-space disc (centre 2.05 m,
+        // radius 0.55 m, bound 0.25 + 0.55 + 0.1 m: up to 2.95 m).
+        let g = goal(&[person(2.05, 0.55), person(2.05, -0.55)], &[vec![0, 1]]);
+        assert!((g - v(3.0, 0.0)).norm() < 1e-9, "{g:?}");
+        // Every point of the path blocked: its last point.
+        let short = [v(0.0, 0.0), v(2.0, 0.0)];
+        let d = decide(&[person(1.9, 0.0)], &[]);
+        let (agents, shapes) =
+            daza2021_agents(&me(), &[person(1.9, 0.0)], &[], &d, PeopleSpaces::Intimate, &p);
+        assert_eq!(clear_partial_goal(&short, &me(), 1.5, &agents, &shapes, margin), v(2.0, 0.0));
+        // The steps continue across the path's corners.
+        let bent = [v(0.0, 0.0), v(1.0, 0.0), v(1.0, 5.0)];
+        let d = decide(&[person(1.0, 0.65)], &[]);
+        let (agents, shapes) =
+            daza2021_agents(&me(), &[person(1.0, 0.65)], &[], &d, PeopleSpaces::Intimate, &p);
+        let g = clear_partial_goal(&bent, &me(), 1.5, &agents, &shapes, margin);
+        assert!((g - v(1.0, 1.3)).norm() < 1e-9, "{g:?}");
+    }
+
+    #[test]
     fn daza_agents_are_intimate_discs_with_a_group_o_space_and_robots_as_obstacles() {
         // Two people talking 1.2 m apart, a robot standing with them, a robot passing far away.
         let objects = [
@@ -639,6 +741,7 @@ mod tests {
             let out = if d.mode == Daza2021Mode::SocialMomentum {
                 daza2021_social_momentum(
                     &r,
+                    &PATH,
                     vel,
                     &objects,
                     &groups,

@@ -68,6 +68,7 @@ impl World {
                 };
                 let v = daza2021_social_momentum(
                     &robot,
+                    rb.follower.path(),
                     rb.exec_v,
                     &objects,
                     &groups,
