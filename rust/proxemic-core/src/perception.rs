@@ -307,51 +307,65 @@ pub fn perceive_with(
     } else {
         robot_joins_interaction(people, &groups, robots, &cfg.join)?
     };
-    let base = cfg.base_sides();
     let mut individuals = Vec::with_capacity(groups.members.len());
     for (g, members) in groups.members.iter().enumerate() {
         let joined: Vec<usize> = (0..robot_joins.len()).filter(|&k| robot_joins[k] == Some(g)).collect();
-        let fv_of = |i: usize| features.get(i).cloned().unwrap_or_default();
-        if members.len() == 1 && joined.is_empty() {
-            let i = members[0];
-            let sides = if cfg.features.is_empty() { base } else { adapt(base, &fv_of(i), &cfg.influence)? };
-            individuals.push(Individual::new(people[i].pos, people[i].heading, sides, vec![i], vec![], cfg));
-            continue;
-        }
-        // Members of the interaction: the people plus the robots that joined it (as people).
-        let mut states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
-        for &k in &joined {
-            let r = &robots[k];
-            let toward = people[members[0]].pos - r.pos;
-            states.push(PersonState { pos: r.pos, heading: toward.y.atan2(toward.x), vel: r.vel });
-        }
-        let nf = cfg.features.len();
-        let group_fv: Vec<f64> = if nf == 0 {
-            Vec::new()
-        } else {
-            // One aggregated value per feature (Sousa 2022 §3.3.4); robots carry no features.
-            (0..nf)
-                .map(|f| {
-                    let vals: Vec<f64> =
-                        members.iter().map(|&i| fv_of(i).get(f).copied().unwrap_or(1.0)).collect();
-                    let member_states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
-                    group_as_individual(&member_states, &vals, cfg.aggregate).map(|gi| gi.feature)
-                })
-                .collect::<Result<Vec<f64>>>()?
-        };
-        let ones = vec![1.0; states.len()];
-        let gi = group_as_individual(&states, &ones, cfg.aggregate)?;
-        // The group's Gaussian covers its members and keeps a person's margin beyond them.
-        let grown = Asymmetric {
-            front: base.front + gi.front,
-            rear: base.rear + gi.rear,
-            right: base.right + gi.right,
-            left: base.left + gi.left,
-        };
-        let sides = if nf == 0 { grown } else { adapt(grown, &group_fv, &cfg.influence)? };
-        individuals.push(Individual::new(gi.centre, gi.heading, sides, members.clone(), joined, cfg));
+        individuals.push(individual_of(cfg, people, features, robots, members, joined)?);
     }
     Ok(Perception { groups, robot_joins, individuals })
+}
+
+/// The individual of one detected group (Sousa 2022 §3.3.4): a person alone with their own
+/// Gaussian (its sides adapted by their features), or an interaction, its `members` (indices
+/// into `people`) plus the `joined` robots (indices into `robots`, taking part as people), as
+/// one individual whose Gaussian covers them all and keeps a person's margin beyond them.
+pub fn individual_of(
+    cfg: &ProxemicsConfig,
+    people: &[PersonState],
+    features: &[Vec<f64>],
+    robots: &[RobotDisc],
+    members: &[usize],
+    joined: Vec<usize>,
+) -> Result<Individual> {
+    let base = cfg.base_sides();
+    let fv_of = |i: usize| features.get(i).cloned().unwrap_or_default();
+    if members.len() == 1 && joined.is_empty() {
+        let i = members[0];
+        let sides = if cfg.features.is_empty() { base } else { adapt(base, &fv_of(i), &cfg.influence)? };
+        return Ok(Individual::new(people[i].pos, people[i].heading, sides, vec![i], vec![], cfg));
+    }
+    // Members of the interaction: the people plus the robots that joined it (as people).
+    let mut states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
+    for &k in &joined {
+        let r = &robots[k];
+        let toward = people[members[0]].pos - r.pos;
+        states.push(PersonState { pos: r.pos, heading: toward.y.atan2(toward.x), vel: r.vel });
+    }
+    let nf = cfg.features.len();
+    let group_fv: Vec<f64> = if nf == 0 {
+        Vec::new()
+    } else {
+        // One aggregated value per feature (Sousa 2022 §3.3.4); robots carry no features.
+        (0..nf)
+            .map(|f| {
+                let vals: Vec<f64> =
+                    members.iter().map(|&i| fv_of(i).get(f).copied().unwrap_or(1.0)).collect();
+                let member_states: Vec<PersonState> = members.iter().map(|&i| people[i]).collect();
+                group_as_individual(&member_states, &vals, cfg.aggregate).map(|gi| gi.feature)
+            })
+            .collect::<Result<Vec<f64>>>()?
+    };
+    let ones = vec![1.0; states.len()];
+    let gi = group_as_individual(&states, &ones, cfg.aggregate)?;
+    // The group's Gaussian covers its members and keeps a person's margin beyond them.
+    let grown = Asymmetric {
+        front: base.front + gi.front,
+        rear: base.rear + gi.rear,
+        right: base.right + gi.right,
+        left: base.left + gi.left,
+    };
+    let sides = if nf == 0 { grown } else { adapt(grown, &group_fv, &cfg.influence)? };
+    Ok(Individual::new(gi.centre, gi.heading, sides, members.to_vec(), joined, cfg))
 }
 
 #[cfg(test)]
