@@ -386,16 +386,24 @@ def test_daza_fig15_robots_meet_without_colliding(daza_runs):
     assert all(len(r.others) == 3 for r in daza_runs["daza2021_fig15"])
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="measured on seeds 1000-1004: `sousa2022_astar` comes within zone distance 0.36-0.68 m of a "
-    "person or group on Fig. 16 (plain A* 0.78-0.91 m) and 0.91-0.96 m on Fig. 17 (plain A* 0.75-0.81 m), "
-    "under the 1.0 m personal radius, measured on the Gaussians perceived at the start (the people "
-    "react and shift as the robot nears). Not the partial goal: moved past the keep-out regions (it "
-    "was inside them before), it gives no better figures (before: 0.56-0.78 m and 0.92-0.96 m). The cost-map path of "
-    "`sousa2022` keeps 1.09-1.14 m",
+@pytest.mark.parametrize(
+    "scene",
+    [
+        pytest.param(
+            "sousa2022_fig16",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="measured on seeds 1000-1004, the people standing still: `sousa2022_astar` keeps "
+                "out of every personal space on 3 of 5 (zone distance 1.10 m); on seeds 1002 and 1004 it "
+                "comes within 0.68 and 0.67 m of group 1 (plain A* 0.78-0.91 m on the five). Measured "
+                "cause: Social Momentum's way round group 1 makes no progress within the monitor's window, "
+                "and the recovery (ORCA among everyone keeping out of the intimate zones only, as every "
+                "planner but `social` recovers) passes the group; on tuning seeds 0-9 it kept out on 6 of 10",
+            ),
+        ),
+        "sousa2022_fig17",
+    ],
 )
-@pytest.mark.parametrize("scene", ["sousa2022_fig16", "sousa2022_fig17"])
 def test_sousa_gaussian_social_momentum_keeps_plain_astar_out_of_personal_spaces(scene):
     """Sect. 4.5, Figs. 16-17: the A* path (blue) crosses personal spaces; "combining the proposed
     approach with social momentum (red line)" respects them. `sousa2022_astar` is that pairing:

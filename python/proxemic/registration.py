@@ -14,8 +14,8 @@ ENV_IDS: dict[str, str] = {
     "proxemic/Daza2021Path3-v4": "daza2021_path3",
     "proxemic/Daza2021Path4-v4": "daza2021_path4",
     "proxemic/Daza2021Path5-v5": "daza2021_path5",
-    "proxemic/Sousa2022Fig16-v4": "sousa2022_fig16",
-    "proxemic/Sousa2022Fig17-v4": "sousa2022_fig17",
+    "proxemic/Sousa2022Fig16-v5": "sousa2022_fig16",
+    "proxemic/Sousa2022Fig17-v5": "sousa2022_fig17",
     "proxemic/CalderitaExp1-v5": "calderita_exp1",
     "proxemic/CalderitaExp2-v4": "calderita_exp2",
 }
