@@ -27,6 +27,7 @@ from proxemic.reproduce import (
     scene_of,
 )
 from proxemic.social import SocialMap
+from proxemic.world import PLANNER_MODES
 
 #: The papers' own planners, in the core once the planner branches are merged.
 OWN = {"daza2021": "daza2021", "sousa2022": "sousa2022", "calderita": "calderita"}
@@ -289,8 +290,11 @@ def test_reproduce_table_prints_published_ours_ratio_and_mechanism(tmp_path):
             )
             for r in recs
         ]
+        # The mechanism needs each episode's planner modes, which the CSV does not hold: the same
+        # episodes are run again, kept.
+        kept = [run_task((exp.scene, "daza2021", int(r["seed"])), keep=True) for r in recs]
         held = (
-            sum(reproduce.MECHANISMS[exp.mechanism].happened(r, exp.scene) for r in results)
+            sum(reproduce.MECHANISMS[exp.mechanism].happened(r, exp.scene) for r in kept)
             if exp.scene != "daza2021_fig15"
             else None
         )
@@ -303,6 +307,26 @@ def test_reproduce_table_prints_published_ours_ratio_and_mechanism(tmp_path):
                     mean = sum(values) / 2
                     assert row[3].startswith(f"{mean:.2f} ["), row
                     assert row[4] == f"{mean / exp.published['l_ratio']:.2f}", row
+
+
+def test_daza_mechanisms_read_the_planner_modes_of_the_kept_episode():
+    """A detour counts only where Social Momentum ran (Sect. 5.3-5.6), Fig. 15 only where ORCA did."""
+    detour = reproduce.MECHANISMS["daza_detour"].happened
+    bent = {"l_ratio": 0.9, "smooth_rad": 0.3}
+    assert detour(EpisodeResult({**bent}, modes=["follow_path", "social_momentum"]), "daza2021_path1")
+    assert not detour(EpisodeResult({**bent}, modes=["follow_path", "wait"]), "daza2021_path1")
+    assert not detour(EpisodeResult({**bent}), "daza2021_path1")  # modes not kept: not shown
+    kept = run_task(("daza2021_path1", "daza2021", 0), keep=True)
+    assert kept.robot is not None and kept.modes is not None
+    assert len(kept.modes) == len(kept.robot) - 1  # one mode per control step
+    assert set(kept.modes) <= set(PLANNER_MODES) and "social_momentum" in kept.modes
+    team = run_task(("daza2021_fig15", "daza2021", 0), keep=True)
+    assert all(r.modes and set(r.modes) <= set(PLANNER_MODES) for r in [team, *team.others])
+    orca_team = reproduce.MECHANISMS["daza_orca_team"].happened
+    assert orca_team(team, "daza2021_fig15")
+    for r in [team, *team.others]:
+        r.modes = ["follow_path"]
+    assert not orca_team(team, "daza2021_fig15")
 
 
 def test_unknown_mechanism_is_a_typed_error():

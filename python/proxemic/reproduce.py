@@ -141,21 +141,26 @@ def register_mechanism(key: str, description: str) -> Callable[[Callable[..., bo
 
 @register_mechanism(
     "daza_detour",
-    "the robot detours from the A* path and reaches the goal (L_ratio < 1 and Smooth > 0, Sect. 5.3-5.6)",
+    "Social Momentum bends the robot off the A* path and it reaches the goal (it ran in Social Momentum "
+    "mode, L_ratio < 1 and Smooth > 0, Sect. 5.3-5.6)",
 )
 def _daza_detour(result: EpisodeResult, scene: str | _core.Scenario) -> bool:
     rec = result.record
     l_ratio, smooth = rec.get("l_ratio"), rec.get("smooth_rad")
-    return l_ratio is not None and smooth is not None and l_ratio < 1.0 and smooth > 0.0
+    bent = result.modes is not None and "social_momentum" in result.modes
+    return bent and l_ratio is not None and smooth is not None and l_ratio < 1.0 and smooth > 0.0
 
 
 @register_mechanism(
     "daza_orca_team",
-    "every robot reaches its common-point goal without a collision (ORCA among robots, Fig. 15)",
+    "the robots that meet avoid each other with ORCA (at least two run it; one never in another's "
+    "collision cone follows its path, lines 9-10) and every robot reaches its common-point goal "
+    "without a collision (Fig. 15)",
 )
 def _daza_orca_team(result: EpisodeResult, scene: str | _core.Scenario) -> bool:
     team = [result, *result.others]
-    return len(team) > 1 and all(r.record["outcome"] == "success" for r in team)
+    orca = sum(r.modes is not None and "orca" in r.modes for r in team)
+    return len(team) > 1 and orca >= 2 and all(r.record["outcome"] == "success" for r in team)
 
 
 @register_mechanism(

@@ -32,6 +32,10 @@ class EpisodeRecord:
     total_reward: float = 0.0
     people_heading: np.ndarray | None = field(default=None, repr=False)
     """(T + 1, P) people headings (rad), beside ``people``."""
+    modes: list[str] | None = field(default=None, repr=False)
+    """The built-in planner's mode at each of the T control steps (``info["planner_mode"]``, e.g.
+    ``"follow_path"``, ``"social_momentum"``, ``"orca"``, ``"wait"``); None when the env skips
+    the planner (``planner_actions=False``)."""
 
     def row(self) -> dict[str, Any]:
         """A flat row for tables: seed, planner, outcome and the scalar metrics."""
@@ -72,10 +76,16 @@ def run_episode(
         people, headings = [now[:, :2]], [now[:, 2]]
         path = env.planned_path()
         total = 0.0
+        modes: list[str] | None = []
         while True:
             action = env.action_space.sample() * 0.0 if policy is None else policy(obs)
             obs, reward, terminated, truncated, info = env.step(action)
             total += reward
+            mode = info.get("planner_mode")
+            if mode is None:
+                modes = None
+            elif modes is not None:
+                modes.append(mode)
             now = env.people()
             people.append(now[:, :2])
             headings.append(now[:, 2])
@@ -92,6 +102,7 @@ def run_episode(
             path=path,
             total_reward=total,
             people_heading=np.array(headings),
+            modes=modes,
         )
     finally:
         if own:

@@ -74,3 +74,7 @@ class EpisodeResult:
     """On a multi-robot scene, the other robots' records of the same episode (robot 1, 2, ...)."""
     people_heading: np.ndarray | None = field(default=None, repr=False)
     """(T + 1, P) the people's headings (rad) beside ``people`` (single-robot episodes)."""
+    modes: list[str] | None = field(default=None, repr=False)
+    """The robot's built-in planner mode at each control step while its episode ran (kept with the
+    trajectories; None when not kept or no planner ran): ``"follow_path"``, ``"social_momentum"``,
+    ``"orca"``, ``"wait"``, ..."""

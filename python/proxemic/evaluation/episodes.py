@@ -114,7 +114,9 @@ def run_task(task: Task, keep: bool = False) -> EpisodeResult:
     }
     record.update(flatten_metrics(rec.metrics, env.scenario))
     if keep:
-        return EpisodeResult(record, rec.robot, rec.people, rec.path, people_heading=rec.people_heading)
+        return EpisodeResult(
+            record, rec.robot, rec.people, rec.path, people_heading=rec.people_heading, modes=rec.modes
+        )
     return EpisodeResult(record)
 
 
@@ -131,6 +133,9 @@ def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
     path = env.planned_path() if keep else None
     people = [env.people()[:, :2]] if keep else []
     totals = np.zeros(ws.num_robots)
+    robots = list(range(ws.num_robots))
+    modes: list[list[str]] = [[] for _ in robots]
+    running = [True] * ws.num_robots
     first_running = True
     while True:
         ws.step()
@@ -138,7 +143,12 @@ def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
         totals += [r for r, _, _ in outcome]
         if keep and first_running:  # the people while robot 0 runs, as the single-robot env gives
             people.append(env.people()[:, :2])
-        first_running = not (outcome[0][1] or outcome[0][2])
+        if keep:  # each robot's planner mode while its episode runs
+            for i, info in zip(robots, ws.infos(robots), strict=True):
+                if running[i] and "planner_mode" in info:
+                    modes[i].append(info["planner_mode"])
+        running = [not (t or u) for _, t, u in outcome]
+        first_running = running[0]
         if all(t or u for _, t, u in outcome):
             break
     results = []
@@ -157,6 +167,8 @@ def _run_team(env: Any, seed: int, planner: str, keep: bool) -> EpisodeResult:
     first = results[0]
     if keep:
         first.robot, first.people, first.path = np.asarray(env.world.trajectory(0)), np.array(people), path
+        for result, robot_modes in zip(results, modes, strict=True):
+            result.modes = robot_modes or None
     first.others = results[1:]
     return first
 
