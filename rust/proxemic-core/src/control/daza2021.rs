@@ -355,10 +355,11 @@ pub fn daza2021_agents(
 /// stand there, otherwise the first point on along the path, every 0.1 m, outside every agent's
 /// keep-out region (a person's intimate disc, a group's o-space, with Sousa's Gaussians the
 /// personal contour; the collision filter's bounds): a goal inside a region the filter forbids
-/// would have Social Momentum push the robot against the people standing on the path. Returns the desired
-/// velocity, or `None` when every sample collides (the robot waits) or stopping is the only
-/// safe choice. `unicycle` is `Some` for a differential-drive robot: Social Momentum under its
-/// kinematic constraint (see [`social_momentum_shaped`]).
+/// would have Social Momentum push the robot against the people standing on the path.
+///
+/// Returns the desired velocity, or `None` when every sample collides (the robot waits) or
+/// stopping is the only safe choice. `unicycle` is `Some` for a differential-drive robot: Social
+/// Momentum under its kinematic constraint (see [`social_momentum_shaped`]).
 #[allow(clippy::too_many_arguments)]
 pub fn daza2021_social_momentum(
     robot: &RobotState,
@@ -472,7 +473,7 @@ fn points_ahead(path: &[Vec2], pos: Vec2, distance: f64, step: f64) -> impl Iter
 const CLEAR_GOAL_STEP: f64 = 0.1;
 
 /// Lines 16 and 19's partial goal, moved on along the path past the keep-out regions of the
-/// `agents` Social Momentum avoids (module docs of [`daza2021_social_momentum`]): the first of the
+/// `agents` Social Momentum avoids (see [`daza2021_social_momentum`]): the first of the
 /// path's points from `distance` (m) ahead of the point nearest the robot, then every
 /// [`CLEAR_GOAL_STEP`], where the robot's centre would be outside every agent's keep-out region
 /// (the collision filter's: a disc's `radius + r_i + margin`, a Gaussian's keep-out zone distance
@@ -493,14 +494,9 @@ fn clear_partial_goal(
                 || matches!(shape, AgentShape::Gaussian(g) if g.zone_distance(d) < g.keep_out() + margin)
         })
     };
-    let mut last = path[path.len() - 1];
-    for p in points_ahead(path, robot.pos, distance, CLEAR_GOAL_STEP) {
-        if !blocked(p) {
-            return p;
-        }
-        last = p;
-    }
-    last
+    points_ahead(path, robot.pos, distance, CLEAR_GOAL_STEP)
+        .find(|&p| !blocked(p))
+        .unwrap_or(path[path.len() - 1])
 }
 
 fn validate(
