@@ -354,8 +354,9 @@ pub fn daza2021_agents(
 /// decision's partial goal ([`Daza2021Params::partial_goal_distance`] ahead) when the robot could
 /// stand there, otherwise the first point on along the path, every 0.1 m, outside every agent's
 /// keep-out region (a person's intimate disc, a group's o-space, with Sousa's Gaussians the
-/// personal contour; the collision filter's bounds): a goal inside a region the filter forbids
-/// would have Social Momentum push the robot against the people standing on the path.
+/// personal contour; the collision filter's bounds) and in the robot's sight: a goal inside a
+/// region the filter forbids would have Social Momentum push the robot against the people
+/// standing on the path, and one round a corner would have it cut the corner.
 ///
 /// Returns the desired velocity, or `None` when every sample collides (the robot waits) or
 /// stopping is the only safe choice. `unicycle` is `Some` for a differential-drive robot: Social
@@ -380,7 +381,15 @@ pub fn daza2021_social_momentum(
     let goal = if path.is_empty() {
         decision.partial_goal
     } else {
-        clear_partial_goal(path, robot, params.partial_goal_distance, &agents, &shapes, sm.safety_margin)
+        clear_partial_goal(
+            path,
+            robot,
+            params.partial_goal_distance,
+            &agents,
+            &shapes,
+            sm.safety_margin,
+            geometry,
+        )
     };
     let v = social_momentum_shaped(
         robot.pos,
@@ -473,11 +482,14 @@ fn points_ahead(path: &[Vec2], pos: Vec2, distance: f64, step: f64) -> impl Iter
 const CLEAR_GOAL_STEP: f64 = 0.1;
 
 /// Lines 16 and 19's partial goal, moved on along the path past the keep-out regions of the
-/// `agents` Social Momentum avoids (see [`daza2021_social_momentum`]): the first of the
-/// path's points from `distance` (m) ahead of the point nearest the robot, then every
+/// `agents` Social Momentum avoids (see [`daza2021_social_momentum`]): the first of the path's
+/// points from `distance` (m) ahead of the point nearest the robot, then every
 /// [`CLEAR_GOAL_STEP`], where the robot's centre would be outside every agent's keep-out region
 /// (the collision filter's: a disc's `radius + r_i + margin`, a Gaussian's keep-out zone distance
-/// plus `margin`); the path's last point when none is.
+/// plus `margin`) and that the robot sees (the straight segment to it crosses no wall of
+/// `geometry`). The walk stops at the first point out of sight, so the goal never moves round a
+/// corner: when no point before it is free, the first point (`distance` ahead) is the goal, as
+/// when the path ends first.
 fn clear_partial_goal(
     path: &[Vec2],
     robot: &RobotState,
@@ -485,6 +497,7 @@ fn clear_partial_goal(
     agents: &[Agent],
     shapes: &[AgentShape],
     margin: f64,
+    geometry: Option<&StaticGeometry>,
 ) -> Vec2 {
     let blocked = |p: Vec2| {
         agents.iter().zip(shapes).any(|(a, shape)| {
@@ -494,9 +507,12 @@ fn clear_partial_goal(
                 || matches!(shape, AgentShape::Gaussian(g) if g.zone_distance(d) < g.keep_out() + margin)
         })
     };
+    let seen = |p: Vec2| geometry.is_none_or(|g| !g.segment_hits(robot.pos, p));
+    let first = point_ahead(path, robot.pos, distance);
     points_ahead(path, robot.pos, distance, CLEAR_GOAL_STEP)
+        .take_while(|&p| seen(p))
         .find(|&p| !blocked(p))
-        .unwrap_or(path[path.len() - 1])
+        .unwrap_or(first)
 }
 
 fn validate(
@@ -664,7 +680,7 @@ mod tests {
         let goal = |objects: &[MobileObject], groups: &[Vec<usize>]| {
             let d = decide(objects, groups);
             let (agents, shapes) = daza2021_agents(&me(), objects, groups, &d, PeopleSpaces::Intimate, &p);
-            clear_partial_goal(&PATH, &me(), p.partial_goal_distance, &agents, &shapes, margin)
+            clear_partial_goal(&PATH, &me(), p.partial_goal_distance, &agents, &shapes, margin, None)
         };
         // Nobody near the point 1.5 m ahead: the decision's partial goal.
         assert_eq!(goal(&[person(1.5, 3.0)], &[]), v(1.5, 0.0));
@@ -676,19 +692,31 @@ mod tests {
         // radius 0.55 m, bound 0.25 + 0.55 + 0.1 m: up to 2.95 m).
         let g = goal(&[person(2.05, 0.55), person(2.05, -0.55)], &[vec![0, 1]]);
         assert!((g - v(3.0, 0.0)).norm() < 1e-9, "{g:?}");
-        // Every point of the path blocked: its last point.
+        // Every point of the path blocked: the decision's partial goal, 1.5 m ahead.
         let short = [v(0.0, 0.0), v(2.0, 0.0)];
         let d = decide(&[person(1.9, 0.0)], &[]);
         let (agents, shapes) =
             daza2021_agents(&me(), &[person(1.9, 0.0)], &[], &d, PeopleSpaces::Intimate, &p);
-        assert_eq!(clear_partial_goal(&short, &me(), 1.5, &agents, &shapes, margin), v(2.0, 0.0));
+        assert_eq!(clear_partial_goal(&short, &me(), 1.5, &agents, &shapes, margin, None), v(1.5, 0.0));
         // The steps continue across the path's corners.
         let bent = [v(0.0, 0.0), v(1.0, 0.0), v(1.0, 5.0)];
         let d = decide(&[person(1.0, 0.65)], &[]);
         let (agents, shapes) =
             daza2021_agents(&me(), &[person(1.0, 0.65)], &[], &d, PeopleSpaces::Intimate, &p);
-        let g = clear_partial_goal(&bent, &me(), 1.5, &agents, &shapes, margin);
+        let g = clear_partial_goal(&bent, &me(), 1.5, &agents, &shapes, margin, None);
         assert!((g - v(1.0, 1.3)).norm() < 1e-9, "{g:?}");
+        // Never round a corner: behind a wall the walk stops, and the goal stays 1.5 m ahead.
+        let corner = [v(0.0, 0.0), v(2.0, 0.0), v(2.0, 3.0)];
+        let someone = [person(1.65, 0.0)];
+        let d = decide(&someone, &[]);
+        let (agents, shapes) = daza2021_agents(&me(), &someone, &[], &d, PeopleSpaces::Intimate, &p);
+        let open = clear_partial_goal(&corner, &me(), 1.5, &agents, &shapes, margin, None);
+        assert!(open.x == 2.0 && open.y > 0.0, "round the corner in the open: {open:?}");
+        let bounds = crate::map::geometry::Bounds { min: v(-1.0, -1.0), max: v(4.0, 4.0) };
+        let block = vec![v(0.3, 0.2), v(1.7, 0.2), v(1.7, 1.5), v(0.3, 1.5)];
+        let walls = StaticGeometry::new(vec![block], bounds).expect("valid geometry");
+        let g = clear_partial_goal(&corner, &me(), 1.5, &agents, &shapes, margin, Some(&walls));
+        assert_eq!(g, v(1.5, 0.0), "the corner's far side is out of sight");
     }
 
     #[test]
