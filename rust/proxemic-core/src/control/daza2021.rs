@@ -500,12 +500,7 @@ fn clear_partial_goal(
     geometry: Option<&StaticGeometry>,
 ) -> Vec2 {
     let blocked = |p: Vec2| {
-        agents.iter().zip(shapes).any(|(a, shape)| {
-            let d = p - a.pos;
-            let bound = robot.radius + a.radius + margin;
-            d.norm_squared() < bound * bound
-                || matches!(shape, AgentShape::Gaussian(g) if g.zone_distance(d) < g.keep_out() + margin)
-        })
+        agents.iter().zip(shapes).any(|(a, shape)| shape.holds(p - a.pos, robot.radius, a.radius, margin))
     };
     let seen = |p: Vec2| geometry.is_none_or(|g| !g.segment_hits(robot.pos, p));
     let first = point_ahead(path, robot.pos, distance);

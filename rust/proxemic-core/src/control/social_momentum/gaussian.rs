@@ -52,6 +52,19 @@ pub enum AgentShape {
     Gaussian(GaussianSpace),
 }
 
+impl AgentShape {
+    /// Whether a robot of radius `robot_radius` (m) whose centre is at offset `d` (m) from an
+    /// agent of radius `agent_radius` (m) is inside this shape's keep-out region grown by `margin`
+    /// (m): the collision filter's region of [`super::social_momentum_shaped`] (centre distance
+    /// below `robot_radius + agent_radius + margin`, or for a Gaussian a zone distance below
+    /// `keep_out + margin`), computed as the filter computes it.
+    pub fn holds(&self, d: Vec2, robot_radius: f64, agent_radius: f64, margin: f64) -> bool {
+        let bound = robot_radius + agent_radius + margin;
+        d.norm_squared() < bound * bound
+            || matches!(self, AgentShape::Gaussian(g) if g.exponent(d) < g.level(margin))
+    }
+}
+
 /// A fully asymmetric Gaussian (Sousa 2022 eq. 5-8) as a keep-out region, moving with its agent.
 ///
 /// The centre is the agent's position ([`super::Agent::pos`]); this holds the orientation, the
