@@ -10,7 +10,15 @@ Two kinds of training set:
   each episode seeded from the env's own sequence;
 * ``--scenario generated-tuning``: generated scenes of the tuning split
   (``proxemic.splits.TUNING_SCENE_SEEDS``, the 12 x 12 m size ``GENERATED_SIZE`` so that every
-  scene has the same observation bounds), a fresh scene drawn at every reset.
+  scene has the same observation bounds), a fresh scene drawn at every reset;
+* ``--scenario mixed-tuning``: half the resets a generated scene of the tuning split at the
+  generator's default size (24 x 16 m, the claims suites' size), the other half the museum or
+  the care center with an episode seed of the tuning split (how the shipped ``learned`` policy
+  was trained, ``docs/learned.md``).
+
+``--subgoal M`` adds the ``subgoal`` observation key: the point M metres along the shortest path
+to the goal, in the robot's frame (``[sensors] subgoal``), the way round walls that the straight
+goal offset does not give.
 
 The observation dict is flattened and scaled to about [-1, 1] by
 :class:`proxemic.policy.FlatObservation` (so SB3's plain ``MlpPolicy`` applies); the env's reward
@@ -54,6 +62,11 @@ DEFAULT_SCENE = "daza2021_path3"
 DEFAULT_MODEL = Path("out/ppo") / f"ppo_{DEFAULT_SCENE}.zip"
 #: The training set of generated scenes of the tuning split.
 GENERATED_SET = "generated-tuning"
+#: The training set of generated scenes (the generator's default size, as the claims suites' set)
+#: and the bundled museum and care center, tuning split.
+MIXED_SET = "mixed-tuning"
+#: The bundled scenes of ``MIXED_SET``.
+MIXED_BUNDLED = ("museum", "care_center")
 #: Generated scenes' size in the training set (m): the generator's smallest, one size for all so
 #: that the goal-offset bounds (the map diagonal), hence the observation space, agree.
 GENERATED_SIZE = {"width": 12.0, "height": 12.0}
@@ -61,66 +74,117 @@ GENERATED_SIZE = {"width": 12.0, "height": 12.0}
 CURVE_WINDOW = 50
 
 
-def make_env(scenario: str) -> Any:
+def make_env(scenario: str, subgoal: float = 0.0) -> Any:
     """The single-robot env of `scenario` with flat, scaled observations.
 
-    ``GENERATED_SET`` gives a :class:`SceneCycle` over generated scenes of the tuning split.
+    ``GENERATED_SET`` gives a :class:`SceneCycle` over generated scenes of the tuning split,
+    ``MIXED_SET`` one over those and the museum and care center (tuning episode seeds).
+    `subgoal` > 0 adds the ``subgoal`` observation key with that look-ahead (metres).
     """
     if scenario == GENERATED_SET:
-        return SceneCycle()
+        return SceneCycle(subgoal)
+    if scenario == MIXED_SET:
+        return SceneCycle(subgoal, MIXED_BUNDLED, size=None)
     from proxemic.env import ProxemicEnv
 
-    return flat_observation_env(ProxemicEnv(scenario))
+    return flat_observation_env(ProxemicEnv(scenario, subgoal=subgoal))
 
 
 class SceneCycle(gym.Env):
-    """A gymnasium env that loads a generated scene of the tuning split at every reset.
+    """A gymnasium env that draws a scene of the tuning split at every reset.
 
-    The scene seed is drawn from ``proxemic.splits.TUNING_SCENE_SEEDS`` by the env's own random
-    generator (seeded by ``reset(seed=...)``), and the episode seed is the scene seed, as in the
-    claims suites. Observations are flat and scaled (:class:`proxemic.policy.FlatObservation`);
-    every scene has the same spaces because every scene has the same size (``GENERATED_SIZE``).
+    Without `bundled`, a generated scene: its seed is drawn from
+    ``proxemic.splits.TUNING_SCENE_SEEDS`` by the env's own random generator (seeded by
+    ``reset(seed=...)``), and the episode seed is the scene seed, as in the claims suites; its
+    size is `size` (``GENERATED_SIZE`` by default; None: the generator's default, 24 x 16 m, the
+    size of the claims suites' generated scene set). With `bundled` (scene names), half the
+    resets draw a generated scene so, the other half one of the bundled scenes (each as likely)
+    with an episode seed from ``proxemic.splits.TUNING_EPISODE_SEEDS``. Observations are flat and
+    scaled (:class:`proxemic.policy.FlatObservation`) by one scale for every scene: each key's
+    widest bound over the generated scenes' size and the bundled scenes.
     """
 
     metadata: dict[str, Any] = {"render_modes": []}  # noqa: RUF012 (gymnasium declares it an instance variable)
 
-    def __init__(self) -> None:
-        """Builds the first scene to read the spaces from."""
-        from proxemic.splits import TUNING_SCENE_SEEDS
+    def __init__(
+        self,
+        subgoal: float = 0.0,
+        bundled: tuple[str, ...] = (),
+        size: dict[str, float] | None = GENERATED_SIZE,
+    ) -> None:
+        """Builds the scenes to read the spaces from (`subgoal`: the ``subgoal`` key's look-ahead, m)."""
+        from proxemic.env import ProxemicEnv
+        from proxemic.splits import TUNING_EPISODE_SEEDS, TUNING_SCENE_SEEDS
 
+        self._subgoal = subgoal
+        self._size = size or {}
         self._seeds = TUNING_SCENE_SEEDS
+        self._episode_seeds = TUNING_EPISODE_SEEDS
+        self._bundled = {name: ProxemicEnv(name, subgoal=subgoal) for name in bundled}
         self._env = self._load(self._seeds[0])
-        self.observation_space = self._env.observation_space
+        self._generated_space = self._env.observation_space
+        self.flat = FlatObservation(
+            _widest([self._generated_space, *(e.observation_space for e in self._bundled.values())])
+        )
+        self.observation_space = self.flat.space
         self.action_space = self._env.action_space
         self.scene_seed = self._seeds[0]
+        self.scene = self._env.scenario["scene"]["name"]
 
     def _load(self, seed: int) -> Any:
         from proxemic.env import ProxemicEnv
         from proxemic.scenarios import generated_name
 
-        return flat_observation_env(ProxemicEnv(generated_name(seed, **GENERATED_SIZE)))
+        return ProxemicEnv(generated_name(seed, **self._size), subgoal=self._subgoal)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict]:
-        """Draws a scene seed, loads the scene and resets it with that seed."""
+        """Draws a scene (and its seed), loads it if generated, and resets it with that seed."""
         super().reset(seed=seed)
-        scene = int(self._seeds[int(self.np_random.integers(len(self._seeds)))])
-        self._env.close()
-        self._env = self._load(scene)
-        if self._env.observation_space != self.observation_space:
-            raise RuntimeError(
-                f"generated scene {scene}: observation space {self._env.observation_space} differs from "
-                f"the first scene's {self.observation_space}"
-            )
-        self.scene_seed = scene
-        return self._env.reset(seed=scene, options=options)
+        if self._bundled and self.np_random.random() < 0.5:
+            names = sorted(self._bundled)
+            self.scene = names[int(self.np_random.integers(len(names)))]
+            self._env = self._bundled[self.scene]
+            episode = int(self._episode_seeds[int(self.np_random.integers(len(self._episode_seeds)))])
+        else:
+            scene = int(self._seeds[int(self.np_random.integers(len(self._seeds)))])
+            if self._env not in self._bundled.values():
+                self._env.close()
+            self._env = self._load(scene)
+            if self._env.observation_space != self._generated_space:
+                raise RuntimeError(
+                    f"generated scene {scene}: observation space {self._env.observation_space} differs from "
+                    f"the first scene's {self._generated_space}"
+                )
+            self.scene_seed = episode = scene
+            self.scene = self._env.scenario["scene"]["name"]
+        obs, info = self._env.reset(seed=episode, options=options)
+        return self.flat(obs), info
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
         """One step of the current scene."""
-        return self._env.step(action)
+        obs, reward, terminated, truncated, info = self._env.step(action)
+        return self.flat(obs), reward, terminated, truncated, info
 
     def close(self) -> None:
-        """Closes the current scene's env."""
+        """Closes every scene's env."""
         self._env.close()
+        for env in self._bundled.values():
+            env.close()
+
+
+def _widest(observation_spaces: list[Any]) -> Any:
+    """One ``Dict`` space whose every key's bounds are the widest of `observation_spaces` (same keys and shapes)."""
+    first = observation_spaces[0]
+    return gym.spaces.Dict(
+        {
+            key: gym.spaces.Box(
+                np.min([s[key].low for s in observation_spaces], axis=0),
+                np.max([s[key].high for s in observation_spaces], axis=0),
+                dtype=np.float32,
+            )
+            for key in first.spaces
+        }
+    )
 
 
 def _curve_callback_base() -> type:
@@ -207,15 +271,18 @@ class LearningCurve:
         plt.close(fig)
 
 
-def build_model(scenario: str, seed: int = 0, n_envs: int = 2, n_steps: int = 1024) -> Any:
-    """An untrained PPO (SB3 defaults but `n_steps`, batch 256, 5 epochs) on `n_envs` copies of the env."""
+def build_model(scenario: str, seed: int = 0, n_envs: int = 2, n_steps: int = 1024, subgoal: float = 0.0) -> Any:
+    """An untrained PPO (SB3 defaults but `n_steps`, batch 256, 5 epochs) on `n_envs` copies of the env.
+
+    `subgoal` > 0: the env's observation has the ``subgoal`` key with that look-ahead (metres).
+    """
     torch: Any = require_extra("torch", "rl", "the PPO example")
     PPO = require_extra("stable_baselines3", "rl", "the PPO example").PPO
     make_vec_env = require_extra("stable_baselines3.common.env_util", "rl", "the PPO example").make_vec_env
     Logger = require_extra("stable_baselines3.common.logger", "rl", "the PPO example").Logger
 
     torch.set_num_threads(1)  # a small MLP: threads only contend on a shared machine
-    vec = make_vec_env(lambda: make_env(scenario), n_envs=n_envs, seed=seed)
+    vec = make_vec_env(lambda: make_env(scenario, subgoal), n_envs=n_envs, seed=seed)
     model = PPO(
         "MlpPolicy",
         vec,
@@ -247,14 +314,16 @@ def train(
     n_envs: int = 2,
     n_steps: int = 1024,
     model: Any = None,
+    subgoal: float = 0.0,
 ) -> Path:
     """Trains PPO for `steps` env steps; returns the saved model's path.
 
     `n_steps` is the rollout length per env between updates; `model` (from :func:`build_model`)
-    is trained instead of a new one. The learning curve goes to ``OUT/curve_<scene>.csv`` and
-    ``.png``; env steps per second and wall time are printed.
+    is trained instead of a new one; `subgoal` > 0 adds the ``subgoal`` observation key. The
+    learning curve goes to ``OUT/curve_<scene>.csv`` and ``.png``; env steps per second and wall
+    time are printed.
     """
-    model = model if model is not None else build_model(scenario, seed, n_envs, n_steps)
+    model = model if model is not None else build_model(scenario, seed, n_envs, n_steps, subgoal)
     curve = LearningCurve()
     t0 = time.perf_counter()
     model.learn(total_timesteps=steps, callback=curve.callback())
@@ -274,29 +343,28 @@ def train(
     return path
 
 
-def input_scale(scenario: str) -> np.ndarray:
+def input_scale(scenario: str, subgoal: float = 0.0) -> np.ndarray:
     """The divisors :class:`FlatObservation` applies to `scenario`'s observation, flattened in its key order."""
-    from proxemic.env import ProxemicEnv
-    from proxemic.scenarios import generated_name
-
-    name = generated_name(0, **GENERATED_SIZE) if scenario == GENERATED_SET else scenario
-    env = ProxemicEnv(name)
-    flat = FlatObservation(env.observation_space)
+    env = make_env(scenario, subgoal)
+    flat = env.flat if isinstance(env, SceneCycle) else FlatObservation(env.unwrapped.observation_space)
     env.close()
-    return np.concatenate([np.broadcast_to(flat.scales[k], env.observation_space[k].shape).ravel() for k in flat.keys])
+    return np.concatenate([np.asarray(flat.scales[k]).ravel() for k in flat.keys])
 
 
-def export_policy(model: Any, scenario: str, path: Path) -> Path:
+def export_policy(model: Any, scenario: str, path: Path, subgoal: float = 0.0) -> Path:
     """Writes `model`'s deterministic policy as the ``.npz`` array file the core's ``learned`` planner reads.
 
     Arrays (float32): ``input_scale`` (the training scenes' observation divisors), then per layer
     ``w<k>`` (outputs x inputs) and ``b<k>``: SB3's ``MlpPolicy`` policy net (tanh after each
-    hidden layer) followed by its linear action head.
+    hidden layer) followed by its linear action head; with `subgoal` > 0 (the look-ahead the
+    model was trained with), ``subgoal`` (one value), so the core computes that input too.
     """
     policy = model.policy
     linears = [m for m in policy.mlp_extractor.policy_net if hasattr(m, "weight")]
     linears.append(policy.action_net)
-    arrays = {"input_scale": input_scale(scenario).astype(np.float32)}
+    arrays = {"input_scale": input_scale(scenario, subgoal).astype(np.float32)}
+    if subgoal > 0.0:
+        arrays["subgoal"] = np.array([subgoal], np.float32)
     for k, layer in enumerate(linears):
         arrays[f"w{k}"] = layer.weight.detach().cpu().numpy().astype(np.float32)
         arrays[f"b{k}"] = layer.bias.detach().cpu().numpy().astype(np.float32)
@@ -349,12 +417,21 @@ def make(observation_space: Any, action_space: Any) -> PPOPolicy:
 def main() -> None:
     """Trains, then evaluates the model against astar, astar_orca, astar_stop and social on the same seeds."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scenario", default=DEFAULT_SCENE, help=f"a scene name, or {GENERATED_SET}")
+    ap.add_argument(
+        "--scenario", default=DEFAULT_SCENE, help=f"a scene name, {GENERATED_SET} or {MIXED_SET} (training sets)"
+    )
     ap.add_argument("--steps", type=int, default=150_000, help="training env steps (default: 150000)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--n-envs", type=int, default=2, help="env copies stepped together (default: 2)")
     ap.add_argument("--episodes", type=int, default=20, help="evaluation episodes per policy (default: 20)")
     ap.add_argument("--out", default="out/ppo")
+    ap.add_argument(
+        "--subgoal",
+        type=float,
+        default=0.0,
+        metavar="M",
+        help="add the subgoal observation key, M metres along the shortest path (default 0: off)",
+    )
     ap.add_argument(
         "--export", metavar="NPZ", help="also write the policy as the learned planner's array file (docs/training.md)"
     )
@@ -367,11 +444,11 @@ def main() -> None:
             require_extra(module, "rl", "examples/train_ppo.py")
     except MissingExtraError as e:
         sys.exit(f"{e}\nFrom the repository root: pip install '.[rl]' (stable-baselines3, which brings torch)")
-    path = train(args.scenario, args.steps, Path(args.out), seed=args.seed, n_envs=args.n_envs)
+    path = train(args.scenario, args.steps, Path(args.out), seed=args.seed, n_envs=args.n_envs, subgoal=args.subgoal)
     if args.export:
         ppo = require_extra("stable_baselines3", "rl", "examples/train_ppo.py").PPO
-        print(f"exported {export_policy(ppo.load(path, device='cpu'), args.scenario, Path(args.export))}")
-    if args.scenario == GENERATED_SET or args.episodes == 0:
+        print(f"exported {export_policy(ppo.load(path, device='cpu'), args.scenario, Path(args.export), args.subgoal)}")
+    if args.scenario in (GENERATED_SET, MIXED_SET) or args.episodes == 0:
         return  # a scene set: evaluate with `proxemic eval` on the test split's generated scenes
     os.environ["PROXEMIC_PPO_MODEL"] = str(path.resolve())
     result = proxemic.evaluate(

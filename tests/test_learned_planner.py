@@ -31,7 +31,12 @@ def _numpy_policy():
     def act(obs):
         x = np.concatenate([np.asarray(obs[key], np.float32).ravel() for key in sorted(obs)]) / scale
         for j, (w, b) in enumerate(layers):
-            x = w @ x + b
+            # Each output's products summed in input order, in float32, as the core sums them
+            # (a BLAS matmul's order rounds differently, and an episode's dynamics amplify it).
+            z = np.zeros(w.shape[0], np.float32)
+            for i in range(w.shape[1]):
+                z += w[:, i] * x[i]
+            x = z + b
             if j < len(layers) - 1:
                 x = np.tanh(x)
         return np.clip(x, -1.0, 1.0).astype(np.float32)
@@ -44,15 +49,18 @@ def test_shipped_file_is_a_small_plain_array_file():
     assert SHIPPED.is_file()
     assert len(SHIPPED.read_bytes()) < 300_000
     assert all(a.dtype == np.float32 for a in arrays.values())
-    assert arrays["input_scale"].shape == (72 + 8 * 5 + 8 + 5,)
+    subgoal = 2 if float(arrays.get("subgoal", [0.0])[0]) > 0.0 else 0
+    assert arrays["input_scale"].shape == (72 + 8 * 5 + 8 + 5 + subgoal,)
     assert "learned" in PLANNERS
 
 
 @pytest.mark.parametrize("scenario", ["generated/7?width=12&height=12", "museum"])
 def test_core_learned_planner_drives_as_the_numpy_forward_pass(scenario):
-    act, _ = _numpy_policy()
+    act, arrays = _numpy_policy()
     auto = ProxemicEnv(scenario, planner="learned", autopilot=True)
-    driven = ProxemicEnv(scenario)
+    # The driven env observes the subgoal the policy was trained with (the core's planner
+    # computes it for itself: the autopilot env's observation has no such key).
+    driven = ProxemicEnv(scenario, subgoal=float(arrays.get("subgoal", [0.0])[0]))
     obs_a, _ = auto.reset(seed=3)
     obs_d, _ = driven.reset(seed=3)
     for step in range(120):

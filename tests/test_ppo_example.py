@@ -87,3 +87,31 @@ def test_scene_cycle_draws_tuning_scenes_with_one_observation_space():
     again.reset(seed=2)
     assert again.scene_seed == env.scene_seed  # the draw follows the reset seed
     assert len(drawn) > 1
+
+
+def test_mixed_set_draws_generated_and_bundled_scenes_on_one_scale():
+    example = _example()
+    env = example.make_env(example.MIXED_SET, 1.5)
+    drawn = set()
+    for seed in range(12):
+        obs, _ = env.reset(seed=seed)
+        assert env.observation_space.contains(obs), env.scene
+        drawn.add(env.scene if env.scene in example.MIXED_BUNDLED else "generated")
+        obs, *_ = env.step(np.zeros(3, np.float32))
+        assert env.observation_space.contains(obs), env.scene
+    assert drawn == {"generated", *example.MIXED_BUNDLED}
+    # One scale for every scene: the museum's goal offsets (its diagonal) bound the robot key's.
+    scale = example.input_scale(example.MIXED_SET, 1.5)
+    assert scale.shape == (72 + 8 * 5 + 8 + 5 + 2,)
+    assert scale[-2:].tolist() == [1.5, 1.5]  # the subgoal key, last in sorted order
+    env.close()
+
+
+def test_export_writes_the_subgoal_look_ahead_for_the_core(tmp_path):
+    example = _example()
+    model = example.build_model(SCENE, seed=0, n_envs=1, n_steps=64, subgoal=1.0)
+    path = example.export_policy(model, SCENE, tmp_path / "p.npz", subgoal=1.0)
+    with np.load(path) as f:
+        assert f["subgoal"].tolist() == [1.0]
+        assert f["input_scale"].shape == (72 + 8 * 5 + 8 + 5 + 2,)
+        assert f["w0"].shape[1] == f["input_scale"].shape[0]

@@ -85,10 +85,14 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     | ``people`` | (k, 5) | the k nearest people within sensor range: position (x, y) and velocity (vx, vy) in the robot frame, radius; zero rows beyond the mask |
     | ``people_mask`` | (k,) | 1 for a real person row, 0 for padding |
     | ``lidar`` | (rays,) | 2D range scan over 360 degrees from the robot's heading, counter-clockwise [m], capped at the range |
+    | ``subgoal`` | (2,) | only with the ``[sensors] subgoal`` look-ahead L > 0 (or ``subgoal=L``): the point L metres along the shortest path to the goal (the goal itself when nearer), in the robot frame [m], each value in [-L, L] |
 
     Goal offsets are bounded by the map diagonal, velocities by 5 m/s and yaw rate by 10 rad/s
     (values beyond are clipped; they do not occur unless the physics is pushed far out of its
-    regime). k, rays and range come from the scenario's ``[sensors]`` (defaults 8, 72, 8 m).
+    regime). k, rays and range come from the scenario's ``[sensors]`` (defaults 8, 72, 8 m). The
+    ``subgoal`` key gives a learning policy the way round walls that the straight goal offset does
+    not (the shortest path on the robot's inflated map, the plain A* planner's map; it ignores
+    people); it is off by default.
 
     ## Rewards
 
@@ -125,6 +129,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
     | ``eband`` | ``None`` | elastic-band gains by name (``contraction_gain``, ``repulsion_gain``, ``social_gain``) |
     | ``goal`` | ``None`` | the robot's goal (x, y) instead of the scenario's |
     | ``drive`` | ``None`` | every robot's drive, ``"holonomic"`` or ``"differential"``, instead of the scenario's (``None``: the scenario's own; it overrides a ``drive=`` key of a generated scene's name); the action space follows |
+    | ``subgoal`` | ``None`` | the ``[sensors] subgoal`` look-ahead in metres (in [0, 10]; 0 leaves the key out) instead of the scenario's |
     | ``width``, ``height`` | ``FRAME_SIZE`` | frame size (``proxemic.viz.topdown.FRAME_SIZE``) |
     | ``camera`` | ``"top"`` | ``"top"`` or ``"follow"`` (a camera tracking the robot) |
     | ``overlays`` | ``("path",)`` | what the ``"topdown"`` view draws over the scene: any of ``"zones"``, ``"groups"``, ``"object_spaces"``, ``"path"`` (see :meth:`set_overlays`) |
@@ -148,6 +153,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         eband: Mapping[str, float] | None = None,
         goal: Sequence[float] | None = None,
         drive: str | None = None,
+        subgoal: float | None = None,
         width: int = FRAME_SIZE[0],
         height: int = FRAME_SIZE[1],
         camera: str = "top",
@@ -166,6 +172,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
             "eband": eband,
             "goal": goal,
             "drive": drive,
+            "subgoal": subgoal,
             "width": width,
             "height": height,
             "camera": camera,
@@ -179,7 +186,7 @@ class ProxemicEnv(gym.Env[dict[str, Any], np.ndarray]):
         self.autopilot = autopilot
         self.width, self.height, self.camera = width, height, camera
         self.core_scenario, self.scenario = scenarios.load(
-            scenario, planner=planner, eband=eband, goal=goal, drive=drive
+            scenario, planner=planner, eband=eband, goal=goal, drive=drive, subgoal=subgoal
         )
         self.ws = WorldSim(self.core_scenario, self.scenario)
         self.world, self.sim = self.ws.world, self.ws.sim

@@ -188,6 +188,7 @@ def load(
     eband: Mapping[str, float] | None = None,
     goal: Sequence[float] | None = None,
     drive: str | None = None,
+    subgoal: float | None = None,
 ) -> tuple[_core.Scenario, dict[str, Any]]:
     """Parses and validates a scenario; returns the core object and its description dict.
 
@@ -207,6 +208,8 @@ def load(
         goal: If given, the first robot's goal (x, y in metres) instead of the file's.
         drive: If given, every robot's drive (``"holonomic"`` or ``"differential"``) instead of the
             scenario's. It overrides a ``drive=`` key of a generated scene's name.
+        subgoal: If given, the ``[sensors] subgoal`` look-ahead (metres, in [0, 10]; 0 leaves the
+            ``subgoal`` observation key out) instead of the scenario's.
     """
     if drive is not None and (not isinstance(drive, str) or drive not in DRIVES):
         raise input_error("drive", f"one of {list(DRIVES)}", drive)
@@ -227,6 +230,8 @@ def load(
         core = core.with_eband_gains(**{k: _number(v, f"eband.{k}") for k, v in eband.items()})
     if goal is not None:
         core = core.with_goal(_point(goal, "goal"))
+    if subgoal is not None:
+        core = core.with_subgoal(_number(subgoal, "subgoal"))
     return core, json.loads(core.to_json())
 
 

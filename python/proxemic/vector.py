@@ -78,6 +78,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         planner: str | None = None,
         eband: Mapping[str, float] | None = None,
         goal: Sequence[float] | None = None,
+        subgoal: float | None = None,
         threads: int = 1,
     ) -> None:
         """Builds `num_envs` worlds of `scenario`.
@@ -92,6 +93,8 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             planner: Replace the scenario's planner (one of ``proxemic.PLANNERS``).
             eband: Elastic-band gains by name.
             goal: The robot's goal (x, y) in metres instead of the scenario's.
+            subgoal: The ``[sensors] subgoal`` look-ahead in metres instead of the scenario's
+                (the ``subgoal`` observation key, see :class:`proxemic.env.ProxemicEnv`).
             threads: Threads stepping the worlds, each a group of consecutive worlds (physics
                 and core; at most `num_envs` are used). The default, 1, steps the worlds one
                 after the other on the calling thread; ``os.cpu_count()`` uses free cores
@@ -116,7 +119,7 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
         self.threads = min(int(threads), self.num_envs)
         self.autopilot = autopilot
         self.render_mode = None
-        core, desc = scenarios.load(scenario, planner=planner, eband=eband, goal=goal)
+        core, desc = scenarios.load(scenario, planner=planner, eband=eband, goal=goal, subgoal=subgoal)
         self.scenario = desc
         probe = _core.World(core)
         self._robots, self._stride = probe.num_robots, probe.stride
@@ -328,12 +331,15 @@ class ProxemicVectorEnv(gym.vector.VectorEnv[dict[str, Any], np.ndarray, np.ndar
             off, length = lay[name]
             return data[:, off : off + length].reshape(n, *shape)
 
-        return {
+        obs = {
             "robot": part("obs_robot", -1),
             "people": part("obs_people", ws.k_nearest, _core.PERSON_FEATURES),
             "people_mask": part("obs_people_mask", -1),
             "lidar": part("obs_lidar", -1),
         }
+        if ws.subgoal > 0.0:
+            obs["subgoal"] = part("obs_subgoal", -1)
+        return obs
 
     def _infos(self, present: list[int], ended: list[int]) -> dict[str, Any]:
         """The plain env's info keys as batched arrays with ``_key`` masks (worlds `present`).

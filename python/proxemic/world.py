@@ -196,6 +196,7 @@ class WorldSim:
         self.k_nearest: int = sensors["k_nearest"]
         self.lidar_rays: int = sensors["lidar_rays"]
         self.lidar_range = float(sensors["lidar_range"])
+        self.subgoal = float(sensors["subgoal"])
         # Per robot, the flat indices in `out` of its info values (``_info_cols`` of its row), and
         # its planner_action row.
         self._info_index = [r * w.stride + self._info_cols for r in range(w.num_robots)]
@@ -220,9 +221,10 @@ class WorldSim:
     def observation_space(self, *, robots: bool) -> spaces.Dict:
         """A robot's observation space; with `robots`, also the other robots it perceives.
 
-        Keys ``robot`` (5), ``people`` (k, 5), ``people_mask`` (k), ``lidar`` (rays) and, with
-        `robots`, ``robots`` (n - 1, 7: id, x, y, vx, vy, radius, running) and ``robots_mask``
-        (n - 1). Bounds as documented in :class:`proxemic.env.ProxemicEnv`.
+        Keys ``robot`` (5), ``people`` (k, 5), ``people_mask`` (k), ``lidar`` (rays), with the
+        ``[sensors] subgoal`` look-ahead set ``subgoal`` (2) and, with `robots`, ``robots``
+        (n - 1, 7: id, x, y, vx, vy, radius, running) and ``robots_mask`` (n - 1). Bounds as
+        documented in :class:`proxemic.env.ProxemicEnv`.
         """
         k, rays, rng = self.k_nearest, self.lidar_rays, self.lidar_range
         d = float(self.world.obs_position_bound)
@@ -240,6 +242,8 @@ class WorldSim:
             "people_mask": spaces.Box(0.0, 1.0, (k,), dtype=f32),
             "lidar": spaces.Box(0.0, rng, (rays,), dtype=f32),
         }
+        if self.subgoal > 0.0:
+            entries["subgoal"] = spaces.Box(-self.subgoal, self.subgoal, (2,), dtype=f32)
         if robots:
             m = self.num_robots - 1
             rmax = max((float(r["radius"]) for r in self.scenario["robots"]), default=1.0)
@@ -258,6 +262,8 @@ class WorldSim:
             ("people_mask", "obs_people_mask", None),
             ("lidar", "obs_lidar", None),
         ]
+        if self.subgoal > 0.0:
+            keys.append(("subgoal", "obs_subgoal", None))
         if robots:
             keys.append(("robots", "obs_robots", (self.num_robots - 1, _core.PEER_FEATURES)))
             keys.append(("robots_mask", "obs_robots_mask", None))

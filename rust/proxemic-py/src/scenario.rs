@@ -117,6 +117,14 @@ impl PyScenario {
         Ok(PyScenario { inner })
     }
 
+    /// A copy whose observation has the `subgoal` key: the point `lookahead` metres (in
+    /// [0, 10]; 0 leaves the key out) along the shortest path to the robot's current target, in
+    /// the robot's frame. Raises `ScenarioError` naming `sensors.subgoal` out of range.
+    fn with_subgoal(&self, py: Python<'_>, lookahead: f64) -> PyResult<Self> {
+        let inner = enter_core(py, || self.inner.with_subgoal(lookahead))?;
+        Ok(PyScenario { inner })
+    }
+
     /// A copy whose episode starts at `time` of day (`"HH:MM"`, `"HH:MM:SS"` or seconds after
     /// midnight in [0, 86400)) instead of the file's `scene.start_time`: the agenda's activities
     /// fall at another point of the episode; times the scenario holds as seconds into the

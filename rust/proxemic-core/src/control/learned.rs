@@ -2,14 +2,17 @@
 //! (`examples/train_ppo.py`, `docs/training.md`), read from a NumPy `.npz` array file and run
 //! here with no ML framework.
 //!
-//! The file holds float32 arrays: `input_scale` (one divisor per input), and for each layer
+//! The file holds float32 arrays: `input_scale` (one divisor per input), optionally `subgoal`
+//! (one value: the look-ahead in metres of the `subgoal` observation the policy was trained
+//! with; absent or 0 for a policy without it), and for each layer
 //! `k = 0, 1, ...` a weight matrix `w{k}` of shape (outputs, inputs) and a bias `b{k}` of shape
 //! (outputs,). Every layer but the last is followed by `tanh` (stable-baselines3's PPO
 //! `MlpPolicy`: two hidden layers of 64 with tanh, then the linear action mean); the output is
 //! the deterministic action, clipped to [-1, 1] as `predict(deterministic=True)` clips it.
 //!
 //! The input is the env's observation flattened in sorted key order (`lidar`, `people`,
-//! `people_mask`, `robot`, each row-major) and divided elementwise by `input_scale`: the scales
+//! `people_mask`, `robot`, then `subgoal` for a policy trained with that sensor, each
+//! row-major) and divided elementwise by `input_scale`: the scales
 //! of the scenes the policy was trained on, kept with the weights (ours: one scale in every scene,
 //! so a goal offset of 5 m means the same input everywhere; `proxemic.policy.FlatObservation`
 //! divides by each env's own bounds instead, which differ with the map's diagonal).
@@ -34,6 +37,7 @@ struct Dense {
 #[derive(Clone, Debug)]
 pub struct LearnedPolicy {
     input_scale: Vec<f32>,
+    subgoal: f64,
     layers: Vec<Dense>,
 }
 
@@ -83,6 +87,20 @@ impl LearnedPolicy {
                 format!("shape {:?}", scale.shape),
             ));
         }
+        let subgoal = match get("subgoal") {
+            Err(_) => 0.0,
+            Ok(a) => match a.data.as_slice() {
+                [v] if (0.0..=10.0).contains(v) && a.shape.len() <= 1 => f64::from(*v),
+                _ => {
+                    return Err(bad(
+                        file,
+                        "subgoal",
+                        "one value in [0, 10] (metres)",
+                        format!("shape {:?}, values {:?}", a.shape, a.data),
+                    ));
+                }
+            },
+        };
         let mut layers = Vec::new();
         let mut inputs = scale.data.len();
         for k in 0.. {
@@ -110,7 +128,13 @@ impl LearnedPolicy {
                 format!("{inputs} outputs"),
             ));
         }
-        Ok(Self { input_scale: scale.data.clone(), layers })
+        Ok(Self { input_scale: scale.data.clone(), subgoal, layers })
+    }
+
+    /// Look-ahead (metres) of the `subgoal` observation the policy takes as its last two
+    /// inputs; 0 for a policy without it.
+    pub fn subgoal(&self) -> f64 {
+        self.subgoal
     }
 
     /// Number of inputs (the flattened observation's length).

@@ -146,6 +146,84 @@ impl GoalField {
         }
         best
     }
+
+    /// The point `lookahead` metres (straight-line, from `p`) along the shortest grid path from
+    /// `p` to the goal: the goal point `goal` itself when the geodesic distance at `p` is at
+    /// most `lookahead`, else the centre of the first cell of the path at least `lookahead` from
+    /// `p`. The path starts at the cell that [`GoalField::distance`] measures through and steps,
+    /// from each cell, to the neighbour it was reached from (the neighbour `n` with the least
+    /// `dist(n) + edge`, strictly closer to the goal; the first in the order right, left, up,
+    /// down, then the diagonals on a tie). `None` where the distance is infinite (outside the
+    /// grid, or no reachable cell next to `p`).
+    pub fn subgoal(&self, p: Vec2, goal: Vec2, lookahead: f64) -> Option<Vec2> {
+        let d = self.distance(p);
+        if !d.is_finite() {
+            return None;
+        }
+        if d <= lookahead {
+            return Some(goal);
+        }
+        let (cx, cy) = self.spec.cell_of(p)?;
+        let (w, h) = (self.spec.width as isize, self.spec.height as isize);
+        let at = |x: isize, y: isize| -> Option<f64> {
+            if x < 0 || y < 0 || x >= w || y >= h {
+                return None;
+            }
+            let v = self.dist[self.spec.index(x as usize, y as usize)];
+            v.is_finite().then_some(v)
+        };
+        // The start: the cell of the 3x3 neighbourhood `distance` took its minimum through.
+        let mut best: Option<(f64, isize, isize)> = None;
+        for dy in -1isize..=1 {
+            for dx in -1isize..=1 {
+                let (x, y) = (cx as isize + dx, cy as isize + dy);
+                if let Some(v) = at(x, y) {
+                    let total = v + (p - self.spec.center(x as usize, y as usize)).norm();
+                    if best.is_none_or(|b| total < b.0) {
+                        best = Some((total, x, y));
+                    }
+                }
+            }
+        }
+        let (_, mut x, mut y) = best?;
+        let res = self.spec.resolution;
+        let diag = std::f64::consts::SQRT_2 * res;
+        const STEPS: [(isize, isize, bool); 8] = [
+            (1, 0, false),
+            (-1, 0, false),
+            (0, 1, false),
+            (0, -1, false),
+            (1, 1, true),
+            (1, -1, true),
+            (-1, 1, true),
+            (-1, -1, true),
+        ];
+        // Every step lowers the distance, so the walk ends within the grid's cell count.
+        for _ in 0..self.spec.len() {
+            let here = at(x, y)?;
+            let c = self.spec.center(x as usize, y as usize);
+            if here <= 0.0 {
+                return Some(goal);
+            }
+            if (c - p).norm() >= lookahead {
+                return Some(c);
+            }
+            let mut next: Option<(f64, isize, isize)> = None;
+            for &(dx, dy, diagonal) in &STEPS {
+                if let Some(v) = at(x + dx, y + dy)
+                    && v < here
+                {
+                    let total = v + if diagonal { diag } else { res };
+                    if next.is_none_or(|n| total < n.0) {
+                        next = Some((total, x + dx, y + dy));
+                    }
+                }
+            }
+            let (_, nx, ny) = next?;
+            (x, y) = (nx, ny);
+        }
+        None
+    }
 }
 
 #[cfg(test)]
@@ -173,6 +251,31 @@ mod tests {
         let a = f.distance(Vec2::new(0.449, 0.05));
         let b = f.distance(Vec2::new(0.451, 0.05));
         assert!((a - b).abs() < 0.01, "{a} {b}");
+    }
+
+    #[test]
+    fn subgoal_follows_the_shortest_path_round_a_wall() {
+        // A 3 m x 3 m room (0.1 m cells), a wall along x = 1.5 m from y = 0 to y = 2.5 m: from
+        // the lower left the shortest way to the lower right goes up round the wall's end.
+        let mut g = open_grid(30, 30);
+        for y in 0..25 {
+            let i = g.spec.index(15, y);
+            g.cost[i] = INSCRIBED;
+        }
+        let goal = g.spec.center(25, 2);
+        let f = GoalField::compute(&g, (25, 2));
+        let p = g.spec.center(5, 2);
+        let wp = f.subgoal(p, goal, 1.0).expect("reachable");
+        assert!(((wp - p).norm() - 1.0).abs() < 0.15, "{wp:?}");
+        assert!(wp.y > p.y + 0.5, "the subgoal heads up round the wall, not at the goal: {wp:?}");
+        // Near the goal the subgoal is the goal itself; unreachable places have none.
+        let near = g.spec.center(24, 3);
+        assert_eq!(f.subgoal(near, goal, 1.0), Some(goal));
+        assert_eq!(f.subgoal(Vec2::new(-5.0, -5.0), goal, 1.0), None);
+        // In open space it points straight at the goal.
+        let q = g.spec.center(25, 20);
+        let wq = f.subgoal(q, goal, 1.0).expect("reachable");
+        assert!((wq.x - q.x).abs() < 0.11 && wq.y < q.y - 0.9, "{wq:?}");
     }
 
     /// Dijkstra with a binary heap, the field's former computation: the reference its bucket

@@ -1,5 +1,5 @@
 //! The `with_*` builders: copies of a validated scenario with one setting replaced (planner,
-//! robots, elastic-band gains, goal), checked like the file values.
+//! robots, elastic-band gains, goal, the subgoal sensor), checked like the file values.
 
 use super::check::{Checker, err, is_time_of_day};
 use super::model::{EbandGains, PlannerKind, Scenario};
@@ -139,6 +139,16 @@ impl Scenario {
         }
         let mut s = self.clone();
         s.scene.start_time = time;
+        Ok(s)
+    }
+
+    /// A copy whose observation has the `subgoal` key with look-ahead `lookahead` (metres, in
+    /// [0, 10]; 0 leaves the key out): see [`Sensors::subgoal`](super::model::Sensors::subgoal).
+    /// Errors name the field `sensors.subgoal`.
+    pub fn with_subgoal(&self, lookahead: f64) -> Result<Self> {
+        Checker { file: &self.source }.range("sensors.subgoal", lookahead, 0.0, 10.0, false)?;
+        let mut s = self.clone();
+        s.sensors.subgoal = lookahead;
         Ok(s)
     }
 

@@ -59,8 +59,12 @@ impl World {
         }
         // People's places and paths after the robots' (a tour's stops must be valid first).
         let scripts = plan_scripts(&scenario, &geometry, &field)?;
-        let layout =
-            Layout::new(scenario.sensors.k_nearest, scenario.sensors.lidar_rays, scenario.robots.len());
+        let layout = Layout::new(
+            scenario.sensors.k_nearest,
+            scenario.sensors.lidar_rays,
+            scenario.robots.len(),
+            scenario.sensors.subgoal > 0.0,
+        );
         let grid_refs: Vec<(&CostGrid, f64)> = grids.iter().map(|g| (&g.grid, g.radius)).collect();
         let social = SocialPlanning::new(&scenario, &grid_refs)?;
         let obstacles = ObstacleSet::from_geometry(&geometry)?;

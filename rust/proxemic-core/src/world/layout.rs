@@ -41,6 +41,8 @@ pub struct Layout {
     pub obs_people_mask: Section,
     /// One range per lidar ray.
     pub obs_lidar: Section,
+    /// 2 with the `subgoal` sensor (the point along the shortest path, robot frame), else 0.
+    pub obs_subgoal: Section,
     /// (n - 1) * [`PEER_FEATURES`]: the other robots within sensor range, nearest first.
     pub obs_robots: Section,
     /// n - 1: 1 for each filled slot of `obs_robots`.
@@ -80,8 +82,9 @@ impl Cursor {
 }
 
 impl Layout {
-    /// The layout for `k` observed people, `rays` lidar rays and `robots` robots.
-    pub(super) fn new(k: usize, rays: usize, robots: usize) -> Self {
+    /// The layout for `k` observed people, `rays` lidar rays, `robots` robots and, with
+    /// `subgoal`, the subgoal observation.
+    pub(super) fn new(k: usize, rays: usize, robots: usize, subgoal: bool) -> Self {
         let others = robots.saturating_sub(1);
         let mut c = Cursor(0);
         let mut layout = Layout {
@@ -92,6 +95,7 @@ impl Layout {
             obs_people: c.take(k * PERSON_FEATURES),
             obs_people_mask: c.take(k),
             obs_lidar: c.take(rays),
+            obs_subgoal: c.take(if subgoal { 2 } else { 0 }),
             obs_robots: c.take(others * PEER_FEATURES),
             obs_robots_mask: c.take(others),
             reward_terms: c.take(RewardTerms::NAMES.len()),
@@ -109,7 +113,7 @@ impl Layout {
     }
 
     /// The sections by name, in row order (what the Python binding exposes as `World.layout`).
-    pub fn sections(&self) -> [(&'static str, Section); 17] {
+    pub fn sections(&self) -> [(&'static str, Section); 18] {
         [
             ("command", self.command),
             ("planner_action", self.planner_action),
@@ -117,6 +121,7 @@ impl Layout {
             ("obs_people", self.obs_people),
             ("obs_people_mask", self.obs_people_mask),
             ("obs_lidar", self.obs_lidar),
+            ("obs_subgoal", self.obs_subgoal),
             ("obs_robots", self.obs_robots),
             ("obs_robots_mask", self.obs_robots_mask),
             ("reward_terms", self.reward_terms),
@@ -138,7 +143,12 @@ mod tests {
 
     #[test]
     fn sections_tile_the_row_in_order_with_distinct_names() {
-        let layout = Layout::new(4, 16, 3);
+        for subgoal in [false, true] {
+            check_tiling(Layout::new(4, 16, 3, subgoal), subgoal);
+        }
+    }
+
+    fn check_tiling(layout: Layout, subgoal: bool) {
         let sections = layout.sections();
         let mut end = 0;
         for (name, s) in &sections {
@@ -153,5 +163,6 @@ mod tests {
         assert_eq!(layout.obs_people.len, 4 * PERSON_FEATURES);
         assert_eq!(layout.obs_robots.len, 2 * PEER_FEATURES);
         assert_eq!(layout.obs_lidar.len, 16);
+        assert_eq!(layout.obs_subgoal.len, if subgoal { 2 } else { 0 });
     }
 }

@@ -388,7 +388,12 @@ impl World {
         if self.learned.is_none() && self.statics.iter().any(|st| st.planner == PlannerKind::Learned) {
             let policy = crate::control::learned::shipped()?;
             let lay = self.layout;
-            let inputs = lay.obs_lidar.len + lay.obs_people.len + lay.obs_people_mask.len + lay.obs_robot.len;
+            let subgoal = if policy.subgoal() > 0.0 { 2 } else { 0 };
+            let inputs = lay.obs_lidar.len
+                + lay.obs_people.len
+                + lay.obs_people_mask.len
+                + lay.obs_robot.len
+                + subgoal;
             if policy.inputs() != inputs {
                 return Err(CoreError::input(
                     "planner learned: sensors",

@@ -136,6 +136,10 @@ impl World {
             obs[2] = v.x.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
             obs[3] = v.y.clamp(-OBS_MAX_SPEED, OBS_MAX_SPEED);
             obs[4] = rb.wz.clamp(-OBS_MAX_ANGULAR, OBS_MAX_ANGULAR);
+            if lay.obs_subgoal.len == 2 {
+                let w = self.subgoal_offset(i, self.scenario.sensors.subgoal);
+                row[lay.obs_subgoal.range()].copy_from_slice(&w);
+            }
             // K nearest people present within sensor range, ties broken by index.
             self.scratch_people.clear();
             for (j, q) in self.crowd.pos.iter().enumerate() {
@@ -221,6 +225,28 @@ impl World {
         // Failures are an empty buffer or non-finite inputs, which the layout and the checks
         // of `step` rule out.
         let _ = self.scanners[i].scan(&self.geometry, &self.scratch_discs, p, th, range, scan);
+    }
+
+    /// Robot `i`'s subgoal `lookahead` metres along its shortest path to its current target
+    /// ([`GoalField::subgoal`](crate::plan::geodesic::GoalField::subgoal) on its goal field),
+    /// as an offset in its own frame, each component clamped to `[-lookahead, lookahead]`. Where
+    /// the field has no distance (the robot pushed into an inflated wall cell), the straight-line
+    /// offset to the target, shortened to `lookahead`.
+    pub(super) fn subgoal_offset(&self, i: usize, lookahead: f64) -> [f64; 2] {
+        let rb = &self.robots[i];
+        let st = &self.statics[i];
+        let p = Vec2::new(rb.pose[0], rb.pose[1]);
+        let target = st.route[rb.leg];
+        let offset = match st.fields[rb.leg].subgoal(p, target, lookahead) {
+            Some(w) => w - p,
+            None => {
+                let g = target - p;
+                let n = g.norm();
+                if n > lookahead { g * (lookahead / n) } else { g }
+            }
+        };
+        let b = world_to_body(offset, rb.pose[2]);
+        [b.x.clamp(-lookahead, lookahead), b.y.clamp(-lookahead, lookahead)]
     }
 
     /// Bound on goal offsets in observations: the diagonal of the map, rounded up (metres).

@@ -427,16 +427,21 @@ impl World {
 
     /// The `learned` policy's action for robot `i`, from the observation just written to its
     /// row of `out`: the sections in the env's sorted key order (lidar, people, people mask,
-    /// robot), as the policy was trained on them ([`crate::control::learned`]).
+    /// robot), then, for a policy trained with it, the subgoal at the policy's own look-ahead,
+    /// as the policy was trained on them ([`crate::control::learned`]).
     fn learned_action(&self, i: usize, out: &[f64]) -> [f64; 3] {
+        let Some(policy) = self.learned else { return [0.0; 3] };
         let lay = self.layout;
         let row = &out[i * lay.stride..(i + 1) * lay.stride];
-        let obs: Vec<f64> = [lay.obs_lidar, lay.obs_people, lay.obs_people_mask, lay.obs_robot]
+        let mut obs: Vec<f64> = [lay.obs_lidar, lay.obs_people, lay.obs_people_mask, lay.obs_robot]
             .iter()
             .flat_map(|s| row[s.range()].iter().copied())
             .collect();
+        if policy.subgoal() > 0.0 {
+            obs.extend(self.subgoal_offset(i, policy.subgoal()));
+        }
         // `start_planners` checked the policy against the layout; a failure cannot happen here.
-        self.learned.and_then(|p| p.act(&obs).ok()).unwrap_or([0.0; 3])
+        policy.act(&obs).unwrap_or([0.0; 3])
     }
 
     /// Robot `i`'s path following this step (after the elastic band's update, eband planner):

@@ -87,6 +87,7 @@ fn check_settings(ck: &Checker<'_>, e: &RawEpisode, sn: &Sensors, rw: &RewardWei
     if !(1..=64).contains(&sn.k_nearest) {
         return Err(err(file, "sensors.k_nearest", "an integer in [1, 64]", sn.k_nearest.to_string()));
     }
+    ck.range("sensors.subgoal", sn.subgoal, 0.0, 10.0, false)?;
     for (name, v) in [
         ("progress", rw.progress),
         ("success", rw.success),

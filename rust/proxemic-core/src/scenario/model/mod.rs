@@ -222,11 +222,21 @@ pub struct Sensors {
     /// Number of nearest people in the observation, in [1, 64]; default 8.
     #[serde(default = "d_k_nearest")]
     pub k_nearest: usize,
+    /// Look-ahead (metres, in [0, 10]) of the `subgoal` observation: the point this far along
+    /// the shortest path to the robot's current target, in the robot's frame. 0 (the default)
+    /// leaves the key out of the observation.
+    #[serde(default)]
+    pub subgoal: f64,
 }
 
 impl Default for Sensors {
     fn default() -> Self {
-        Sensors { lidar_rays: d_lidar_rays(), lidar_range: d_lidar_range(), k_nearest: d_k_nearest() }
+        Sensors {
+            lidar_rays: d_lidar_rays(),
+            lidar_range: d_lidar_range(),
+            k_nearest: d_k_nearest(),
+            subgoal: 0.0,
+        }
     }
 }
 
