@@ -80,3 +80,13 @@ def test_bad_counts_and_missing_block_are_refused(tmp_path: Path) -> None:
     page.write_text("no block here\n", encoding="utf-8")
     with pytest.raises(InputError, match=r"page\.md"):
         baselines.write_docs(page, 1, 1)
+
+
+@pytest.mark.full
+def test_docs_block_is_what_a_fresh_run_gives() -> None:
+    """The whole block, every planner's row, rerun (about 3 minutes on 2 cores): a planner whose
+    episodes changed without the page being regenerated fails here."""
+    episodes, francis_episodes = _counts(_block())
+    summaries, francis = baselines.run(episodes, francis_episodes, workers=2, progress=False)
+    fresh = baselines.block_text(summaries, francis, episodes, francis_episodes)
+    assert fresh.strip() == _block().strip()

@@ -194,3 +194,16 @@ def test_docs_table_is_what_the_code_gives() -> None:
     assert len(rows) == 2 * len(crowdnav.SETTINGS) * len(crowdnav.DRIVES)
     for line in rows:
         assert line in block, line
+
+
+@pytest.mark.full
+def test_docs_table_is_what_a_fresh_run_gives_for_every_planner() -> None:
+    """Every planner's rows rerun (about 2 minutes): the fast test above checks two planners only,
+    and once let the Daza family's rows go stale after their planner changed."""
+    docs = (ROOT / "docs" / "crowdnav.md").read_text(encoding="utf-8")
+    block = docs.partition(crowdnav.DOCS_BEGIN)[2].partition(crowdnav.DOCS_END)[0]
+    fresh = crowdnav.table_text(crowdnav.run_suite(list(crowdnav.PLANNERS), crowdnav.EPISODES))
+    rows = [line for line in fresh.splitlines() if any(f"| {p} |" in line for p in crowdnav.PLANNERS)]
+    assert len(rows) == len(crowdnav.PLANNERS) * len(crowdnav.SETTINGS) * len(crowdnav.DRIVES)
+    for line in rows:
+        assert line in block, line
