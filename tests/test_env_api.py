@@ -59,9 +59,8 @@ goal = [8, 1.5]
 """
 
 
-def test_subgoal_observation_leads_round_walls(tmp_path):
-    path = tmp_path / "walled_room.toml"
-    path.write_text(WALLED_ROOM)
+def test_subgoal_observation_leads_round_walls(write_scenario):
+    path = write_scenario(WALLED_ROOM, "walled_room.toml")
     env = ProxemicEnv(str(path), subgoal=0.5)
     obs, _ = env.reset(seed=0)
     assert env.observation_space["subgoal"].shape == (2,)
