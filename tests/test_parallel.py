@@ -232,6 +232,24 @@ def test_batched_outputs_equal_the_per_robot_reads_bit_for_bit():
                 assert ("planner_action" in info) == (r == 3), where  # robot_3's planner drives it
 
 
+def test_subgoal_sensor_reaches_every_agent_and_the_batched_reads(write_scenario):
+    # `[sensors] subgoal` adds the key to every agent's observation and space; the batched read
+    # (WorldSim.observations) gives what the per-robot read gives.
+    path = write_scenario(TWO_ROBOTS + "\n[sensors]\nsubgoal = 1.0\n")
+    env = proxemic.parallel_env(str(path))
+    obs, _ = env.reset(seed=0)
+    for _ in range(3):
+        for agent, o in obs.items():
+            assert env.observation_space(agent).contains(o), agent
+            assert 0.5 < float(np.linalg.norm(o["subgoal"])) <= 1.0 * np.sqrt(2), (agent, o["subgoal"])
+        batch = env.ws.observations(robots=True)
+        for r, o in enumerate(batch):
+            one = env.ws.observation(r, robots=True)
+            assert list(o) == list(one)
+            _assert_same(o, one, f"robot {r}")
+        obs, *_ = env.step({a: np.zeros(3, np.float32) for a in env.agents})
+
+
 def test_actions_in_any_key_order_give_the_same_episode():
     # step() takes the robot indices of actions given in the live agents' order as they are,
     # and looks them up otherwise: the same actions in another order drive the same robots.

@@ -231,3 +231,21 @@ def test_a_differential_robot_s_vector_env_has_its_action_space_and_steps_like_i
     finally:
         envs.close()
         single.close()
+
+
+def test_vector_env_batches_the_subgoal_key_as_the_plain_env_gives_it():
+    from proxemic.env import ProxemicEnv
+
+    vec = proxemic.vector_env("museum", num_envs=2, subgoal=1.5)
+    assert vec.single_observation_space["subgoal"].shape == (2,)
+    obs, _ = vec.reset(seed=3)
+    plain = ProxemicEnv("museum", subgoal=1.5)
+    one, _ = plain.reset(seed=4)  # world 1 is reset with seed 3 + 1
+    np.testing.assert_array_equal(obs["subgoal"][1], one["subgoal"])
+    actions = _actions(2)
+    for action in actions[:5]:
+        obs, *_ = vec.step(action)
+        one, *_ = plain.step(action[1])
+        np.testing.assert_array_equal(obs["subgoal"][1], one["subgoal"])
+    vec.close()
+    plain.close()

@@ -388,11 +388,14 @@ class WorldSim:
             for key, off, length, shape in parts
         ]
         # Dict displays, not a comprehension per robot (a function call each): this runs for every
-        # agent at every step. The keys are the spec's, four, and with `robots` the peers' two.
-        if peers:
+        # agent at every step. The keys are the spec's, four, and with `robots` the peers' two;
+        # the `subgoal` sensor's key (or any other) takes the general way.
+        if not peers:
+            return [{k0: a0[i], k1: a1[i], k2: a2[i], k3: a3[i]} for i in range(n)]
+        if len(peers) == 2:
             (k4, a4), (k5, a5) = peers
             return [{k0: a0[i], k1: a1[i], k2: a2[i], k3: a3[i], k4: a4[i], k5: a5[i]} for i in range(n)]
-        return [{k0: a0[i], k1: a1[i], k2: a2[i], k3: a3[i]} for i in range(n)]
+        return [{k0: a0[i], k1: a1[i], k2: a2[i], k3: a3[i], **{k: a[i] for k, a in peers}} for i in range(n)]
 
     def observation(self, row: int, robots: bool) -> dict[str, np.ndarray]:
         """Robot `row`'s observation (see :meth:`observations`), float32 views of one fresh copy."""
