@@ -127,10 +127,15 @@ impl GoalField {
     /// Continuous in `p` where the neighbourhood is free, so progress rewards do not jump at cell
     /// borders. Infinite when no neighbouring cell is reachable.
     pub fn distance(&self, p: Vec2) -> f64 {
-        let Some((cx, cy)) = self.spec.cell_of(p) else {
-            return f64::INFINITY;
-        };
-        let mut best = f64::INFINITY;
+        self.entry(p).map_or(f64::INFINITY, |(d, _, _)| d)
+    }
+
+    /// The reachable cell of the 3x3 neighbourhood of `p`'s cell with the least (cell distance +
+    /// straight-line distance from `p` to its centre), that sum, and the cell (the first in row
+    /// order on a tie); `None` outside the grid or with no reachable cell there.
+    fn entry(&self, p: Vec2) -> Option<(f64, usize, usize)> {
+        let (cx, cy) = self.spec.cell_of(p)?;
+        let mut best: Option<(f64, usize, usize)> = None;
         for dy in -1isize..=1 {
             for dx in -1isize..=1 {
                 let (nx, ny) = (cx as isize + dx, cy as isize + dy);
@@ -140,7 +145,10 @@ impl GoalField {
                 let (ux, uy) = (nx as usize, ny as usize);
                 let d = self.dist[self.spec.index(ux, uy)];
                 if d.is_finite() {
-                    best = best.min(d + (p - self.spec.center(ux, uy)).norm());
+                    let total = d + (p - self.spec.center(ux, uy)).norm();
+                    if best.is_none_or(|b| total < b.0) {
+                        best = Some((total, ux, uy));
+                    }
                 }
             }
         }
@@ -156,14 +164,10 @@ impl GoalField {
     /// down, then the diagonals on a tie). `None` where the distance is infinite (outside the
     /// grid, or no reachable cell next to `p`).
     pub fn subgoal(&self, p: Vec2, goal: Vec2, lookahead: f64) -> Option<Vec2> {
-        let d = self.distance(p);
-        if !d.is_finite() {
-            return None;
-        }
+        let (d, sx, sy) = self.entry(p)?;
         if d <= lookahead {
             return Some(goal);
         }
-        let (cx, cy) = self.spec.cell_of(p)?;
         let (w, h) = (self.spec.width as isize, self.spec.height as isize);
         let at = |x: isize, y: isize| -> Option<f64> {
             if x < 0 || y < 0 || x >= w || y >= h {
@@ -172,20 +176,8 @@ impl GoalField {
             let v = self.dist[self.spec.index(x as usize, y as usize)];
             v.is_finite().then_some(v)
         };
-        // The start: the cell of the 3x3 neighbourhood `distance` took its minimum through.
-        let mut best: Option<(f64, isize, isize)> = None;
-        for dy in -1isize..=1 {
-            for dx in -1isize..=1 {
-                let (x, y) = (cx as isize + dx, cy as isize + dy);
-                if let Some(v) = at(x, y) {
-                    let total = v + (p - self.spec.center(x as usize, y as usize)).norm();
-                    if best.is_none_or(|b| total < b.0) {
-                        best = Some((total, x, y));
-                    }
-                }
-            }
-        }
-        let (_, mut x, mut y) = best?;
+        // The walk starts at the cell `distance` measures through.
+        let (mut x, mut y) = (sx as isize, sy as isize);
         let res = self.spec.resolution;
         let diag = std::f64::consts::SQRT_2 * res;
         const STEPS: [(isize, isize, bool); 8] = [
