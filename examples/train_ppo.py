@@ -399,6 +399,13 @@ class PPOPolicy:
         torch.set_num_threads(1)
         self.model = ppo.load(model_path, device="cpu")
         self.flat = FlatObservation(observation_space)
+        wants, gets = self.model.observation_space.shape, self.flat.space.shape
+        if wants != gets:
+            raise ValueError(
+                f"{model_path}: the model takes observations of shape {wants}, this env's give {gets} "
+                f"(keys {self.flat.keys}); a model trained with --subgoal needs the scenario's "
+                "[sensors] subgoal (the same look-ahead), one trained without it a scenario without it"
+            )
 
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         """The model's deterministic action for one observation."""

@@ -115,3 +115,15 @@ def test_export_writes_the_subgoal_look_ahead_for_the_core(tmp_path):
         assert f["subgoal"].tolist() == [1.0]
         assert f["input_scale"].shape == (72 + 8 * 5 + 8 + 5 + 2,)
         assert f["w0"].shape[1] == f["input_scale"].shape[0]
+
+
+def test_a_model_and_an_env_that_disagree_on_the_subgoal_key_are_refused_by_name(tmp_path):
+    from proxemic.env import ProxemicEnv
+
+    example = _example()
+    path = example.train(SCENE, 256, tmp_path, seed=0, n_envs=1, n_steps=128, subgoal=1.0)
+    with pytest.raises(ValueError, match="subgoal"):
+        example.PPOPolicy(path, ProxemicEnv(SCENE).observation_space)
+    policy = example.PPOPolicy(path, ProxemicEnv(SCENE, subgoal=1.0).observation_space)
+    obs, _ = ProxemicEnv(SCENE, subgoal=1.0).reset(seed=0)
+    assert policy(obs).shape == (3,)
