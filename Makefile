@@ -66,9 +66,9 @@ test-rust: ## Rust unit and integration tests (property tests with a fixed seed:
 test-python: $(VENV)/.rl-deps ## Python tests (gymnasium conformance, determinism, errors, install, PPO learning)
 	PROXEMIC_REQUIRE_RL=1 $(PY) -m pytest -q
 
-test-full: setup ## the full claims suites on the whole test split (60 seeds per scene, 60 generated scenes; pytest -m full): social vs the baselines, the yielding claims, the timeout and collision rates; the calibrated people on the ETH recordings; the docs snippets that take minutes; the differential-drive success-rate table regenerated
+test-full: setup ## the full claims suites on the whole test split (60 seeds per scene, 60 generated scenes; pytest -m full): social vs the baselines, the yielding claims, the timeout and collision rates; the calibrated people on the ETH recordings; the docs snippets that take minutes; the differential-drive success-rate table regenerated; the generated tables of docs/learned.md and docs/crowdnav.md rerun whole
 	$(PY) -m pytest -q -m full tests/test_social_vs_astar.py tests/test_crowd_card.py tests/test_progress.py tests/test_snippets.py \
-	    tests/test_differential_drive.py
+	    tests/test_differential_drive.py tests/test_baselines.py tests/test_crowdnav.py
 
 # Without zig (not installable here) maturin links against this machine's glibc, so the wheel's tag
 # is the lowest manylinux its symbols allow: manylinux_2_35 on Debian 12 (glibc 2.36), as maturin's
