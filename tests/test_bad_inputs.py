@@ -156,7 +156,7 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "ScenarioError",
         "seed",
     ),
-    ("francis-archetype-none", "gym.make('proxemic/Francis2023-v6', archetype=None)", "InputError", "archetype"),
+    ("francis-archetype-none", "gym.make('proxemic/Francis2023-v7', archetype=None)", "InputError", "archetype"),
     (
         "sim-crowd-too-large",
         "from proxemic.sim.model import check_crowd_fits, max_people\ncheck_crowd_fits({'persons': [{}] * (max_people(1) + 1), 'robots': [{}]})",
@@ -209,7 +209,7 @@ API_CASES: list[tuple[str, str, str, str | None]] = [
         "max_time",
     ),
     ("gen-door-too-wide", "_core.generate('generated/2?door_width=3')", "ScenarioError", "door_width"),
-    ("francis-archetype-number", "gym.make('proxemic/Francis2023-v6', archetype=3)", "InputError", "archetype"),
+    ("francis-archetype-number", "gym.make('proxemic/Francis2023-v7', archetype=3)", "InputError", "archetype"),
     (
         "vec-num-envs-limit-plus-one",
         "from proxemic.vector import vector_env, MAX_NUM_ENVS\nvector_env('museum', num_envs=MAX_NUM_ENVS + 1)",

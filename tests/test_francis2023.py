@@ -127,7 +127,7 @@ def test_astar_and_social_drive_every_archetype(archetype: str, planner: str) ->
 
 
 def test_gym_make_francis2023_env_id() -> None:
-    env = gym.make("proxemic/Francis2023-v6", archetype="blind_corner", scene_seed=2)
+    env = gym.make("proxemic/Francis2023-v7", archetype="blind_corner", scene_seed=2)
     obs, _ = env.reset(seed=0)
     assert env.observation_space.contains(obs)
     assert env.unwrapped.scenario["scene"]["name"] == "francis2023_blind_corner"

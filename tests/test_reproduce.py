@@ -355,19 +355,20 @@ def _detours(runs: list[EpisodeResult], scene: str) -> list[bool]:
     "k",
     [
         1,
-        2,
-        3,
-        4,
         pytest.param(
-            5,
+            2,
             marks=pytest.mark.xfail(
                 strict=True,
-                reason="measured on seeds 1000-1002: seed 1001 collides (robot at fault) with group "
-                "2's south-west member: she steps 0.47 m aside as the robot nears, Social Momentum heads "
-                "into the place she left, and once no sample is safe the braking robot slides into her "
-                "(on seeds 1000-1004, 4 of 5 detour to the goal)",
+                reason="measured on seeds 1000-1002: seed 1002 keeps to the A* line (L_ratio 1.004, "
+                "Smooth 0.0; seeds 1000 and 1001 detour, 0.973 and 0.995). The robot slowed beside the "
+                "people (0.18 m/s) and stood still for a step 0.66 m from one of them, centre to centre, "
+                "and the people, who make room for a robot standing still within 0.55 m of them, shifted "
+                "up to 0.48 m aside: the way was clear without a detour",
             ),
         ),
+        3,
+        4,
+        5,
     ],
 )
 def test_daza_robot_detours_where_the_papers_robot_does(daza_runs, k):
@@ -392,8 +393,8 @@ def test_daza_path1_robot_does_the_avoiding(daza_runs):
 
 @pytest.mark.xfail(
     strict=True,
-    reason="measured on seeds 1000-1002: mean Smooth Path 1 1.64 rad (0.51, 2.38, 2.02), Path 2 0.72, "
-    "Path 3 0.38, Path 4 0.57, Path 5 0.70: Path 1's is the greatest, not the least, and Path 3's the "
+    reason="measured on seeds 1000-1002: mean Smooth Path 1 1.64 rad (0.51, 2.38, 2.02), Path 2 0.379, "
+    "Path 3 0.376, Path 4 0.57, Path 5 0.75: Path 1's is the greatest, not the least, and Path 3's the "
     "least, not the greatest. Measured cause for Path 1: on seeds 1001 and 1002 the robot leaves the A* "
     "path at 2.37 and 2.01 rad, pushed backwards off it (0.13 and 0.08 m in one control step) by the "
     "walker, who ignores the robot and walks into it while it waits. Path 3's detour past the group is "

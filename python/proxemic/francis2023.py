@@ -14,7 +14,7 @@ A scene is named ``francis2023/<archetype>`` (seed 0) or ``francis2023/<archetyp
 ``&max_time=T`` to shorten or lengthen the episode, seconds in [5, 600], and ``&drive=differential``
 for a differential-drive robot, same scene otherwise); the name works wherever a
 scenario name does (``gym.make("proxemic/Generated-v5", scenario=...)``, ``proxemic.parallel_env``,
-``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v6", archetype=..., scene_seed=N)``
+``proxemic eval --scenario``), and ``gym.make("proxemic/Francis2023-v7", archetype=..., scene_seed=N)``
 is the same env. The suite (:func:`run_suite`, ``proxemic eval --suite francis2023``) runs episode
 ``k`` of every archetype on the scene of seed ``seed + k``, with episode seed ``seed + k``: the
 scene's parameters vary from episode to episode, and every planner meets the same scenes.
@@ -88,7 +88,7 @@ def make_env(
     drive: str = "holonomic",
     **kwargs: Any,
 ) -> Any:
-    """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v6", archetype=...)``).
+    """The gymnasium env of one archetype's scene (``gym.make("proxemic/Francis2023-v7", archetype=...)``).
 
     Args:
         archetype: One of :data:`ARCHETYPES`.

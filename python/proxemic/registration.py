@@ -12,8 +12,8 @@ ENV_IDS: dict[str, str] = {
     "proxemic/Daza2021Path1-v4": "daza2021_path1",
     "proxemic/Daza2021Path2-v4": "daza2021_path2",
     "proxemic/Daza2021Path3-v4": "daza2021_path3",
-    "proxemic/Daza2021Path4-v4": "daza2021_path4",
-    "proxemic/Daza2021Path5-v5": "daza2021_path5",
+    "proxemic/Daza2021Path4-v5": "daza2021_path4",
+    "proxemic/Daza2021Path5-v6": "daza2021_path5",
     "proxemic/Sousa2022Fig16-v5": "sousa2022_fig16",
     "proxemic/Sousa2022Fig17-v5": "sousa2022_fig17",
     "proxemic/CalderitaExp1-v5": "calderita_exp1",
@@ -27,7 +27,7 @@ GENERATED_ENV_ID = "proxemic/Generated-v5"
 
 #: The environment id of the Francis et al. 2023 archetypes:
 #: ``gym.make(FRANCIS2023_ENV_ID, archetype="crossing_90", scene_seed=3)`` (see :mod:`proxemic.francis2023`).
-FRANCIS2023_ENV_ID = "proxemic/Francis2023-v6"
+FRANCIS2023_ENV_ID = "proxemic/Francis2023-v7"
 
 
 def register_envs() -> None:

@@ -24,7 +24,9 @@
 //!   [`ReactionParams::cautious_slow_range`] of it;
 //! - people standing still (standing, seated, in a conversation, dwelling, gathered, taking
 //!   part in an activity) who see the robot turn toward it once its body is inside their intimate
-//!   zone, and shift aside (out of its way, or away from it when it stands still) by at most what their behaviour allows
+//!   zone, or, when it stands still, within [`ReactionParams::waiting_gap`] of them (a robot that
+//!   keeps out of their intimate zone waits at its edge), and shift aside (out of its way, or
+//!   away from it when it stands still) by at most what their behaviour allows
 //!   ([`shift_allowed`]: nothing when seated), going back to their place once it has left.
 //!
 //! The hard constraint of [`Crowd`]'s integration keeps every reacting person from stepping to
@@ -81,6 +83,12 @@ pub struct ReactionParams {
     /// A robot whose velocity toward a person is at most this is squeezed past (m/s); default
     /// 0.05, the rule by which the metrics call an approach the robot's.
     pub squeeze_approach: f64,
+    /// Body gap within which people standing still make room for a robot standing still (m);
+    /// default 0.55. A robot that keeps out of people's intimate zones (0.45 m) stops at its
+    /// edge when a standing person blocks its way; people who moved only for a robot inside that
+    /// zone would never see it waiting there, and robot and person would wait for each other
+    /// for good. Chosen on the tuning split (Francis `robot_crowding`, `docs/people.md`).
+    pub waiting_gap: f64,
 }
 
 impl Default for ReactionParams {
@@ -102,6 +110,7 @@ impl Default for ReactionParams {
             still_speed: 0.1,
             shift_speed: 0.4,
             squeeze_gap: 0.05,
+            waiting_gap: 0.55,
             squeeze_approach: 0.05,
         }
     }
@@ -295,7 +304,8 @@ impl Crowd {
     }
 
     /// A person standing still: turns toward a robot (at `c`, body gap `gap`, velocity `v`) whose
-    /// body is inside its intimate zone and shifts aside within [`shift_allowed`] of its place;
+    /// body is inside its intimate zone (or, standing still, within
+    /// [`ReactionParams::waiting_gap`]) and shifts aside within [`shift_allowed`] of its place;
     /// else goes back to its place. Aside is [`aside_from`]: out of a moving robot's way, away
     /// from a still one. A person whose step aside would end where the walls push harder than the
     /// shift drives (within 0.5 m of a wall, body edge) stays put: once moving, the walls would
@@ -304,7 +314,13 @@ impl Crowd {
         let rp = self.react_params;
         let pos = self.pos[i];
         let speed = v.norm();
-        if gap >= rp.hard_gap + rp.speed_gain * speed {
+        // A moving robot is made room for once inside the intimate zone (grown with its speed), a
+        // still one already at the zone's edge, where a robot that keeps out of it waits.
+        let mut reach = rp.hard_gap + rp.speed_gain * speed;
+        if speed <= rp.still_speed {
+            reach = reach.max(rp.waiting_gap);
+        }
+        if gap >= reach {
             self.return_to_place(i);
             return;
         }

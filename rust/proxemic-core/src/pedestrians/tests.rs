@@ -338,6 +338,39 @@ fn a_standing_person_steps_aside_for_a_passing_robot_in_the_open_but_stays_put_i
 }
 
 #[test]
+fn a_standing_person_makes_room_for_a_robot_waiting_at_the_edge_of_their_intimate_zone() {
+    // A robot that keeps out of people's intimate zones (0.45 m body gap) stops at its edge when
+    // a standing person blocks its way. Standing still 0.5 m from the person (inside
+    // `waiting_gap`, outside the intimate zone) it is stepped away from, to about that gap (the
+    // person goes back toward its place once the robot is out of reach); at 0.6 m it is not.
+    let room = room_with_field();
+    let wait = |gap: f64, v: Vec2| {
+        let p = Person {
+            name: "s".into(),
+            behaviour: Behaviour::Standing,
+            pose: [10.0, 5.0, 0.0],
+            radius: 0.2,
+            reaction: Reaction::Aware,
+            ..Person::default()
+        };
+        let mut c = spawn(&[p]);
+        let robot = [(Vec2::new(10.0 - 0.44 - gap, 5.0), 0.24, v)];
+        for _ in 0..20 {
+            room.step(&mut c, 0.1, &robot);
+        }
+        c.pos[0].x - 10.0
+    };
+    let rp = ReactionParams::default();
+    assert!(rp.hard_gap < 0.5 && 0.5 < rp.waiting_gap && rp.waiting_gap < 0.6);
+    let moved = wait(0.5, Vec2::zeros());
+    assert!(
+        moved > 0.03 && 0.5 + moved > rp.waiting_gap - 0.02,
+        "stepped back {moved} m from a robot waiting 0.5 m away"
+    );
+    assert_eq!(wait(0.6, Vec2::zeros()), 0.0);
+}
+
+#[test]
 fn random_phase_is_on_the_route_and_seeded() {
     let p = walker(&[[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]], 1.0, 0.0);
     let r = Randomize::default();
