@@ -57,8 +57,8 @@ def test_eval_accepts_an_env_id(tmp_path, capsys):
 def test_tune_and_video_accept_an_env_id():
     from proxemic.tuning import TuneConfig
 
-    TuneConfig(targets=["proxemic/CalderitaExp1-v5"], planner="eband").check()  # no error
-    env = proxemic.ProxemicEnv("proxemic/CalderitaExp1-v5")
+    TuneConfig(targets=["proxemic/CalderitaExp1-v6"], planner="eband").check()  # no error
+    env = proxemic.ProxemicEnv("proxemic/CalderitaExp1-v6")
     assert env.scenario["scene"]["name"] == "calderita_exp1"
     env.close()
 

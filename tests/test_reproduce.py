@@ -255,14 +255,24 @@ def test_published_data_cites_its_sources():
         assert json.dumps(data[name]["experiment"])
 
 
-#: The registered scenes of Daza 2021 and Sousa 2022: standing people, so only the robot's start
-#: jitter (and Path 1's and Path 5's walkers' speeds and phases) can tell two seeds apart.
-VARIED = [*(f"daza2021_path{k}" for k in range(1, 6)), "daza2021_fig15", "sousa2022_fig16", "sousa2022_fig17"]
+#: The scenes `proxemic reproduce` runs: standing people, so only the robot's start jitter (and Daza
+#: Path 1's and Path 5's walkers' speeds and phases) can tell two seeds apart.
+VARIED = [
+    *(f"daza2021_path{k}" for k in range(1, 6)),
+    "daza2021_fig15",
+    "sousa2022_fig16",
+    "sousa2022_fig17",
+    "calderita_exp1_test1",
+    "calderita_exp1",
+    "calderita_exp2_path1",
+    "calderita_exp2_path2",
+]
 
 
 @pytest.mark.parametrize("scene", VARIED)
 def test_seeds_give_different_episodes(scene):
-    """Paths 2-4 once gave the same episode for every seed (a confidence interval over copies)."""
+    """Daza's Paths 2-4 and Calderita's scenes once gave the same episode for every seed (a
+    confidence interval over copies)."""
     a, b = (run_task((scene, "astar", s), keep=True) for s in (0, 1))
     assert a.robot is not None and b.robot is not None
     assert not np.allclose(a.robot[0, :2], b.robot[0, :2])  # the start jitter moved the robot

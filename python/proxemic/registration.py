@@ -16,8 +16,8 @@ ENV_IDS: dict[str, str] = {
     "proxemic/Daza2021Path5-v6": "daza2021_path5",
     "proxemic/Sousa2022Fig16-v5": "sousa2022_fig16",
     "proxemic/Sousa2022Fig17-v5": "sousa2022_fig17",
-    "proxemic/CalderitaExp1-v5": "calderita_exp1",
-    "proxemic/CalderitaExp2-v4": "calderita_exp2",
+    "proxemic/CalderitaExp1-v6": "calderita_exp1",
+    "proxemic/CalderitaExp2-v5": "calderita_exp2",
 }
 
 

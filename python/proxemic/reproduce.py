@@ -83,7 +83,7 @@ REASONS: dict[str, list[str]] = {
         "tau), which we do not assert. Ours drives the scene's robot, so tau compares only as the "
         "direction of the differences.",
         "Table 2: our scenes do not exercise its mechanism (tests/test_calderita_mechanisms.py, "
-        "strict xfails): in calderita_exp2_path2 the first path already keeps 1.2 m south of the "
+        "strict xfails): in calderita_exp2_path2 the first path already keeps 1-1.4 m south of the "
         "table's space, pushed there by the people at the table, so the rise of R(t) never makes "
         "calderita re-plan; Path 1 starts with the therapy already on and plans round it, where "
         "the paper's Path 1 keeps its first path through the table's space during the therapy.",
