@@ -355,28 +355,28 @@ KNOWN_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
     "reading: 0/50)",
     ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 65.49 s vs plain A* 116.77 s "
     "(44% less, claim 50% less)",
-    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 54.27 s vs plain A* 67.31 s (19% "
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 62.86 s vs plain A* 69.61 s (10% "
     "less, claim 50% less)",
-    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 145.48 s vs plain A* 170.80 s (15% "
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 153.57 s vs plain A* 168.71 s (9% "
     "less, claim 50% less)",
     (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 11.76 s vs plain A* "
-    "5.58 s (more, claim 80% less)",
+    "10.17 s (more, claim 80% less)",
 }
 KNOWN_FULL_PAPER_FAILURES: dict[tuple[str, str, str], str] = {
     ("museum", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 60/60 episodes (centre "
     "reading: 0/60)",
     ("care_center", "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 60/60 episodes "
     "(centre reading: 0/60)",
-    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 18/60 scenes (centre "
+    (GENERATED, "daza2021", "intimate"): "daza2021 within 0.45 m body edge to body edge in 19/60 scenes (centre "
     "reading: 0/60)",
     ("care_center", "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 190.68 s vs plain A* 346.32 s "
     "(45% less, claim 50% less)",
-    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 77.62 s vs plain A* 89.63 s (13% "
-    "less, claim 50% less)",
-    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 545.66 s vs plain A* 461.30 s (18% "
+    (GENERATED, "sousa2022", "personal_seconds"): "personal-zone time: sousa2022 94.30 s vs plain A* 90.23 s (5% "
+    "more, claim 50% less)",
+    ("museum", "calderita", "personal_seconds"): "personal-zone time: calderita 507.58 s vs plain A* 457.01 s (11% "
     "more, claim 50% less)",
     (GENERATED, "calderita", "active_object_seconds"): "active object-space time: calderita 15.86 s vs plain A* "
-    "5.58 s (more, claim 80% less)",
+    "10.17 s (more, claim 80% less)",
 }
 
 
@@ -490,21 +490,21 @@ YIELD_CLAIMS: dict[str, Callable[..., None]] = {
 #: (CI sets).
 KNOWN_YIELD_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 362.8 s vs astar_orca "
-    "492.3 s (26% less, claim 50%)",
+    "492.7 s (26% less, claim 50%)",
     ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 158.7 s vs "
     "astar_orca 186.5 s (15% less, claim 50%)",
     (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 106.8 s vs astar_orca "
-    "138.1 s (23% less, claim 50%)",
+    "138.0 s (23% less, claim 50%)",
 }
 #: The same for the full test split.
 KNOWN_FULL_YIELD_FAILURES: dict[tuple[str, str], str] = {
     ("museum", "robot_caused_intimate"): "social moved into an intimate zone in 1/60 episodes (seed 1036), one entry",
     ("museum", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 1054.6 s vs astar_orca "
-    "1449.3 s (27% less, claim 50%)",
+    "1451.0 s (27% less, claim 50%)",
     ("care_center", "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 484.7 s vs "
     "astar_orca 531.4 s (9% less, claim 50%)",
     (GENERATED, "robot_caused_personal_seconds"): "robot-caused personal-zone time: social 129.7 s vs astar_orca "
-    "186.8 s (31% less, claim 50%)",
+    "174.4 s (26% less, claim 50%)",
 }
 
 
@@ -573,8 +573,6 @@ KNOWN_FRANCIS_FAILURES: dict[str, str] = {
     "with a 0.45 m gap on both sides in a crowd of at least 1 person/m^2 (docs/planners.md)",
     "pedestrian_obstruction": "social succeeds in 90% (astar_orca 100%), times out in 10% (seed 10000; 10/10 on "
     "tuning seeds 0-9)",
-    "robot_overtaking": "social succeeds in 80% (astar_orca 100%), times out in 20% (seeds 10002, 10009; 10/10 on "
-    "tuning seeds 0-9)",
     "perpendicular_traffic": "social succeeds in 30% (astar_orca 100%), times out in 70% (seeds 10000-10003, "
     "10005, 10006, 10008). Measured cause: the band a walker's required gap closes across the robot's line "
     "(+-1.3 m: 0.45 m + 0.4 s x speed, plus both radii) was free of people in 0-17% of each episode, at most 2.5 s "
@@ -585,7 +583,6 @@ KNOWN_FRANCIS_FAILURES: dict[str, str] = {
 KNOWN_FULL_FRANCIS_FAILURES: dict[str, str] = {
     "dense_crowd": "social succeeds in 6.7% (astar_orca 100%), times out in 93.3% (60 seeds)",
     "pedestrian_obstruction": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
-    "robot_overtaking": "social succeeds in 86.7% (astar_orca 100%), times out in 13.3% (60 seeds)",
     "entering_elevator": "social succeeds in 91.7% (astar_orca 100%), times out in 8.3% (60 seeds)",
     "parallel_traffic": "social succeeds in 98.3% (astar_orca 100%), times out in 1.7% (60 seeds)",
     "perpendicular_traffic": "social succeeds in 36.7% (astar_orca 100%), times out in 63.3% (60 seeds)",

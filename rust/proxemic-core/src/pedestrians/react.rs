@@ -22,11 +22,11 @@
 //! - `cautious`: a larger keep-out, and slows down (to at least
 //!   [`ReactionParams::cautious_min_speed`] of its speed) within
 //!   [`ReactionParams::cautious_slow_range`] of it;
-//! - people standing still (standing, seated, in a conversation, dwelling, gathered, taking
-//!   part in an activity) who see the robot turn toward it once its body is inside their intimate
-//!   zone, or, when it stands still, within [`ReactionParams::waiting_gap`] of them (a robot that
-//!   keeps out of their intimate zone waits at its edge), and shift aside (out of its way, or
-//!   away from it when it stands still) by at most what their behaviour allows
+//! - people standing still (standing, seated, in a conversation, dwelling at a stop, gathered,
+//!   taking part in an activity) who see the robot turn toward it once its body is inside their
+//!   intimate zone, or, when it stands still, within [`ReactionParams::waiting_gap`] of them (a
+//!   robot that keeps out of their intimate zone waits at its edge), and shift aside (out of its
+//!   way, or away from it when it stands still) by at most what their behaviour allows
 //!   ([`shift_allowed`]: nothing when seated), going back to their place once it has left.
 //!
 //! The hard constraint of [`Crowd`]'s integration keeps every reacting person from stepping to
@@ -170,7 +170,10 @@ impl Crowd {
         let d = d2.sqrt();
         let gap = d - self.radius[i] - rr;
         let speed = v.norm();
-        if !self.moving[i] {
+        // Standing still: no script motion this substep, or dwelling (a walker at a stop, a guide
+        // at a tour stop), which a script plans as a walk at zero speed.
+        let dwelling = self.dwell_left[i] > 0.0 && self.desired[i] == Vec2::zeros();
+        if !self.moving[i] || dwelling {
             if !matches!(self.script[i], Script::Replay { .. }) {
                 self.stand_aside(i, (c, gap, v), geometry);
             }

@@ -371,6 +371,29 @@ fn a_standing_person_makes_room_for_a_robot_waiting_at_the_edge_of_their_intimat
 }
 
 #[test]
+fn a_walker_dwelling_at_a_stop_makes_room_as_standing_people_do() {
+    // A walker stops 1 m down its route for a long dwell (a script plans that as a walk at zero
+    // speed); a robot then waits 0.5 m behind it. Dwelling, it stands still, and steps back
+    // from the robot as a standing person does (it once stayed put: Francis `robot_overtaking`
+    // timed out in the narrowest halls).
+    let room = room_with_field();
+    let p = walker(&[[9.0, 5.0], [10.0, 5.0]], 0.5, 600.0);
+    let mut c = spawn(&[p]);
+    for _ in 0..60 {
+        room.step(&mut c, 0.1, &[]);
+    }
+    let stop = c.pos[0];
+    assert!((stop - Vec2::new(10.0, 5.0)).norm() < 0.2, "not at its stop: {stop:?}");
+    assert!(c.dwell_left[0] > 0.0);
+    let robot = [(stop - Vec2::new(0.44 + 0.5, 0.0), 0.24, Vec2::zeros())];
+    for _ in 0..20 {
+        room.step(&mut c, 0.1, &robot);
+    }
+    let moved = c.pos[0].x - stop.x;
+    assert!(moved > 0.03, "stepped back {moved} m from a robot waiting 0.5 m behind it");
+}
+
+#[test]
 fn random_phase_is_on_the_route_and_seeded() {
     let p = walker(&[[0.0, 0.0], [4.0, 0.0], [4.0, 3.0]], 1.0, 0.0);
     let r = Randomize::default();
