@@ -302,6 +302,18 @@ fn standing_person_stays() {
     assert_eq!(c.heading[0], 1.0);
 }
 
+/// A standing person of radius 0.2 m at `at`, facing +x, aware of robots.
+fn standing_aware(at: Vec2) -> Person {
+    Person {
+        name: "s".into(),
+        behaviour: Behaviour::Standing,
+        pose: [at.x, at.y, 0.0],
+        radius: 0.2,
+        reaction: Reaction::Aware,
+        ..Person::default()
+    }
+}
+
 #[test]
 fn a_standing_person_steps_aside_for_a_passing_robot_in_the_open_but_stays_put_in_a_corner() {
     // A robot passes 0.65 m below a standing person at 0.5 m/s, along x. In the open the person
@@ -309,15 +321,7 @@ fn a_standing_person_steps_aside_for_a_passing_robot_in_the_open_but_stays_put_i
     // shift would be pushed back off the walls, toward the robot, so the person stays put.
     let room = room_with_field();
     let pass = |at: Vec2| {
-        let p = Person {
-            name: "s".into(),
-            behaviour: Behaviour::Standing,
-            pose: [at.x, at.y, 0.0],
-            radius: 0.2,
-            reaction: Reaction::Aware,
-            ..Person::default()
-        };
-        let mut c = spawn(&[p]);
+        let mut c = spawn(&[standing_aware(at)]);
         let v = Vec2::new(0.5, 0.0);
         let mut robot = [(Vec2::new(at.x - 2.5, at.y - 0.65), 0.24, v)];
         let (mut min_gap, mut still_gap) = (f64::INFINITY, f64::INFINITY);
@@ -345,15 +349,7 @@ fn a_standing_person_makes_room_for_a_robot_waiting_at_the_edge_of_their_intimat
     // person goes back toward its place once the robot is out of reach); at 0.6 m it is not.
     let room = room_with_field();
     let wait = |gap: f64| {
-        let p = Person {
-            name: "s".into(),
-            behaviour: Behaviour::Standing,
-            pose: [10.0, 5.0, 0.0],
-            radius: 0.2,
-            reaction: Reaction::Aware,
-            ..Person::default()
-        };
-        let mut c = spawn(&[p]);
+        let mut c = spawn(&[standing_aware(Vec2::new(10.0, 5.0))]);
         let robot = [(Vec2::new(10.0 - 0.44 - gap, 5.0), 0.24, Vec2::zeros())];
         for _ in 0..20 {
             room.step(&mut c, 0.1, &robot);
